@@ -1,0 +1,37 @@
+// icobrdf: command-line entry point. Subcommands register in cli/commands.hpp.
+#include <exception>
+#include <iostream>
+
+#include "cli/commands.hpp"
+#include "cli/exit_codes.hpp"
+#include "core/error.hpp"
+
+int main(int argc, char** argv) {
+  using namespace icobrdf::cli;
+  CLI::App app{"icobrdf: BRDFs as exact linear algebra on an equal-area icosahedral hemisphere tessellation"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("icobrdf ") + ICOBRDF_VERSION);
+  add_info_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? kExitOk : kExitUsage;
+  } catch (const icobrdf::ArgumentError& e) {
+    std::cerr << "icobrdf: error: " << e.what() << "\n";
+    return kExitUsage;
+  } catch (const icobrdf::InputError& e) {
+    std::cerr << "icobrdf: error: " << e.what() << "\n";
+    return kExitInput;
+  } catch (const icobrdf::UnsupportedError& e) {
+    std::cerr << "icobrdf: error: " << e.what() << "\n";
+    return kExitUnsupported;
+  } catch (const icobrdf::IoError& e) {
+    std::cerr << "icobrdf: error: " << e.what() << "\n";
+    return kExitIo;
+  } catch (const std::exception& e) {
+    std::cerr << "icobrdf: internal error: " << e.what() << "\n";
+    return kExitInternal;
+  }
+  return kExitOk;
+}

@@ -1,0 +1,66 @@
+#pragma once
+// Runs the built icobrdf program in a child process and captures exit code, stdout and stderr.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace icobrdf::test {
+
+struct CliResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+inline std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+inline std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// Runs `icobrdf args...` with stdout and stderr captured to temporary files.
+inline CliResult run_cli(const std::vector<std::string>& args) {
+  char out_tmpl[] = "/tmp/icobrdf_cli_outXXXXXX";
+  char err_tmpl[] = "/tmp/icobrdf_cli_errXXXXXX";
+  const int fo = mkstemp(out_tmpl), fe = mkstemp(err_tmpl);
+  close(fo);
+  close(fe);
+  std::string cmd = shell_quote(ICOBRDF_CLI_PATH);
+  for (const auto& a : args) cmd += " " + shell_quote(a);
+  cmd += " >" + std::string(out_tmpl) + " 2>" + std::string(err_tmpl) + " </dev/null";
+  const int status = std::system(cmd.c_str());
+  CliResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(out_tmpl);
+  r.err = slurp(err_tmpl);
+  std::remove(out_tmpl);
+  std::remove(err_tmpl);
+  return r;
+}
+
+// A fresh temporary directory, removed with its content on destruction.
+struct TempDir {
+  std::string path;
+  TempDir() {
+    char tmpl[] = "/tmp/icobrdf_testXXXXXX";
+    path = mkdtemp(tmpl);
+  }
+  ~TempDir() { std::system(("rm -rf " + shell_quote(path)).c_str()); }
+  std::string file(const std::string& name) const { return path + "/" + name; }
+};
+
+}  // namespace icobrdf::test
