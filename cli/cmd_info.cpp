@@ -11,6 +11,8 @@
 
 namespace icobrdf::cli {
 
+namespace {
+
 void add_info_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("info", "Print version, build type and library versions");
   auto json_flag = std::make_shared<bool>(false);
@@ -37,4 +39,7 @@ void add_info_command(CLI::App& app) {
   });
 }
 
+const CommandRegistrar kRegistrar("info", add_info_command);
+
+}  // namespace
 }  // namespace icobrdf::cli

@@ -11,7 +11,7 @@ int main(int argc, char** argv) {
   CLI::App app{"icobrdf: BRDFs as exact linear algebra on an equal-area icosahedral hemisphere tessellation"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("icobrdf ") + ICOBRDF_VERSION);
-  add_info_command(app);
+  for (auto& [name, adder] : command_registry()) adder(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,2 +1,0 @@
-// Replaced by the tessellation sources.
-namespace icobrdf { int mesh_library_anchor() { return 0; } }
