@@ -1,0 +1,37 @@
+#pragma once
+// Spectrum: the coefficients of a BRDF in the hemisphere basis K (core/hemisphere_basis.hpp).
+//
+// For a BRDF f (or g = f cos theta_i when `cosine`), channel c holds the symmetric M x M matrix
+//   C_ab = integral integral f(w_i, w_r) K_a(w_i) K_b(w_r) dOmega_i dOmega_r,   a, b < M = (N+1)(N+2)/2,
+// with K indexed by the ANSI single index j = (n(n+2)+l)/2. Helmholtz reciprocity <=> C symmetric.
+// f is then approximated by sum_ab C_ab K_a(w_i) K_b(w_r) [1/sr].
+// The Helmholtz (BSSS) coefficient vector and the isotropic (IBSSS) vector are views of C
+// (core/helmholtz_modes.hpp, core/isotropic_modes.hpp).
+#include <Eigen/Core>
+
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace icobrdf {
+
+struct Spectrum {
+  int order = 0;                          // total order N of the K basis
+  bool isotropic = false;                 // C lies in the isotropic subspace (projected onto it)
+  bool cosine = false;                    // coefficients of g = f cos(theta_i) instead of f
+  std::vector<Eigen::MatrixXd> channels;  // one M x M symmetric matrix per channel (1 or 3)
+  std::string source;                     // canonical SOURCE string it came from
+  std::string filter = "none";            // low-pass filter applied to it (none = plain truncation)
+  int level = -1;                         // tessellation level used; -1 when computed without a grid
+  std::string grid_kind;                  // "equal-area", "geodesic", ... ; empty when no grid
+  // Figures of merit recorded with the spectrum; NaN when not measured.
+  double gram_error = std::numeric_limits<double>::quiet_NaN();             // max |G - I| of the grid basis
+  double reciprocity_violation = std::numeric_limits<double>::quiet_NaN();  // ||F - F^T|| / ||F|| of the input
+  double anisotropy_fraction = std::numeric_limits<double>::quiet_NaN();    // anisotropic energy / total
+  double max_albedo = std::numeric_limits<double>::quiet_NaN();             // white-furnace figure
+
+  int modes() const { return (order + 1) * (order + 2) / 2; }
+  int channel_count() const { return static_cast<int>(channels.size()); }
+};
+
+}  // namespace icobrdf
