@@ -1,0 +1,18 @@
+#include "core/direction.hpp"
+
+#include <cmath>
+
+namespace icobrdf {
+
+Eigen::Vector3d direction_from_angles(double theta, double phi) {
+  const double s = std::sin(theta);
+  return {s * std::cos(phi), s * std::sin(phi), std::cos(theta)};
+}
+
+Angles angles_from_direction(const Eigen::Vector3d& d) {
+  // atan2 of (sin, cos) keeps full relative accuracy near the pole, where acos(z) would not.
+  const double s = std::hypot(d.x(), d.y());
+  return {std::atan2(s, d.z()), s > 0.0 ? std::atan2(d.y(), d.x()) : 0.0};
+}
+
+}  // namespace icobrdf

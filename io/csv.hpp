@@ -1,0 +1,26 @@
+#pragma once
+// Numeric CSV tables with a header row, as icobrdf reads them (direction lists, samples).
+//
+// Accepted: a UTF-8 byte-order mark at the start (ignored), LF or CRLF line ends, blank lines and lines whose
+// first non-blank character is '#' (skipped), surrounding blanks in fields. Refused with an InputError naming
+// file:line and expected vs actual: a missing header, a row whose field count differs from the header's, a
+// field that is not entirely a decimal number (so a decimal comma "0,5" shows up as a field-count or
+// number error), NaN and Inf.
+#include <string>
+#include <vector>
+
+namespace icobrdf {
+
+struct CsvTable {
+  std::string path;
+  std::vector<std::string> header;          // trimmed, lower-case column names
+  std::vector<std::vector<double>> rows;    // rows x header.size()
+  std::vector<int> line_numbers;            // 1-based line of each row in the file
+};
+
+CsvTable read_numeric_csv(const std::string& path);
+
+// Throws InputError unless the header begins with exactly these column names (in this order).
+void require_columns(const CsvTable& table, const std::vector<std::string>& names);
+
+}  // namespace icobrdf

@@ -1,0 +1,77 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "core/error.hpp"
+#include "io/csv.hpp"
+#include "io/direction_csv.hpp"
+#include "tests/cli/cli_runner.hpp"
+
+using icobrdf::InputError;
+using icobrdf::test::TempDir;
+
+namespace {
+
+// Directions come from sin/cos of exactly representable degree values; 1e-15 is a few ulps.
+constexpr double kAngleTol = 1e-15;
+
+std::string write(const TempDir& dir, const std::string& name, const std::string& content) {
+  const auto path = dir.file(name);
+  std::ofstream(path, std::ios::binary) << content;
+  return path;
+}
+
+// Expects read_direction_pairs_csv to throw an InputError whose message contains every fragment.
+void expect_error(const std::string& path, std::initializer_list<const char*> fragments) {
+  try {
+    icobrdf::read_direction_pairs_csv(path);
+    FAIL() << "no error for " << path;
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    for (const char* f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << "'" << f << "' not in: " << msg;
+  }
+}
+
+}  // namespace
+
+TEST(DirectionCsv, ReadsDegreesWithBomCrlfCommentsAndBlankLines) {
+  TempDir dir;
+  const auto path = write(dir, "p.csv", "\xEF\xBB\xBFtheta_i,phi_i,theta_r,phi_r\r\n# comment\r\n\r\n90,0,0,0\r\n45, 180 ,30,-90\r\n");
+  const auto p = icobrdf::read_direction_pairs_csv(path);
+  ASSERT_EQ(p.wi.rows(), 2);
+  // (90, 0) is the +x axis; (0, 0) the pole.
+  EXPECT_NEAR(p.wi(0, 0), 1.0, kAngleTol);
+  EXPECT_NEAR(p.wi(0, 2), 0.0, kAngleTol);
+  EXPECT_NEAR(p.wr(0, 2), 1.0, kAngleTol);
+  // (45, 180) = (-sqrt(1/2), 0, sqrt(1/2)); (30, -90) = (0, -1/2, sqrt(3)/2).
+  EXPECT_NEAR(p.wi(1, 0), -std::sqrt(0.5), kAngleTol);
+  EXPECT_NEAR(p.wr(1, 1), -0.5, kAngleTol);
+  EXPECT_NEAR(p.wr(1, 2), std::sqrt(3.0) / 2, kAngleTol);
+  EXPECT_EQ(p.lines, (std::vector<int>{4, 5}));
+}
+
+TEST(DirectionCsv, RadiansOnRequest) {
+  TempDir dir;
+  const auto path = write(dir, "d.csv", "theta,phi\n1.5707963267948966,3.141592653589793\n");
+  const auto d = icobrdf::read_directions_csv(path, true);
+  EXPECT_NEAR(d(0, 0), -1.0, kAngleTol);
+  // Read as degrees the same row is a valid, different direction (1.57 degrees from the pole).
+  EXPECT_GT(icobrdf::read_directions_csv(path, false)(0, 2), 0.999);
+}
+
+TEST(DirectionCsv, ErrorsNameFileLineAndValue) {
+  TempDir dir;
+  expect_error(write(dir, "a.csv", ""), {"a.csv", "empty file"});
+  expect_error(write(dir, "b.csv", "theta,phi\n1,2\n"), {"b.csv:1", "theta_i,phi_i,theta_r,phi_r", "theta,phi"});
+  expect_error(write(dir, "c.csv", "theta_i,phi_i,theta_r,phi_r\n1,2,3\n"), {"c.csv:2", "expected 4 fields, found 3"});
+  expect_error(write(dir, "d.csv", "theta_i,phi_i,theta_r,phi_r\n1,2,3,x\n"), {"d.csv:2", "phi_r", "'x'"});
+  expect_error(write(dir, "e.csv", "theta_i,phi_i,theta_r,phi_r\n1,2,3,nan\n"), {"e.csv:2", "finite"});
+  expect_error(write(dir, "f.csv", "theta_i,phi_i,theta_r,phi_r\n0,0,0,0\n91,0,0,0\n"), {"f.csv:3", "theta_i", "[0, 90]", "91"});
+  expect_error(write(dir, "g.csv", "theta_i,phi_i,theta_r,phi_r\n0,0,0,0,5\n"), {"g.csv:2", "expected 4 fields, found 5"});
+  expect_error(write(dir, "h.csv", "theta_i,phi_i,theta_r,phi_r\n10,0,0,0,5\n"), {"h.csv:2"});
+  // A decimal comma turns one number into two fields.
+  expect_error(write(dir, "i.csv", "theta_i,phi_i,theta_r,phi_r\n10,5,0,0,1,5\n"), {"i.csv:2", "found 6"});
+  expect_error(dir.file("missing.csv"), {"missing.csv", "cannot open"});
+}
