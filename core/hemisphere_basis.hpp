@@ -1,0 +1,45 @@
+#pragma once
+// The orthonormal hemisphere basis K_n^l (paper eq. 13) and its single ANSI index.
+//
+//   K_n^l(theta, phi) = sqrt((n + 1) / pi) R_n^|l|(rho) az_l(phi),   rho = sqrt(2) sin(theta / 2),
+//   az_l = cos(l phi) (l > 0), 1/sqrt(2) (l = 0), -sin(l phi) = sin(|l| phi) (l < 0)   (eq. 5),
+// for n >= 0 and l in {-n, -n+2, ..., n}. Orthonormal with the plain solid-angle measure on the upper
+// hemisphere: integral K_a K_b dOmega = delta_ab (checked by exact quadrature to order 64 in the tests).
+// Single index (ANSI Z80.28 order): j = (n (n + 2) + l) / 2, i.e. n ascending, then l ascending; there are
+// M = (N + 1)(N + 2)/2 functions up to total order N, and the functions of order <= N' < N are the first
+// M(N') indices. Values are in 1/sqrt(sr); |K_n^l| <= sqrt((n + 1) / pi).
+//
+// Directions are unit vectors with z >= 0 (normal +z); rho and the azimuth come from the Lambert map
+// (core/lambert_map.hpp) and cos(l phi), sin(l phi) from complex multiplication, with no trigonometric call.
+// At the pole (rho = 0) the azimuth is taken as 0; every K with l != 0 vanishes there anyway.
+// Accuracy: absolute error <= 1e-13 sqrt((n + 1) / pi) (that of the Zernike recurrence) for order <= 128.
+#include <Eigen/Core>
+
+#include "core/grid.hpp"
+
+namespace icobrdf {
+
+// Number of K_n^l with n <= order: (order + 1)(order + 2)/2. Order must be in [0, 128] (ArgumentError).
+int hemisphere_basis_count(int order);
+
+// The order N whose count is `count`; ArgumentError if `count` is not (N+1)(N+2)/2 for an N in [0, 128].
+int hemisphere_basis_order(int count);
+
+// j = (n (n + 2) + l) / 2; ArgumentError unless n >= 0, |l| <= n, n - l even.
+int ansi_index(int n, int l);
+
+struct BasisIndex {
+  int n;
+  int l;
+};
+
+// Inverse of ansi_index; ArgumentError for j < 0.
+BasisIndex ansi_to_nl(int j);
+
+// out[j] = K_j(unit_dir) for j < hemisphere_basis_count(order).
+void hemisphere_basis_eval(int order, const Eigen::Vector3d& unit_dir, double* out);
+
+// dirs.rows() x hemisphere_basis_count(order): row r holds every K_j at direction r.
+Eigen::MatrixXd hemisphere_basis_matrix(int order, const RowMatrix3d& dirs);
+
+}  // namespace icobrdf
