@@ -1,0 +1,30 @@
+#pragma once
+// Atomic file replacement: readers of `path` only ever see the previous file or the complete new one.
+//
+// atomic_write(path, produce):
+//   1. refuses (IoError) a path that is a directory or whose folder is missing / not a folder;
+//   2. creates a new temporary "<folder>/.<name>.tmp-<pid>-<n>" with O_CREAT | O_EXCL (mode 0666 & ~umask),
+//      in the same folder so the final rename stays on one file system;
+//   3. calls produce(temp_path), which writes the whole content there;
+//   4. fsyncs the temporary, renames it over `path`, fsyncs the folder.
+// Any failure in steps 2-4 (an exception from produce included) removes the temporary and leaves an
+// existing file at `path` untouched; file-system failures throw IoError naming `path`, exceptions from
+// produce propagate unchanged. `path` itself is never opened, let alone truncated: only rename() touches it.
+// A crash (power loss, SIGKILL) can leave a stale ".<name>.tmp-*" beside `path`, never a partial `path`.
+#include <functional>
+#include <string>
+
+namespace icobrdf {
+
+void atomic_write(const std::string& path, const std::function<void(const std::string& temp_path)>& produce);
+
+// The folder holding `path` ("." for a bare name).
+std::string parent_folder(const std::string& path);
+
+// Test hook for fault injection: when set, atomic_write and the file writers call it at named points
+// ("atomic_write:produced" after produce returns, "atomic_write:synced" just before the rename, and the
+// points the writers document); throwing from it simulates a failure there. Pass an empty function to clear.
+void set_write_fault_hook(std::function<void(const std::string& point)> hook);
+void write_fault_point(const std::string& point);
+
+}  // namespace icobrdf

@@ -1,0 +1,282 @@
+#include "io/spectrum_file.hpp"
+
+#include <cfloat>
+#include <cmath>
+
+#include "core/error.hpp"
+#include "io/bank_file.hpp"
+
+namespace icobrdf {
+
+namespace {
+
+using h5::Shape;
+using h5::ShapePattern;
+
+std::uint64_t u(std::int64_t n) { return static_cast<std::uint64_t>(n); }
+
+std::int64_t modes_of(std::int64_t order) { return (order + 1) * (order + 2) / 2; }
+
+// Cell count of the equal-area hemisphere tessellation at `level` (whole cells 10 * 4^L, plus 2^(L+1)
+// equator cells cut in half): docs/SPEC-NOTES "Discrete engine".
+std::int64_t equal_area_cells(int level) { return 10 * (std::int64_t{1} << (2 * level)) + (std::int64_t{1} << (level + 1)); }
+
+// Reason an IBSSS (n, m, l) entry is invalid for `order`, or "".
+std::string ibsss_index_problem(int n, int m, int l, int order) {
+  if (!(n >= m && m >= l && l >= 0)) return "expected n >= m >= l >= 0";
+  if ((n - l) % 2 != 0 || (m - l) % 2 != 0) return "expected n - l and m - l even";
+  if (n > order) return "expected n <= order " + std::to_string(order);
+  return "";
+}
+
+std::string index_text(int n, int m, int l) {
+  return "(" + std::to_string(n) + ", " + std::to_string(m) + ", " + std::to_string(l) + ")";
+}
+
+[[noreturn]] void bad_record(const std::string& name, const std::string& what) {
+  throw ArgumentError("cannot write material '" + name + "': " + what);
+}
+
+}  // namespace
+
+std::string material_name_problem(const std::string& name) {
+  if (name.empty()) return "expected a non-empty name";
+  if (name.size() > kMaxMaterialNameLength)
+    return "expected at most " + std::to_string(kMaxMaterialNameLength) + " bytes, found " + std::to_string(name.size());
+  for (unsigned char ch : name) {
+    if (ch == '/' || ch == '.') return std::string("expected no '/' or '.', found '") + static_cast<char>(ch) + "'";
+    if (ch < 0x20 || ch > 0x7e) return "expected printable ASCII, found byte " + std::to_string(ch);
+  }
+  return "";
+}
+
+void validate_material_name(const std::string& name) {
+  const std::string p = material_name_problem(name);
+  if (!p.empty()) throw ArgumentError("invalid material name '" + name + "': " + p);
+}
+
+void write_material(h5::Group& materials, const MaterialRecord& rec) {
+  validate_material_name(rec.name);
+  const Spectrum& s = rec.spectrum;
+  const std::string& nm = rec.name;
+  if (s.order < 0 || s.order > kMaxFileOrder)
+    bad_record(nm, "expected order in [0, " + std::to_string(kMaxFileOrder) + "], found " + std::to_string(s.order));
+  const int ch = s.channel_count();
+  if (ch != 1 && ch != 3) bad_record(nm, "expected 1 or 3 channels, found " + std::to_string(ch));
+  const std::int64_t m = modes_of(s.order);
+  for (int c = 0; c < ch; ++c) {
+    if (s.channels[c].rows() != m || s.channels[c].cols() != m)
+      bad_record(nm, "channel " + std::to_string(c) + ": expected C of " + std::to_string(m) + " x " + std::to_string(m) +
+                         " for order " + std::to_string(s.order) + ", found " + std::to_string(s.channels[c].rows()) + " x " +
+                         std::to_string(s.channels[c].cols()));
+    if (!s.channels[c].allFinite()) bad_record(nm, "channel " + std::to_string(c) + ": C has NaN or infinite entries");
+  }
+  const bool has_ibsss = rec.ibsss.size() > 0 || rec.ibsss_indices.rows() > 0;
+  if (has_ibsss) {
+    if (rec.ibsss.rows() != ch || rec.ibsss.cols() != rec.ibsss_indices.rows())
+      bad_record(nm, "expected ibsss of " + std::to_string(ch) + " x " + std::to_string(rec.ibsss_indices.rows()) +
+                         " (channels x index rows), found " + std::to_string(rec.ibsss.rows()) + " x " + std::to_string(rec.ibsss.cols()));
+    for (Eigen::Index k = 0; k < rec.ibsss_indices.rows(); ++k) {
+      const auto& r = rec.ibsss_indices;
+      const std::string p = ibsss_index_problem(r(k, 0), r(k, 1), r(k, 2), s.order);
+      if (!p.empty()) bad_record(nm, "ibsss_indices row " + std::to_string(k) + " " + index_text(r(k, 0), r(k, 1), r(k, 2)) + ": " + p);
+    }
+    if (!rec.ibsss.allFinite()) bad_record(nm, "ibsss has NaN or infinite entries");
+  }
+  std::int64_t cells = 0;
+  if (!rec.lut.empty()) {
+    if (static_cast<int>(rec.lut.size()) != ch)
+      bad_record(nm, "expected one LUT per channel (" + std::to_string(ch) + "), found " + std::to_string(rec.lut.size()));
+    cells = rec.lut[0].rows();
+    for (size_t c = 0; c < rec.lut.size(); ++c) {
+      if (rec.lut[c].rows() != cells || rec.lut[c].cols() != cells || cells == 0)
+        bad_record(nm, "LUT channel " + std::to_string(c) + ": expected " + std::to_string(cells) + " x " + std::to_string(cells) +
+                           " (non-empty, square, same for all channels), found " + std::to_string(rec.lut[c].rows()) + " x " +
+                           std::to_string(rec.lut[c].cols()));
+      if (!rec.lut[c].allFinite()) bad_record(nm, "LUT channel " + std::to_string(c) + " has NaN or infinite entries");
+      if (rec.lut_float32 && rec.lut[c].cwiseAbs().maxCoeff() > FLT_MAX)
+        bad_record(nm, "LUT channel " + std::to_string(c) + " exceeds the float32 range");
+    }
+    if (s.level < 0 || s.grid_kind.empty())
+      bad_record(nm, "a LUT needs the spectrum's level and grid_kind, found level " + std::to_string(s.level) + " and kind '" +
+                         s.grid_kind + "'");
+    if (s.grid_kind == "equal-area" && cells != equal_area_cells(s.level))
+      bad_record(nm, "expected a LUT of " + std::to_string(equal_area_cells(s.level)) + " cells for the equal-area level " +
+                         std::to_string(s.level) + ", found " + std::to_string(cells));
+  }
+
+  h5::Group g = materials.create_group(nm);
+  g.set_attr("source", s.source);
+  g.set_attr("order", static_cast<std::int32_t>(s.order));
+  g.set_attr("modes", static_cast<std::int32_t>(m));
+  g.set_attr("isotropic", s.isotropic);
+  g.set_attr("cosine", s.cosine);
+  g.set_attr("function", s.cosine ? "g = f cos(theta_i)" : "f");
+  g.set_attr("filter", s.filter);
+  g.set_attr("level", static_cast<std::int32_t>(s.level));
+  g.set_attr("grid_kind", s.grid_kind);
+  g.set_attr("channels", static_cast<std::int32_t>(ch));
+  g.set_attr("gram_error", s.gram_error);
+  g.set_attr("reciprocity_violation", s.reciprocity_violation);
+  g.set_attr("anisotropy_fraction", s.anisotropy_fraction);
+  g.set_attr("max_albedo", s.max_albedo);
+
+  std::vector<double> buf(static_cast<size_t>(ch * m * m));
+  for (int c = 0; c < ch; ++c)
+    for (std::int64_t a = 0; a < m; ++a)
+      for (std::int64_t b = 0; b < m; ++b) buf[static_cast<size_t>((c * m + a) * m + b)] = s.channels[c](a, b);
+  g.write("C", buf.data(), Shape{u(ch), u(m), u(m)}, "1",
+          std::string("C[c, a, b] = coefficient of K_a(w_i) K_b(w_r) in the expansion of ") +
+              (s.cosine ? "g = f cos(theta_i)" : "f") + " [1/sr]; K in sr^-1/2, so C is dimensionless");
+
+  if (has_ibsss) {
+    const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> v = rec.ibsss;
+    g.write("ibsss", v.data(), Shape{u(ch), u(v.cols())}, "1", "isotropic mode coefficients a_nm^l per channel, columns as ibsss_indices");
+    g.write("ibsss_indices", reinterpret_cast<const std::int32_t*>(rec.ibsss_indices.data()),
+            Shape{u(rec.ibsss_indices.rows()), 3}, "index", "(n, m, l) of each ibsss column");
+  }
+
+  if (!rec.lut.empty()) {
+    const size_t per = static_cast<size_t>(cells * cells);
+    const std::string what = "LUT[c, i, r] = BRDF on incident cell i and remitted cell r";
+    if (rec.lut_float32) {
+      std::vector<float> f(per * ch);
+      double err = 0.0;
+      for (int c = 0; c < ch; ++c)
+        for (std::int64_t i = 0; i < cells; ++i)
+          for (std::int64_t r = 0; r < cells; ++r) {
+            const double x = rec.lut[c](i, r);
+            const float y = static_cast<float>(x);
+            err = std::max(err, std::abs(static_cast<double>(y) - x));
+            f[c * per + static_cast<size_t>(i * cells + r)] = y;
+          }
+      g.write("lut", f.data(), Shape{u(ch), u(cells), u(cells)}, "1/sr", what + " (float32)");
+      // Attach the rounding error to the material group as well as documenting it on the dataset.
+      g.set_attr("lut_max_abs_rounding_error", err);
+    } else {
+      std::vector<double> d(per * ch);
+      for (int c = 0; c < ch; ++c)
+        for (std::int64_t i = 0; i < cells; ++i)
+          for (std::int64_t r = 0; r < cells; ++r) d[c * per + static_cast<size_t>(i * cells + r)] = rec.lut[c](i, r);
+      g.write("lut", d.data(), Shape{u(ch), u(cells), u(cells)}, "1/sr", what);
+    }
+  }
+}
+
+MaterialRecord read_material(const h5::Group& materials, const std::string& name, const h5::ReadLimits& lim, bool read_lut,
+                             const std::optional<GridSummary>& grid) {
+  const std::string problem = material_name_problem(name);
+  if (!problem.empty()) materials.fail(materials.child_path(name), "invalid material name: " + problem);
+  const h5::Group g = materials.open_group(name);
+  g.check_links();
+  MaterialRecord rec;
+  rec.name = name;
+  Spectrum& s = rec.spectrum;
+  s.order = static_cast<int>(g.attr_int("order", 0, kMaxFileOrder));
+  const std::int64_t m = modes_of(s.order);
+  const std::int64_t modes = g.attr_int("modes", 1, std::numeric_limits<std::int32_t>::max());
+  if (modes != m)
+    g.fail(g.path(), "attribute modes: expected " + std::to_string(m) + " for order " + std::to_string(s.order) + ", found " +
+                         std::to_string(modes));
+  const int ch = static_cast<int>(g.attr_int("channels", 1, 3));
+  if (ch != 1 && ch != 3) g.fail(g.path(), "attribute channels: expected 1 or 3, found " + std::to_string(ch));
+  s.isotropic = g.attr_bool("isotropic");
+  s.cosine = g.attr_bool("cosine");
+  s.source = g.attr_string("source");
+  s.filter = g.attr_string("filter");
+  s.level = static_cast<int>(g.attr_int("level", -1, 15));
+  s.grid_kind = g.attr_string("grid_kind");
+  s.gram_error = g.attr_double("gram_error");
+  s.reciprocity_violation = g.attr_double("reciprocity_violation");
+  s.anisotropy_fraction = g.attr_double("anisotropy_fraction");
+  s.max_albedo = g.attr_double("max_albedo");
+
+  {
+    auto a = g.read<double>("C", ShapePattern{ch, m, m}, lim);
+    for (size_t i = 0; i < a.data.size(); ++i)
+      if (!std::isfinite(a.data[i]))
+        g.fail(g.child_path("C"), "expected finite coefficients, found " + std::to_string(a.data[i]) + " at channel " +
+                                      std::to_string(i / (m * m)) + ", row " + std::to_string(i / m % m) + ", column " +
+                                      std::to_string(i % m));
+    s.channels.resize(ch);
+    for (int c = 0; c < ch; ++c)
+      s.channels[c] = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+          a.data.data() + static_cast<size_t>(c * m * m), m, m);
+  }
+
+  const bool hv = g.has("ibsss"), hi = g.has("ibsss_indices");
+  if (hv != hi) g.fail(g.child_path(hv ? "ibsss_indices" : "ibsss"), "missing dataset (ibsss and ibsss_indices come together)");
+  if (hv) {
+    auto idx = g.read<std::int32_t>("ibsss_indices", ShapePattern{-1, 3}, lim);
+    const std::int64_t k = static_cast<std::int64_t>(idx.shape[0]);
+    for (std::int64_t r = 0; r < k; ++r) {
+      const int n = idx.data[3 * r], mm = idx.data[3 * r + 1], l = idx.data[3 * r + 2];
+      const std::string p = ibsss_index_problem(n, mm, l, s.order);
+      if (!p.empty()) g.fail(g.child_path("ibsss_indices"), "row " + std::to_string(r) + " " + index_text(n, mm, l) + ": " + p);
+    }
+    auto v = g.read<double>("ibsss", ShapePattern{ch, k}, lim);
+    for (double x : v.data)
+      if (!std::isfinite(x)) g.fail(g.child_path("ibsss"), "expected finite coefficients, found " + std::to_string(x));
+    rec.ibsss = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(v.data.data(), ch, k);
+    rec.ibsss_indices = Eigen::Map<const RowMatrix3i>(idx.data.data(), k, 3);
+  }
+
+  if (g.has("lut")) {
+    const std::string obj = g.child_path("lut");
+    const h5::Type t = g.dataset_type("lut", lim);
+    if (t != h5::Type::float64 && t != h5::Type::float32)
+      g.fail(obj, std::string("expected float64 or float32, found ") + h5::type_name(t));
+    const h5::Shape shape = g.dataset_shape("lut", lim);
+    if (shape.size() != 3 || shape[0] != u(ch) || shape[1] != shape[2] || shape[1] == 0)
+      g.fail(obj, "expected shape " + std::to_string(ch) + " x cells x cells, found " + h5::shape_text(shape));
+    const std::int64_t cells = static_cast<std::int64_t>(shape[1]);
+    if (s.level < 0 || s.grid_kind.empty())
+      g.fail(obj, "a LUT needs the material's level and grid_kind, found level " + std::to_string(s.level) + " and kind '" +
+                      s.grid_kind + "'");
+    if (s.grid_kind == "equal-area" && cells != equal_area_cells(s.level))
+      g.fail(obj, "expected " + std::to_string(equal_area_cells(s.level)) + " cells for the equal-area level " +
+                      std::to_string(s.level) + ", found " + std::to_string(cells));
+    if (grid && grid->level == s.level && grid->kind == s.grid_kind && cells != grid->cells)
+      g.fail(obj, "expected " + std::to_string(grid->cells) + " cells as in /grid, found " + std::to_string(cells));
+    rec.lut_float32 = t == h5::Type::float32;
+    if (rec.lut_float32) {
+      rec.lut_max_rounding_error = g.attr_double("lut_max_abs_rounding_error");
+      if (!(rec.lut_max_rounding_error >= 0.0) || !std::isfinite(rec.lut_max_rounding_error))
+        g.fail(g.path(), "attribute lut_max_abs_rounding_error: expected a finite value >= 0, found " +
+                             std::to_string(rec.lut_max_rounding_error));
+    } else {
+      rec.lut_max_rounding_error = 0.0;
+    }
+    if (read_lut) {
+      auto a = g.read_real("lut", ShapePattern{ch, cells, cells}, lim);
+      const size_t per = static_cast<size_t>(cells * cells);
+      for (size_t i = 0; i < a.data.size(); ++i)
+        if (!std::isfinite(a.data[i]))
+          g.fail(obj, "expected finite values, found " + std::to_string(a.data[i]) + " at channel " + std::to_string(i / per) +
+                          ", incident cell " + std::to_string(i % per / cells) + ", remitted cell " + std::to_string(i % cells));
+      rec.lut.resize(ch);
+      for (int c = 0; c < ch; ++c)
+        rec.lut[c] = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+            a.data.data() + c * per, cells, cells);
+    }
+  }
+  return rec;
+}
+
+void write_spectrum_file(const std::string& path, const Spectrum& spectrum, const Grid* grid, const std::string& name) {
+  BankContents b;
+  if (grid) b.grid = *grid;
+  MaterialRecord r;
+  r.name = name;
+  r.spectrum = spectrum;
+  b.materials.push_back(std::move(r));
+  write_bank(path, b);
+}
+
+Spectrum read_spectrum_file(const std::string& path, const std::string& name) {
+  ReadOptions o;
+  o.read_luts = false;
+  return read_bank_material(path, name, o).spectrum;
+}
+
+}  // namespace icobrdf

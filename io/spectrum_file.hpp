@@ -1,0 +1,62 @@
+#pragma once
+// Materials <-> the /materials/<name> groups of an icobrdf HDF5 bank (schema: docs/file-format.md).
+//
+// A MaterialRecord is a Spectrum plus optional data computed elsewhere and stored beside it:
+//   ibsss          channels x K   isotropic (IBSSS) coefficients [1], with
+//   ibsss_indices  K x 3          (n, m, l) of each column, n >= m >= l >= 0, n - l and m - l even, n <= order
+//   lut            channels x (cells x cells)  the BRDF per (incident cell, remitted cell) [1/sr]
+// The writer stores the LUT as float32 when lut_float32 is set, recording the largest
+// |float32(x) - x| as the attribute max_abs_rounding_error [1/sr] (relative rounding is at most 2^-24).
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/grid.hpp"
+#include "core/spectrum.hpp"
+#include "io/grid_file.hpp"
+#include "io/h5_file.hpp"
+
+namespace icobrdf {
+
+struct MaterialRecord {
+  std::string name;
+  Spectrum spectrum;
+  Eigen::MatrixXd ibsss;      // channels x K; empty when absent
+  RowMatrix3i ibsss_indices;  // K x 3 (n, m, l)
+  std::vector<Eigen::MatrixXd> lut;  // one cells x cells matrix per channel; empty when absent
+  bool lut_float32 = false;          // write: store as float32; read: it was stored as float32
+  // Largest |float32(x) - x| over the LUT [1/sr]; set by the writer (float32 only) and by the reader.
+  double lut_max_rounding_error = std::numeric_limits<double>::quiet_NaN();
+};
+
+// Longest material name accepted.
+inline constexpr std::size_t kMaxMaterialNameLength = 255;
+// Largest order accepted in a file (M = 501501 basis functions): a sanity bound against overflow; the
+// dataset size limit of the read applies first in practice.
+inline constexpr int kMaxFileOrder = 1000;
+
+// Material names: non-empty, at most kMaxMaterialNameLength bytes of printable ASCII, no '/' and no '.'.
+// Returns an empty string when valid, else the reason.
+std::string material_name_problem(const std::string& name);
+// Throws ArgumentError when the name is invalid.
+void validate_material_name(const std::string& name);
+
+// Writes `rec` as the new group `materials/<rec.name>`. ArgumentError when the record is inconsistent
+// (C not M x M for the order, channels not 1 or 3, NaN in C or the LUT, LUT not square, IBSSS tables
+// disagreeing, a float32 LUT value beyond float32 range); IoError on write failure.
+void write_material(h5::Group& materials, const MaterialRecord& rec);
+
+// Reads `materials/<name>` with every check of docs/file-format.md. When `grid` is given (the bank's
+// /grid attributes) and the material's level and grid kind match it, the LUT must have its cell count.
+// `read_lut` false skips the LUT (its metadata is still validated).
+MaterialRecord read_material(const h5::Group& materials, const std::string& name, const h5::ReadLimits& limits,
+                             bool read_lut = true, const std::optional<GridSummary>& grid = std::nullopt);
+
+// Convenience wrappers over io/bank_file.hpp: a bank with one material (and optionally its grid).
+void write_spectrum_file(const std::string& path, const Spectrum& spectrum, const Grid* grid = nullptr,
+                         const std::string& name = "spectrum");
+// Reads material `name`, or the first in name order when `name` is empty.
+Spectrum read_spectrum_file(const std::string& path, const std::string& name = "");
+
+}  // namespace icobrdf

@@ -1,0 +1,298 @@
+// Materials <-> /materials/<name>, and whole banks: exact round trips of spectra with 1 and 3 channels,
+// IBSSS tables, float32 LUTs with their rounding error, basis arrays, root attributes, name validation.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+
+#include "core/error.hpp"
+#include "io/bank_file.hpp"
+#include "io/bank_format.hpp"
+#include "io/spectrum_file.hpp"
+#include "io_test_support.hpp"
+
+namespace {
+
+using icobrdf::BankContents;
+using icobrdf::MaterialRecord;
+using icobrdf::Spectrum;
+
+void expect_same_figure(double a, double b) {
+  if (std::isnan(a))
+    EXPECT_TRUE(std::isnan(b));
+  else
+    EXPECT_EQ(a, b);
+}
+
+void expect_identical(const Spectrum& a, const Spectrum& b) {
+  EXPECT_EQ(a.order, b.order);
+  EXPECT_EQ(a.isotropic, b.isotropic);
+  EXPECT_EQ(a.cosine, b.cosine);
+  EXPECT_EQ(a.source, b.source);
+  EXPECT_EQ(a.filter, b.filter);
+  EXPECT_EQ(a.level, b.level);
+  EXPECT_EQ(a.grid_kind, b.grid_kind);
+  expect_same_figure(a.gram_error, b.gram_error);
+  expect_same_figure(a.reciprocity_violation, b.reciprocity_violation);
+  expect_same_figure(a.anisotropy_fraction, b.anisotropy_fraction);
+  expect_same_figure(a.max_albedo, b.max_albedo);
+  ASSERT_EQ(a.channel_count(), b.channel_count());
+  for (int c = 0; c < a.channel_count(); ++c) EXPECT_TRUE(a.channels[c] == b.channels[c]) << "channel " << c;
+}
+
+// The IBSSS index table up to order 2: n >= m >= l >= 0, n - l and m - l even (SPEC-NOTES: 5 entries).
+icobrdf::RowMatrix3i ibsss_indices_order2() {
+  icobrdf::RowMatrix3i t(5, 3);
+  t << 0, 0, 0, 1, 1, 1, 2, 0, 0, 2, 2, 0, 2, 2, 2;
+  return t;
+}
+
+}  // namespace
+
+TEST(SpectrumFile, OneChannelRoundTripsExactly) {
+  icobrdf::test::ScratchDir dir;
+  const Spectrum s = icobrdf::test::synthetic_spectrum(4, 1);
+  icobrdf::write_spectrum_file(dir / "s.h5", s);
+  expect_identical(s, icobrdf::read_spectrum_file(dir / "s.h5"));
+  expect_identical(s, icobrdf::read_spectrum_file(dir / "s.h5", "spectrum"));
+}
+
+TEST(SpectrumFile, ThreeChannelCosineRoundTripsExactly) {
+  icobrdf::test::ScratchDir dir;
+  Spectrum s = icobrdf::test::synthetic_spectrum(2, 3);
+  s.cosine = true;
+  s.isotropic = true;
+  s.filter = "hann";
+  s.anisotropy_fraction = 0.0;
+  const icobrdf::Grid g = icobrdf::test::synthetic_grid();
+  icobrdf::write_spectrum_file(dir / "s.h5", s, &g, "red_paint");
+  expect_identical(s, icobrdf::read_spectrum_file(dir / "s.h5", "red_paint"));
+}
+
+TEST(SpectrumFile, UnknownMaterialIsAnInputError) {
+  icobrdf::test::ScratchDir dir;
+  icobrdf::write_spectrum_file(dir / "s.h5", icobrdf::test::synthetic_spectrum(1, 1));
+  try {
+    icobrdf::read_spectrum_file(dir / "s.h5", "other");
+    FAIL() << "no error";
+  } catch (const icobrdf::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/materials/other"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SpectrumFile, BankWithGridIbsssLutAndBasisRoundTrips) {
+  icobrdf::test::ScratchDir dir;
+  BankContents b;
+  b.grid = icobrdf::test::synthetic_grid();
+  const int cells = b.grid->cells();
+
+  MaterialRecord iso;  // isotropic, with its IBSSS vector and a float64 LUT
+  iso.name = "matte";
+  iso.spectrum = icobrdf::test::synthetic_spectrum(2, 3);
+  iso.spectrum.isotropic = true;
+  iso.ibsss_indices = ibsss_indices_order2();
+  iso.ibsss.resize(3, 5);
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k < 5; ++k) iso.ibsss(c, k) = 0.1 * c - 0.03 * k + 1.0 / 7.0;
+  for (int c = 0; c < 3; ++c) {
+    Eigen::MatrixXd f(cells, cells);
+    for (int i = 0; i < cells; ++i)
+      for (int r = 0; r < cells; ++r) f(i, r) = (c + 1) * 0.1 + i * 0.01 + r * 0.001 + 1e-17 * i * r;
+    iso.lut.push_back(f);
+  }
+
+  MaterialRecord f32;  // float32 LUT whose rounding is known from the IEEE rules
+  f32.name = "shiny-2";
+  f32.spectrum = icobrdf::test::synthetic_spectrum(3, 1);
+  Eigen::MatrixXd f(cells, cells);
+  // Entries k + (k mod 3) 2^-30 with integer 1 <= k < 2^20: the offset is below half an ulp of k in
+  // float32 (ulp >= 2^-23), so each rounds to k with error (k mod 3) 2^-30 <= 2^-29.
+  for (int i = 0; i < cells; ++i)
+    for (int r = 0; r < cells; ++r) {
+      const int k = 1 + i * cells + r;
+      f(i, r) = k + (k % 3) * std::ldexp(1.0, -30);
+    }
+  // One tie: 1 + 3 2^-24 lies halfway between 1 + 2^-23 (odd last bit) and 1 + 2^-22 (even), so round-half-
+  // even gives 1 + 2^-22 with error 2^-24, the largest in the table.
+  f(3, 5) = 1.0 + 3.0 * std::ldexp(1.0, -24);
+  f32.lut = {f};
+  f32.lut_float32 = true;
+
+  b.materials = {iso, f32};
+  Eigen::MatrixXd bm(4, 3);
+  bm << 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12.5;
+  b.basis.push_back(icobrdf::BasisArray::matrix("2/B", bm, "sr^-1/2", "cell averages of K_j"));
+  icobrdf::BasisArray idx;
+  idx.path = "2/indices";
+  idx.shape = {3, 2};
+  idx.indices = {0, 0, 1, -1, 1, 1};
+  idx.unit = "index";
+  b.basis.push_back(idx);
+
+  icobrdf::write_bank(dir / "bank.h5", b);
+  const BankContents r = icobrdf::read_bank(dir / "bank.h5");
+
+  ASSERT_TRUE(r.grid.has_value());
+  EXPECT_EQ(r.grid->cells(), cells);
+  ASSERT_EQ(r.materials.size(), 2u);
+  // Read back in name order: "matte" < "shiny-2".
+  const MaterialRecord& a = r.materials[0];
+  EXPECT_EQ(a.name, "matte");
+  expect_identical(iso.spectrum, a.spectrum);
+  EXPECT_TRUE(a.ibsss == iso.ibsss);
+  EXPECT_TRUE(a.ibsss_indices == iso.ibsss_indices);
+  ASSERT_EQ(a.lut.size(), 3u);
+  for (int c = 0; c < 3; ++c) EXPECT_TRUE(a.lut[c] == iso.lut[c]);
+  EXPECT_FALSE(a.lut_float32);
+  EXPECT_EQ(a.lut_max_rounding_error, 0.0);
+
+  const MaterialRecord& s = r.materials[1];
+  EXPECT_EQ(s.name, "shiny-2");
+  EXPECT_TRUE(s.lut_float32);
+  EXPECT_EQ(s.lut_max_rounding_error, std::ldexp(1.0, -24));
+  ASSERT_EQ(s.lut.size(), 1u);
+  EXPECT_EQ(s.lut[0](3, 5), 1.0 + std::ldexp(1.0, -22));
+  for (int i = 0; i < cells; ++i)
+    for (int c = 0; c < cells; ++c)
+      if (!(i == 3 && c == 5)) {
+        EXPECT_EQ(s.lut[0](i, c), 1 + i * cells + c);
+      }
+
+  ASSERT_EQ(r.basis.size(), 2u);
+  EXPECT_EQ(r.basis[0].path, "2/B");
+  EXPECT_EQ(r.basis[0].shape, (icobrdf::h5::Shape{4, 3}));
+  EXPECT_EQ(r.basis[0].values, (std::vector<double>{1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12.5}));
+  EXPECT_EQ(r.basis[0].unit, "sr^-1/2");
+  EXPECT_EQ(r.basis[0].description, "cell averages of K_j");
+  EXPECT_EQ(r.basis[1].path, "2/indices");
+  EXPECT_EQ(r.basis[1].indices, idx.indices);
+
+  // Skipping LUTs still validates them but loads none.
+  icobrdf::ReadOptions o;
+  o.read_luts = false;
+  const auto light = icobrdf::read_bank(dir / "bank.h5", o);
+  EXPECT_TRUE(light.materials[0].lut.empty());
+  EXPECT_TRUE(light.materials[1].lut_float32);
+}
+
+TEST(SpectrumFile, RootAttributesAndReproducibleBytes) {
+  icobrdf::test::ScratchDir dir;
+  ::setenv("SOURCE_DATE_EPOCH", "0", 1);
+  BankContents b;
+  b.grid = icobrdf::test::synthetic_grid();
+  MaterialRecord m;
+  m.name = "m";
+  m.spectrum = icobrdf::test::synthetic_spectrum(2, 1);
+  b.materials = {m};
+  icobrdf::write_bank(dir / "a.h5", b);
+  icobrdf::write_bank(dir / "b.h5", b);
+  ::unsetenv("SOURCE_DATE_EPOCH");
+  // No object timestamps are stored, so equal contents and creation time give equal bytes.
+  EXPECT_EQ(icobrdf::test::read_bytes(dir / "a.h5"), icobrdf::test::read_bytes(dir / "b.h5"));
+
+  const auto r = icobrdf::read_bank(dir / "a.h5");
+  EXPECT_EQ(r.created, "1970-01-01T00:00:00Z");  // SOURCE_DATE_EPOCH = 0 is the epoch itself
+  EXPECT_EQ(r.creator, std::string("icobrdf ") + ICOBRDF_VERSION);
+  EXPECT_EQ(r.format_version, "1.0");
+  const auto f = icobrdf::h5::ReadFile::open(dir / "a.h5");
+  const auto root = f.root();
+  EXPECT_EQ(root.attr_string("format"), "icobrdf-bank");
+  EXPECT_EQ(root.attr_string("axis_order"), "row-major, logical shapes as documented");
+  EXPECT_NE(root.attr_string("conventions").find("Nicodemus"), std::string::npos);
+  EXPECT_TRUE(root.attr_bool("complete"));
+  const auto mat = root.open_group("materials").open_group("m");
+  EXPECT_EQ(mat.attr_string("function"), "f");
+  EXPECT_EQ(mat.attributes_of("C").attr_string("unit"), "1");
+  EXPECT_EQ(root.open_group("grid").attributes_of("solid_angles").attr_string("unit"), "sr");
+}
+
+TEST(SpectrumFile, CreatedIsCurrentUtcTime) {
+  icobrdf::test::ScratchDir dir;
+  const long long before = static_cast<long long>(std::time(nullptr));
+  icobrdf::write_spectrum_file(dir / "s.h5", icobrdf::test::synthetic_spectrum(0, 1));
+  const long long after = static_cast<long long>(std::time(nullptr));
+  const std::string created = icobrdf::read_bank(dir / "s.h5").created;
+  EXPECT_TRUE(created == icobrdf::iso8601_utc(before) || created == icobrdf::iso8601_utc(after)) << created;
+  EXPECT_EQ(created.size(), 20u);
+  EXPECT_EQ(created.back(), 'Z');
+}
+
+TEST(SpectrumFile, LargeDatasetsAreChunkedCompressedAndChecksummed) {
+  icobrdf::test::ScratchDir dir;
+  BankContents b;
+  MaterialRecord m;
+  m.name = "m";
+  m.spectrum = icobrdf::test::synthetic_spectrum(8, 3);  // C: 3 x 45 x 45 float64 = 48600 bytes
+  b.materials = {m};
+  icobrdf::write_bank(dir / "b.h5", b);
+  const hid_t f = H5Fopen((dir / "b.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  const hid_t d = H5Dopen2(f, "/materials/m/C", H5P_DEFAULT);
+  const hid_t p = H5Dget_create_plist(d);
+  EXPECT_EQ(H5Pget_layout(p), H5D_CHUNKED);
+  std::vector<H5Z_filter_t> filters;
+  for (int i = 0; i < H5Pget_nfilters(p); ++i) {
+    unsigned flags, cd[8], cfg;
+    size_t n = 8;
+    char name[32];
+    filters.push_back(H5Pget_filter2(p, static_cast<unsigned>(i), &flags, &n, cd, sizeof name, name, &cfg));
+  }
+  EXPECT_EQ(filters, (std::vector<H5Z_filter_t>{H5Z_FILTER_SHUFFLE, H5Z_FILTER_DEFLATE, H5Z_FILTER_FLETCHER32}));
+  H5Pclose(p);
+  H5Dclose(d);
+  H5Fclose(f);
+}
+
+TEST(SpectrumFile, InvalidNamesAreArgumentErrors) {
+  icobrdf::test::ScratchDir dir;
+  for (const std::string& bad : {std::string(""), std::string("a/b"), std::string("a.b"), std::string("tab\there"),
+                                std::string("caf\xc3\xa9"), std::string(300, 'x')}) {
+    EXPECT_THROW(icobrdf::write_spectrum_file(dir / "s.h5", icobrdf::test::synthetic_spectrum(1, 1), nullptr, bad),
+                 icobrdf::ArgumentError)
+        << bad;
+  }
+  EXPECT_TRUE(dir.entries().empty());  // nothing written, no temporary left
+  EXPECT_NO_THROW(icobrdf::validate_material_name("Paint 01_(red)-x"));
+}
+
+TEST(SpectrumFile, InconsistentRecordsAreArgumentErrors) {
+  icobrdf::test::ScratchDir dir;
+  auto attempt = [&](const MaterialRecord& m) {
+    BankContents b;
+    b.materials = {m};
+    icobrdf::write_bank(dir / "s.h5", b);
+  };
+  MaterialRecord m;
+  m.name = "m";
+  m.spectrum = icobrdf::test::synthetic_spectrum(2, 1);
+  auto bad = m;
+  bad.spectrum.order = 3;  // C is 6 x 6, order 3 needs 10 x 10
+  EXPECT_THROW(attempt(bad), icobrdf::ArgumentError);
+  bad = m;
+  bad.spectrum.channels[0](1, 2) = std::nan("");
+  EXPECT_THROW(attempt(bad), icobrdf::ArgumentError);
+  bad = m;
+  bad.spectrum.channels.push_back(bad.spectrum.channels[0]);  // 2 channels
+  EXPECT_THROW(attempt(bad), icobrdf::ArgumentError);
+  bad = m;
+  bad.ibsss_indices = ibsss_indices_order2();
+  bad.ibsss_indices(1, 2) = 0;  // (1, 1, 0): n - l odd
+  bad.ibsss = Eigen::MatrixXd::Zero(1, 5);
+  EXPECT_THROW(attempt(bad), icobrdf::ArgumentError);
+  bad = m;
+  bad.lut = {Eigen::MatrixXd::Ones(8, 7)};  // not square
+  EXPECT_THROW(attempt(bad), icobrdf::ArgumentError);
+  bad = m;
+  bad.spectrum.grid_kind = "equal-area";
+  bad.spectrum.level = 1;
+  bad.lut = {Eigen::MatrixXd::Ones(8, 8)};  // level 1 equal-area has 10 * 4 + 4 = 44 cells
+  EXPECT_THROW(attempt(bad), icobrdf::ArgumentError);
+  bad = m;
+  bad.lut = {Eigen::MatrixXd::Constant(8, 8, 1e39)};  // beyond float32's 3.4e38
+  bad.lut_float32 = true;
+  EXPECT_THROW(attempt(bad), icobrdf::ArgumentError);
+  BankContents twice;
+  twice.materials = {m, m};
+  EXPECT_THROW(icobrdf::write_bank(dir / "s.h5", twice), icobrdf::ArgumentError);
+  EXPECT_TRUE(dir.entries().empty());
+}
