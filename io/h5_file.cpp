@@ -43,7 +43,15 @@ bool type_is(hid_t stored, Type t) {
   return H5Tequal(stored, ti.le) > 0 || H5Tequal(stored, ti.be) > 0;
 }
 
+std::string describe_type_bare(hid_t t);
+
+// "a 4-byte signed integer", "an 8-byte float", ...
 std::string describe_type(hid_t t) {
+  const std::string d = describe_type_bare(t);
+  return (d[0] == '8' || d[0] == 'a' || d[0] == 'e' || d[0] == 'o' || d[0] == 'u' ? "an " : "a ") + d;
+}
+
+std::string describe_type_bare(hid_t t) {
   const H5T_class_t c = H5Tget_class(t);
   const size_t size = H5Tget_size(t);
   const std::string bytes = std::to_string(size) + "-byte";
@@ -64,10 +72,10 @@ std::string describe_type(hid_t t) {
 
 const char* link_kind(H5L_type_t t) {
   switch (t) {
-    case H5L_TYPE_HARD: return "hard link";
-    case H5L_TYPE_SOFT: return "soft link";
-    case H5L_TYPE_EXTERNAL: return "external link";
-    default: return "user-defined link";
+    case H5L_TYPE_HARD: return "a hard link";
+    case H5L_TYPE_SOFT: return "a soft link";
+    case H5L_TYPE_EXTERNAL: return "an external link";
+    default: return "a user-defined link";
   }
 }
 
@@ -180,8 +188,18 @@ std::string take_error_detail() {
   ErrorWalk w;
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, walk_error, &w);
   H5Eclear2(H5E_DEFAULT);
-  std::replace(w.innermost.begin(), w.innermost.end(), '\n', ' ');
-  return w.innermost;
+  std::string d = std::move(w.innermost);
+  std::replace(d.begin(), d.end(), '\n', ' ');
+  // System-call failures come as "file write failed: time = ..., errno = 27, error message = 'File too
+  // large', ..."; keep the operation and the system's message.
+  const auto time_at = d.find(": time = ");
+  const auto msg_at = d.find("error message = '");
+  if (time_at != std::string::npos && msg_at != std::string::npos) {
+    const auto start = msg_at + 17;
+    const auto end = d.find('\'', start);
+    d = d.substr(0, time_at) + ": " + d.substr(start, end == std::string::npos ? std::string::npos : end - start);
+  }
+  return d;
 }
 
 Handle& Handle::operator=(Handle&& o) noexcept {
@@ -320,7 +338,7 @@ std::vector<std::string> Group::children() const {
   if (list.too_many) fail(path_, "group has more than " + std::to_string(kMaxGroupLinks) + " links");
   std::vector<std::string> names;
   for (auto& [n, t] : list.links) {
-    if (t != H5L_TYPE_HARD) fail(child_path(n), std::string("expected a hard link, found a ") + link_kind(t));
+    if (t != H5L_TYPE_HARD) fail(child_path(n), std::string("expected a hard link, found ") + link_kind(t));
     names.push_back(n);
   }
   return names;
@@ -337,7 +355,7 @@ bool Group::has(const std::string& name) const {
   H5L_info_t li;
   if (H5Lget_info(id(), name.c_str(), &li, H5P_DEFAULT) < 0)
     fail(child_path(name), "cannot read the link (" + take_error_detail() + ")");
-  if (li.type != H5L_TYPE_HARD) fail(child_path(name), std::string("expected a hard link, found a ") + link_kind(li.type));
+  if (li.type != H5L_TYPE_HARD) fail(child_path(name), std::string("expected a hard link, found ") + link_kind(li.type));
   return true;
 }
 
@@ -395,7 +413,7 @@ std::string Group::attr_string(const std::string& name) const {
   Handle type;
   Handle a = open_scalar_attr(*this, name, &type);
   if (H5Tget_class(type.get()) != H5T_STRING || H5Tis_variable_str(type.get()) > 0)
-    fail(path_, "attribute " + name + ": expected a fixed-length string, found a " + describe_type(type.get()));
+    fail(path_, "attribute " + name + ": expected a fixed-length string, found " + describe_type(type.get()));
   const size_t size = H5Tget_size(type.get());
   if (size == 0 || size > kMaxStringBytes)
     fail(path_, "attribute " + name + ": expected a string of at most " + std::to_string(kMaxStringBytes) + " bytes, found " +
@@ -411,7 +429,7 @@ double Group::attr_double(const std::string& name) const {
   Handle type;
   Handle a = open_scalar_attr(*this, name, &type);
   if (!type_is(type.get(), Type::float64))
-    fail(path_, "attribute " + name + ": expected float64, found a " + describe_type(type.get()));
+    fail(path_, "attribute " + name + ": expected float64, found " + describe_type(type.get()));
   double v = 0;
   if (H5Aread(a.get(), H5T_NATIVE_DOUBLE, &v) < 0) fail(path_, "attribute " + name + ": cannot read (" + take_error_detail() + ")");
   return v;
@@ -421,7 +439,7 @@ std::int64_t Group::attr_int(const std::string& name, std::int64_t lo, std::int6
   Handle type;
   Handle a = open_scalar_attr(*this, name, &type);
   if (!type_is(type.get(), Type::int32) && !type_is(type.get(), Type::int64))
-    fail(path_, "attribute " + name + ": expected int32, found a " + describe_type(type.get()));
+    fail(path_, "attribute " + name + ": expected int32, found " + describe_type(type.get()));
   std::int64_t v = 0;
   if (H5Aread(a.get(), H5T_NATIVE_INT64, &v) < 0) fail(path_, "attribute " + name + ": cannot read (" + take_error_detail() + ")");
   if (v < lo || v > hi)
@@ -433,7 +451,7 @@ std::int64_t Group::attr_int(const std::string& name, std::int64_t lo, std::int6
 bool Group::attr_bool(const std::string& name) const {
   Handle type;
   Handle a = open_scalar_attr(*this, name, &type);
-  if (!type_is(type.get(), Type::uint8)) fail(path_, "attribute " + name + ": expected uint8 0/1, found a " + describe_type(type.get()));
+  if (!type_is(type.get(), Type::uint8)) fail(path_, "attribute " + name + ": expected uint8 0/1, found " + describe_type(type.get()));
   std::uint8_t v = 0;
   if (H5Aread(a.get(), H5T_NATIVE_UINT8, &v) < 0) fail(path_, "attribute " + name + ": cannot read (" + take_error_detail() + ")");
   if (v > 1) fail(path_, "attribute " + name + ": expected 0 or 1, found " + std::to_string(v));
@@ -454,7 +472,7 @@ Handle Group::open_dataset_checked(const std::string& name, const ReadLimits& li
   if (layout != H5D_CONTIGUOUS && layout != H5D_CHUNKED && layout != H5D_COMPACT)
     fail(object, "unknown storage layout");
   const int external = H5Pget_external_count(dcpl.get());
-  if (external != 0) fail(object, "expected data stored in this file, found external storage (" + std::to_string(external) + " files)");
+  if (external != 0) fail(object, "expected data stored in this file, found external storage in " + std::to_string(external) + " file(s)");
   const int nfilters = H5Pget_nfilters(dcpl.get());
   if (nfilters < 0) fail(object, "cannot read the filter pipeline");
   for (int i = 0; i < nfilters; ++i) {
@@ -493,7 +511,7 @@ Type Group::dataset_type(const std::string& name, const ReadLimits& limits) cons
   Handle d = open_dataset_checked(name, limits, &shape, &type);
   for (Type t : {Type::float64, Type::float32, Type::int32, Type::int64, Type::uint8})
     if (type_is(type.get(), t)) return t;
-  fail(child_path(name), "expected float64, float32, int32, int64 or uint8, found a " + describe_type(type.get()));
+  fail(child_path(name), "expected float64, float32, int32, int64 or uint8, found " + describe_type(type.get()));
 }
 
 Shape Group::dataset_shape(const std::string& name, const ReadLimits& limits) const {
@@ -504,16 +522,18 @@ Shape Group::dataset_shape(const std::string& name, const ReadLimits& limits) co
   return shape;
 }
 
-void Group::read_raw(const std::string& name, Type type, const ShapePattern& pattern, const ReadLimits& limits, Shape* shape,
-                     void* (*alloc)(void*, std::uint64_t), void* vec) const {
-  // `type` is the memory type; the stored type must equal it, except that float32 may be read as float64.
+void Group::read_raw(const std::string& name, Type type, bool allow_float32, const ShapePattern& pattern,
+                     const ReadLimits& limits, Shape* shape, void* (*alloc)(void*, std::uint64_t), void* vec) const {
+  // `type` is the memory type; the stored type must equal it, except that with allow_float32 a float32
+  // dataset is read into float64.
   init();
   const std::string object = child_path(name);
   Handle stored;
   Handle d = open_dataset_checked(name, limits, shape, &stored);
-  const bool ok = type_is(stored.get(), type) || (type == Type::float64 && type_is(stored.get(), Type::float32));
+  const bool f32 = allow_float32 && type == Type::float64;
+  const bool ok = type_is(stored.get(), type) || (f32 && type_is(stored.get(), Type::float32));
   if (!ok)
-    fail(object, std::string("expected ") + (type == Type::float64 ? "float64 or float32" : type_name(type)) + ", found a " +
+    fail(object, std::string("expected ") + (f32 ? "float64 or float32" : type_name(type)) + ", found " +
                      describe_type(stored.get()));
   bool shape_ok = shape->size() == pattern.size();
   for (size_t i = 0; shape_ok && i < pattern.size(); ++i)
@@ -533,7 +553,15 @@ void Group::read_raw(const std::string& name, Type type, const ShapePattern& pat
 }
 
 Array<double> Group::read_real(const std::string& name, const ShapePattern& pattern, const ReadLimits& limits) const {
-  return read<double>(name, pattern, limits);
+  Array<double> out;
+  read_raw(name, Type::float64, true, pattern, limits, &out.shape,
+           [](void* v, std::uint64_t n) -> void* {
+             auto* vec = static_cast<std::vector<double>*>(v);
+             vec->resize(n);
+             return vec->data();
+           },
+           &out.data);
+  return out;
 }
 
 // ---------------------------------------------------------------- files

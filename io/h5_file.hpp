@@ -152,8 +152,8 @@ class Group {
   Handle open_dataset_checked(const std::string& name, const ReadLimits& limits, Shape* shape, Handle* type) const;
   void write_raw(const std::string& name, Type type, const void* data, const Shape& shape, const std::string& unit,
                  const std::string& description);
-  void read_raw(const std::string& name, Type type, const ShapePattern& pattern, const ReadLimits& limits,
-                Shape* shape, void* (*alloc)(void*, std::uint64_t), void* vec) const;
+  void read_raw(const std::string& name, Type type, bool allow_float32, const ShapePattern& pattern,
+                const ReadLimits& limits, Shape* shape, void* (*alloc)(void*, std::uint64_t), void* vec) const;
 
   Handle h_;
   std::string file_;
@@ -201,7 +201,7 @@ void Group::write(const std::string& name, const T* data, const Shape& shape, co
 template <class T>
 Array<T> Group::read(const std::string& name, const ShapePattern& pattern, const ReadLimits& limits) const {
   Array<T> out;
-  read_raw(name, TypeOf<T>::value, pattern, limits, &out.shape,
+  read_raw(name, TypeOf<T>::value, false, pattern, limits, &out.shape,
            [](void* v, std::uint64_t n) -> void* {
              auto* vec = static_cast<std::vector<T>*>(v);
              vec->resize(n);

@@ -1,0 +1,191 @@
+// Atomic bank writes: refusals leave no file and no temporary; a failure at any point of an overwrite
+// (injected through the write fault hook, or a full disk simulated with RLIMIT_FSIZE) leaves the previous
+// bank byte for byte intact.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "core/error.hpp"
+#include "io/atomic_write.hpp"
+#include "io/bank_file.hpp"
+#include "io_test_support.hpp"
+
+namespace {
+
+using icobrdf::test::ScratchDir;
+
+icobrdf::BankContents small_bank(const std::string& material) {
+  icobrdf::BankContents b;
+  b.grid = icobrdf::test::synthetic_grid();
+  icobrdf::MaterialRecord m;
+  m.name = material;
+  m.spectrum = icobrdf::test::synthetic_spectrum(2, 1);
+  b.materials = {m};
+  return b;
+}
+
+// A bank of about 0.9 MB: 3 x 200 x 200 float64 LUT of hashed values (random mantissas barely compress).
+icobrdf::BankContents large_bank() {
+  icobrdf::BankContents b = small_bank("large");
+  auto& m = b.materials[0];
+  m.spectrum = icobrdf::test::synthetic_spectrum(2, 3);
+  m.spectrum.grid_kind = "test-cells";
+  std::uint64_t x = 88172645463325252ull;
+  for (int c = 0; c < 3; ++c) {
+    Eigen::MatrixXd f(200, 200);
+    for (int i = 0; i < 200; ++i)
+      for (int r = 0; r < 200; ++r) {
+        x ^= x << 13, x ^= x >> 7, x ^= x << 17;  // xorshift64
+        f(i, r) = static_cast<double>(x >> 11) * 0x1.0p-53;
+      }
+    m.lut.push_back(f);
+  }
+  return b;
+}
+
+struct HookGuard {
+  ~HookGuard() { icobrdf::set_write_fault_hook({}); }
+};
+
+}  // namespace
+
+TEST(AtomicWrite, WritesAndLeavesNoTemporary) {
+  ScratchDir dir;
+  icobrdf::write_bank(dir / "bank.h5", small_bank("a"));
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"bank.h5"});
+  EXPECT_EQ(icobrdf::read_bank(dir / "bank.h5").materials.at(0).name, "a");
+  icobrdf::write_bank(dir / "bank.h5", small_bank("b"));  // overwrite
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"bank.h5"});
+  EXPECT_EQ(icobrdf::read_bank(dir / "bank.h5").materials.at(0).name, "b");
+}
+
+TEST(AtomicWrite, NewFileModeFollowsUmask) {
+  ScratchDir dir;
+  const mode_t old = ::umask(022);
+  icobrdf::write_bank(dir / "bank.h5", small_bank("a"));
+  ::umask(old);
+  struct stat st;
+  ASSERT_EQ(::stat((dir / "bank.h5").c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 0777, 0644u);  // 0666 & ~022
+}
+
+TEST(AtomicWrite, RelativePathInCurrentFolder) {
+  ScratchDir dir;
+  char cwd[4096];
+  ASSERT_NE(::getcwd(cwd, sizeof cwd), nullptr);
+  ASSERT_EQ(::chdir(dir.path().c_str()), 0);
+  EXPECT_NO_THROW(icobrdf::write_bank("bank.h5", small_bank("a")));
+  ASSERT_EQ(::chdir(cwd), 0);
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"bank.h5"});
+}
+
+TEST(AtomicWrite, FolderThatIsARegularFileIsIoError) {
+  // Root ignores permission bits, so "not writable" is made with a folder path that is a regular file.
+  ScratchDir dir;
+  icobrdf::test::write_bytes(dir / "plain.txt", "keep me");
+  try {
+    icobrdf::write_bank(dir / "plain.txt/bank.h5", small_bank("a"));
+    FAIL() << "no error";
+  } catch (const icobrdf::IoError& e) {
+    EXPECT_NE(std::string(e.what()).find(dir / "plain.txt/bank.h5"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("Not a directory"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(icobrdf::test::read_bytes(dir / "plain.txt"), "keep me");
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"plain.txt"});
+}
+
+TEST(AtomicWrite, MissingFolderIsIoError) {
+  ScratchDir dir;
+  EXPECT_THROW(icobrdf::write_bank(dir / "no/such/bank.h5", small_bank("a")), icobrdf::IoError);
+  EXPECT_TRUE(dir.entries().empty());
+}
+
+TEST(AtomicWrite, UnwritableFolderIsIoError) {
+  // /proc refuses file creation even for root.
+  EXPECT_THROW(icobrdf::write_bank("/proc/icobrdf-bank.h5", small_bank("a")), icobrdf::IoError);
+}
+
+TEST(AtomicWrite, PathThatIsAFolderIsIoError) {
+  ScratchDir dir;
+  ASSERT_EQ(::mkdir((dir / "out").c_str(), 0755), 0);
+  try {
+    icobrdf::write_bank(dir / "out", small_bank("a"));
+    FAIL() << "no error";
+  } catch (const icobrdf::IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("is a folder"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(icobrdf::write_bank(dir / "out/", small_bank("a")), icobrdf::IoError);
+  struct stat st;
+  ASSERT_EQ(::stat((dir / "out").c_str(), &st), 0);
+  EXPECT_TRUE(S_ISDIR(st.st_mode));
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"out"});
+}
+
+TEST(AtomicWrite, FailureAtAnyPointKeepsTheOldBank) {
+  ScratchDir dir;
+  const std::string path = dir / "bank.h5";
+  icobrdf::write_bank(path, small_bank("old"));
+  const std::string before = icobrdf::test::read_bytes(path);
+  HookGuard guard;
+  for (const std::string point : {"bank:material", "bank:before-complete", "atomic_write:produced", "atomic_write:synced"}) {
+    SCOPED_TRACE(point);
+    icobrdf::set_write_fault_hook([&](const std::string& p) {
+      if (p == point) throw icobrdf::IoError("injected failure at " + p);
+    });
+    try {
+      icobrdf::write_bank(path, small_bank("new"));
+      ADD_FAILURE() << "no error";
+    } catch (const icobrdf::IoError& e) {
+      EXPECT_EQ(std::string(e.what()), "injected failure at " + point);
+    }
+    EXPECT_EQ(icobrdf::test::read_bytes(path), before);
+    EXPECT_EQ(dir.entries(), std::vector<std::string>{"bank.h5"});  // temporary removed
+  }
+  icobrdf::set_write_fault_hook({});
+  EXPECT_EQ(icobrdf::read_bank(path).materials.at(0).name, "old");
+}
+
+TEST(AtomicWrite, ProducerExceptionPropagatesAndRemovesTemporary) {
+  ScratchDir dir;
+  std::string seen;
+  EXPECT_THROW(icobrdf::atomic_write(dir / "x.bin",
+                                     [&](const std::string& tmp) {
+                                       seen = tmp;
+                                       icobrdf::test::write_bytes(tmp, "partial");
+                                       throw std::runtime_error("boom");
+                                     }),
+               std::runtime_error);
+  EXPECT_EQ(icobrdf::parent_folder(seen), dir.path());  // temporary in the same folder
+  EXPECT_TRUE(dir.entries().empty());
+}
+
+TEST(AtomicWrite, DiskFullKeepsTheOldBank) {
+  ScratchDir dir;
+  const std::string path = dir / "bank.h5";
+  icobrdf::write_bank(path, small_bank("old"));
+  const std::string before = icobrdf::test::read_bytes(path);
+  // In a child, limit file size to 256 KiB (as a nearly full disk would) and ignore SIGXFSZ so writes fail
+  // with EFBIG; the 0.9 MB bank cannot fit.
+  const auto r = icobrdf::test::run_in_child([&] {
+    struct rlimit lim = {256 * 1024, 256 * 1024};
+    if (::setrlimit(RLIMIT_FSIZE, &lim) != 0) throw std::runtime_error("setrlimit failed");
+    ::signal(SIGXFSZ, SIG_IGN);
+    icobrdf::write_bank(path, large_bank());
+  });
+  EXPECT_FALSE(r.timed_out);
+  EXPECT_FALSE(r.signaled);
+  EXPECT_EQ(r.kind, "IoError") << r.message;
+  if (std::getenv("ICOBRDF_TEST_SHOW_ERRORS")) std::printf("    %s\n", r.message.c_str());
+  EXPECT_EQ(r.message.rfind(path, 0), 0u) << r.message;
+  EXPECT_EQ(r.err, "");
+  EXPECT_EQ(icobrdf::test::read_bytes(path), before);
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"bank.h5"});
+  // Without the limit the same bank is written.
+  EXPECT_NO_THROW(icobrdf::write_bank(path, large_bank()));
+  EXPECT_GT(icobrdf::test::read_bytes(path).size(), 512u * 1024u);
+}
