@@ -1,5 +1,6 @@
 #include "core/hemisphere_basis.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -13,6 +14,13 @@ namespace icobrdf {
 namespace {
 
 constexpr int kMaxRadial = (kMaxZernikeOrder + 2) * (kMaxZernikeOrder + 2) / 4;
+
+// sqrt((n + 1) / pi) for n <= 128.
+const std::array<double, kMaxZernikeOrder + 1> kNorm = [] {
+  std::array<double, kMaxZernikeOrder + 1> t{};
+  for (int n = 0; n <= kMaxZernikeOrder; ++n) t[static_cast<size_t>(n)] = std::sqrt((n + 1) / M_PI);
+  return t;
+}();
 
 void check_order(int order, const char* where) {
   if (order < 0 || order > kMaxZernikeOrder)
@@ -49,57 +57,68 @@ BasisIndex ansi_to_nl(int j) {
   return {n, 2 * (j - n * (n + 1) / 2) - n};
 }
 
-void hemisphere_basis_eval(int order, const Eigen::Vector3d& unit_dir, double* out) {
-  check_order(order, "hemisphere_basis_eval");
+namespace {
+
+// K_j(unit_dir) for j < count(order), no argument checks (order valid, z checked by the caller).
+void eval_unchecked(int order, const Eigen::Vector3d& unit_dir, double* out) {
   std::array<double, kMaxRadial> radial;
-  std::array<double, kMaxZernikeOrder + 1> cos_l, sin_l;
+  std::array<double, 2 * kMaxZernikeOrder + 1> az;  // az[order + l] = az_l(phi), l in [-order, order]
   const double rho2 = lambert_rho_squared(unit_dir);
   zernike_radial_all(order, std::sqrt(rho2), radial.data());
   // Azimuth from (x, y) without trigonometry; cos(l phi) + i sin(l phi) = (cos phi + i sin phi)^l.
   const double s = std::sqrt(unit_dir.x() * unit_dir.x() + unit_dir.y() * unit_dir.y());
   const double c1 = s > 0.0 ? unit_dir.x() / s : 1.0;
   const double s1 = s > 0.0 ? unit_dir.y() / s : 0.0;
-  cos_l[0] = 1.0;
-  sin_l[0] = 0.0;
+  double c = 1.0, sn = 0.0;
+  az[static_cast<size_t>(order)] = M_SQRT1_2;
   for (int l = 1; l <= order; ++l) {
-    cos_l[l] = cos_l[l - 1] * c1 - sin_l[l - 1] * s1;
-    sin_l[l] = sin_l[l - 1] * c1 + cos_l[l - 1] * s1;
+    const double c_next = c * c1 - sn * s1;
+    sn = sn * c1 + c * s1;
+    c = c_next;
+    az[static_cast<size_t>(order + l)] = c;   // az_l = cos(l phi)
+    az[static_cast<size_t>(order - l)] = sn;  // az_-l = -sin(-l phi) = sin(l phi)
   }
-  int j = 0;
+  const double* azc = az.data() + order;
   for (int n = 0; n <= order; ++n) {
-    const double norm = std::sqrt((n + 1) / M_PI);
+    const double norm = kNorm[static_cast<size_t>(n)];
     const double* row = radial.data() + (n + 1) * (n + 1) / 4;  // R_n^{n mod 2}, R_n^{n mod 2 + 2}, ...
-    for (int l = -n; l <= n; l += 2, ++j) {
-      const int al = l < 0 ? -l : l;
-      const double r = row[(al - n % 2) / 2];
-      const double az = l > 0 ? cos_l[al] : (l < 0 ? sin_l[al] : M_SQRT1_2);
-      out[j] = norm * r * az;
-    }
+    double* o = out + n * (n + 1) / 2;                           // K_n^l, l = -n, -n + 2, ..., n
+    const double* a = azc - n;                                   // a[2e] = az_l for l = -n + 2e
+    const int neg = (n + 1) / 2;                                 // entries with l < 0
+    for (int e = 0; e < neg; ++e) o[e] = norm * row[n / 2 - e] * a[2 * e];      // |l| = n - 2e
+    for (int e = neg; e <= n; ++e) o[e] = norm * row[e - neg] * a[2 * e];       // l = 2(e - neg) + n mod 2
   }
+}
+
+}  // namespace
+
+void hemisphere_basis_eval(int order, const Eigen::Vector3d& unit_dir, double* out) {
+  check_order(order, "hemisphere_basis_eval");
+  eval_unchecked(order, unit_dir, out);
 }
 
 Eigen::MatrixXd hemisphere_basis_matrix(int order, const RowMatrix3d& dirs) {
   const int count = hemisphere_basis_count(order);
   const Eigen::Index rows = dirs.rows();
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> out(rows, count);
-  // Per-row work is independent; exceptions (a direction below the horizon) are collected outside the loop.
-  bool bad = false;
-  Eigen::Index first_bad = -1;
-#pragma omp parallel for schedule(static) if (rows * count > 200000)
-  for (Eigen::Index r = 0; r < rows; ++r) {
-    if (!(dirs(r, 2) >= -1e-12)) {
-#pragma omp critical
-      {
-        if (!bad || r < first_bad) first_bad = r;
-        bad = true;
-      }
-      continue;
+  for (Eigen::Index r = 0; r < rows; ++r)
+    if (!(dirs(r, 2) >= -1e-12))
+      throw ArgumentError("hemisphere_basis_matrix: direction " + std::to_string(r) +
+                          " lies below the horizon (z = " + std::to_string(dirs(r, 2)) + ")");
+  Eigen::MatrixXd out(rows, count);
+  // Blocks of rows are evaluated into a row-major buffer and copied into the column-major result, which
+  // keeps the transposition cache-friendly.
+  constexpr Eigen::Index kBlock = 32;
+  const Eigen::Index blocks = (rows + kBlock - 1) / kBlock;
+#pragma omp parallel if (rows * count > 200000)
+  {
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> buf(kBlock, count);
+#pragma omp for schedule(static)
+    for (Eigen::Index b = 0; b < blocks; ++b) {
+      const Eigen::Index r0 = b * kBlock, nr = std::min(kBlock, rows - r0);
+      for (Eigen::Index r = 0; r < nr; ++r) eval_unchecked(order, dirs.row(r0 + r).transpose(), buf.row(r).data());
+      out.middleRows(r0, nr) = buf.topRows(nr);
     }
-    hemisphere_basis_eval(order, dirs.row(r).transpose(), out.row(r).data());
   }
-  if (bad)
-    throw ArgumentError("hemisphere_basis_matrix: direction " + std::to_string(first_bad) +
-                        " lies below the horizon (z = " + std::to_string(dirs(first_bad, 2)) + ")");
   return out;
 }
 
