@@ -14,6 +14,8 @@ int main(int argc, char** argv) {
   for (auto& [name, adder] : command_registry()) adder(app);
   try {
     app.parse(argc, argv);
+  } catch (const CLI::RuntimeError& e) {
+    return e.get_exit_code();  // a command's own exit code (e.g. 130 after SIGINT), message already printed
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? kExitOk : kExitUsage;
