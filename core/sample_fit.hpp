@@ -1,0 +1,95 @@
+#pragma once
+// Weighted least-squares fit of scattered BRDF samples onto the Helmholtz modes (or the isotropic modes).
+//
+// Data: S samples (w_i, w_r, f) with weights w_s >= 0; wi, wr are S x 3 unit vectors (z >= 0, normal +z,
+// both pointing away from the surface), values S x channels [1/sr]. Unknowns: the coefficients x of the
+// modes up to total order N in the library order (core/helmholtz_modes.hpp: M(M+1)/2 BSSS modes;
+// core/isotropic_modes.hpp with `isotropic`: Table 2 order). With A (S x unknowns) the modes at the samples
+// and W = diag(w_s), per channel
+//     minimize  || W^(1/2) (A x - y) ||^2 + lambda sum_k d_k x_k^2,
+//     d_k = (n(n+2) + m(m+2))^p  for the mode built from K_n^. (x) K_m^. (isotropic: I_nm^l),
+// an order-graded Tikhonov penalty: n(n+2) is the eigenvalue of the Zernike polynomials of radial order n
+// under their Sturm-Liouville (disk Laplacian-like) operator, so p = 1 penalizes roughness; the order-0
+// mode has d = 0 and is never shrunk (p = 0 gives plain ridge regression, d = 1 for every mode).
+//
+// Solver (rank revealing, minimum norm). The rows are reduced by a streaming Householder QR of
+// [W^(1/2) A | W^(1/2) Y] (chunks of rows, so millions of samples need only unknowns^2 memory); then
+//   * unseen modes: columns of W^(1/2) A whose norm is <= tau are modes the data cannot see; their
+//     coefficients are set to exactly 0 and they take no part in the solve;
+//   * the singular values s_1 >= s_2 >= ... of W^(1/2) A (those of the triangular factor) give the effective
+//     rank r = #{ s_k > tau },  tau = tol * s_1,  tol = max(S, unknowns) * machine epsilon unless given
+//     (the LAPACK / MATLAB numerical-rank convention);
+//   * lambda = 0: x = V_r S_r^-1 U_r^T z (truncated SVD): the minimum-norm least-squares solution, with no
+//     component in the numerical null space (the least-committed solution of K&vD's velvet example);
+//     lambda > 0: the penalized system [R; sqrt(lambda D)] x = [z; 0] solved by SVD with the same truncation.
+// Reported: effective rank, null-space dimension (unknowns - rank), unseen modes, singular values, and the
+// weighted residual RMS per channel, sqrt(sum_s w_s (A x - y)_s^2 / sum_s w_s).
+// Accuracy: data in the span of the modes are recovered to ~ cond(W^(1/2) A) * 1e-16 relative.
+#include <Eigen/Core>
+
+#include <vector>
+
+#include "core/grid.hpp"
+
+namespace icobrdf {
+
+struct SampleFitOptions {
+  int order = 4;             // total order N of the modes
+  bool isotropic = false;    // fit the isotropic modes I_nm^l instead of the general Helmholtz modes
+  double tikhonov = 0.0;     // lambda >= 0
+  double tikhonov_power = 1.0;  // p >= 0
+  double rank_tolerance = -1.0;  // relative tol on singular values; < 0: max(S, unknowns) * eps
+};
+
+struct SampleFitResult {
+  int order = 0;
+  bool isotropic = false;
+  Eigen::MatrixXd modes;                  // unknowns x channels: the mode coefficients (BSSS or IBSSS order)
+  std::vector<Eigen::MatrixXd> channels;  // per channel the symmetric M x M coefficient matrix C
+  long long samples = 0;                  // rows used (weight > 0)
+  int unknowns = 0;
+  int effective_rank = 0;                 // numerical rank of W^(1/2) A
+  int null_space_dimension = 0;           // unknowns - effective_rank
+  int unseen_modes = 0;                   // modes with a zero column (coefficient exactly 0)
+  double rank_tolerance = 0.0;            // relative tolerance used
+  double rank_threshold = 0.0;            // tau = rank_tolerance * s_1
+  Eigen::VectorXd singular_values;        // of W^(1/2) A restricted to the seen modes, descending
+  Eigen::VectorXd residual_rms;           // per channel, weighted [1/sr]
+  std::vector<bool> unseen;               // per unknown: true when its column is (numerically) zero
+};
+
+// d_k of every unknown (see the header comment), in the library order of the chosen modes.
+Eigen::VectorXd tikhonov_penalties(int order, bool isotropic, double power);
+
+// Streaming accumulation: add() chunks of samples, then solve(). Memory O(unknowns^2).
+class SampleFitAccumulator {
+ public:
+  // ArgumentError for an order outside [0, 16] (general modes: 9316 unknowns at 16; isotropic: up to 128),
+  // channels not >= 1, lambda or p negative or not finite.
+  SampleFitAccumulator(const SampleFitOptions& options, int channels);
+  // wi, wr: rows x 3, values: rows x channels, weights: rows (finite, >= 0; rows with weight 0 are skipped).
+  // ArgumentError on shape mismatch or non-finite values/weights.
+  void add(const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values, const Eigen::VectorXd& weights);
+  // ArgumentError when no sample with positive weight was added.
+  SampleFitResult solve() const;
+  long long samples() const { return samples_; }
+  int unknowns() const { return unknowns_; }
+
+ private:
+  void absorb(const Eigen::MatrixXd& block);
+  SampleFitOptions options_;
+  int channels_;
+  int unknowns_;
+  long long samples_ = 0;
+  double weight_sum_ = 0.0;
+  Eigen::MatrixXd r_;  // (unknowns + channels) square, upper triangular
+};
+
+// One-shot fit; weights empty means all 1.
+SampleFitResult fit_samples(const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
+                            const Eigen::VectorXd& weights, const SampleFitOptions& options);
+
+// The largest order accepted for the general (anisotropic) modes.
+inline constexpr int kMaxSampleFitOrder = 16;
+
+}  // namespace icobrdf

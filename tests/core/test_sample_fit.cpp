@@ -1,0 +1,261 @@
+// Weighted least-squares fits of scattered samples (core/sample_fit.hpp).
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+
+#include <cmath>
+#include <random>
+
+#include "core/error.hpp"
+#include "core/helmholtz_modes.hpp"
+#include "core/hemisphere_basis.hpp"
+#include "core/isotropic_modes.hpp"
+#include "core/sample_fit.hpp"
+
+namespace icobrdf {
+namespace {
+
+// Recovery of data in the span: limited by cond(A) (~1e2 for these random designs) times rounding.
+constexpr double kRecoveryTol = 1e-9;
+// Reproduction of the data by a rank-deficient fit: same rounding bound.
+constexpr double kReproduceTol = 1e-9;
+
+Eigen::Vector3d random_direction(std::mt19937& g) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double z = u(g), phi = 2 * M_PI * u(g), s = std::sqrt(1 - z * z);
+  return {s * std::cos(phi), s * std::sin(phi), z};
+}
+
+struct Pairs {
+  RowMatrix3d wi, wr;
+};
+
+Pairs random_pairs(int count, unsigned seed) {
+  std::mt19937 g(seed);
+  Pairs p;
+  p.wi.resize(count, 3);
+  p.wr.resize(count, 3);
+  for (int i = 0; i < count; ++i) {
+    p.wi.row(i) = random_direction(g).transpose();
+    p.wr.row(i) = random_direction(g).transpose();
+  }
+  return p;
+}
+
+// Pairs in the plane of incidence y = 0 (phi in {0, pi}); y is exactly 0 so the sine-type K_n^l (l < 0)
+// vanish exactly there.
+Pairs plane_pairs(int count, unsigned seed) {
+  std::mt19937 g(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Pairs p;
+  p.wi.resize(count, 3);
+  p.wr.resize(count, 3);
+  auto dir = [&] {
+    const double th = 0.5 * M_PI * u(g), side = u(g) < 0.5 ? -1.0 : 1.0;
+    return Eigen::RowVector3d(side * std::sin(th), 0.0, std::cos(th));
+  };
+  for (int i = 0; i < count; ++i) {
+    p.wi.row(i) = dir();
+    p.wr.row(i) = dir();
+  }
+  return p;
+}
+
+Eigen::VectorXd random_vector(Eigen::Index n, unsigned seed) {
+  std::mt19937 g(seed);
+  std::normal_distribution<double> nd(0.0, 1.0);
+  Eigen::VectorXd v(n);
+  for (Eigen::Index i = 0; i < n; ++i) v[i] = nd(g);
+  return v;
+}
+
+TEST(SampleFit, RecoversGeneralSpectrumFromRandomSamples) {
+  const int order = 3;
+  const long long k = helmholtz_mode_count(order);  // 55 unknowns
+  const Eigen::VectorXd truth = random_vector(k, 1);
+  const Pairs p = random_pairs(600, 2);
+  const Eigen::MatrixXd y = helmholtz_modes_eval(order, p.wi, p.wr) * truth;
+  Eigen::VectorXd w = random_vector(600, 3).cwiseAbs().array() + 0.1;
+  SampleFitOptions o;
+  o.order = order;
+  const SampleFitResult r = fit_samples(p.wi, p.wr, y, w, o);
+  EXPECT_EQ(r.unknowns, k);
+  EXPECT_EQ(r.effective_rank, k);
+  EXPECT_EQ(r.null_space_dimension, 0);
+  EXPECT_EQ(r.unseen_modes, 0);
+  EXPECT_LT((r.modes.col(0) - truth).cwiseAbs().maxCoeff(), kRecoveryTol);
+  EXPECT_LT(r.residual_rms[0], kRecoveryTol);
+  // C is the symmetric matrix of the BSSS vector (core/helmholtz_modes.hpp).
+  EXPECT_LT((r.channels[0] - coefficients_from_bsss(truth)).cwiseAbs().maxCoeff(), kRecoveryTol);
+}
+
+TEST(SampleFit, RecoversIsotropicSpectrumAndStreamsInChunks) {
+  const int order = 6;
+  const int k = isotropic_mode_count(order);  // 30
+  const Eigen::VectorXd truth = random_vector(k, 4);
+  const Pairs p = random_pairs(2000, 5);
+  Eigen::MatrixXd y(2000, 2);
+  y.col(0) = isotropic_modes_eval(order, p.wi, p.wr) * truth;
+  y.col(1) = -2.0 * y.col(0);
+  SampleFitOptions o;
+  o.order = order;
+  o.isotropic = true;
+  // Same samples fed in three uneven chunks must give the same answer as one block (QR is exact).
+  SampleFitAccumulator acc(o, 2);
+  const int cuts[4] = {0, 7, 1500, 2000};
+  for (int c = 0; c < 3; ++c) {
+    const int b = cuts[c], n = cuts[c + 1] - cuts[c];
+    acc.add(p.wi.middleRows(b, n), p.wr.middleRows(b, n), y.middleRows(b, n), Eigen::VectorXd::Ones(n));
+  }
+  const SampleFitResult r = acc.solve();
+  EXPECT_EQ(r.samples, 2000);
+  EXPECT_EQ(r.effective_rank, k);
+  EXPECT_LT((r.modes.col(0) - truth).cwiseAbs().maxCoeff(), kRecoveryTol);
+  EXPECT_LT((r.modes.col(1) + 2.0 * truth).cwiseAbs().maxCoeff(), 2 * kRecoveryTol);
+  EXPECT_LT((r.channels[0] - coefficients_from_ibsss(order, truth)).cwiseAbs().maxCoeff(), kRecoveryTol);
+}
+
+// Plane-of-incidence data, general modes of order N: only K_n^l with l >= 0 are non-zero on the plane,
+// so modes built from an l < 0 function have zero columns. Restricted to the plane, K_n^l (l >= 0) is
+// a polynomial of degree n in the signed coordinate s = +-rho, and these span all polynomials of degree
+// <= N (N + 1 dimensions); the modes then span the symmetric polynomials in (s_i, s_r) of degree <= N in
+// each: rank (N + 1)(N + 2)/2. For N = 4: M = 15, 9 functions with l >= 0 give 9 * 10 / 2 = 45 seen
+// modes, so 120 - 45 = 75 unseen modes and rank 15.
+TEST(SampleFit, PlaneOfIncidenceGivesMinimumNormSolution) {
+  const int order = 4;
+  const Pairs p = plane_pairs(800, 6);
+  const Eigen::VectorXd truth = random_vector(helmholtz_mode_count(order), 7);
+  const Eigen::MatrixXd a = helmholtz_modes_eval(order, p.wi, p.wr);
+  const Eigen::VectorXd y = a * truth;
+  SampleFitOptions o;
+  o.order = order;
+  const SampleFitResult r = fit_samples(p.wi, p.wr, y, Eigen::VectorXd(), o);
+  EXPECT_EQ(r.unknowns, 120);
+  EXPECT_EQ(r.unseen_modes, 75);
+  EXPECT_EQ(r.effective_rank, 15);
+  EXPECT_EQ(r.null_space_dimension, 105);
+  const auto modes = helmholtz_modes(order);
+  for (size_t j = 0; j < modes.size(); ++j) {
+    const bool sine = modes[j].l < 0 || modes[j].lp < 0;
+    EXPECT_EQ(r.unseen[j], sine) << "mode " << j;
+    if (sine) {
+      EXPECT_EQ(r.modes(static_cast<Eigen::Index>(j), 0), 0.0) << "unseen mode " << j << " must be exactly 0";
+    }
+  }
+  // The fit reproduces the data ...
+  const Eigen::VectorXd yfit = a * r.modes.col(0);
+  EXPECT_LT((yfit - y).cwiseAbs().maxCoeff(), kReproduceTol * y.cwiseAbs().maxCoeff());
+  EXPECT_LT(r.residual_rms[0], kReproduceTol * y.cwiseAbs().maxCoeff());
+  // ... and has minimum norm: truth - x solves A v = 0, and the minimum-norm x is orthogonal to every such v.
+  const Eigen::VectorXd x = r.modes.col(0), v = truth - x;
+  EXPECT_LT(std::abs(x.dot(v)), kReproduceTol * truth.squaredNorm());
+  EXPECT_LT(x.norm(), truth.norm());
+}
+
+// Isotropic modes of order 4 on plane data: restricted to the plane they are symmetric polynomials in
+// (s_i, s_r) (degree <= 4 in each) invariant under (s_i, s_r) -> (-s_i, -s_r): monomial pairs (a, b),
+// a <= b <= 4, a + b even: 9 of them, all reached (l = 0 gives the 6 even ones, l = 1 the 3 odd ones).
+// Rank 9 of 14 unknowns; no single mode vanishes on the plane (no unseen modes).
+TEST(SampleFit, PlaneOfIncidenceIsotropicRank) {
+  const int order = 4;
+  const Pairs p = plane_pairs(500, 8);
+  const Eigen::VectorXd truth = random_vector(isotropic_mode_count(order), 9);
+  const Eigen::MatrixXd a = isotropic_modes_eval(order, p.wi, p.wr);
+  SampleFitOptions o;
+  o.order = order;
+  o.isotropic = true;
+  const SampleFitResult r = fit_samples(p.wi, p.wr, a * truth, Eigen::VectorXd(), o);
+  EXPECT_EQ(r.unknowns, 14);
+  EXPECT_EQ(r.effective_rank, 9);
+  EXPECT_EQ(r.null_space_dimension, 5);
+  EXPECT_EQ(r.unseen_modes, 0);
+  EXPECT_LT((a * r.modes.col(0) - a * truth).cwiseAbs().maxCoeff(), kReproduceTol * (a * truth).cwiseAbs().maxCoeff());
+  const Eigen::VectorXd x = r.modes.col(0);
+  EXPECT_LT(std::abs(x.dot(truth - x)), kReproduceTol * truth.squaredNorm());
+}
+
+// Fewer samples than unknowns: the rank is the number of (generic) samples.
+TEST(SampleFit, TooFewSamplesIsRankDeficient) {
+  const int order = 2;  // 21 unknowns
+  const Pairs p = random_pairs(8, 10);
+  const Eigen::VectorXd y = random_vector(8, 11);
+  SampleFitOptions o;
+  o.order = order;
+  const SampleFitResult r = fit_samples(p.wi, p.wr, y, Eigen::VectorXd(), o);
+  EXPECT_EQ(r.effective_rank, 8);
+  EXPECT_EQ(r.null_space_dimension, 21 - 8);
+  const Eigen::VectorXd yfit = helmholtz_modes_eval(order, p.wi, p.wr) * r.modes.col(0);
+  EXPECT_LT((yfit - y).cwiseAbs().maxCoeff(), kReproduceTol);  // interpolates the 8 samples
+}
+
+// Tikhonov: compared with an independent solve of the normal equations (A^T W A + lambda D) x = A^T W y
+// (LDLT, full rank), and high orders shrink monotonically as lambda grows while order 0 is unpenalized.
+TEST(SampleFit, TikhonovMatchesNormalEquationsAndShrinksHighOrders) {
+  const int order = 4;
+  const int k = isotropic_mode_count(order);
+  const Pairs p = random_pairs(300, 12);
+  const Eigen::MatrixXd a = isotropic_modes_eval(order, p.wi, p.wr);
+  const Eigen::VectorXd y = a * random_vector(k, 13) + 0.3 * random_vector(300, 14);
+  const Eigen::VectorXd w = random_vector(300, 15).cwiseAbs().array() + 0.5;
+  const Eigen::VectorXd d = tikhonov_penalties(order, true, 1.0);
+  const auto modes = isotropic_modes(order);
+  // d = (n(n+2) + m(m+2))^1: I_00^0 -> 0, I_20^0 -> 8, I_44^l -> 48.
+  EXPECT_EQ(d[0], 0.0);
+  EXPECT_EQ(d[isotropic_mode_index(2, 0, 0)], 8.0);
+  EXPECT_EQ(d[isotropic_mode_index(4, 4, 2)], 48.0);
+  double prev_high = 1e300;
+  for (double lambda : {0.0, 0.1, 1.0, 10.0, 100.0}) {
+    SampleFitOptions o;
+    o.order = order;
+    o.isotropic = true;
+    o.tikhonov = lambda;
+    const SampleFitResult r = fit_samples(p.wi, p.wr, y, w, o);
+    const Eigen::MatrixXd n = a.transpose() * w.asDiagonal() * a + lambda * Eigen::MatrixXd(d.asDiagonal());
+    const Eigen::VectorXd x = n.ldlt().solve(a.transpose() * (w.asDiagonal() * y));
+    EXPECT_LT((r.modes.col(0) - x).norm(), 1e-9 * x.norm()) << "lambda " << lambda;
+    double high = 0;
+    for (int j = 0; j < k; ++j)
+      if (modes[static_cast<size_t>(j)].n == 4) high += r.modes(j, 0) * r.modes(j, 0);
+    EXPECT_LT(high, prev_high) << "lambda " << lambda;
+    prev_high = high;
+  }
+}
+
+// Order 0 isotropic fit = weighted mean of the data (one constant mode), so the weighted residual RMS is
+// the weighted standard deviation: data c +- delta in equal numbers gives exactly delta.
+TEST(SampleFit, ResidualRmsIsWeightedDeviation) {
+  const Pairs p = random_pairs(100, 16);
+  Eigen::VectorXd y(100);
+  const double c = 0.7, delta = 0.05;
+  for (int i = 0; i < 100; ++i) y[i] = c + (i % 2 ? delta : -delta);
+  SampleFitOptions o;
+  o.order = 0;
+  o.isotropic = true;
+  const SampleFitResult r = fit_samples(p.wi, p.wr, y, Eigen::VectorXd(), o);
+  EXPECT_NEAR(r.residual_rms[0], delta, 1e-14);
+  // I_00^0 = (1/2pi) sqrt(1/4) * 2 = 1/(2 pi): coefficient c * 2 pi reproduces the mean.
+  EXPECT_NEAR(r.modes(0, 0), c * 2 * M_PI, 1e-12);
+}
+
+TEST(SampleFit, RejectsBadArguments) {
+  SampleFitOptions o;
+  o.order = 17;
+  EXPECT_THROW(SampleFitAccumulator(o, 1), ArgumentError);
+  o.order = 2;
+  o.tikhonov = -1;
+  EXPECT_THROW(SampleFitAccumulator(o, 1), ArgumentError);
+  o.tikhonov = 0;
+  SampleFitAccumulator acc(o, 1);
+  EXPECT_THROW(acc.solve(), ArgumentError);  // no samples
+  const Pairs p = random_pairs(3, 17);
+  EXPECT_THROW(acc.add(p.wi, p.wr, Eigen::MatrixXd::Ones(2, 1), Eigen::VectorXd::Ones(3)), ArgumentError);
+  Eigen::VectorXd w = Eigen::VectorXd::Ones(3);
+  w[1] = -1;
+  EXPECT_THROW(acc.add(p.wi, p.wr, Eigen::MatrixXd::Ones(3, 1), w), ArgumentError);
+  Eigen::MatrixXd v = Eigen::MatrixXd::Ones(3, 1);
+  v(2, 0) = std::nan("");
+  EXPECT_THROW(acc.add(p.wi, p.wr, v, Eigen::VectorXd::Ones(3)), ArgumentError);
+}
+
+}  // namespace
+}  // namespace icobrdf
