@@ -15,6 +15,9 @@ using h5::ShapePattern;
 
 std::uint64_t u(std::int64_t n) { return static_cast<std::uint64_t>(n); }
 
+using RowMap = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
+using RowMapF = Eigen::Map<Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
+
 std::int64_t modes_of(std::int64_t order) { return (order + 1) * (order + 2) / 2; }
 
 // Cell count of the equal-area hemisphere tessellation at `level` (whole cells 10 * 4^L, plus 2^(L+1)
@@ -122,9 +125,7 @@ void write_material(h5::Group& materials, const MaterialRecord& rec) {
   g.set_attr("max_albedo", s.max_albedo);
 
   std::vector<double> buf(static_cast<size_t>(ch * m * m));
-  for (int c = 0; c < ch; ++c)
-    for (std::int64_t a = 0; a < m; ++a)
-      for (std::int64_t b = 0; b < m; ++b) buf[static_cast<size_t>((c * m + a) * m + b)] = s.channels[c](a, b);
+  for (int c = 0; c < ch; ++c) RowMap(buf.data() + c * m * m, m, m) = s.channels[c];
   g.write("C", buf.data(), Shape{u(ch), u(m), u(m)}, "1",
           std::string("C[c, a, b] = coefficient of K_a(w_i) K_b(w_r) in the expansion of ") +
               (s.cosine ? "g = f cos(theta_i)" : "f") + " [1/sr]; K in sr^-1/2, so C is dimensionless");
@@ -142,22 +143,17 @@ void write_material(h5::Group& materials, const MaterialRecord& rec) {
     if (rec.lut_float32) {
       std::vector<float> f(per * ch);
       double err = 0.0;
-      for (int c = 0; c < ch; ++c)
-        for (std::int64_t i = 0; i < cells; ++i)
-          for (std::int64_t r = 0; r < cells; ++r) {
-            const double x = rec.lut[c](i, r);
-            const float y = static_cast<float>(x);
-            err = std::max(err, std::abs(static_cast<double>(y) - x));
-            f[c * per + static_cast<size_t>(i * cells + r)] = y;
-          }
+      for (int c = 0; c < ch; ++c) {
+        RowMapF dst(f.data() + c * per, cells, cells);
+        dst = rec.lut[c].cast<float>();
+        err = std::max(err, (dst.cast<double>() - rec.lut[c]).cwiseAbs().maxCoeff());
+      }
       g.write("lut", f.data(), Shape{u(ch), u(cells), u(cells)}, "1/sr", what + " (float32)");
       // Attach the rounding error to the material group as well as documenting it on the dataset.
       g.set_attr("lut_max_abs_rounding_error", err);
     } else {
       std::vector<double> d(per * ch);
-      for (int c = 0; c < ch; ++c)
-        for (std::int64_t i = 0; i < cells; ++i)
-          for (std::int64_t r = 0; r < cells; ++r) d[c * per + static_cast<size_t>(i * cells + r)] = rec.lut[c](i, r);
+      for (int c = 0; c < ch; ++c) RowMap(d.data() + c * per, cells, cells) = rec.lut[c];
       g.write("lut", d.data(), Shape{u(ch), u(cells), u(cells)}, "1/sr", what);
     }
   }
