@@ -100,10 +100,12 @@ void hemisphere_basis_eval(int order, const Eigen::Vector3d& unit_dir, double* o
 Eigen::MatrixXd hemisphere_basis_matrix(int order, const RowMatrix3d& dirs) {
   const int count = hemisphere_basis_count(order);
   const Eigen::Index rows = dirs.rows();
+  // Validate up front: nothing may throw inside the parallel loop.
   for (Eigen::Index r = 0; r < rows; ++r)
-    if (!(dirs(r, 2) >= -1e-12))
-      throw ArgumentError("hemisphere_basis_matrix: direction " + std::to_string(r) +
-                          " lies below the horizon (z = " + std::to_string(dirs(r, 2)) + ")");
+    if (!dirs.row(r).allFinite() || !(dirs(r, 2) >= -1e-12))
+      throw ArgumentError("hemisphere_basis_matrix: direction " + std::to_string(r) + " = (" +
+                          std::to_string(dirs(r, 0)) + ", " + std::to_string(dirs(r, 1)) + ", " +
+                          std::to_string(dirs(r, 2)) + ") is not a finite direction with z >= 0");
   Eigen::MatrixXd out(rows, count);
   // Blocks of rows are evaluated into a row-major buffer and copied into the column-major result, which
   // keeps the transposition cache-friendly.

@@ -168,4 +168,9 @@ TEST(HemisphereBasis, RejectsBadArguments) {
   RowMatrix3d dirs(2, 3);
   dirs << 0, 0, 1, 0, 0.6, -0.8;
   EXPECT_THROW(hemisphere_basis_matrix(4, dirs), ArgumentError);
+  // A non-finite row is refused before any (possibly parallel) evaluation, also for large inputs.
+  RowMatrix3d many = RowMatrix3d::Zero(5000, 3);
+  many.col(2).setOnes();
+  many(4321, 0) = std::nan("");
+  EXPECT_THROW(hemisphere_basis_matrix(64, many), ArgumentError);
 }
