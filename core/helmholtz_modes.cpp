@@ -36,6 +36,16 @@ long long helmholtz_mode_index(int a, int b) {
   return static_cast<long long>(b) * (b + 1) / 2 + a;
 }
 
+HelmholtzMode helmholtz_mode_at(long long k) {
+  if (k < 0) throw ArgumentError("helmholtz_mode_at: index must be >= 0, got " + std::to_string(k));
+  auto b = static_cast<long long>((std::sqrt(8.0 * static_cast<double>(k) + 1.0) - 1.0) / 2.0);
+  while (b * (b + 1) / 2 > k) --b;  // guard the floating-point estimate
+  while ((b + 1) * (b + 2) / 2 <= k) ++b;
+  const int a = static_cast<int>(k - b * (b + 1) / 2), bi = static_cast<int>(b);
+  const BasisIndex ka = ansi_to_nl(a), kb = ansi_to_nl(bi);
+  return {a, bi, ka.n, ka.l, kb.n, kb.l};
+}
+
 std::vector<HelmholtzMode> helmholtz_modes(int order) {
   const long long count = helmholtz_mode_count(order);
   const int m = hemisphere_basis_count(order);

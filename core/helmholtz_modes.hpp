@@ -35,6 +35,9 @@ long long helmholtz_mode_count(int order);
 // Index of the mode {a, b} (in either order) in the library order; ArgumentError for negative indices.
 long long helmholtz_mode_index(int a, int b);
 
+// The mode at library index k (inverse of helmholtz_mode_index, independent of the order); ArgumentError for k < 0.
+HelmholtzMode helmholtz_mode_at(long long k);
+
 // All modes up to total order N in the library order; size helmholtz_mode_count(order) (35 million at N = 128,
 // 24 bytes each: list only what you need).
 std::vector<HelmholtzMode> helmholtz_modes(int order);

@@ -66,6 +66,19 @@ TEST(HelmholtzModes, LibraryOrderIsColumnWiseAndTruncationIsAPrefix) {
       EXPECT_EQ(ansi_index(h.n, h.l), a);
       EXPECT_EQ(ansi_index(h.m, h.lp), b);
     }
+  // helmholtz_mode_at inverts the index, here and at the last mode of order 128 (index 35158304).
+  for (size_t i = 0; i < m4.size(); ++i) {
+    const auto h = helmholtz_mode_at(static_cast<long long>(i));
+    EXPECT_EQ(h.a, m4[i].a);
+    EXPECT_EQ(h.b, m4[i].b);
+    EXPECT_EQ(h.lp, m4[i].lp);
+  }
+  const auto last = helmholtz_mode_at(helmholtz_mode_count(128) - 1);
+  EXPECT_EQ(last.a, 8384);
+  EXPECT_EQ(last.b, 8384);
+  EXPECT_EQ(last.n, 128);
+  EXPECT_EQ(last.l, 128);
+  EXPECT_THROW(helmholtz_mode_at(-1), ArgumentError);
   // First modes: (K_0^0, K_0^0), (K_0^0, K_1^-1), (K_1^-1, K_1^-1), (K_0^0, K_1^1), ...
   EXPECT_EQ(m4[1].m, 1);
   EXPECT_EQ(m4[1].lp, -1);
