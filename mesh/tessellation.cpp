@@ -1,5 +1,7 @@
 #include "mesh/tessellation.hpp"
 
+#include "mesh/cubature_symmetry.hpp"
+
 #include <array>
 #include <cstdint>
 #include <stdexcept>
@@ -190,6 +192,8 @@ Grid build_hemi_icosahedral_grid(int level, const std::string& kind, int degree)
     g.mirror_xz[c] = loc.locate(Eigen::Vector3d(d.x(), -d.y(), d.z()));
     g.mirror_yz[c] = loc.locate(Eigen::Vector3d(-d.x(), d.y(), d.z()));
   }
+  // Symmetry relations of cell averages then hold to rounding (mesh/cubature_symmetry.hpp).
+  make_cubature_equivariant(g);
   return g;
 }
 

@@ -21,6 +21,9 @@
 //                weights are the planar weights (no Jacobian) and sum exactly to the cell's solid angle.
 //                cubature_degree = d: for every cell, the rule integrates exactly every integrand that is a
 //                polynomial of total degree <= d in the planar coordinates on each piece.
+//                The rules are then made equivariant under the three symmetry maps
+//                (mesh/cubature_symmetry.hpp): the rule of a cell's partner is the exact image of the cell's
+//                rule, so symmetry relations of cell averages hold to rounding.
 //                Geodesic: weights are planar weights times the gnomonic Jacobian h / |p|^3, then rescaled
 //                so that each cell's weights sum to its exact solid angle; cubature_degree = d refers to
 //                the integrand times the Jacobian being a polynomial of degree <= d in the flat face.

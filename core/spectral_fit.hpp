@@ -1,0 +1,58 @@
+#pragma once
+// From a BRDF (analytic model or LUT) on a grid to its Spectrum: the pipeline behind `icobrdf fit` and
+// the bank builder.
+//
+//   1. B, G and the projection P for (grid, order); refused when the grid cannot resolve the order
+//      (core/discrete_basis.hpp, UnsupportedError naming the largest supported order).
+//   2. C = P^T F P per channel: by streaming for models (the LUT is never materialized), or from a LUT.
+//   3. Helmholtz projection of f spectra: C <- (C + C^T)/2, the closest reciprocal spectrum (paper eq. 21);
+//      the relative norm of the removed antisymmetric part is recorded as reciprocity_violation.
+//      Spectra of g = f cos(theta_i) are not symmetrized (g is not reciprocal); for them the figure
+//      records the asymmetry of g's spectrum.
+//   4. Isotropic projection on request (isotropic_part), recording the anisotropic energy fraction.
+//   5. Low-pass filter on request.
+//   6. Figures: Gram error of the grid, maximum directional albedo over the cells' directions computed
+//      from the final spectrum (white furnace).
+#include <memory>
+
+#include "core/brdf_model.hpp"
+#include "core/discrete_basis.hpp"
+#include "core/grid.hpp"
+#include "core/lowpass_filter.hpp"
+#include "core/lut.hpp"
+#include "core/projection.hpp"
+#include "core/spectrum.hpp"
+
+namespace icobrdf {
+
+struct FitOptions {
+  int order = 8;
+  bool isotropic = false;
+  bool cosine = false;  // project g = f cos(theta_i); forced for models with delta parts
+  LowPassFilter filter;
+  LutSampling sampling = LutSampling::CellAverage;
+  double gram_tolerance = kDefaultGramTolerance;
+  ProjectionOperator::Kind projection = ProjectionOperator::Kind::LeastSquares;
+};
+
+// The operators for one (grid, order), built once and shared by many fits.
+struct ProjectionContext {
+  std::shared_ptr<const Grid> grid;
+  DiscreteBasis basis;
+  ProjectionOperator projection;
+};
+ProjectionContext make_projection_context(std::shared_ptr<const Grid> grid, int order,
+                                          double gram_tolerance = kDefaultGramTolerance,
+                                          ProjectionOperator::Kind kind = ProjectionOperator::Kind::LeastSquares);
+
+Spectrum fit_model(const BrdfModel& model, const ProjectionContext& ctx, const FitOptions& options);
+Spectrum fit_lut(const Lut& lut, const std::string& source, const ProjectionContext& ctx, const FitOptions& options);
+
+// Orthogonal projection onto BRDFs invariant under rotation about the normal and under reflection in the
+// vertical planes (functions of theta_i, theta_r and |phi_i - phi_r|): averages C over those symmetries.
+// Keeps only entries between K_n^l and K_m^l' with |l| = |l'|, sets C(n^l, m^l) = C(n^-l, m^-l) to their
+// mean and the cross entries C(n^l, m^-l) to 0. Does not symmetrize (works for g spectra as well);
+// for a symmetric C it is the projection onto the span of the isotropic modes I_nm^l.
+Eigen::MatrixXd isotropic_part(const Eigen::MatrixXd& c, int order);
+
+}  // namespace icobrdf

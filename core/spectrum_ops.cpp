@@ -1,0 +1,74 @@
+#include "core/spectrum_ops.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "core/error.hpp"
+#include "core/hemisphere_basis.hpp"
+
+namespace icobrdf {
+
+Eigen::VectorXd evaluate_coefficients(const Eigen::MatrixXd& c, int order, const RowMatrix3d& wi, const RowMatrix3d& wr) {
+  const int m = hemisphere_basis_count(order);
+  if (c.rows() != m || c.cols() != m)
+    throw ArgumentError("evaluate: coefficient matrix is " + std::to_string(c.rows()) + " x " + std::to_string(c.cols()) +
+                        ", expected " + std::to_string(m) + " x " + std::to_string(m) + " for order " + std::to_string(order));
+  if (wi.rows() != wr.rows()) throw ArgumentError("evaluate: incident and remitted direction counts differ");
+  const Eigen::MatrixXd ki = hemisphere_basis_matrix(order, wi);  // rows x M
+  const Eigen::MatrixXd kr = hemisphere_basis_matrix(order, wr);
+  return ((ki * c).array() * kr.array()).rowwise().sum();
+}
+
+Eigen::MatrixXd rotation_matrix(int order, double angle) {
+  // K_n^l(phi - a): for l > 0, cos(l(phi - a)) = cos(l phi) cos(l a) + sin(l phi) sin(l a), and
+  // az_{-l}(phi) = sin(l phi); sin(l(phi - a)) = sin(l phi) cos(l a) - cos(l phi) sin(l a).
+  // So K_l' = cos(la) K_l + sin(la) K_{-l},  K_{-l}' = cos(la) K_{-l} - sin(la) K_l; f' = K'^T C K' = K^T R^T... :
+  // with K' = A K (A the matrix above), f' = K^T A^T C A K, hence C' = A^T C A and R = A^T.
+  const int m = hemisphere_basis_count(order);
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(m, m);
+  for (int j = 0; j < m; ++j) {
+    const auto nl = ansi_to_nl(j);
+    if (nl.l == 0) {
+      a(j, j) = 1.0;
+    } else if (nl.l > 0) {
+      const int jm = ansi_index(nl.n, -nl.l);
+      const double cs = std::cos(nl.l * angle), sn = std::sin(nl.l * angle);
+      a(j, j) = cs;
+      a(j, jm) = sn;
+      a(jm, jm) = cs;
+      a(jm, j) = -sn;
+    }
+  }
+  return a.transpose();
+}
+
+Eigen::MatrixXd rotate_coefficients(const Eigen::MatrixXd& c, int order, double angle) {
+  const Eigen::MatrixXd r = rotation_matrix(order, angle);
+  return r * c * r.transpose();
+}
+
+Eigen::VectorXd cosine_moments(int order) {
+  // cos(theta) = 1 - rho^2 and dOmega = 2 rho drho dphi (Lambert map), so with R_0^0 = 1 and
+  // R_2^0 = 2 rho^2 - 1:  cos(theta) = 1/2 - R_2^0 / 2.
+  //   K_0^0 = sqrt(1/pi) / sqrt(2),  K_2^0 = sqrt(3/pi) R_2^0 / sqrt(2).
+  //   e_0 = integral cos dOmega = pi.
+  //   e_{2,0} = -1/2 integral R_2^0 K_2^0 dOmega = -1/2 * sqrt(3/(2 pi)) * integral (R_2^0)^2 dOmega
+  //           = -1/2 * sqrt(3/(2 pi)) * (2 pi / 3)  [integral (R_2^0)^2 2 rho drho dphi = 2 pi * 2/(2*3)... = 2 pi/3]
+  // and e_0 expressed on K_0^0: integral K_0^0 cos dOmega = sqrt(1/(2 pi)) * pi.
+  const int m = hemisphere_basis_count(order);
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(m);
+  e[ansi_index(0, 0)] = std::sqrt(1.0 / (2.0 * M_PI)) * M_PI;
+  if (order >= 2) e[ansi_index(2, 0)] = -0.5 * std::sqrt(3.0 / (2.0 * M_PI)) * (2.0 * M_PI / 3.0);
+  return e;
+}
+
+Eigen::VectorXd spectral_albedo(const Eigen::MatrixXd& c, int order, const RowMatrix3d& wi) {
+  return hemisphere_basis_matrix(order, wi) * (c * cosine_moments(order));
+}
+
+double coefficient_asymmetry(const Eigen::MatrixXd& c) {
+  const double n = c.norm();
+  return n == 0.0 ? 0.0 : 0.5 * (c - c.transpose()).norm() / n;
+}
+
+}  // namespace icobrdf

@@ -1,0 +1,24 @@
+#pragma once
+// Spectrum of an analytic model without materializing its LUT: C = P^T F P accumulated over blocks of
+// incident cells, F's rows sampled on the fly (core/lut.hpp). Memory O(cells x modes + block x cells);
+// the result equals project_lut(P, build_lut(...)) up to the summation order.
+#include <Eigen/Core>
+
+#include <vector>
+
+#include "core/brdf_model.hpp"
+#include "core/grid.hpp"
+#include "core/lut.hpp"
+#include "core/projection.hpp"
+
+namespace icobrdf {
+
+// One M x M coefficient matrix per model channel. Delta parts are added exactly in g form.
+std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const Grid& grid, const ProjectionOperator& proj,
+                                                  bool cosine, LutSampling sampling = LutSampling::CellAverage);
+
+// P^T F P of the g LUT of one delta part alone (F_ir = weight [r = image(i)] / Omega_r), in O(cells x modes):
+// no LUT and no sampling. ArgumentError for a mirror part on a grid without the rotation-by-pi map.
+Eigen::MatrixXd delta_projection(const DeltaPart& part, const Grid& grid, const ProjectionOperator& proj);
+
+}  // namespace icobrdf
