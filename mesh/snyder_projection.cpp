@@ -6,11 +6,16 @@ namespace icobrdf {
 
 SnyderProjection::SnyderProjection(const std::array<Eigen::Vector3d, 3>& corners) : v_(corners) {
   c_ = (v_[0] + v_[1] + v_[2]).normalized();
-  const Eigen::Vector3d m0 = (v_[1] + v_[2]).normalized();
-  a_ = std::atan2(c_.cross(m0).norm(), c_.dot(m0));
+  // a = arc CM of the regular icosahedron, in closed form: in the right triangle C M V (angles 60, 36,
+  // 90 deg) cos a = cos 36 / sin 60, hence tan a = sqrt(2 - phi) / phi = 1 / phi^2. The same constant for
+  // every face (so the map has one form on all faces).
+  const double phi = (1.0 + std::sqrt(5.0)) / 2.0;
+  a_ = std::atan(1.0 / (phi * phi));
   sin_a_ = std::sin(a_);
   cos_a_ = std::cos(a_);
   tan_half_a_ = std::tan(a_ / 2.0);
+  const double tan_b_max = sin_a_ * std::sqrt(3.0);  // tan b = sin a tan Az at Az = 60 deg
+  targ_max_ = tan_half_a_ * tan_b_max / (1.0 + std::sqrt(1.0 + tan_b_max * tan_b_max));
   // Planar face: equilateral, centroid at the origin, area kFaceArea = 3 sqrt(3) r^2.
   r_ = std::sqrt(kFaceArea / (3.0 * std::sqrt(3.0)));
   const double big_r = 2.0 * r_;  // circumradius

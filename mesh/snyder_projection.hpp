@@ -18,7 +18,7 @@
 // Both directions are closed-form (no iteration):
 //   forward: tan Az from the tangent components, b, E, Az', then x = rho cos Az' = r sin(z/2)/sin(q/2)
 //            (sin(z/2) = |P - C| / 2, computed from the tangent components without cancellation),
-//            y = x tan Az'.
+//            y = x tan Az' (see forward_xy for the form with two square roots and two divisions).
 //   inverse: E = r^2 tan(Az')/2 -> tan(b/2) = tan(E/2)/tan(a/2) -> tan Az = tan b / sin a,
 //            sin(z/2) = x sin(q/2) / r.
 // The map is continuous across the 6 sub-triangle boundaries and across face edges (adjacent faces agree
@@ -32,6 +32,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -42,19 +43,26 @@ class SnyderProjection {
   // Solid angle of one icosahedron face = area of the planar face [sr].
   static constexpr double kFaceArea = 4.0 * M_PI / 20.0;
 
-  // corners: the face's unit corner vectors, counter-clockwise seen from outside.
+  // corners: the unit corner vectors of a face of the regular icosahedron, counter-clockwise seen from
+  // outside (the constants a and r are those of the regular icosahedron).
   explicit SnyderProjection(const std::array<Eigen::Vector3d, 3>& corners);
 
   // Sub-triangle (0..5) of barycentric coordinates, or of the corner dot products (d . V_k).
   static int sub_triangle(double g0, double g1, double g2) {
-    int k = 0;
-    if (g1 > g0) k = 1;
-    if (g2 > (k == 0 ? g0 : g1)) k = 2;
-    const int o1 = (k + 1) % 3, o2 = (k + 2) % 3;
-    const double a = (o1 == 0 ? g0 : o1 == 1 ? g1 : g2), b = (o2 == 0 ? g0 : o2 == 1 ? g1 : g2);
-    return 2 * k + (a < b ? 0 : 1);
+    // k = first argmax; m = argmin of the other two (the later one on ties); t = (m == k+1 mod 3) ? 0 : 1,
+    // i.e. t = !(g[k+1] < g[k+2]). Branch-free: four comparisons index a table (unreachable entries 0).
+    static constexpr signed char kTable[16] = {1, 3, 0, 3, 0, 0, 5, 4, 1, 2, 0, 0, 0, 0, 0, 0};
+    const int idx = (g1 > g0) | ((g2 > g0) << 1) | ((g2 > g1) << 2) | ((g0 > g2) << 3);
+    return kTable[idx];
   }
   static int sub_triangle(const Eigen::Vector3d& g) { return sub_triangle(g[0], g[1], g[2]); }
+
+  // atan(x) for 0 <= x <= 0.07 by its Taylor series through x^15 (remainder < 1e-21 relative); the forward
+  // map only needs x = tan(a/2) tan(b/2) <= tan(a/2) tan(b_max/2) = 0.0524 (b_max at Az = 60 deg).
+  static double atan_small(double x) {
+    const double x2 = x * x;
+    return x * (1.0 + x2 * (-1.0 / 3 + x2 * (1.0 / 5 + x2 * (-1.0 / 7 + x2 * (1.0 / 9 + x2 * (-1.0 / 11 + x2 * (1.0 / 13 - x2 / 15)))))));
+  }
 
   // Unit direction (on or near the face) -> planar barycentric coordinates.
   Eigen::Vector3d forward(const Eigen::Vector3d& d) const {
@@ -74,6 +82,8 @@ class SnyderProjection {
   const Eigen::Vector3d& centre() const { return c_; }
   const Eigen::Vector3d& corner(int k) const { return v_[k]; }
   double inradius() const { return r_; }
+  // Largest argument tan(a/2) tan(b/2) of the forward map's atan (at Az = 60 deg).
+  double atan_argument_max() const { return targ_max_; }
   double arc_centre_midpoint() const { return a_; }  // a = arc CM [rad]
 
   // Frame of sub-triangle s, in the sub-triangle's planar coordinates (x along C'M', y towards the corner):
@@ -85,29 +95,38 @@ class SnyderProjection {
   const Frame& frame(int s) const { return frames_[s]; }
 
   // Forward map inside sub-triangle s: planar frame coordinates (x, y) of unit direction d.
+  // With du = d.u, dw = d.w (tangent components), dc = d.C and S = sqrt(du^2 + sin^2(a) dw^2):
+  //   sec b = S / du, tan(b/2) = sin(a) dw / (du + S), sin^2(q/2) = (S - cos(a) du) / (2 S),
+  //   x = r sin(z/2) / sin(q/2) = r sqrt(chord^2 S / (2 (S - cos(a) du))), chord^2 = (1-dc)^2 + du^2 + dw^2,
+  //   y = x tan Az' = x 2 E / r^2, E = 2 atan(tan(a/2) tan(b/2)).
+  // Two square roots and two divisions; no cancellation (S - cos(a) du >= (1 - cos a) du).
   void forward_xy(const Eigen::Vector3d& d, int s, double& x, double& y) const {
     const Frame& f = frames_[s];
     const double dc = d.dot(c_), du = d.dot(f.u), dw0 = d.dot(f.w);
-    const double dw = dw0 > 0 ? dw0 : 0.0;
-    // tan Az, clamped to the sub-triangle's range [0, tan 60 deg] against rounding.
-    double t = du > 0 ? dw / du : (dw > 0 ? kTan60 : 0.0);
-    if (t > kTan60) t = kTan60;
-    const double tb = sin_a_ * t;                    // tan b
-    const double sec_b = std::sqrt(1.0 + tb * tb);   // 1 / cos b
-    const double e = 2.0 * std::atan(tan_half_a_ * tb / (1.0 + sec_b));  // area of C M Q
-    const double sin_half_q = std::sqrt(0.5 * (1.0 - cos_a_ / sec_b));
+    const double dw = dw0 > 0 ? dw0 : 0.0;  // rounding just outside the sub-triangle
+    const double sdw = sin_a_ * dw;
+    const double big_s = std::sqrt(du * du + sdw * sdw);
+    const double den = du + big_s;
+    if (!(den > 0.0)) {  // d at the face centre (du = dw = 0)
+      x = 0.0;
+      y = 0.0;
+      return;
+    }
+    // tan(a/2) tan(b/2), clamped to its value at Az = 60 deg: beyond it only by rounding (in particular
+    // next to the centre, where du and dw are rounding-sized and den may be tiny).
+    const double targ = std::min(tan_half_a_ * sdw / den, targ_max_);
+    const double e = 2.0 * atan_small(targ);  // area of C M Q
     const double one_minus_dc = 1.0 - dc;
-    const double chord = std::sqrt(one_minus_dc * one_minus_dc + du * du + dw0 * dw0);  // 2 sin(z/2)
-    x = r_ * chord / (2.0 * sin_half_q);
+    const double chord2 = one_minus_dc * one_minus_dc + du * du + dw0 * dw0;  // (2 sin(z/2))^2
+    x = r_ * std::sqrt(chord2 * big_s / (2.0 * (big_s - cos_a_ * du)));
     y = x * (2.0 * e / (r_ * r_));
   }
 
  private:
-  static constexpr double kTan60 = 1.7320508075688772;
   Eigen::Vector3d c_;
   std::array<Eigen::Vector3d, 3> v_;
   std::array<Frame, 6> frames_;
-  double a_ = 0, sin_a_ = 0, cos_a_ = 0, tan_half_a_ = 0, r_ = 0;
+  double a_ = 0, sin_a_ = 0, cos_a_ = 0, tan_half_a_ = 0, r_ = 0, targ_max_ = 0;
 };
 
 }  // namespace icobrdf

@@ -44,6 +44,15 @@ TEST(SnyderProjection, ArcCentreMidpointMatchesRightTriangle) {
   // 90 deg at M: cos(CM) = cos(36 deg) / sin(60 deg) (Napier).
   const SnyderProjection p(corners(0));
   EXPECT_NEAR(p.arc_centre_midpoint(), std::acos(std::cos(M_PI / 5) / std::sin(M_PI / 3)), 1e-15);
+  // and the actual arc from every face centre to its edge midpoints
+  for (int f = 0; f < 12; ++f) {
+    const auto c = corners(f);
+    const Eigen::Vector3d centre = (c[0] + c[1] + c[2]).normalized();
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d m = (c[(k + 1) % 3] + c[(k + 2) % 3]).normalized();
+      EXPECT_NEAR(std::atan2(centre.cross(m).norm(), centre.dot(m)), p.arc_centre_midpoint(), 1e-15);
+    }
+  }
   // Planar face area = spherical face area: 3 sqrt(3) r^2 = 4 pi / 20.
   EXPECT_NEAR(3 * std::sqrt(3.0) * p.inradius() * p.inradius(), 4 * M_PI / 20, 1e-15);
 }
@@ -163,4 +172,21 @@ TEST(SnyderProjection, ContinuousAcrossSubTrianglesAndFaceEdges) {
   // 12 faces x 3 sides, minus 2 whole equatorial edges and the 4 edges of the bisected faces leading to their
   // lower corner (shared with lower faces), counted twice: (36 - 6) / 2.
   EXPECT_EQ(shared, 15);
+}
+
+TEST(SnyderProjection, SubTriangleTableMatchesDefinition) {
+  // Reference: corner k = first argmax, midpoint m = argmin of the other two (the later one on ties),
+  // index 2k + (m == k+1 mod 3 ? 0 : 1). All orderings including ties (values from {0, 1, 2}).
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b)
+      for (int c = 0; c < 3; ++c) {
+        const double g[3] = {double(a), double(b), double(c)};
+        int k = 0;
+        for (int i = 1; i < 3; ++i)
+          if (g[i] > g[k]) k = i;
+        const int o1 = (k + 1) % 3, o2 = (k + 2) % 3;
+        const int m = g[o1] < g[o2] ? o1 : o2;
+        const int expect = 2 * k + (m == o1 ? 0 : 1);
+        EXPECT_EQ(SnyderProjection::sub_triangle(g[0], g[1], g[2]), expect) << a << b << c;
+      }
 }
