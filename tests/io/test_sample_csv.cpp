@@ -1,0 +1,115 @@
+// BRDF samples CSV (io/sample_csv.hpp).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/direction.hpp"
+#include "core/error.hpp"
+#include "io/sample_csv.hpp"
+#include "io_test_support.hpp"
+
+namespace icobrdf {
+namespace {
+
+using test::ScratchDir;
+
+// direction_from_angles of degrees converted to radians: a few ulps.
+constexpr double kDirTol = 1e-15;
+
+std::string error_of(const std::string& file, const SampleCsvOptions& o = {}) {
+  try {
+    read_sample_csv(file, o);
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m.find('\n'), std::string::npos);
+    return m;
+  }
+  ADD_FAILURE() << "no InputError for " << file;
+  return "";
+}
+
+TEST(SampleCsv, ReadsDegreesOneAndThreeChannels) {
+  ScratchDir d;
+  test::write_bytes(d / "a.csv", "theta_i,phi_i,theta_r,phi_r,value\n30,0,45,180,0.25\n0,10,90,-90,1.5\n");
+  const BrdfSamples s = read_sample_csv(d / "a.csv");
+  ASSERT_EQ(s.wi.rows(), 2);
+  EXPECT_EQ(s.channels, 1);
+  EXPECT_LT((s.wi.row(0).transpose() - direction_from_angles(M_PI / 6, 0)).norm(), kDirTol);
+  EXPECT_LT((s.wr.row(0).transpose() - direction_from_angles(M_PI / 4, M_PI)).norm(), kDirTol);
+  EXPECT_LT((s.wr.row(1).transpose() - direction_from_angles(M_PI / 2, -M_PI / 2)).norm(), kDirTol);
+  EXPECT_EQ(s.values(1, 0), 1.5);
+  EXPECT_EQ(s.lines[1], 3);
+  EXPECT_EQ(s.weights.sum(), 2.0);
+  EXPECT_TRUE(s.plane_of_incidence);  // (0 -> 180) and a pole direction
+
+  // BOM, CRLF, comments, three channels, radians.
+  test::write_bytes(d / "b.csv", "\xEF\xBB\xBFtheta_i,phi_i,theta_r,phi_r,r,g,b\r\n# comment\r\n0.5,0.1,1.0,2.0,1,2,3\r\n");
+  SampleCsvOptions o;
+  o.radians = true;
+  const BrdfSamples t = read_sample_csv(d / "b.csv", o);
+  EXPECT_EQ(t.channels, 3);
+  EXPECT_EQ(t.values(0, 2), 3.0);
+  EXPECT_LT((t.wr.row(0).transpose() - direction_from_angles(1.0, 2.0)).norm(), kDirTol);
+  EXPECT_FALSE(t.plane_of_incidence);
+}
+
+// Policy: duplicates (same pair, phi reduced mod 360) are averaged with weight = count.
+TEST(SampleCsv, DuplicatesAreAveragedAndCounted) {
+  ScratchDir d;
+  test::write_bytes(d / "dup.csv",
+                    "theta_i,phi_i,theta_r,phi_r,value\n10,20,30,40,1\n10,-340,30,-320,3\n10,20,30,40,5\n0,5,30,40,7\n0,99,30,40,9\n");
+  const BrdfSamples s = read_sample_csv(d / "dup.csv");
+  ASSERT_EQ(s.wi.rows(), 2);  // (10,20,30,40) x3 and the pole pair x2 (phi irrelevant at theta = 0)
+  EXPECT_EQ(s.duplicates_merged, 3);
+  EXPECT_EQ(s.rows, 5);
+  EXPECT_DOUBLE_EQ(s.values(0, 0), 3.0);  // (1 + 3 + 5)/3
+  EXPECT_EQ(s.weights[0], 3.0);
+  EXPECT_DOUBLE_EQ(s.values(1, 0), 8.0);
+  EXPECT_EQ(s.weights[1], 2.0);
+}
+
+TEST(SampleCsv, NonReciprocalPairsReportedOrRefusedWhenStrict) {
+  ScratchDir d;
+  test::write_bytes(d / "r.csv",
+                    "theta_i,phi_i,theta_r,phi_r,value\n10,20,30,40,1\n30,40,10,20,1.5\n50,0,60,0,2\n60,0,50,0,2\n");
+  const BrdfSamples s = read_sample_csv(d / "r.csv");
+  EXPECT_EQ(s.reciprocal_pairs, 2);
+  EXPECT_EQ(s.nonreciprocal_pairs, 1);
+  EXPECT_DOUBLE_EQ(s.max_reciprocity_difference, 0.5 / 1.5);
+  SampleCsvOptions o;
+  o.strict = true;
+  const std::string m = error_of(d / "r.csv", o);
+  EXPECT_NE(m.find(":2: sample and its reciprocal at line 3 differ by 0.3333333333 (relative), expected at most 1e-06 (--strict)"),
+            std::string::npos) << m;
+}
+
+TEST(SampleCsv, BadInputIsLineNumbered) {
+  ScratchDir d;
+  auto check = [&](const std::string& name, const std::string& content, const std::string& expect) {
+    test::write_bytes(d / name, content);
+    const std::string m = error_of(d / name);
+    EXPECT_NE(m.find(expect), std::string::npos) << m << "\n  lacks: " << expect;
+    EXPECT_EQ(m.rfind(d / name, 0), 0u) << m;
+  };
+  const std::string h = "theta_i,phi_i,theta_r,phi_r,value\n";
+  check("empty.csv", "", "empty file, expected a header row");
+  check("nodata.csv", h, "no samples after the header");
+  check("theta.csv", h + "10,0,95,0,1\n", ":2: column 'theta_r' expected a polar angle in [0, 90], found 95");
+  check("thneg.csv", h + "1,0,5,0,1\n-1,0,5,0,1\n", ":3: column 'theta_i' expected a polar angle in [0, 90], found -1");
+  check("phi.csv", h + "10,400,5,0,1\n", ":2: column 'phi_i' expected an azimuth in [-360, 360], found 400");
+  check("nan.csv", h + "10,0,5,0,nan\n", ":2: column 'value' expected a");
+  check("inf.csv", h + "10,0,5,0,inf\n", ":2: column 'value' expected a");
+  check("comma.csv", h + "10,0,5,0,0,5\n", ":2: expected 5 fields, found 6");
+  check("fields.csv", h + "10,0,5\n", ":2: expected 5 fields, found 3");
+  check("text.csv", h + "10,0,5,x,1\n", ":2: column 'phi_r' expected a number, found 'x'");
+  check("cols.csv", "theta_i,phi_i,theta_r,phi_r,a,b\n1,2,3,4,5,6\n", ":1: expected 5 columns (theta_i,phi_i,theta_r,phi_r,value) or 7");
+  check("header.csv", "theta_r,phi_r,theta_i,phi_i,value\n1,2,3,4,5\n", ":1: expected header starting");
+  SampleCsvOptions rad;
+  rad.radians = true;
+  test::write_bytes(d / "rad.csv", h + "1.6,0,0.5,0,1\n");
+  const std::string m = error_of(d / "rad.csv", rad);
+  EXPECT_NE(m.find(":2: column 'theta_i' expected a polar angle in [0, pi/2], found 1.6"), std::string::npos) << m;
+}
+
+}  // namespace
+}  // namespace icobrdf

@@ -1,0 +1,249 @@
+// SCATMECH ZernikeExpansion_BRDF_Model coefficient files (io/scatmech_coefficients.hpp).
+//
+// The reference evaluation below implements SCATMECH's definition on its own terms (its documentation's
+// formula with the azimuthal order from column l, as its source code reads it): explicit factorial sum for
+// R_n^l, SCATMECH's A^S, and its geometry (incident vector at azimuth pi, scattered vector at phi_s, sample
+// rotation 0). It shares no code with icobrdf's Zernike recurrence, isotropic modes or coefficient mapping.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "core/analytic_spectra.hpp"
+#include "core/direction.hpp"
+#include "core/error.hpp"
+#include "core/isotropic_modes.hpp"
+#include "core/spectrum_ops.hpp"
+#include "io/scatmech_coefficients.hpp"
+#include "io_test_support.hpp"
+
+namespace icobrdf {
+namespace {
+
+using test::ScratchDir;
+
+// Both sides evaluate order <= 8 polynomials of O(1) coefficients: agreement to rounding, relative to
+// the sum of absolute term values.
+constexpr double kEvalTol = 1e-11;
+
+long double fact(int n) {
+  long double f = 1;
+  for (int k = 2; k <= n; ++k) f *= k;
+  return f;
+}
+
+// R_n^m(rho) = sum_s (-1)^s (n-s)! / (s! ((n+m)/2-s)! ((n-m)/2-s)!) rho^(n-2s)
+long double radial(int n, int l, long double rho) {
+  const int m = std::abs(l);
+  if ((n - m) % 2 != 0 || m > n) return 0;
+  long double sum = 0;
+  for (int s = 0; s <= (n - m) / 2; ++s)
+    sum += ((s % 2) ? -1.0L : 1.0L) * fact(n - s) / (fact(s) * fact((n + m) / 2 - s) * fact((n - m) / 2 - s)) *
+           std::pow(rho, static_cast<long double>(n - 2 * s));
+  return sum;
+}
+
+struct Row {
+  int i, j, n, m, k, l, p;
+  double a;
+};
+
+// f_11 at (theta_i, theta_s, phi_s) by SCATMECH's definition; `mag` collects sum |term| for the tolerance.
+double scatmech_f11(const std::vector<Row>& rows, double lambda, double scale, double ti, double ts, double ps, double& mag) {
+  const long double rhoi = std::sqrt(2.0L) * std::sin(ti / 2.0L), rhor = std::sqrt(2.0L) * std::sin(ts / 2.0L);
+  const long double phii = M_PI, phir = ps;
+  long double f = 0;
+  mag = 0;
+  for (const Row& r : rows) {
+    if (r.i != 1 || r.j != 1) continue;
+    const int n = r.n, m = r.m, l = r.l;
+    const double A = (n == 0 || (n == m && l == 0)) ? 4.0 : ((n == m || l == 0) ? 2.0 : 1.0);
+    const long double pre = 0.5L / M_PI * std::sqrt((n + 1.0L) * (m + 1.0L) / A) * std::pow(static_cast<long double>(lambda), r.p);
+    const long double t = r.a * pre * (radial(n, l, rhoi) * radial(m, l, rhor) + radial(m, l, rhoi) * radial(n, l, rhor)) *
+                          std::cos(l * (phir - phii));
+    f += t;
+    mag += static_cast<double>(std::abs(t));
+  }
+  return static_cast<double>(f * scale);
+}
+
+std::string write_rows(const std::string& file, const std::vector<Row>& rows, const std::string& head = "") {
+  std::ofstream o(file);
+  o << head;
+  for (const Row& r : rows) {
+    char b[200];
+    std::snprintf(b, sizeof b, "%d,%d,%d,%d,%d,%d,%d,%.17g\n", r.i, r.j, r.n, r.m, r.k, r.l, r.p, r.a);
+    o << b;
+  }
+  return file;
+}
+
+double ours(const Spectrum& s, double ti, double ts, double ps) {
+  RowMatrix3d wi(1, 3), wr(1, 3);
+  wi.row(0) = direction_from_angles(ti, M_PI).transpose();
+  wr.row(0) = direction_from_angles(ts, ps).transpose();
+  return evaluate_coefficients(s.channels[0], s.order, wi, wr)[0];
+}
+
+// Random valid 11 rows of order <= 8, including n < m, n = 0 < m, negative l, k != l and p = 0..2, plus
+// rows of other Mueller elements (which must not change f_11).
+std::vector<Row> random_rows(unsigned seed) {
+  std::mt19937 g(seed);
+  std::uniform_int_distribution<int> ord(0, 8), pw(0, 2);
+  std::normal_distribution<double> nd(0, 1);
+  std::vector<Row> rows;
+  while (rows.size() < 60) {
+    const int n = ord(g), m = ord(g);
+    if ((n - m) % 2) continue;
+    const int lmax = std::min(n, m);
+    std::uniform_int_distribution<int> ll(0, lmax / 2);
+    int l = lmax - 2 * ll(g);
+    if (g() % 3 == 0) l = -l;
+    rows.push_back({1, 1, n, m, (g() % 4 == 0) ? 0 : l, l, pw(g), nd(g)});
+  }
+  rows.push_back({1, 1, 0, 2, 0, 0, 0, 0.7});  // n = 0 < m: SCATMECH's A = 4, ours 2
+  rows.push_back({1, 2, 3, 1, 1, -1, 0, 5.0});
+  rows.push_back({2, 2, 2, 2, 2, 2, 1, -3.0});
+  rows.push_back({3, 4, 1, 1, -1, 1, 0, 2.0});
+  return rows;
+}
+
+TEST(ScatmechCoefficients, ImportMatchesScatmechDefinitionAtRandomGeometries) {
+  ScratchDir d;
+  const auto rows = random_rows(1);
+  write_rows(d / "c.csv", rows, "; test coefficients\ni,j,n,m,k,l,p,a\n");
+  const ScatmechCoefficients f = read_scatmech_coefficients(d / "c.csv");
+  EXPECT_EQ(f.unpolarized_rows, 61);
+  EXPECT_EQ(f.polarized_rows, 3);
+  EXPECT_EQ(f.order, 8);
+  EXPECT_TRUE(f.wavelength_dependent);
+  long long kd = 0;
+  for (const auto& r : rows) kd += (r.i == 1 && r.j == 1 && r.k != r.l);
+  EXPECT_EQ(f.k_differs_rows, kd);
+  ScatmechImportOptions o;
+  o.wavelength_um = 0.6328;
+  o.scale = 0.93;
+  const Spectrum s = scatmech_to_spectrum(f, o);
+  EXPECT_TRUE(s.isotropic);
+  EXPECT_EQ(s.order, 8);
+  std::mt19937 g(2);
+  std::uniform_real_distribution<double> th(0.0, M_PI / 2), ph(-M_PI, M_PI);
+  for (int t = 0; t < 300; ++t) {
+    const double ti = th(g), ts = th(g), ps = ph(g);
+    double mag = 0;
+    const double want = scatmech_f11(rows, 0.6328, 0.93, ti, ts, ps, mag);
+    EXPECT_NEAR(ours(s, ti, ts, ps), want, kEvalTol * mag * 0.93) << ti << " " << ts << " " << ps;
+  }
+  // Grazing, normal and specular geometries.
+  for (const auto& geo : std::vector<std::array<double, 3>>{{0, 0, 0}, {M_PI / 2, M_PI / 2, 0}, {0.3, 0.3, 0}, {1.2, 0.0, 2.0}}) {
+    double mag = 0;
+    const double want = scatmech_f11(rows, 0.6328, 0.93, geo[0], geo[1], geo[2], mag);
+    EXPECT_NEAR(ours(s, geo[0], geo[1], geo[2]), want, kEvalTol * mag * 0.93);
+  }
+}
+
+// One row 1,1,0,0,0,0,0,2: SCATMECH's I_00^0 = (1/2pi) sqrt(1/4) * 2 = 1/(2pi), so f = 1/pi, the unit-albedo
+// Lambert surface whose only coefficient is C_00 = 2 (SPEC-NOTES).
+TEST(ScatmechCoefficients, LambertRow) {
+  ScratchDir d;
+  write_rows(d / "l.csv", {{1, 1, 0, 0, 0, 0, 0, 2.0}});
+  const Spectrum s = scatmech_to_spectrum(read_scatmech_coefficients(d / "l.csv"));
+  EXPECT_EQ(s.order, 0);
+  EXPECT_NEAR(s.channels[0](0, 0), lambert_coefficients(0)(0, 0), 1e-15);
+  EXPECT_NEAR(ours(s, 0.4, 1.1, 0.3), 1 / M_PI, 1e-15);
+}
+
+TEST(ScatmechCoefficients, ExportRoundTripAndIndependentEvaluation) {
+  ScratchDir d;
+  const int order = 6;
+  std::mt19937 g(3);
+  std::normal_distribution<double> nd(0, 1);
+  Eigen::VectorXd b(isotropic_mode_count(order));
+  for (Eigen::Index k = 0; k < b.size(); ++k) b[k] = nd(g);
+  Spectrum s;
+  s.order = order;
+  s.isotropic = true;
+  s.source = "test";
+  s.channels = {Eigen::MatrixXd::Zero(1, 1), coefficients_from_ibsss(order, b)};
+  s.channels[0] = 0.5 * s.channels[1];
+  const ScatmechExport e = write_scatmech_coefficients(d / "out.csv", s, 1, false);
+  EXPECT_EQ(e.rows, isotropic_mode_count(order));
+  EXPECT_LT(e.anisotropic_fraction, kScatmechIsotropyTolerance);
+  const std::string text = test::read_bytes(d / "out.csv");
+  EXPECT_EQ(text.find('\r'), std::string::npos);
+  EXPECT_EQ(text.rfind("; SCATMECH", 0), 0u);
+  // Re-import: the same coefficient matrix (17-digit numbers read back exactly; C <-> IBSSS rounding).
+  const ScatmechCoefficients f = read_scatmech_coefficients(d / "out.csv");
+  EXPECT_EQ(f.k_differs_rows, 0);
+  const Spectrum back = scatmech_to_spectrum(f);
+  EXPECT_LT((back.channels[0] - s.channels[1]).cwiseAbs().maxCoeff(), 1e-14);
+  // The written rows evaluated by SCATMECH's definition reproduce the spectrum.
+  std::vector<Row> rows;
+  for (const auto& r : f.rows) rows.push_back({r.i, r.j, r.n, r.m, r.k, r.l, r.p, r.a});
+  std::uniform_real_distribution<double> th(0.0, M_PI / 2), ph(-M_PI, M_PI);
+  for (int t = 0; t < 200; ++t) {
+    const double ti = th(g), ts = th(g), ps = ph(g);
+    double mag = 0;
+    const double want = scatmech_f11(rows, 1.0, 1.0, ti, ts, ps, mag);
+    Spectrum one = s;
+    one.channels = {s.channels[1]};
+    EXPECT_NEAR(ours(one, ti, ts, ps), want, kEvalTol * mag);
+  }
+}
+
+TEST(ScatmechCoefficients, ExportRefusesWhatScatmechCannotHold) {
+  const int order = 2;
+  Spectrum s;
+  s.order = order;
+  s.source = "test";
+  Eigen::MatrixXd c = Eigen::MatrixXd::Random(6, 6);
+  s.channels = {c + c.transpose()};  // a general (anisotropic) reciprocal spectrum
+  EXPECT_THROW(format_scatmech_coefficients(s, 0, false), UnsupportedError);
+  const ScatmechExport e = format_scatmech_coefficients(s, 0, true);
+  EXPECT_NEAR(e.anisotropic_fraction, anisotropic_energy_fraction(s.channels[0]), 1e-15);
+  EXPECT_NE(e.text.find("; isotropic projection: anisotropic energy fraction"), std::string::npos);
+  s.cosine = true;
+  EXPECT_THROW(format_scatmech_coefficients(s, 0, true), UnsupportedError);
+  s.cosine = false;
+  EXPECT_THROW(format_scatmech_coefficients(s, 1, true), ArgumentError);
+}
+
+TEST(ScatmechCoefficients, BadFilesAreLineNumbered) {
+  ScratchDir d;
+  auto check = [&](const std::string& name, const std::string& content, const std::string& expect) {
+    test::write_bytes(d / name, content);
+    try {
+      read_scatmech_coefficients(d / name);
+      ADD_FAILURE() << "no error for " << name;
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find(expect), std::string::npos) << m << "\n  lacks: " << expect;
+      EXPECT_EQ(m.rfind(d / name, 0), 0u);
+      EXPECT_EQ(m.find('\n'), std::string::npos);
+    }
+  };
+  check("empty.csv", "", "no coefficient of the unpolarized element (i = j = 1)");
+  check("few.csv", "1,1,0,0,0,0,0\n", ":1: expected 8 fields (i,j,n,m,k,l,p,a), found 7");
+  check("real.csv", "; c\n1,1,2.5,0,0,0,0,1\n", ":2: column 'n' expected an integer, found '2.5'");
+  check("a.csv", "1,1,0,0,0,0,0,x\n", ":1: column 'a' expected a number, found 'x'");
+  check("inf.csv", "1,1,0,0,0,0,0,inf\n", ":1: column 'a' expected a finite number");
+  check("ij.csv", "1,1,0,0,0,0,0,1\n2,1,0,0,0,0,0,1\n", ":2: Mueller indices expected i <= j");
+  check("i5.csv", "1,5,0,0,0,0,0,1\n", ":1: Mueller indices i, j expected in 1..4, found 1, 5");
+  check("p.csv", "1,1,0,0,0,0,5,1\n", ":1: wavelength power p expected in 0..4, found 5");
+  check("lbig.csv", "1,1,4,2,4,4,0,1\n", "needs |l| <= min(n, m) with n - l and m - l even, found n = 4, m = 2, l = 4");
+  check("parity.csv", "1,1,3,2,1,1,0,1\n", "found n = 3, m = 2, l = 1");
+  check("neg.csv", "1,1,-2,0,0,0,0,1\n", "radial orders n, m expected in [0, 64], found -2, 0");
+  check("head.csv", "i,j,n,m,k,l,q,a\n1,1,0,0,0,0,0,1\n", ":1: expected the header 'i,j,n,m,k,l,p,a'");
+  check("pol.csv", "1,2,0,0,0,0,0,1\n", "no coefficient of the unpolarized element (i = j = 1), expected at least one (1 rows");
+  // Blank-separated fields, CRLF and a BOM are fine.
+  test::write_bytes(d / "ws.csv", "\xEF\xBB\xBF 1 1 0 0 0 0 0 2 \r\n\r\n");
+  EXPECT_NEAR(scatmech_to_spectrum(read_scatmech_coefficients(d / "ws.csv")).channels[0](0, 0), 2.0, 0);
+  // Wavelength terms need the wavelength.
+  test::write_bytes(d / "lam.csv", "1,1,0,0,0,0,1,2\n");
+  EXPECT_THROW(scatmech_to_spectrum(read_scatmech_coefficients(d / "lam.csv")), ArgumentError);
+}
+
+}  // namespace
+}  // namespace icobrdf
