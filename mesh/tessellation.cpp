@@ -28,16 +28,24 @@ struct Piece {
   std::int64_t det;  // area fraction of the face = det / scale^3
 };
 
-void fan(const std::vector<Point>& q, int sub, std::vector<Piece>& out) {
+// Pieces with the face centre as a corner get it as their second corner b: the Stroud rule collapses
+// its Gauss-Jacobi direction onto b (a Duffy transform), and around the centre the projection is smooth
+// in polar, not in Cartesian, coordinates (its derivatives are singular there), so the rule then sees an
+// analytic integrand. The rule is the same; only the corner order of the piece changes.
+void fan(const std::vector<Point>& q, int sub, std::int64_t centre, std::vector<Piece>& out) {
+  auto is_centre = [&](const Point& p) { return p[0] == centre && p[1] == centre && p[2] == centre; };
   for (size_t t = 1; t + 1 < q.size(); ++t) {
     const std::int64_t d = barycentric_det(q[0], q[t], q[t + 1]);
-    if (d > 0) out.push_back({q[0], q[t], q[t + 1], sub, d});
+    if (d <= 0) continue;
+    if (is_centre(q[0])) out.push_back({q[t + 1], q[0], q[t], sub, d});
+    else if (is_centre(q[t + 1])) out.push_back({q[t], q[t + 1], q[0], sub, d});
+    else out.push_back({q[0], q[t], q[t + 1], sub, d});
   }
 }
 
 // Cuts a planar cell along the face medians into pieces each inside one sub-triangle (ordering
 // l_k >= l_o >= l_m for sub-triangle 2k + t, see mesh/snyder_projection.hpp).
-void split_cell(const std::vector<Point>& poly, std::vector<Piece>& out) {
+void split_cell(const std::vector<Point>& poly, std::int64_t centre, std::vector<Piece>& out) {
   auto order = [](int s, int& k, int& o, int& m) {
     k = s / 2;
     m = (s % 2 == 0) ? (k + 1) % 3 : (k + 2) % 3;
@@ -49,7 +57,7 @@ void split_cell(const std::vector<Point>& poly, std::vector<Piece>& out) {
     bool all = true;
     for (const auto& p : poly) all = all && p[k] >= p[o] && p[o] >= p[m];
     if (all) {
-      fan(poly, s, out);
+      fan(poly, s, centre, out);
       return;
     }
   }
@@ -57,7 +65,7 @@ void split_cell(const std::vector<Point>& poly, std::vector<Piece>& out) {
     int k, o, m;
     order(s, k, o, m);
     auto q = clip_median(clip_median(poly, k, o), o, m);
-    if (q.size() >= 3) fan(q, s, out);
+    if (q.size() >= 3) fan(q, s, centre, out);
   }
 }
 
@@ -127,8 +135,9 @@ Grid build_hemi_icosahedral_grid(int level, const std::string& kind, int degree)
     centroid[c] = Eigen::Vector3d::Zero();
     for (const auto& p : poly) centroid[c] += Eigen::Vector3d(p[0], p[1], p[2]) / s;
     centroid[c] /= static_cast<double>(poly.size());
-    if (equal_area) split_cell(poly, pieces);
-    else fan(poly, -1, pieces);
+    const std::int64_t centre = lat.scale() / 3;  // scaled barycentric coordinate of the face centre
+    if (equal_area) split_cell(poly, centre, pieces);
+    else fan(poly, -1, centre, pieces);
     piece_off[c + 1] = static_cast<std::int64_t>(pieces.size());
   }
   const int q = rule.size();
