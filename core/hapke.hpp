@@ -23,7 +23,8 @@ namespace icobrdf {
 //   1/H(mu) = sqrt(1 - w) + (w/2) integral_0^1 mu' H(mu') / (mu + mu') dmu'.
 // Solved by Nystrom on Gauss-Legendre panels graded geometrically towards mu = 0 (208 nodes), then
 // tabulated on a grid uniform in sqrt(mu) and interpolated with 4-point Lagrange: operator() is accurate
-// to ~1e-10 (see tests), exact() evaluates the Nystrom formula directly (~1e-13).
+// to 1e-8 (worst near mu = 0, where H ~ 1 + c mu ln mu), exact() evaluates the Nystrom formula directly
+// (~1e-13; tests/core/test_brdf_hapke.cpp).
 class ChandrasekharH {
  public:
   explicit ChandrasekharH(double w);

@@ -109,7 +109,7 @@ const std::vector<Entry>& entries() {
     t.push_back({{"oren-nayar", "qualitative Oren-Nayar rough diffuser",
                   {number("sigma", 20.0, 0.0, 90.0, "standard deviation of the facet slope angle", "deg"),
                    number("albedo", 1.0, 0.0, 1.0, "albedo of the facets")},
-                  false, "albedo <= 0.985 (max directional albedo 1.0146 x albedo, near sigma = 10 deg at grazing incidence)"},
+                  false, "albedo <= 0.985 (max directional albedo 1.015 x albedo, near sigma = 11 deg at grazing incidence)"},
                  [](const Values& v) { return std::make_unique<OrenNayarModel>(v[0], v[1]); }});
     t.push_back({{"lafortune", "Lafortune generalized cosine lobe max(0, wi^T Q^T diag(cx,cy,cz) Q wr)^n",
                   {number("cx", -1.0, -10.0, 10.0, "lobe matrix entry along the rotated x axis"),
