@@ -1,0 +1,61 @@
+// Batch evaluation of the analytic BRDF models (core/model_spec.hpp): f at 4096 random direction pairs per
+// call, one thread.   bench_models [--benchmark_filter=...]
+// Results: benchmarks/RESULTS.md, section "Analytic BRDF models".
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/model_spec.hpp"
+
+namespace {
+
+using namespace icobrdf;
+
+constexpr int kPairs = 4096;
+
+RowMatrix3d random_directions(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  RowMatrix3d d(kPairs, 3);
+  for (int k = 0; k < kPairs; ++k) {
+    const double z = u(rng), s = std::sqrt(1.0 - z * z), p = 2.0 * M_PI * u(rng);
+    d.row(k) << s * std::cos(p), s * std::sin(p), z;
+  }
+  return d;
+}
+
+void BM_ModelEval(benchmark::State& state, const std::string& spec) {
+  std::mt19937_64 rng(5);
+  const RowMatrix3d wi = random_directions(rng), wr = random_directions(rng);
+  const auto model = parse_model(spec);
+  Eigen::MatrixXd out(kPairs, model->channels());
+  for (auto _ : state) {
+    model->eval(wi, wr, out);
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * kPairs);
+}
+
+void BM_ParseModel(benchmark::State& state, const std::string& spec) {
+  for (auto _ : state) {
+    auto m = parse_model(spec);
+    benchmark::DoNotOptimize(m.get());
+  }
+}
+
+const int kRegistered = [] {
+  for (const char* spec : {"lambert", "minnaert:k=2.5", "phong", "blinn-phong", "ggx", "ggx:fresnel=dielectric",
+                           "beckmann", "ggx-aniso", "oren-nayar", "lafortune", "lommel-seeliger", "hapke",
+                           "0.8*lambert+0.2*ggx:alpha=0.1"})
+    benchmark::RegisterBenchmark(("ModelEval/" + std::string(spec)).c_str(), BM_ModelEval, std::string(spec));
+  benchmark::RegisterBenchmark("ParseModel/hapke", BM_ParseModel, std::string("hapke"));
+  benchmark::RegisterBenchmark("ParseModel/ggx", BM_ParseModel, std::string("ggx:alpha=0.2,f0=0.04"));
+  return 0;
+}();
+
+}  // namespace
+
+BENCHMARK_MAIN();
