@@ -296,3 +296,31 @@ TEST(SpectrumFile, InconsistentRecordsAreArgumentErrors) {
   EXPECT_THROW(icobrdf::write_bank(dir / "s.h5", twice), icobrdf::ArgumentError);
   EXPECT_TRUE(dir.entries().empty());
 }
+
+TEST(SpectrumFile, MaterialNamesAndSingleMaterialReads) {
+  icobrdf::test::ScratchDir dir;
+  BankContents b;
+  for (const char* n : {"zinc", "Alu", "brass"}) {  // name order is byte order: "Alu" < "brass" < "zinc"
+    MaterialRecord m;
+    m.name = n;
+    m.spectrum = icobrdf::test::synthetic_spectrum(1, 1);
+    m.spectrum.source = std::string("model:") + n;
+    b.materials.push_back(m);
+  }
+  icobrdf::write_bank(dir / "b.h5", b);
+  EXPECT_EQ(icobrdf::bank_material_names(dir / "b.h5"), (std::vector<std::string>{"Alu", "brass", "zinc"}));
+  EXPECT_EQ(icobrdf::read_bank_material(dir / "b.h5", "").name, "Alu");
+  EXPECT_EQ(icobrdf::read_bank_material(dir / "b.h5", "zinc").spectrum.source, "model:zinc");
+  EXPECT_EQ(icobrdf::read_spectrum_file(dir / "b.h5").source, "model:Alu");
+  // An empty bank has no first material.
+  icobrdf::write_bank(dir / "empty.h5", BankContents{});
+  EXPECT_TRUE(icobrdf::bank_material_names(dir / "empty.h5").empty());
+  EXPECT_THROW(icobrdf::read_spectrum_file(dir / "empty.h5"), icobrdf::InputError);
+}
+
+TEST(SpectrumFile, OverwritesAnyExistingFile) {
+  icobrdf::test::ScratchDir dir;
+  icobrdf::test::write_bytes(dir / "s.h5", "not a bank");
+  icobrdf::write_spectrum_file(dir / "s.h5", icobrdf::test::synthetic_spectrum(1, 1));
+  EXPECT_EQ(icobrdf::read_spectrum_file(dir / "s.h5").order, 1);
+}
