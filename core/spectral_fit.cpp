@@ -56,8 +56,9 @@ Spectrum finish(std::vector<Eigen::MatrixXd> channels, const std::string& source
 }  // namespace
 
 ProjectionContext make_projection_context(std::shared_ptr<const Grid> grid, int order, double gram_tolerance,
-                                          ProjectionOperator::Kind kind) {
+                                          ProjectionOperator::Kind kind, std::shared_ptr<const Grid> sampling_grid) {
   ProjectionContext ctx;
+  ctx.sampling_grid = std::move(sampling_grid);
   ctx.basis = build_discrete_basis(*grid, order);
   check_supported(ctx.basis, gram_tolerance);
   ctx.projection = make_projection(ctx.basis, kind);
@@ -67,7 +68,7 @@ ProjectionContext make_projection_context(std::shared_ptr<const Grid> grid, int 
 
 Spectrum fit_model(const BrdfModel& model, const ProjectionContext& ctx, const FitOptions& o) {
   const bool cosine = o.cosine || !model.delta_parts().empty();
-  auto channels = streaming_projection(model, *ctx.grid, ctx.projection, cosine, o.sampling);
+  auto channels = streaming_projection(model, *ctx.grid, ctx.projection, cosine, o.sampling, ctx.sampling_grid.get());
   return finish(std::move(channels), model.spec(), ctx, o, cosine);
 }
 

@@ -36,14 +36,18 @@ struct FitOptions {
 };
 
 // The operators for one (grid, order), built once and shared by many fits.
+// `sampling_grid` (optional): the same cells with a cheaper cubature, used only to sample LUT rows of
+// models (core/streaming_projection.hpp); B is always built with `grid`'s own rule.
 struct ProjectionContext {
   std::shared_ptr<const Grid> grid;
+  std::shared_ptr<const Grid> sampling_grid;
   DiscreteBasis basis;
   ProjectionOperator projection;
 };
 ProjectionContext make_projection_context(std::shared_ptr<const Grid> grid, int order,
                                           double gram_tolerance = kDefaultGramTolerance,
-                                          ProjectionOperator::Kind kind = ProjectionOperator::Kind::LeastSquares);
+                                          ProjectionOperator::Kind kind = ProjectionOperator::Kind::LeastSquares,
+                                          std::shared_ptr<const Grid> sampling_grid = nullptr);
 
 Spectrum fit_model(const BrdfModel& model, const ProjectionContext& ctx, const FitOptions& options);
 Spectrum fit_lut(const Lut& lut, const std::string& source, const ProjectionContext& ctx, const FitOptions& options);

@@ -14,7 +14,11 @@ constexpr int kBlockRows = 32;
 }  // namespace
 
 std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const Grid& g, const ProjectionOperator& proj,
-                                                  bool cosine, LutSampling sampling) {
+                                                  bool cosine, LutSampling sampling, const Grid* sampling_grid) {
+  const Grid& sg = sampling_grid ? *sampling_grid : g;
+  if (sg.cells() != g.cells() || (sg.solid_angles - g.solid_angles).cwiseAbs().maxCoeff() > 1e-12 * g.solid_angles.maxCoeff())
+    throw ArgumentError("projection: the sampling grid's cells differ from the projection grid's (" + std::to_string(sg.cells()) +
+                        " vs " + std::to_string(g.cells()) + " cells)");
   const auto deltas = model.delta_parts();
   if (!deltas.empty() && !cosine)
     throw ArgumentError("projection of '" + model.spec() + "': a delta BRDF has no finite f; use the cosine-weighted form g");
@@ -32,7 +36,7 @@ std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const 
 #pragma omp for schedule(dynamic)
     for (int b = 0; b < blocks; ++b) {
       const int r0 = b * kBlockRows, r1 = std::min(cells, r0 + kBlockRows);
-      sample_lut_rows(model, g, cosine, sampling, r0, r1, rows);
+      sample_lut_rows(model, sg, cosine, sampling, r0, r1, rows);
       for (int c = 0; c < ch; ++c) t[c].middleRows(r0, r1 - r0).noalias() = rows[c] * proj.P;
     }
   }

@@ -14,8 +14,12 @@
 namespace icobrdf {
 
 // One M x M coefficient matrix per model channel. Delta parts are added exactly in g form.
+// `sampling_grid`, when given, supplies the cubature used for the cell averages of the LUT rows: the same
+// cells as `grid` (same count and solid angles) with a cheaper rule, since each LUT entry averages over the
+// product of two cells' rules (cost grows with the square of the points per cell).
 std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const Grid& grid, const ProjectionOperator& proj,
-                                                  bool cosine, LutSampling sampling = LutSampling::CellAverage);
+                                                  bool cosine, LutSampling sampling = LutSampling::CellAverage,
+                                                  const Grid* sampling_grid = nullptr);
 
 // P^T F P of the g LUT of one delta part alone (F_ir = weight [r = image(i)] / Omega_r), in O(cells x modes):
 // no LUT and no sampling. ArgumentError for a mirror part on a grid without the rotation-by-pi map.

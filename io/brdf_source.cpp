@@ -1,0 +1,99 @@
+#include "io/brdf_source.hpp"
+
+#include <sys/stat.h>
+
+#include "core/error.hpp"
+#include "core/hemisphere_basis.hpp"
+#include "core/model_spec.hpp"
+#include "core/spectrum_ops.hpp"
+#include "io/measured_sources.hpp"
+#include "io/spectrum_file.hpp"
+
+namespace icobrdf {
+namespace {
+
+class ModelSource final : public BrdfSource {
+ public:
+  explicit ModelSource(std::unique_ptr<BrdfModel> m) : model_(std::move(m)) {}
+  std::string spec() const override { return "model:" + model_->spec(); }
+  int channels() const override { return model_->channels(); }
+  bool has_delta() const override { return !model_->delta_parts().empty(); }
+  Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
+    Eigen::MatrixXd out(wi.rows(), model_->channels());
+    model_->eval(wi, wr, out);
+    return out;
+  }
+  Spectrum fit(const ProjectionContext& ctx, const FitOptions& o) const override {
+    Spectrum s = fit_model(*model_, ctx, o);
+    s.source = spec();
+    return s;
+  }
+
+ private:
+  std::unique_ptr<BrdfModel> model_;
+};
+
+class SpectrumSource final : public BrdfSource {
+ public:
+  SpectrumSource(Spectrum s, std::string text) : s_(std::move(s)), text_(std::move(text)) {}
+  std::string spec() const override { return text_; }
+  int channels() const override { return s_.channel_count(); }
+  Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
+    Eigen::MatrixXd out(wi.rows(), channels());
+    for (int c = 0; c < channels(); ++c) {
+      out.col(c) = evaluate_coefficients(s_.channels[c], s_.order, wi, wr);
+      if (s_.cosine) out.col(c) = out.col(c).cwiseQuotient(wi.col(2));
+    }
+    return out;
+  }
+  // Re-expansion of a stored spectrum at another order is exact in the continuous basis: truncation to a
+  // lower order, zero padding to a higher one (no grid is involved).
+  Spectrum fit(const ProjectionContext& ctx, const FitOptions& o) const override {
+    Spectrum s = s_;
+    const int m_new = hemisphere_basis_count(o.order), m_old = s_.modes(), k = std::min(m_new, m_old);
+    for (auto& c : s.channels) {
+      Eigen::MatrixXd r = Eigen::MatrixXd::Zero(m_new, m_new);
+      r.topLeftCorner(k, k) = c.topLeftCorner(k, k);
+      if (o.isotropic) r = isotropic_part(r, o.order);
+      if (o.filter.kind != LowPassFilter::Kind::None) r = filter_coefficients(r, o.order, o.filter);
+      c = std::move(r);
+    }
+    s.order = o.order;
+    s.isotropic = s_.isotropic || o.isotropic;
+    s.filter = o.filter.name();
+    s.source = text_;
+    (void)ctx;
+    return s;
+  }
+
+ private:
+  Spectrum s_;
+  std::string text_;
+};
+
+bool is_regular_file(const std::string& path) {
+  struct stat st{};
+  return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
+}  // namespace
+
+std::unique_ptr<BrdfSource> spectrum_source(Spectrum spectrum) {
+  const std::string text = spectrum.source;
+  return std::make_unique<SpectrumSource>(std::move(spectrum), text);
+}
+
+std::unique_ptr<BrdfSource> open_source(const std::string& text) {
+  if (is_model_source(text)) return std::make_unique<ModelSource>(parse_model_source(text));
+  if (auto measured = open_measured_source(text)) return measured;  // MERL, CSV samples, SCATMECH (io/measured_sources.hpp)
+  const auto hash = text.rfind('#');
+  const std::string path = hash == std::string::npos ? text : text.substr(0, hash);
+  const std::string name = hash == std::string::npos ? std::string() : text.substr(hash + 1);
+  if (path.size() > 3 && path.compare(path.size() - 3, 3, ".h5") == 0) {
+    if (!is_regular_file(path)) throw InputError(path + ": no such file (SOURCE '" + text + "')");
+    return std::make_unique<SpectrumSource>(read_spectrum_file(path, name), text);
+  }
+  throw ArgumentError("unknown SOURCE '" + text + "': expected model:NAME[:key=value,...] or FILE.h5[#MATERIAL]");
+}
+
+}  // namespace icobrdf
