@@ -6,7 +6,7 @@
 //   ibsss_indices  K x 3          (n, m, l) of each column, n >= m >= l >= 0, n - l and m - l even, n <= order
 //   lut            channels x (cells x cells)  the BRDF per (incident cell, remitted cell) [1/sr]
 // The writer stores the LUT as float32 when lut_float32 is set, recording the largest
-// |float32(x) - x| as the attribute max_abs_rounding_error [1/sr] (relative rounding is at most 2^-24).
+// |float32(x) - x| as the material attribute lut_max_abs_rounding_error [1/sr] (relative rounding <= 2^-24).
 #include <limits>
 #include <optional>
 #include <string>
