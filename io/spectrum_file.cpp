@@ -149,7 +149,7 @@ void write_material(h5::Group& materials, const MaterialRecord& rec) {
         err = std::max(err, (dst.cast<double>() - rec.lut[c]).cwiseAbs().maxCoeff());
       }
       g.write("lut", f.data(), Shape{u(ch), u(cells), u(cells)}, "1/sr", what + " (float32)");
-      // Attach the rounding error to the material group as well as documenting it on the dataset.
+      // The rounding error is a material attribute (docs/file-format.md), next to the float32 dataset.
       g.set_attr("lut_max_abs_rounding_error", err);
     } else {
       std::vector<double> d(per * ch);
