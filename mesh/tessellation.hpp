@@ -37,7 +37,7 @@
 // coordinates around the centre but has singular Cartesian derivatives there.
 //
 // Default cubature degree kDefaultCubatureDegree = 9: 25 points per piece (one piece for most cells, 2
-// for cells cut by a face median, 6 for the central cell of a face; 26.9 points per cell on average at
+// for cells cut by a face median, 6 for the central cell of a face; 27.2 points per cell on average at
 // level 5). At level 5 it gives cell averages of the hemisphere basis K_n^l (|K| <= 3.3; Zernike polynomials
 // pulled back by the Lambert map) up to order n = 32 with a maximum error of 1.6e-6 (in the equator cells,
 // where K_32 varies on the scale z ~ 0.006) and an RMS error of 3.3e-8 over all cells (degree 7: max
