@@ -1,0 +1,255 @@
+#include "io/measured_sources.hpp"
+
+#include <sys/stat.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <mutex>
+#include <sstream>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/hemisphere_basis.hpp"
+#include "core/isotropic_modes.hpp"
+#include "core/projection.hpp"
+#include "core/spectrum_ops.hpp"
+#include "io/merl.hpp"
+#include "io/sample_csv.hpp"
+#include "io/scatmech_coefficients.hpp"
+
+namespace icobrdf {
+
+namespace {
+
+bool ends_with(const std::string& s, const std::string& tail) {
+  return s.size() > tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+bool starts_with(const std::string& s, const std::string& head) { return s.rfind(head, 0) == 0; }
+
+struct Options {
+  std::string path;
+  std::vector<std::pair<std::string, std::string>> kv;  // key, value ("" for flags)
+};
+
+// "PATH#k=v,flag" -> path and options.
+Options split_options(const std::string& text) {
+  Options o;
+  const auto hash = text.rfind('#');
+  o.path = hash == std::string::npos ? text : text.substr(0, hash);
+  if (hash == std::string::npos) return o;
+  std::stringstream ss(text.substr(hash + 1));
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    if (item.empty()) continue;
+    const auto eq = item.find('=');
+    o.kv.emplace_back(item.substr(0, eq), eq == std::string::npos ? "" : item.substr(eq + 1));
+  }
+  return o;
+}
+
+double number_option(const std::string& text, const std::string& key, const std::string& value) {
+  char* end = nullptr;
+  const double x = std::strtod(value.c_str(), &end);
+  if (value.empty() || *end != '\0' || !std::isfinite(x))
+    throw ArgumentError("SOURCE '" + text + "': option " + key + " expected a finite number, found '" + value + "'");
+  return x;
+}
+
+void require_file(const std::string& path, const std::string& text) {
+  struct stat st{};
+  if (::stat(path.c_str(), &st) != 0) throw InputError(path + ": no such file (SOURCE '" + text + "')");
+}
+
+void check_fit_options(const FitOptions& o, const std::string& what) {
+  if (o.cosine)
+    throw UnsupportedError(what + ": --cosine is not supported (the fit uses the reciprocal modes of f; g = f cos(theta_i) is not reciprocal)");
+}
+
+double max_albedo_on(const ProjectionContext& ctx, const Spectrum& s) {
+  if (!ctx.grid) return std::numeric_limits<double>::quiet_NaN();
+  double m = 0;
+  for (const auto& c : s.channels) m = std::max(m, spectral_albedo(c, s.order, ctx.grid->directions).maxCoeff());
+  return m;
+}
+
+void finish(Spectrum& s, const FitOptions& o, const ProjectionContext& ctx) {
+  if (o.filter.kind != LowPassFilter::Kind::None)
+    for (auto& c : s.channels) c = filter_coefficients(c, s.order, o.filter);
+  s.filter = o.filter.name();
+  s.level = -1;
+  s.grid_kind.clear();
+  s.anisotropy_fraction = 0;
+  for (const auto& c : s.channels) s.anisotropy_fraction = std::max(s.anisotropy_fraction, anisotropic_energy_fraction(c));
+  s.max_albedo = max_albedo_on(ctx, s);
+}
+
+Spectrum spectrum_of(const SampleFitResult& r, const std::string& source) {
+  Spectrum s;
+  s.order = r.order;
+  s.isotropic = r.isotropic;
+  s.channels = r.channels;
+  s.source = source;
+  s.reciprocity_violation = 0;  // the modes are reciprocal by construction
+  return s;
+}
+
+class SampleFitHolder {
+ public:
+  const SampleFitResult* last() const {
+    std::lock_guard<std::mutex> g(mu_);
+    return has_ ? &last_ : nullptr;
+  }
+  void store(const SampleFitResult& r) const {
+    std::lock_guard<std::mutex> g(mu_);
+    last_ = r;
+    has_ = true;
+  }
+
+ private:
+  mutable std::mutex mu_;
+  mutable SampleFitResult last_;
+  mutable bool has_ = false;
+};
+
+class MerlSource final : public BrdfSource, public SampleFitHolder {
+ public:
+  MerlSource(std::shared_ptr<const MerlTable> t, std::string text) : model_(std::move(t)), text_(std::move(text)) {}
+  std::string spec() const override { return text_; }
+  int channels() const override { return 3; }
+  Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
+    Eigen::MatrixXd out(wi.rows(), 3);
+    model_.eval(wi, wr, out);
+    return out;
+  }
+  Spectrum fit(const ProjectionContext& ctx, const FitOptions& o) const override {
+    check_fit_options(o, "MERL SOURCE '" + text_ + "'");
+    const MerlSamples smp = merl_samples(model_.table());
+    SampleFitOptions so;
+    so.order = o.order;
+    so.isotropic = true;
+    const SampleFitResult r = fit_samples(smp.wi, smp.wr, smp.values, smp.weights, so);
+    store(r);
+    Spectrum s = spectrum_of(r, text_);
+    finish(s, o, ctx);
+    return s;
+  }
+  std::int64_t missing() const { return model_.table().missing_total(); }
+
+ private:
+  MerlModel model_;
+  std::string text_;
+};
+
+class SampleCsvSource final : public BrdfSource, public SampleFitHolder {
+ public:
+  SampleCsvSource(BrdfSamples s, SampleFitOptions fo, std::string text)
+      : samples_(std::move(s)), fit_options_(fo), text_(std::move(text)) {}
+  std::string spec() const override { return text_; }
+  int channels() const override { return samples_.channels; }
+  Eigen::MatrixXd eval(const RowMatrix3d&, const RowMatrix3d&) const override {
+    throw ArgumentError("SOURCE '" + text_ + "' holds scattered samples, which have no value at arbitrary directions: " +
+                        "fit them first (icobrdf fit " + text_ + " ... -o SPECTRUM.h5) and evaluate the spectrum");
+  }
+  Spectrum fit(const ProjectionContext& ctx, const FitOptions& o) const override {
+    check_fit_options(o, "samples SOURCE '" + text_ + "'");
+    SampleFitOptions so = fit_options_;
+    so.order = o.order;
+    so.isotropic = o.isotropic;
+    const SampleFitResult r = fit_samples(samples_.wi, samples_.wr, samples_.values, samples_.weights, so);
+    store(r);
+    Spectrum s = spectrum_of(r, text_);
+    finish(s, o, ctx);
+    return s;
+  }
+
+ private:
+  BrdfSamples samples_;
+  SampleFitOptions fit_options_;
+  std::string text_;
+};
+
+class ScatmechSource final : public BrdfSource {
+ public:
+  ScatmechSource(Spectrum s, std::string text) : s_(std::move(s)), text_(std::move(text)) { s_.source = text_; }
+  std::string spec() const override { return text_; }
+  int channels() const override { return 1; }
+  Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
+    Eigen::MatrixXd out(wi.rows(), 1);
+    out.col(0) = evaluate_coefficients(s_.channels[0], s_.order, wi, wr);
+    return out;
+  }
+  // Exact re-expansion: truncation to a lower order or zero padding to a higher one.
+  Spectrum fit(const ProjectionContext& ctx, const FitOptions& o) const override {
+    check_fit_options(o, "SCATMECH SOURCE '" + text_ + "'");
+    Spectrum s = s_;
+    const int m_new = hemisphere_basis_count(o.order), k = std::min(m_new, s_.modes());
+    Eigen::MatrixXd r = Eigen::MatrixXd::Zero(m_new, m_new);
+    r.topLeftCorner(k, k) = s_.channels[0].topLeftCorner(k, k);
+    s.channels[0] = r;
+    s.order = o.order;
+    finish(s, o, ctx);
+    return s;
+  }
+
+ private:
+  Spectrum s_;
+  std::string text_;
+};
+
+std::unique_ptr<BrdfSource> open_samples(const std::string& text, const std::string& body) {
+  const Options op = split_options(body);
+  require_file(op.path, text);
+  SampleCsvOptions co;
+  SampleFitOptions fo;
+  for (const auto& [k, v] : op.kv) {
+    if (k == "radians" && v.empty()) co.radians = true;
+    else if (k == "strict" && v.empty()) co.strict = true;
+    else if (k == "tikhonov") fo.tikhonov = number_option(text, k, v);
+    else if (k == "power") fo.tikhonov_power = number_option(text, k, v);
+    else if (k == "rank-tol") fo.rank_tolerance = number_option(text, k, v);
+    else
+      throw ArgumentError("SOURCE '" + text + "': unknown samples option '" + k + (v.empty() ? "" : "=" + v) +
+                          "', expected radians, strict, tikhonov=LAMBDA, power=P or rank-tol=T");
+  }
+  if (fo.tikhonov < 0 || fo.tikhonov_power < 0)
+    throw ArgumentError("SOURCE '" + text + "': tikhonov and power must be >= 0");
+  return std::make_unique<SampleCsvSource>(read_sample_csv(op.path, co), fo, text);
+}
+
+std::unique_ptr<BrdfSource> open_scatmech(const std::string& text, const std::string& body) {
+  const Options op = split_options(body);
+  require_file(op.path, text);
+  ScatmechImportOptions io;
+  for (const auto& [k, v] : op.kv) {
+    if (k == "lambda") io.wavelength_um = number_option(text, k, v);
+    else if (k == "scale") io.scale = number_option(text, k, v);
+    else
+      throw ArgumentError("SOURCE '" + text + "': unknown SCATMECH option '" + k + "', expected lambda=UM or scale=R");
+  }
+  if (io.wavelength_um != -1.0 && !(io.wavelength_um > 0))
+    throw ArgumentError("SOURCE '" + text + "': lambda must be > 0 (micrometres)");
+  return std::make_unique<ScatmechSource>(scatmech_to_spectrum(read_scatmech_coefficients(op.path), io), text);
+}
+
+}  // namespace
+
+std::unique_ptr<BrdfSource> open_measured_source(const std::string& text) {
+  const bool merl_prefix = starts_with(text, "merl:");
+  if (merl_prefix || ends_with(text, ".binary")) {
+    const std::string path = merl_prefix ? text.substr(5) : text;
+    return std::make_unique<MerlSource>(std::make_shared<const MerlTable>(read_merl(path)), text);
+  }
+  if (starts_with(text, "scatmech:")) return open_scatmech(text, text.substr(9));
+  if (starts_with(text, "samples:")) return open_samples(text, text.substr(8));
+  const std::string path = split_options(text).path;
+  if (ends_with(path, ".zernike.csv")) return open_scatmech(text, text);
+  if (ends_with(path, ".csv")) return open_samples(text, text);
+  return nullptr;
+}
+
+const SampleFitResult* last_sample_fit(const BrdfSource& source) {
+  if (const auto* h = dynamic_cast<const SampleFitHolder*>(&source)) return h->last();
+  return nullptr;
+}
+
+}  // namespace icobrdf

@@ -1,0 +1,41 @@
+#pragma once
+// SOURCE kinds for measured data (io/brdf_source.hpp's open_source dispatches to open_measured_source):
+//
+//   FILE.binary | merl:FILE                       MERL table (io/merl.hpp), 3 channels
+//   FILE.csv[#OPTIONS] | samples:FILE[#OPTIONS]   BRDF samples (io/sample_csv.hpp); OPTIONS, comma-separated:
+//                                                 radians, strict, tikhonov=LAMBDA, power=P, rank-tol=T
+//   FILE.zernike.csv[#OPTIONS] | scatmech:FILE[#OPTIONS]
+//                                                 SCATMECH Zernike-expansion coefficients
+//                                                 (io/scatmech_coefficients.hpp); OPTIONS: lambda=UM, scale=R
+//
+// Fitting (fit()):
+//   * MERL: the table's valid nodes are scattered samples (io/merl.hpp merl_samples: node directions, bin
+//     solid-angle weights; nodes with a missing channel or a direction below the horizon are excluded),
+//     fitted by weighted least squares (core/sample_fit.hpp) on the isotropic modes of the requested order
+//     (a MERL table holds only isotropic BRDFs, so the spectrum is isotropic whatever --isotropic says).
+//     The grid of the context is not used for the fit (only for the max-albedo figure); the LUT sampling
+//     and projection kind do not apply.
+//   * CSV samples: weighted least squares of the samples (weights = duplicate counts) on the Helmholtz
+//     modes, or the isotropic modes with --isotropic, with the Tikhonov options above; the grid is
+//     likewise unused except for the max-albedo figure.
+//   * SCATMECH: the file's isotropic spectrum truncated or zero-padded to the requested order (exact, no grid).
+//   All three refuse --cosine (UnsupportedError): their expansions are of f; a low-pass filter applies after the fit.
+// Evaluation (eval()): MERL looks the table up (NaN at missing samples); SCATMECH evaluates its spectrum
+// at its own order; CSV samples throw ArgumentError (the samples must be fitted first).
+#include <memory>
+#include <string>
+
+#include "core/sample_fit.hpp"
+#include "io/brdf_source.hpp"
+
+namespace icobrdf {
+
+// nullptr when `text` names none of the kinds above; otherwise the opened source (errors as documented
+// in the readers: InputError for bad files, ArgumentError for bad options).
+std::unique_ptr<BrdfSource> open_measured_source(const std::string& text);
+
+// Figures of the last sample fit of a MERL or CSV source (for reports): nullptr for other sources or
+// before fit() was called.
+const SampleFitResult* last_sample_fit(const BrdfSource& source);
+
+}  // namespace icobrdf
