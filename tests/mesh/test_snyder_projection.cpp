@@ -142,7 +142,9 @@ TEST(SnyderProjection, ContinuousAcrossSubTrianglesAndFaceEdges) {
       Eigen::Vector3d ref = p.inverse(q);
       for (int s = 0; s < 6; ++s) {
         const int kk = s / 2, m = (s % 2 == 0) ? (kk + 1) % 3 : (kk + 2) % 3, o = 3 - kk - m;
-        if (q[kk] >= q[o] - 1e-15 && q[o] >= q[m] - 1e-15) EXPECT_LT((p.inverse(q, s) - ref).norm(), kContinuityTol);
+        if (q[kk] >= q[o] - 1e-15 && q[o] >= q[m] - 1e-15) {
+          EXPECT_LT((p.inverse(q, s) - ref).norm(), kContinuityTol);
+        }
       }
     }
   // Shared icosahedron edges: the same sphere point from both faces.

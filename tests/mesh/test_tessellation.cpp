@@ -184,7 +184,9 @@ TEST(Tessellation, GeodesicBaselineAreasAndRatio) {
     }
     std::printf("geodesic level %d: whole-cell solid angle max/min = %.6f\n", level, mx / mn);
     RecordProperty("geodesic_ratio_level_" + std::to_string(level), std::to_string(mx / mn));
-    if (level >= 1) EXPECT_GT(mx / mn, 1.1);  // the baseline is not equal-area
+    if (level >= 1) {
+      EXPECT_GT(mx / mn, 1.1);  // the baseline is not equal-area
+    }
   }
 }
 
@@ -238,7 +240,9 @@ TEST(Tessellation, EquatorIsTheBoundaryAndNeighboursAreConsistent) {
       for (int c = 0; c < g.cells(); ++c) {
         const Eigen::Vector3d a = g.vertices.row(g.faces(c, 0)), b = g.vertices.row(g.faces(c, 1)), d = g.vertices.row(g.faces(c, 2));
         EXPECT_GT((b - a).cross(d - a).dot(a + b + d), 0.0);
-        if (g.is_half[c]) EXPECT_EQ((g.neighbours.row(c).array() < 0).count(), 1);
+        if (g.is_half[c]) {
+          EXPECT_EQ((g.neighbours.row(c).array() < 0).count(), 1);
+        }
       }
     }
 }
