@@ -135,7 +135,7 @@ SampleFitResult SampleFitAccumulator::solve() const {
                            : static_cast<double>(std::max<long long>(samples_, k)) * eps;
 
   // The largest singular value of W^(1/2) A (all columns) sets the scale of every threshold.
-  Eigen::JacobiSVD<Eigen::MatrixXd> full(r11);
+  Eigen::BDCSVD<Eigen::MatrixXd> full(r11);
   const double s1 = full.singularValues().size() ? full.singularValues()[0] : 0.0;
   out.rank_threshold = out.rank_tolerance * s1;
 
@@ -156,7 +156,7 @@ SampleFitResult SampleFitAccumulator::solve() const {
 
   Eigen::MatrixXd xs = Eigen::MatrixXd::Zero(ks, channels_);
   if (ks > 0) {
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(rs, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    Eigen::BDCSVD<Eigen::MatrixXd> svd(rs, Eigen::ComputeThinU | Eigen::ComputeThinV);
     out.singular_values = svd.singularValues();
     out.effective_rank = 0;
     for (Eigen::Index t = 0; t < out.singular_values.size(); ++t)
@@ -172,7 +172,7 @@ SampleFitResult SampleFitAccumulator::solve() const {
       for (Eigen::Index t = 0; t < ks; ++t) aug(k + t, t) = std::sqrt(options_.tikhonov * d[seen[static_cast<size_t>(t)]]);
       Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(k + ks, channels_);
       rhs.topRows(k) = z;
-      Eigen::JacobiSVD<Eigen::MatrixXd> reg(aug, Eigen::ComputeThinU | Eigen::ComputeThinV);
+      Eigen::BDCSVD<Eigen::MatrixXd> reg(aug, Eigen::ComputeThinU | Eigen::ComputeThinV);
       const Eigen::VectorXd sv = reg.singularValues();
       const double thr = out.rank_tolerance * (sv.size() ? sv[0] : 0.0);
       int r = 0;

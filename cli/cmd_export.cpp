@@ -1,0 +1,77 @@
+// icobrdf export SPECTRUM.h5[#MATERIAL] --format scatmech [--channel C] [--isotropic] -o FILE.csv [--json]
+// Writes a spectrum in another program's format. Formats:
+//   scatmech   coefficient file of NIST SCATMECH's ZernikeExpansion_BRDF_Model (io/scatmech_coefficients.hpp):
+//              rows 1,1,n,m,l,l,0,a of the unpolarized element; f spectra only; an anisotropic spectrum is
+//              refused unless --isotropic (then its isotropic projection is written and the dropped
+//              anisotropic energy fraction reported). A 3-channel spectrum needs --channel.
+// The output is written atomically (nothing is written on error). Figures: rows written, order, channel,
+// anisotropic energy fraction; --json prints them as JSON.
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "cli/commands.hpp"
+#include "core/error.hpp"
+#include "io/scatmech_coefficients.hpp"
+#include "io/spectrum_file.hpp"
+
+namespace icobrdf::cli {
+namespace {
+
+struct ExportArgs {
+  std::string input, output, format;
+  int channel = -1;
+  bool isotropic = false, json = false;
+};
+
+void run_export(const ExportArgs& a) {
+  if (a.format != "scatmech") throw ArgumentError("--format: expected 'scatmech', found '" + a.format + "'");
+  const auto hash = a.input.rfind('#');
+  const std::string path = hash == std::string::npos ? a.input : a.input.substr(0, hash);
+  const std::string name = hash == std::string::npos ? std::string() : a.input.substr(hash + 1);
+  const Spectrum s = read_spectrum_file(path, name);
+  int channel = a.channel;
+  if (channel < 0) {
+    if (s.channel_count() != 1)
+      throw ArgumentError(fmt::format("export: {} has {} channels; choose one with --channel (0..{})", a.input,
+                                      s.channel_count(), s.channel_count() - 1));
+    channel = 0;
+  }
+  const ScatmechExport e = write_scatmech_coefficients(a.output, s, channel, a.isotropic);
+  const nlohmann::json j{{"input", a.input},
+                         {"output", a.output},
+                         {"format", a.format},
+                         {"order", s.order},
+                         {"channel", channel},
+                         {"rows", e.rows},
+                         {"anisotropic_fraction", e.anisotropic_fraction},
+                         {"projected", e.anisotropic_fraction > kScatmechIsotropyTolerance}};
+  if (a.json) {
+    std::cout << j.dump(2) << "\n";
+    return;
+  }
+  std::cout << fmt::format("{} -> {} (SCATMECH coefficients)\n", a.input, a.output)
+            << fmt::format("  order {}, channel {}, {} rows, anisotropic energy fraction {:.3g}{}\n", s.order, channel, e.rows,
+                           e.anisotropic_fraction,
+                           e.anisotropic_fraction > kScatmechIsotropyTolerance ? " (dropped: isotropic projection)" : "");
+}
+
+void add_export_command(CLI::App& app) {
+  auto a = std::make_shared<ExportArgs>();
+  auto* cmd = app.add_subcommand("export", "Write a spectrum in another program's format (SCATMECH coefficient CSV)");
+  cmd->add_option("spectrum", a->input, "SPECTRUM.h5[#MATERIAL]")->required();
+  cmd->add_option("--format", a->format, "Output format: scatmech")->required();
+  cmd->add_option("--channel", a->channel, "Channel of a 3-channel spectrum (0, 1, 2)");
+  cmd->add_flag("--isotropic", a->isotropic, "Export the isotropic projection of an anisotropic spectrum");
+  cmd->add_option("-o,--output", a->output, "Output file")->required();
+  cmd->add_flag("--json", a->json, "Print the figures as JSON");
+  cmd->callback([a] { run_export(*a); });
+}
+
+const CommandRegistrar kRegistrar("export", add_export_command);
+
+}  // namespace
+}  // namespace icobrdf::cli

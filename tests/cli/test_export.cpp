@@ -1,0 +1,145 @@
+// icobrdf export, and measured-data SOURCEs through the CLI: MERL tables, CSV samples and SCATMECH
+// coefficient files fitted with `icobrdf fit`, then exported as SCATMECH coefficients whose values are
+// checked against their analytic expectation.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "cli_runner.hpp"
+
+namespace {
+
+using icobrdf::test::run_cli;
+using icobrdf::test::slurp;
+using icobrdf::test::TempDir;
+
+// A least-squares fit of data exactly in the span (constants): rounding over ~1e6 samples.
+constexpr double kFitTol = 1e-10;
+
+// A MERL file of the Lambertian f = albedo/pi: stored value f / scale_c (R 1/1500, G 1.15/1500, B 1.66/1500).
+void write_lambert_merl(const std::string& path, double albedo, std::int64_t drop_bytes = 0) {
+  std::ofstream o(path, std::ios::binary);
+  const std::int32_t dims[3] = {90, 90, 180};
+  o.write(reinterpret_cast<const char*>(dims), 12);
+  const double scale[3] = {1.0 / 1500, 1.15 / 1500, 1.66 / 1500};
+  const std::int64_t n = 90 * 90 * 180;
+  for (int c = 0; c < 3; ++c) {
+    const std::vector<double> v(static_cast<size_t>(n), albedo / M_PI / scale[c]);
+    o.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(8 * n - (c == 2 ? drop_bytes : 0)));
+  }
+}
+
+// Coefficient rows (i, j, n, m, k, l, p) -> a of a SCATMECH file written by icobrdf.
+std::map<std::vector<int>, double> read_rows(const std::string& path) {
+  std::map<std::vector<int>, double> rows;
+  std::istringstream in(slurp(path));
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == ';') continue;
+    std::vector<int> key(7);
+    double a = 0;
+    EXPECT_EQ(std::sscanf(line.c_str(), "%d,%d,%d,%d,%d,%d,%d,%lf", &key[0], &key[1], &key[2], &key[3], &key[4], &key[5],
+                          &key[6], &a), 8) << line;
+    rows[key] = a;
+  }
+  return rows;
+}
+
+// f = albedo/pi is I_00^0 = 1/(2 pi) (SCATMECH's and ours) times a = 2 albedo; every other row is 0.
+void expect_lambert_rows(const std::string& path, double albedo) {
+  const auto rows = read_rows(path);
+  ASSERT_FALSE(rows.empty());
+  for (const auto& [k, a] : rows) {
+    EXPECT_EQ(k[0], 1);
+    EXPECT_EQ(k[1], 1);
+    const bool dc = k[2] == 0 && k[3] == 0;
+    EXPECT_NEAR(a, dc ? 2 * albedo : 0.0, kFitTol) << k[2] << " " << k[3] << " " << k[5];
+  }
+}
+
+TEST(CliMeasured, MerlFitAndExport) {
+  TempDir d;
+  write_lambert_merl(d.file("lambert.binary"), 0.5);
+  auto r = run_cli({"fit", d.file("lambert.binary"), "--order", "4", "--level", "3", "-o", d.file("x.h5"), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["channels"], 3);
+  EXPECT_EQ(j["order"], 4);
+  EXPECT_EQ(j["isotropic"], true);
+  for (int c = 0; c < 3; ++c) {
+    const std::string out = d.file("c" + std::to_string(c) + ".csv");
+    r = run_cli({"export", d.file("x.h5"), "--format", "scatmech", "--channel", std::to_string(c), "-o", out});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    expect_lambert_rows(out, 0.5);
+  }
+  // A 3-channel spectrum needs --channel.
+  r = run_cli({"export", d.file("x.h5"), "--format", "scatmech", "-o", d.file("no.csv")});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("choose one with --channel"), std::string::npos) << r.err;
+  EXPECT_TRUE(slurp(d.file("no.csv")).empty());
+}
+
+TEST(CliMeasured, BadMerlFailsWithoutOutput) {
+  TempDir d;
+  write_lambert_merl(d.file("cut.binary"), 0.5, 1);
+  const auto r = run_cli({"fit", d.file("cut.binary"), "--order", "2", "--level", "2", "-o", d.file("x.h5")});
+  EXPECT_EQ(r.exit_code, 3);  // InputError
+  EXPECT_NE(r.err.find("truncated MERL file: 34992011 bytes, expected 34992012 (1 bytes missing"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  std::ifstream f(d.file("x.h5"));
+  EXPECT_FALSE(f.good());
+}
+
+TEST(CliMeasured, SampleCsvFitAndExport) {
+  TempDir d;
+  std::ofstream o(d.file("s.csv"));
+  o << "theta_i,phi_i,theta_r,phi_r,value\n";
+  std::mt19937 g(1);
+  std::uniform_real_distribution<double> th(0, 90), ph(-180, 180);
+  char line[200];
+  for (int k = 0; k < 300; ++k) {
+    std::snprintf(line, sizeof line, "%.6f,%.6f,%.6f,%.6f,%.17g\n", th(g), ph(g), th(g), ph(g), 0.3 / M_PI);
+    o << line;
+  }
+  o.close();
+  auto r = run_cli({"fit", d.file("s.csv"), "--order", "2", "--level", "2", "--isotropic", "-o", d.file("s.h5")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_cli({"export", d.file("s.h5"), "--format", "scatmech", "-o", d.file("s2.csv")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  expect_lambert_rows(d.file("s2.csv"), 0.3);
+}
+
+TEST(CliMeasured, ScatmechSourceRoundTrip) {
+  TempDir d;
+  {
+    std::ofstream o(d.file("t.zernike.csv"));
+    o << "; two terms\n1,1,0,0,0,0,0,2\n1,1,2,0,0,0,1,0.25\n";
+  }
+  auto r = run_cli({"fit", d.file("t.zernike.csv") + "#lambda=0.5", "--order", "2", "--level", "2", "-o", d.file("t.h5")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_cli({"export", d.file("t.h5"), "--format", "scatmech", "-o", d.file("t2.csv"), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["rows"], 5);  // isotropic modes up to order 2
+  const auto rows = read_rows(d.file("t2.csv"));
+  EXPECT_NEAR((rows.at({1, 1, 0, 0, 0, 0, 0})), 2.0, 1e-15);
+  EXPECT_NEAR((rows.at({1, 1, 2, 0, 0, 0, 0})), 0.25 * 0.5, 1e-15);  // a lambda^p with lambda = 0.5, p = 1
+  // Without the wavelength the p = 1 term cannot be evaluated.
+  r = run_cli({"fit", d.file("t.zernike.csv"), "--order", "2", "--level", "2", "-o", d.file("u.h5")});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("need the wavelength"), std::string::npos) << r.err;
+}
+
+TEST(CliMeasured, ExportRefusesUnknownFormat) {
+  TempDir d;
+  const auto r = run_cli({"export", d.file("none.h5"), "--format", "pdf", "-o", d.file("x.csv")});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--format: expected 'scatmech', found 'pdf'"), std::string::npos) << r.err;
+}
+
+}  // namespace
