@@ -1,0 +1,537 @@
+#include "plot/plots.hpp"
+
+#include <cairo.h>
+#include <fmt/core.h>
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "core/error.hpp"
+#include "core/hemisphere_basis.hpp"
+#include "core/isotropic_modes.hpp"
+#include "core/lambert_map.hpp"
+#include "core/model_spec.hpp"
+#include "core/spectral_fit.hpp"
+#include "core/spectrum_ops.hpp"
+#include "io/bank_file.hpp"
+#include "io/brdf_source.hpp"
+#include "io/spectrum_file.hpp"
+#include "mesh/tessellation.hpp"
+#include "plot/disk_raster.hpp"
+#include "plot/figure.hpp"
+#include "plot/slice_data.hpp"
+#include "plot/sphere_shading.hpp"
+
+namespace icobrdf::plot {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = 180.0 / kPi;
+// Cubature degree of the rule that cell-averages LUT rows of models during a fit (as `icobrdf fit`).
+constexpr int kLutSamplingDegree = 2;
+// Level of the cells used as a midpoint quadrature for the directional albedo of a model (sky light).
+constexpr int kAlbedoQuadratureLevel = 3;
+
+const Rgb kPositiveCurve{0.70, 0.25, 0.05};
+const Rgb kNegativeCurve{0.10, 0.30, 0.85};
+
+bool is_directory(const std::string& p) {
+  struct stat st{};
+  return ::stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+bool ends_with_h5(const std::string& s) { return s.size() > 3 && s.compare(s.size() - 3, 3, ".h5") == 0; }
+
+// The spectrum a picture is drawn from: a file's as stored, a model's fitted at `order` on the
+// equal-area grid of `level` (g form for models with delta parts).
+struct LoadedSource {
+  Spectrum spectrum;
+  std::unique_ptr<BrdfSource> source;  // set for models and measured sources
+  bool exact_available = false;        // source->eval() is the whole BRDF (no delta parts)
+};
+
+LoadedSource load_source(const std::string& text, int order, int level) {
+  LoadedSource r;
+  const auto hash = text.rfind('#');
+  const std::string path = hash == std::string::npos ? text : text.substr(0, hash);
+  if (!is_model_source(text) && ends_with_h5(path)) {
+    struct stat st{};
+    if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) throw InputError(path + ": no such file (SOURCE '" + text + "')");
+    r.spectrum = read_spectrum_file(path, hash == std::string::npos ? std::string() : text.substr(hash + 1));
+    if (r.spectrum.source.empty()) r.spectrum.source = text;
+    return r;
+  }
+  r.source = open_source(text);
+  auto grid = std::make_shared<const Grid>(build_equal_area_grid(level));
+  auto sampling = std::make_shared<const Grid>(build_equal_area_grid(level, kLutSamplingDegree));
+  const auto ctx = make_projection_context(grid, order, kDefaultGramTolerance, ProjectionOperator::Kind::LeastSquares, sampling);
+  FitOptions o;
+  o.order = order;
+  o.cosine = r.source->has_delta();
+  r.spectrum = r.source->fit(ctx, o);
+  r.exact_available = is_model_source(text) && !r.source->has_delta();
+  return r;
+}
+
+std::string deg(double rad) { return format_number(std::round(rad * kDeg * 100.0) / 100.0) + "\u00b0"; }
+
+// Ends a long label with an ellipsis so that it fits in `max_chars`.
+std::string shorten(const std::string& s, std::size_t max_chars) {
+  return s.size() <= max_chars ? s : s.substr(0, max_chars - 3) + "...";
+}
+
+void check_output_path(const std::string& path) {
+  if (path.empty()) throw ArgumentError("-o: an output file name is required");
+  if (is_directory(path)) throw ArgumentError("-o " + path + ": is a directory, expected a PNG file name");
+}
+
+// ---------------------------------------------------------------------------------------------- basis
+
+void draw_disk_frame(Figure& fig, const PanelRect& r) {
+  fig.circle(r.x + r.size / 2.0, r.y + r.size / 2.0, r.size / 2.0, 1.0, 0.15);
+}
+
+}  // namespace
+
+std::vector<std::string> plot_basis(int order, const std::string& dir, bool separate) {
+  constexpr int kMaxBasisOrder = 16;
+  if (order < 0 || order > kMaxBasisOrder)
+    throw ArgumentError(fmt::format("--order {}: expected 0..{}", order, kMaxBasisOrder));
+  if (!is_directory(dir)) throw ArgumentError("-o " + dir + ": not an existing directory");
+  const int panel = std::clamp(1400 / (order + 1) - 24, 60, 170);
+  const DiskSamples ds = disk_samples(panel);
+  const Eigen::MatrixXd b = disk_basis(ds, order);
+  std::vector<double> levels;
+  for (int k = -4; k <= 4; ++k) levels.push_back(0.2 * k);
+  const int cell = panel + 24, label_h = 22, top = 70, left = 30;
+  const int width = left + (order + 1) * cell + 150, height = top + (order + 1) * (cell + label_h) + 30;
+  Figure fig(width, height);
+  fig.title(fmt::format("Hemisphere basis K_n^l, n = 0..{} (Lambert disk seen from above)", order));
+  fig.text(width / 2.0, 52, "each panel scaled to its own max|K| = sqrt((n+1)/pi); contours every 0.2 max|K|, zero contour bold",
+           12.5, Align::Centre);
+  std::vector<std::string> written;
+  for (int n = 0; n <= order; ++n) {
+    const double kmax = std::sqrt((n + 1) / kPi);
+    const double x0 = left + (order - n) * cell / 2.0;
+    for (int l = -n, k = 0; l <= n; l += 2, ++k) {
+      const int j = ansi_index(n, l);
+      Eigen::MatrixXd v = disk_raster(ds, b.col(j) / kmax);
+      const PanelRect r{static_cast<int>(std::lround(x0 + k * cell + 12)), top + n * (cell + label_h), panel};
+      fig.image(colorize(v, 1.0, diverging), r.x, r.y);
+      fig.contours(v, r.x, r.y, levels);
+      draw_disk_frame(fig, r);
+      fig.text(r.x + panel / 2.0, r.y + panel + 17, fmt::format("K_{}^{}", n, l), 13.0, Align::Centre);
+      if (separate) {
+        Figure one(panel * 2 + 170, panel * 2 + 110);
+        const DiskSamples big = disk_samples(panel * 2);
+        const Eigen::MatrixXd bv = disk_raster(big, disk_basis(big, n).col(j));
+        one.title(fmt::format("K_{}^{} on the Lambert disk", n, l), 16.0);
+        one.image(colorize(bv, kmax, diverging), 30, 50);
+        one.contours(bv / kmax, 30, 50, levels);
+        draw_disk_frame(one, {30, 50, panel * 2});
+        one.text(30 + panel, 50 + 2 * panel + 22, "x = rho cos(phi)  \u2192", 12.0, Align::Centre);
+        one.text(18, 50 + panel, "y = rho sin(phi)  \u2192", 12.0, Align::Centre, false, kPi / 2);
+        one.colorbar(panel * 2 + 50, 60, 20, panel * 2 - 20, kmax, diverging, "K [1/sqrt(sr)]");
+        const std::string p = dir + fmt::format("/K_{}_{}.png", n, l);
+        one.save_png(p);
+        written.push_back(p);
+      }
+    }
+  }
+  fig.colorbar(width - 120, top + 10, 22, std::min(360, height - top - 60), 1.0, diverging, "K / max|K|");
+  const std::string p = dir + "/basis.png";
+  fig.save_png(p);
+  written.insert(written.begin(), p);
+  return written;
+}
+
+// ---------------------------------------------------------------------------------------------- slice
+
+SliceFigure plot_slice(const std::string& text, const SliceRequest& q, const std::string& path) {
+  check_output_path(path);
+  if (q.orders.empty()) throw ArgumentError("--order: at least one truncation order is required");
+  for (int n : q.orders)
+    if (n < 0 || n > 32) throw ArgumentError(fmt::format("--order {}: expected 0..32", n));
+  if (!(q.theta_i >= 0.0 && q.theta_i < kPi / 2))
+    throw ArgumentError(fmt::format("--theta-i {}: expected 0 <= theta_i < 90 degrees", q.theta_i * kDeg));
+  if (q.orders.size() > 9) throw ArgumentError(fmt::format("--order: at most 9 orders side by side, found {}", q.orders.size()));
+  std::vector<int> orders = q.orders;
+  const int top_order = *std::max_element(orders.begin(), orders.end());
+  const LoadedSource src = load_source(text, top_order, q.level);
+  const Spectrum& s = src.spectrum;
+  if (top_order > s.order)
+    throw ArgumentError(fmt::format("--order {}: the spectrum of '{}' has order {}", top_order, text, s.order));
+  const Eigen::MatrixXd c = channel_mean(s);
+  const Eigen::Vector3d wi(std::sin(q.theta_i) * std::cos(q.phi_i), std::sin(q.theta_i) * std::sin(q.phi_i), std::cos(q.theta_i));
+  const int panel = q.panel;
+  const DiskSamples ds = disk_samples(panel);
+  constexpr int kPolarSamples = 721;
+  Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(kPolarSamples, -kPi / 2, kPi / 2);
+  const RowMatrix3d plane = plane_of_incidence_directions(q.phi_i, t);
+
+  struct Column {
+    std::string label;
+    Eigen::MatrixXd disk;
+    Eigen::VectorXd polar;
+  };
+  std::vector<Column> cols;
+  double scale = 0.0;
+  for (int n : orders) {
+    const Eigen::MatrixXd cn = truncated_coefficients(c, n, q.filter);
+    Column col{fmt::format("order {}", n), disk_raster(ds, slice_values(cn, n, wi, ds.directions)),
+               slice_values(cn, n, wi, plane)};
+    cols.push_back(std::move(col));
+  }
+  const bool g_form = s.cosine;
+  if (q.exact && src.exact_available) {
+    auto eval_mean = [&](const RowMatrix3d& wr) {
+      RowMatrix3d wis(wr.rows(), 3);
+      wis.rowwise() = wi.transpose();
+      const Eigen::MatrixXd v = src.source->eval(wis, wr);
+      return Eigen::VectorXd(v.rowwise().mean());
+    };
+    cols.push_back({"model", disk_raster(ds, eval_mean(ds.directions)), eval_mean(plane)});
+  }
+  for (const auto& col : cols) {
+    for (Eigen::Index k = 0; k < col.disk.size(); ++k)
+      if (std::isfinite(col.disk(k))) scale = std::max(scale, std::fabs(col.disk(k)));
+    scale = std::max(scale, col.polar.cwiseAbs().maxCoeff());
+  }
+  if (!(scale > 0.0)) scale = 1.0;
+
+  const int ncol = static_cast<int>(cols.size());
+  const int gap = 26, left = 30, top = 96, polar_h = panel / 2 + 34;
+  const int width = left + ncol * (panel + gap) + 130;
+  const int height = top + panel + 28 + polar_h + 70;
+  Figure fig(width, height);
+  const std::string quantity = g_form ? "g = f cos(theta_i)" : "f";
+  fig.title(shorten(text, 90), 17.0);
+  fig.text(width / 2.0, 50,
+           fmt::format("remitted {} for incidence theta_i = {}, phi_i = {}{}{}", quantity, deg(q.theta_i), deg(q.phi_i),
+                       s.channel_count() > 1 ? " (mean of the channels)" : "",
+                       q.filter.kind == LowPassFilter::Kind::None ? ", plain truncation" : ", filter " + q.filter.name()),
+           13.0, Align::Centre);
+  fig.text(width / 2.0, 70,
+           "top: hemisphere seen from above (Lambert disk); bottom: plane of incidence (incident side right, mirror side left); blue = negative (ringing)",
+           11.5, Align::Centre);
+  SliceFigure out;
+  out.scale = scale;
+  out.g_form = g_form;
+  const Eigen::Vector2d pi_disk = lambert_to_disk(wi);
+  Eigen::Vector3d mirror(-wi.x(), -wi.y(), wi.z());
+  const Eigen::Vector2d pm_disk = lambert_to_disk(mirror);
+  for (int k = 0; k < ncol; ++k) {
+    const Column& col = cols[k];
+    const PanelRect r{left + k * (panel + gap), top, panel};
+    out.disks.push_back(r);
+    fig.text(r.x + panel / 2.0, top - 6, col.label, 14.0, Align::Centre, true);
+    fig.image(colorize(col.disk, scale, diverging), r.x, r.y);
+    fig.contours(col.disk, r.x, r.y, {0.0});
+    draw_disk_frame(fig, r);
+    const double cx = r.x + panel / 2.0, cy = r.y + panel / 2.0, R = panel / 2.0;
+    // Plane of incidence (dashed), incident direction (ring) and mirror direction (cross).
+    // Plane of incidence: ticks outside the rim at both ends (the disk itself stays clean).
+    for (double sgn : {-1.0, 1.0})
+      fig.line(cx + sgn * (R + 2) * std::cos(q.phi_i), cy - sgn * (R + 2) * std::sin(q.phi_i), cx + sgn * (R + 10) * std::cos(q.phi_i),
+               cy - sgn * (R + 10) * std::sin(q.phi_i), 1.5, {0.1, 0.1, 0.1});
+    fig.circle(cx + R * pi_disk.x(), cy - R * pi_disk.y(), 5.0, 1.4, 0.0);
+    const double mx = cx + R * pm_disk.x(), my = cy - R * pm_disk.y();
+    // A reticle with an open centre, so the pixels at the mirror direction show the data.
+    for (int sx : {-1, 1})
+      for (int sy : {-1, 1}) fig.line(mx + 4 * sx, my + 4 * sy, mx + 8 * sx, my + 8 * sy, 1.3, {0, 0, 0});
+
+    // Polar plot in the plane of incidence: radius |value| / scale, angle from the normal.
+    const double pcx = cx, pcy = top + panel + 28 + polar_h - 12, PR = panel / 2.0 - 6;
+    fig.line(pcx - PR - 4, pcy, pcx + PR + 4, pcy, 1.0, {0.2, 0.2, 0.2});
+    cairo_t* cr = fig.context();
+    cairo_save(cr);
+    for (double f : {0.5, 1.0}) {
+      cairo_set_source_rgb(cr, 0.75, 0.75, 0.75);
+      cairo_set_line_width(cr, 0.7);
+      cairo_new_path(cr);
+      cairo_arc(cr, pcx, pcy, PR * f, kPi, 2 * kPi);
+      cairo_stroke(cr);
+    }
+    cairo_restore(cr);
+    fig.line(pcx, pcy, pcx, pcy - PR, 0.6, {0.6, 0.6, 0.6}, true);
+    // The incident side is drawn to the right, the forward (mirror) side to the left: as on the disk for phi_i = 0.
+    fig.line(pcx, pcy, pcx + PR * std::sin(q.theta_i), pcy - PR * std::cos(q.theta_i), 1.0, {0.35, 0.35, 0.35}, true);
+    fig.text(pcx + (PR + 10) * std::sin(q.theta_i), pcy - (PR + 10) * std::cos(q.theta_i) + 4, "in", 10.0, Align::Centre);
+    cairo_save(cr);
+    cairo_set_line_width(cr, 1.8);
+    for (int sgn = 0; sgn < 2; ++sgn) {
+      const Rgb& colr = sgn == 0 ? kPositiveCurve : kNegativeCurve;
+      cairo_set_source_rgb(cr, colr[0], colr[1], colr[2]);
+      cairo_new_path(cr);
+      bool pen = false;
+      for (int m = 0; m < kPolarSamples; ++m) {
+        const double v = col.polar[m];
+        const bool mine = sgn == 0 ? v >= 0.0 : v < 0.0;
+        if (!mine) {
+          pen = false;
+          continue;
+        }
+        const double rr = PR * std::min(1.0, std::fabs(v) / scale);
+        const double x = pcx - rr * std::sin(t[m]), y = pcy - rr * std::cos(t[m]);
+        if (pen) cairo_line_to(cr, x, y);
+        else cairo_move_to(cr, x, y);
+        pen = true;
+      }
+      cairo_stroke(cr);
+    }
+    cairo_restore(cr);
+  }
+  const int py = top + panel + 28 + polar_h + 18;
+  fig.text(left, py, fmt::format("polar plot: radius |{}| / {} (grey arcs at 1/2 and 1); angle = theta_r from the normal", quantity,
+                                 format_number(scale)),
+           11.5);
+  fig.text(left, py + 18, "disk: ring = incident direction, open cross = mirror direction, rim ticks = plane of incidence; black contour = 0",
+           11.5);
+  if (s.level >= 0 || !s.grid_kind.empty())
+    fig.text(left, py + 36, fmt::format("spectrum of order {} ({} grid level {})", s.order, s.grid_kind.empty() ? "?" : s.grid_kind, s.level),
+             11.5);
+  fig.colorbar(width - 118, top, 20, panel, scale, diverging, quantity + " [1/sr]");
+  out.width = width;
+  out.height = height;
+  fig.save_png(path);
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------- spectrum
+
+SpectrumFigure plot_spectrum(const Spectrum& s, const std::string& label, const std::string& path) {
+  check_output_path(path);
+  const Eigen::MatrixXd c = channel_mean(s);
+  const int N = s.order;
+  const auto modes = isotropic_modes(N);
+  const Eigen::VectorXd a = ibsss_from_coefficients(c);
+  // Columns: for each n, one per l = n mod 2, ..., n step 2 (l <= m <= n).
+  std::vector<int> col_start(N + 2, 0);
+  for (int n = 0; n <= N; ++n) col_start[n + 1] = col_start[n] + n / 2 + 1;
+  const int ncols = col_start[N + 1];
+  const int cell = std::clamp(620 / std::max(ncols, 1), 8, 40);
+  const int sep = std::max(2, cell / 4);  // gap between n blocks
+  const bool matrix = !s.isotropic;
+  const int M = s.modes();
+  const int mcell = std::max(1, 440 / M);
+  const int left = 40, top = 110;
+  const int ib_w = ncols * cell + N * sep, ib_h = (N + 1) * cell;
+  const int width = std::max(left + ib_w + 40 + (matrix ? M * mcell + 90 : 0) + 160, 640);
+  const int height = std::max(top + ib_h, top + (matrix ? M * mcell + 40 : 0)) + 110;
+  Figure fig(width, height);
+  double scale = a.size() ? a.cwiseAbs().maxCoeff() : 0.0;
+  if (matrix) scale = std::max(scale, c.cwiseAbs().maxCoeff());
+  if (!(scale > 0.0)) scale = 1.0;
+  fig.title("Spectrum of " + shorten(label, 70), 17.0);
+  fig.text(width / 2.0, 52,
+           fmt::format("order {}, {}{}{}, filter {}", N, s.cosine ? "coefficients of g = f cos(theta_i)" : "coefficients of f",
+                       s.isotropic ? ", isotropic" : "", s.channel_count() > 1 ? ", mean of the channels" : "", s.filter),
+           13.0, Align::Centre);
+  fig.text(left, top - 40, "IBSSS (paper Fig. 3): n across, m down, l within each n; mid-grey = 0", 12.5, Align::Left, true);
+  // Background mid-grey block per n (the valid m range), then the cells.
+  Raster bg(ib_w, ib_h);
+  for (int n = 0; n <= N; ++n)
+    for (int i = 0; i < ib_h; ++i)
+      for (int j = 0; j < (n / 2 + 1) * cell; ++j) bg.set(i, col_start[n] * cell + n * sep + j, {0.93, 0.93, 0.93});
+  fig.image(bg, left, top);
+  for (std::size_t k = 0; k < modes.size(); ++k) {
+    const auto& md = modes[k];
+    const int x = left + (col_start[md.n] + md.l / 2) * cell + md.n * sep, y = top + md.m * cell;
+    Raster r(cell - 1, cell - 1);
+    for (int i = 0; i < cell - 1; ++i)
+      for (int j = 0; j < cell - 1; ++j) r.set(i, j, grey(a[static_cast<Eigen::Index>(k)] / scale));
+    fig.image(r, x, y);
+  }
+  const double fs = std::clamp(cell * 0.55, 9.0, 13.0);
+  for (int n = 0; n <= N; ++n)
+    fig.text(left + col_start[n] * cell + n * sep + (n / 2 + 1) * cell / 2.0, top - 8, std::to_string(n), fs, Align::Centre);
+  for (int m = 0; m <= N; ++m) fig.text(left + ib_w + 6, top + m * cell + cell * 0.5 + fs * 0.35, std::to_string(m), fs);
+  fig.text(left + ib_w / 2.0, top - 24, "n \u2192", 12.0, Align::Centre);
+  fig.text(left + ib_w + 26, top + ib_h / 2.0, "m \u2192", 12.0, Align::Centre, false, -kPi / 2);
+  fig.text(left, top + ib_h + 22, fmt::format("{} isotropic modes I_nm^l; white = +{}, black = -{}", modes.size(), format_number(scale),
+                                              format_number(scale)),
+           11.5);
+  int bar_x = left + ib_w + 50;
+  if (matrix) {
+    const int mx = left + ib_w + 60, my = top;
+    fig.text(mx, top - 40, "coefficient matrix C (K_a incident, K_b remitted)", 12.5, Align::Left, true);
+    Raster r(M * mcell, M * mcell);
+    for (int i = 0; i < M; ++i)
+      for (int j = 0; j < M; ++j)
+        for (int u = 0; u < mcell; ++u)
+          for (int v = 0; v < mcell; ++v) r.set(i * mcell + u, j * mcell + v, grey(c(i, j) / scale));
+    fig.image(r, mx, my);
+    // Order boundaries.
+    for (int n = 1; n <= N; ++n) {
+      const double p = hemisphere_basis_count(n - 1) * mcell;
+      fig.line(mx + p, my, mx + p, my + M * mcell, 0.4, {0.6, 0.2, 0.2});
+      fig.line(mx, my + p, mx + M * mcell, my + p, 0.4, {0.6, 0.2, 0.2});
+    }
+    fig.text(mx + M * mcell / 2.0, my + M * mcell + 20, "b (ANSI index of K_b, remitted) \u2192", 11.5, Align::Centre);
+    fig.text(mx - 8, my + M * mcell / 2.0, "a (incident) \u2192", 11.5, Align::Centre, false, -kPi / 2);
+    bar_x = mx + M * mcell + 30;
+  }
+  fig.colorbar(bar_x, top, 20, std::max(160, std::min(ib_h, 360)), scale, grey, "coefficient [1]");
+  fig.text(left, height - 30,
+           fmt::format("source: {}{}", shorten(s.source, 80), s.level >= 0 ? fmt::format(", {} grid level {}", s.grid_kind, s.level) : ""),
+           11.0);
+  fig.save_png(path);
+  return {width, height, matrix};
+}
+
+// ---------------------------------------------------------------------------------------------- sphere
+
+namespace {
+
+struct Shader {
+  std::string name;
+  int channels = 1;
+  ReflectFunction reflect;
+  AlbedoFunction albedo;
+};
+
+Shader spectrum_shader(const Spectrum& s, const std::string& name) {
+  Shader sh;
+  sh.name = name;
+  sh.channels = s.channel_count();
+  auto sp = std::make_shared<Spectrum>(s);
+  sh.reflect = [sp](const RowMatrix3d& wi, const RowMatrix3d& wo) {
+    Eigen::MatrixXd r(wi.rows(), sp->channel_count());
+    for (int c = 0; c < sp->channel_count(); ++c) {
+      r.col(c) = evaluate_coefficients(sp->channels[c], sp->order, wi, wo);
+      if (!sp->cosine) r.col(c) = r.col(c).cwiseProduct(wi.col(2));
+    }
+    return r;
+  };
+  sh.albedo = [sp](const RowMatrix3d& wo) {
+    // a(w_o) = integral f(w, w_o) cos(theta) dOmega = K(w_o)^T C^T e with e_b = integral K_b cos dOmega (f
+    // spectra), or integral g(w, w_o) dOmega = K(w_o)^T C^T m with m = sqrt(2 pi) e_0 (g spectra: only K_0^0
+    // = 1/sqrt(2 pi) has a non-zero integral).
+    const int M = sp->modes();
+    Eigen::VectorXd e = sp->cosine ? Eigen::VectorXd(Eigen::VectorXd::Unit(M, 0) * std::sqrt(2.0 * kPi)) : cosine_moments(sp->order);
+    const Eigen::MatrixXd k = hemisphere_basis_matrix(sp->order, wo);
+    Eigen::MatrixXd a(wo.rows(), sp->channel_count());
+    for (int c = 0; c < sp->channel_count(); ++c) a.col(c) = k * (sp->channels[c].transpose() * e);
+    return a;
+  };
+  return sh;
+}
+
+Shader model_shader(std::shared_ptr<BrdfSource> src, const std::string& name) {
+  Shader sh;
+  sh.name = name;
+  sh.channels = src->channels();
+  sh.reflect = [src](const RowMatrix3d& wi, const RowMatrix3d& wo) {
+    Eigen::MatrixXd r = src->eval(wi, wo);
+    for (int c = 0; c < r.cols(); ++c) r.col(c) = r.col(c).cwiseProduct(wi.col(2));
+    return r;
+  };
+  sh.albedo = [src](const RowMatrix3d& wo) {
+    // Midpoint rule over the cells of a tessellation: sum_c f(d_c, w_o) cos(theta_c) Omega_c.
+    static const Grid g = build_equal_area_grid(kAlbedoQuadratureLevel);
+    const Eigen::VectorXd wcos = g.solid_angles.cwiseProduct(g.directions.col(2));
+    Eigen::MatrixXd a(wo.rows(), src->channels());
+    RowMatrix3d wor(g.cells(), 3);
+    for (Eigen::Index k = 0; k < wo.rows(); ++k) {
+      wor.rowwise() = wo.row(k);
+      a.row(k) = (src->eval(g.directions, wor).transpose() * wcos).transpose();
+    }
+    return a;
+  };
+  return sh;
+}
+
+}  // namespace
+
+SphereFigure plot_sphere(const std::string& text, const SphereRequest& q, const std::string& path) {
+  check_output_path(path);
+  if (q.shading != "auto" && q.shading != "model" && q.shading != "spectrum")
+    throw ArgumentError("--shading: expected auto, model or spectrum, found '" + q.shading + "'");
+  if (!(q.light_theta >= 0.0 && q.light_theta <= kPi))
+    throw ArgumentError(fmt::format("--light theta {}: expected 0..180 degrees", q.light_theta * kDeg));
+  if (!(q.exposure > 0.0) || !std::isfinite(q.exposure)) throw ArgumentError(fmt::format("--exposure {}: expected > 0", q.exposure));
+  if (!(q.sky >= 0.0) || !std::isfinite(q.sky)) throw ArgumentError(fmt::format("--sky-radiance {}: expected >= 0", q.sky));
+  if (q.size < 16 || q.size > 2048) throw ArgumentError(fmt::format("--size {}: expected 16..2048 pixels", q.size));
+  std::vector<Shader> shaders;
+  std::string method;
+  const bool bank = !is_model_source(text) && text.find('#') == std::string::npos && ends_with_h5(text);
+  std::vector<std::string> names;
+  if (bank) {
+    struct stat st{};
+    if (::stat(text.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) throw InputError(text + ": no such file (SOURCE '" + text + "')");
+    names = bank_material_names(text);
+  }
+  if (bank && names.size() > 1) {
+    if (q.shading == "model") throw ArgumentError("--shading model: a bank holds spectra only");
+    for (const auto& n : names) shaders.push_back(spectrum_shader(read_bank_material(text, n, ReadOptions{1ull << 31, false}).spectrum, n));
+    method = "from the stored spectra";
+  } else {
+    const bool is_model = is_model_source(text);
+    std::unique_ptr<BrdfSource> probe = is_model ? open_source(text) : nullptr;
+    const bool use_model = is_model && !probe->has_delta() && q.shading != "spectrum";
+    if (q.shading == "model" && !use_model)
+      throw ArgumentError("--shading model: needs a model without delta parts, found '" + text + "'");
+    if (use_model) {
+      shaders.push_back(model_shader(std::shared_ptr<BrdfSource>(std::move(probe)), text));
+      method = "from the model";
+    } else {
+      LoadedSource ls = load_source(text, q.order, q.level);
+      shaders.push_back(spectrum_shader(ls.spectrum, text));
+      method = fmt::format("from its spectrum (order {})", ls.spectrum.order);
+    }
+  }
+  SphereLighting light;
+  light.light = light_direction(q.light_theta, q.light_phi);
+  light.sky = q.sky;
+  const int count = static_cast<int>(shaders.size());
+  const int ncol = count == 1 ? 1 : std::min(count, std::max(3, static_cast<int>(std::ceil(std::sqrt(count * 1.5)))));
+  const int nrow = (count + ncol - 1) / ncol;
+  const int size = q.size, gap = 24, label_h = 26, left = 24, top = count == 1 ? 86 : 96;
+  const int width = std::max(left + ncol * (size + gap) + 110, 780);
+  const int x_off = count == 1 ? (width - 110 - size) / 2 - left : 0;  // centre a single sphere
+  const int height = top + nrow * (size + label_h + gap) + 46;
+  Figure fig(width, height);
+  fig.title(count == 1 ? shorten(text, 70) : "Materials of " + shorten(text, 60), 17.0);
+  fig.text(width / 2.0, 50,
+           fmt::format("distant light at theta = {}, phi = {} (irradiance pi){}; shaded {}", deg(q.light_theta), deg(q.light_phi),
+                       q.sky > 0 ? fmt::format(" + uniform sky of radiance {}", format_number(q.sky)) : "", method),
+           12.5, Align::Centre);
+  fig.text(width / 2.0, 68, "orthographic view along the normal of the picture; BRDF tangent along latitude circles about the vertical axis",
+           11.0, Align::Centre);
+  SphereFigure out;
+  for (int k = 0; k < count; ++k) {
+    const Shader& sh = shaders[static_cast<std::size_t>(k)];
+    const auto ch = shade_sphere(size, sh.channels, sh.reflect, sh.albedo, light);
+    Raster r(size, size);
+    for (int i = 0; i < size; ++i)
+      for (int j = 0; j < size; ++j) {
+        if (!std::isfinite(ch[0](i, j))) continue;
+        Rgb c;
+        for (int m = 0; m < 3; ++m) c[m] = srgb_encode(ch[sh.channels == 3 ? m : 0](i, j) / q.exposure);
+        r.set(i, j, c);
+      }
+    const PanelRect pr{left + x_off + (k % ncol) * (size + gap), top + (k / ncol) * (size + label_h + gap), size};
+    // Dark backdrop square so that the lit sphere and its shadowed side read against the page.
+    Raster back(size, size);
+    for (int i = 0; i < size; ++i)
+      for (int j = 0; j < size; ++j) back.set(i, j, {0.16, 0.17, 0.19});
+    fig.image(back, pr.x, pr.y);
+    fig.image(r, pr.x, pr.y);
+    if (count > 1) fig.text(pr.x + size / 2.0, pr.y + size + 18, shorten(sh.name, static_cast<std::size_t>(size / 7)), 13.0, Align::Centre);
+    out.spheres.push_back(pr);
+    out.names.push_back(sh.name);
+  }
+  fig.colorbar(width - 96, top, 18, std::min(size, 300), q.exposure, [](double t) {
+    const double v = srgb_encode(std::max(0.0, t));
+    return Rgb{v, v, v};
+  }, "radiance L (E = pi)", false);
+  fig.text(left, height - 18, "sRGB-encoded linear radiance, white = exposure; light and sky in the camera frame (z towards the viewer)", 11.0);
+  out.width = width;
+  out.height = height;
+  fig.save_png(path);
+  return out;
+}
+
+}  // namespace icobrdf::plot

@@ -1,0 +1,102 @@
+// icobrdf plot: each subcommand writes a valid PNG of the size it reports (PNG signature and IHDR read
+// directly from the bytes); bad arguments give one-line errors, a non-zero exit and no file.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <cstdint>
+#include <string>
+
+#include "tests/cli/cli_runner.hpp"
+
+namespace icobrdf::test {
+namespace {
+
+struct PngHeader {
+  bool valid = false;
+  std::uint32_t width = 0, height = 0;
+};
+
+// PNG: 8-byte signature, then the IHDR chunk (length 13, type "IHDR", width and height big-endian).
+PngHeader png_header(const std::string& path) {
+  const std::string b = slurp(path);
+  PngHeader h;
+  static const unsigned char kSig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (b.size() < 24 || b.compare(0, 8, std::string(reinterpret_cast<const char*>(kSig), 8)) != 0 || b.compare(12, 4, "IHDR") != 0)
+    return h;
+  auto be32 = [&](std::size_t o) {
+    return (std::uint32_t(std::uint8_t(b[o])) << 24) | (std::uint32_t(std::uint8_t(b[o + 1])) << 16) |
+           (std::uint32_t(std::uint8_t(b[o + 2])) << 8) | std::uint32_t(std::uint8_t(b[o + 3]));
+  };
+  h.valid = be32(8) == 13;
+  h.width = be32(16);
+  h.height = be32(20);
+  return h;
+}
+
+bool exists(const std::string& p) { return access(p.c_str(), F_OK) == 0; }
+
+void expect_png_of_reported_size(const CliResult& r, const std::string& path) {
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  const PngHeader h = png_header(path);
+  ASSERT_TRUE(h.valid) << path;
+  EXPECT_EQ(h.width, j.at("width").get<std::uint32_t>());
+  EXPECT_EQ(h.height, j.at("height").get<std::uint32_t>());
+  EXPECT_GT(h.width, 300u);
+  EXPECT_GT(h.height, 200u);
+}
+
+void expect_one_line_error(const CliResult& r, int code) {
+  EXPECT_EQ(r.exit_code, code) << r.err;
+  ASSERT_FALSE(r.err.empty());
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+}
+
+TEST(CliPlot, BasisWritesTheGridAndOneFilePerFunction) {
+  TempDir d;
+  const auto r = run_cli({"plot", "basis", "--order", "2", "--separate", "-o", d.path, "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto files = nlohmann::json::parse(r.out).at("files");
+  EXPECT_EQ(files.size(), 1u + 6u);  // basis.png + (2+1)(2+2)/2 functions
+  for (const auto& f : files) EXPECT_TRUE(png_header(f.get<std::string>()).valid) << f;
+  EXPECT_TRUE(exists(d.file("K_2_-2.png")));
+}
+
+TEST(CliPlot, SliceSpectrumAndSphere) {
+  TempDir d;
+  expect_png_of_reported_size(
+      run_cli({"plot", "slice", "model:retroreflector+0.05*lambert", "--theta-i", "67.5", "--order", "2", "4", "--level", "3",
+               "--filter", "hann", "-o", d.file("slice.png"), "--json"}),
+      d.file("slice.png"));
+  ASSERT_EQ(run_cli({"fit", "model:ggx-aniso:alpha_x=0.3,alpha_y=0.6", "--order", "4", "--level", "3", "-o", d.file("s.h5")}).exit_code, 0);
+  const auto rs = run_cli({"plot", "spectrum", d.file("s.h5"), "-o", d.file("spectrum.png"), "--json"});
+  expect_png_of_reported_size(rs, d.file("spectrum.png"));
+  EXPECT_TRUE(nlohmann::json::parse(rs.out).at("matrix").get<bool>());  // not isotropic: C drawn too
+  expect_png_of_reported_size(run_cli({"plot", "sphere", d.file("s.h5"), "--light", "30,90", "--sky", "--size", "96", "-o",
+                                       d.file("sphere.png"), "--json"}),
+                              d.file("sphere.png"));
+  expect_png_of_reported_size(
+      run_cli({"plot", "slice", d.file("s.h5"), "--theta-i", "30", "--order", "4", "-o", d.file("slice2.png"), "--json"}),
+      d.file("slice2.png"));
+}
+
+TEST(CliPlot, BadArgumentsGiveOneLineErrorsAndNoFile) {
+  TempDir d;
+  const std::string out = d.file("x.png");
+  expect_one_line_error(run_cli({"plot", "slice", "model:lambert", "--theta-i", "95", "-o", out}), 2);
+  expect_one_line_error(run_cli({"plot", "slice", "model:nonsense", "-o", out}), 2);
+  expect_one_line_error(run_cli({"plot", "slice", "model:lambert", "--order", "40", "-o", out}), 2);
+  expect_one_line_error(run_cli({"plot", "sphere", "model:lambert", "--light", "45", "-o", out}), 2);
+  expect_one_line_error(run_cli({"plot", "sphere", "model:mirror", "--shading", "model", "-o", out}), 2);
+  expect_one_line_error(run_cli({"plot", "spectrum", d.file("missing.h5"), "-o", out}), 5);
+  expect_one_line_error(run_cli({"plot", "basis", "--order", "3", "-o", d.file("no-such-dir")}), 2);
+  EXPECT_FALSE(exists(out));
+  // A spectrum file's order bounds the truncation orders.
+  ASSERT_EQ(run_cli({"fit", "model:lambert", "--order", "2", "--level", "2", "-o", d.file("l.h5")}).exit_code, 0);
+  expect_one_line_error(run_cli({"plot", "slice", d.file("l.h5"), "--order", "4", "-o", out}), 2);
+  EXPECT_FALSE(exists(out));
+}
+
+}  // namespace
+}  // namespace icobrdf::test
