@@ -24,8 +24,7 @@ struct FitArgs {
   double gram_tol = kDefaultGramTolerance;
 };
 
-// Cubature degree of the rule used to cell-average LUT rows (cost ~ (points per cell)^2 per entry); B keeps
-// the tessellation's default rule.
+// Cubature degree of the rule used for cell averages (LUT rows and B alike; cost ~ (points per cell)^2 per entry).
 constexpr int kLutSamplingDegree = 2;
 
 std::shared_ptr<const Grid> make_grid(const std::string& kind, int level, int degree = kDefaultCubatureDegree) {
@@ -46,8 +45,14 @@ void run_fit(const FitArgs& a) {
   else if (a.sampling == "centre" || a.sampling == "center") o.sampling = LutSampling::CellCentre;
   else throw ArgumentError("--sampling: expected 'average' or 'centre', found '" + a.sampling + "'");
   const auto source = open_source(a.source);  // validates the source before any work
-  const auto ctx = make_projection_context(make_grid(a.grid, a.level), a.order, a.gram_tol, ProjectionOperator::Kind::LeastSquares,
-                                           o.sampling == LutSampling::CellAverage ? make_grid(a.grid, a.level, kLutSamplingDegree) : nullptr);
+  // The LUT rows and B are sampled with the same rule, so a BRDF in the span of the basis is recovered
+  // exactly: centre sampling uses one point per cell (its direction), cell averages a degree-2 rule (each LUT
+  // entry costs (points per cell)^2 evaluations).
+  const bool centre = o.sampling == LutSampling::CellCentre;
+  const auto grid = centre ? std::make_shared<const Grid>(with_centre_cubature(*make_grid(a.grid, a.level)))
+                           : make_grid(a.grid, a.level, kLutSamplingDegree);
+  const auto ctx = make_projection_context(grid, a.order, a.gram_tol);
+  o.sampling = LutSampling::CellAverage;  // over the context's cubature (one point per cell when centre)
   Spectrum s = source->fit(ctx, o);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   write_spectrum_file(a.output, s, nullptr, a.name.empty() ? "material" : a.name);

@@ -35,6 +35,17 @@ void check_units(const RowMatrix3d& m, const char* name) {
 
 }  // namespace
 
+Grid with_centre_cubature(const Grid& grid) {
+  Grid g = grid;
+  const int n = g.cells();
+  g.cubature_offsets.resize(static_cast<size_t>(n) + 1);
+  for (int c = 0; c <= n; ++c) g.cubature_offsets[static_cast<size_t>(c)] = c;
+  g.cubature_points = g.directions;
+  g.cubature_weights = g.solid_angles;
+  g.cubature_degree = 1;
+  return g;
+}
+
 void validate(const Grid& g) {
   const int n = g.cells();
   if (n == 0) fail("no cells");

@@ -50,6 +50,11 @@ struct Grid {
   int cells() const { return static_cast<int>(solid_angles.size()); }
 };
 
+// The same cells with a one-point cubature at each cell's representative direction (weight = its solid
+// angle, cubature_degree 1). Used for "centre sampling": a LUT sampled at cell directions and a basis B
+// sampled at the same points are consistent, so a BRDF in the span of the basis is recovered exactly.
+Grid with_centre_cubature(const Grid& grid);
+
 // Checks the invariants listed above (sizes, unit vectors, z >= 0, weights summing to solid angles within
 // a relative 1e-12, permutations being permutations). Throws std::invalid_argument naming the first
 // violation.

@@ -1,5 +1,7 @@
 #include "io/spectrum_file.hpp"
 
+#include <cctype>
+
 #include <cfloat>
 #include <cmath>
 
@@ -56,6 +58,14 @@ std::string material_name_problem(const std::string& name) {
 void validate_material_name(const std::string& name) {
   const std::string p = material_name_problem(name);
   if (!p.empty()) throw ArgumentError("invalid material name '" + name + "': " + p);
+}
+
+// Names of the `choice` attributes.
+static bool choice_key_ok(const std::string& k) {
+  if (k.empty() || k.size() > 64) return false;
+  for (char c : k)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+  return true;
 }
 
 void write_material(h5::Group& materials, const MaterialRecord& rec) {
@@ -157,6 +167,23 @@ void write_material(h5::Group& materials, const MaterialRecord& rec) {
       g.write("lut", d.data(), Shape{u(ch), u(cells), u(cells)}, "1/sr", what);
     }
   }
+  if (!rec.figures.empty() || !rec.labels.empty()) {
+    h5::Group choice = g.create_group("choice");
+    std::string figures, labels;
+    for (const auto& [k, v] : rec.figures) {
+      if (!choice_key_ok(k) || k == "figures" || k == "labels") bad_record(nm, "figure name '" + k + "' expected [A-Za-z0-9_]+, not figures or labels");
+      choice.set_attr(k, v);
+      figures += (figures.empty() ? "" : ",") + k;
+    }
+    for (const auto& [k, v] : rec.labels) {
+      if (!choice_key_ok(k) || rec.figures.count(k) || k == "figures" || k == "labels")
+        bad_record(nm, "label name '" + k + "' expected [A-Za-z0-9_]+, distinct from the figures, not figures or labels");
+      choice.set_attr(k, v);
+      labels += (labels.empty() ? "" : ",") + k;
+    }
+    choice.set_attr("figures", figures);
+    choice.set_attr("labels", labels);
+  }
 }
 
 MaterialRecord read_material(const h5::Group& materials, const std::string& name, const h5::ReadLimits& lim, bool read_lut,
@@ -255,6 +282,23 @@ MaterialRecord read_material(const h5::Group& materials, const std::string& name
         rec.lut[c] = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
             a.data.data() + c * per, cells, cells);
     }
+  }
+  if (g.has("choice")) {
+    const h5::Group choice = g.open_group("choice");
+    auto names = [&](const std::string& list) {
+      std::vector<std::string> out;
+      size_t b = 0;
+      while (b < list.size()) {
+        const size_t e = std::min(list.find(',', b), list.size());
+        const std::string k = list.substr(b, e - b);
+        if (!choice_key_ok(k) || k == "figures" || k == "labels") choice.fail(choice.path(), "attribute list names '" + k + "'");
+        out.push_back(k);
+        b = e + 1;
+      }
+      return out;
+    };
+    for (const auto& k : names(choice.attr_string("figures"))) rec.figures[k] = choice.attr_double(k);
+    for (const auto& k : names(choice.attr_string("labels"))) rec.labels[k] = choice.attr_string(k);
   }
   return rec;
 }

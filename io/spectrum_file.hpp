@@ -8,6 +8,7 @@
 // The writer stores the LUT as float32 when lut_float32 is set, recording the largest
 // |float32(x) - x| as the material attribute lut_max_abs_rounding_error [1/sr] (relative rounding <= 2^-24).
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,6 +29,10 @@ struct MaterialRecord {
   bool lut_float32 = false;          // write: store as float32; read: it was stored as float32
   // Largest |float32(x) - x| over the LUT [1/sr]; set by the writer (float32 only) and by the reader.
   double lut_max_rounding_error = std::numeric_limits<double>::quiet_NaN();
+  // How the material was chosen (bank builds): numbers and texts stored as attributes of the subgroup
+  // `choice` (names: [A-Za-z0-9_], listed in its attributes `figures` and `labels`, comma-separated).
+  std::map<std::string, double> figures;
+  std::map<std::string, std::string> labels;
 };
 
 // Longest material name accepted.

@@ -1,0 +1,156 @@
+// icobrdf bank build SCENE.toml -o BANK.h5 [--resume] [--json]
+// icobrdf bank info BANK.h5 [--json]
+// icobrdf bank extract BANK.h5#MATERIAL -o SPECTRUM.h5
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <csignal>
+#include <iostream>
+
+#include "cli/commands.hpp"
+#include "cli/exit_codes.hpp"
+#include "core/error.hpp"
+#include "io/bank_builder.hpp"
+#include "io/bank_file.hpp"
+#include "io/scene.hpp"
+
+namespace icobrdf::cli {
+namespace {
+
+std::atomic<int> g_stop_signal{0};
+extern "C" void on_stop_signal(int sig) { g_stop_signal.store(sig); }
+
+struct BuildArgs {
+  std::string scene, output;
+  bool resume = false, json = false, quiet = false;
+};
+
+// Exit code of a build that ended without error: 0, or the signal's conventional code.
+int run_build(const BuildArgs& a) {
+  const Scene scene = read_scene(a.scene);
+  struct sigaction sa {};
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  BankBuildOptions o;
+  o.output = a.output;
+  o.resume = a.resume;
+  o.stop = &g_stop_signal;
+  if (!a.quiet) o.progress = [](const std::string& line) { std::cerr << line << std::endl; };
+  const auto r = build_bank(scene, o);
+  nlohmann::json mats = nlohmann::json::array();
+  for (const auto& m : r.materials) {
+    nlohmann::json j{{"name", m.name}, {"source", m.source}, {"ok", m.ok}, {"resumed", m.resumed}};
+    if (!m.ok) {
+      j["error"] = m.error;
+    } else {
+      j.update({{"isotropic", m.isotropic}, {"level", m.level}, {"order", m.order}, {"target", m.target},
+                {"error_measured", m.measured}, {"error_l2", m.measured ? nlohmann::json(m.error_l2) : nlohmann::json()},
+                {"error_max", m.measured ? nlohmann::json(m.error_max) : nlohmann::json()}, {"anisotropy", m.anisotropy},
+                {"kept_coefficients", m.kept}, {"total_coefficients", m.total}, {"bytes", m.bytes}, {"seconds", m.seconds}});
+    }
+    mats.push_back(j);
+  }
+  if (a.json) {
+    std::cout << nlohmann::json{{"scene", a.scene}, {"output", a.output}, {"written", r.written}, {"interrupted", r.interrupted},
+                                {"materials", mats}}
+                     .dump(2)
+              << "\n";
+  } else {
+    std::cout << fmt::format("{:<18} {:>4} {:>5} {:>5} {:>9} {:>9} {:>9} {:>11} {:>8} {:>7}\n", "material", "iso", "level", "order",
+                             "target", "rel L2", "rel max", "kept/total", "bytes", "seconds");
+    for (const auto& m : r.materials) {
+      if (!m.ok) {
+        std::cout << fmt::format("{:<18} FAILED: {}\n", m.name, m.error);
+        continue;
+      }
+      const std::string l2 = m.measured ? fmt::format("{:.3g}", m.error_l2) : "n/a", mx = m.measured ? fmt::format("{:.3g}", m.error_max) : "n/a";
+      std::cout << fmt::format("{:<18} {:>4} {:>5} {:>5} {:>9.3g} {:>9} {:>9} {:>11} {:>8} {:>7.2f}{}\n", m.name, m.isotropic ? "yes" : "no",
+                               m.level, m.order, m.target, l2, mx, fmt::format("{}/{}", m.kept, m.total), m.bytes, m.seconds,
+                               m.resumed ? " (resumed)" : "");
+    }
+    if (r.written) std::cout << fmt::format("wrote {}\n", a.output);
+  }
+  if (r.interrupted) {
+    std::cerr << fmt::format("icobrdf: interrupted; finished materials kept in {}.partial (use --resume)\n", a.output);
+    return g_stop_signal.load() == SIGTERM ? kExitTerminated : kExitInterrupted;
+  }
+  if (!r.written) {
+    size_t failed = 0;
+    for (const auto& m : r.materials) failed += !m.ok;
+    throw UnsupportedError(fmt::format("bank not written: {} material(s) failed (see above); finished ones kept in {}.partial", failed, a.output));
+  }
+  return kExitOk;
+}
+
+void run_info(const std::string& path, bool json) {
+  const BankContents b = read_bank(path, ReadOptions{.read_luts = false});
+  nlohmann::json mats = nlohmann::json::array();
+  for (const auto& m : b.materials) {
+    nlohmann::json j{{"name", m.name}, {"source", m.spectrum.source}, {"order", m.spectrum.order}, {"isotropic", m.spectrum.isotropic},
+                     {"cosine", m.spectrum.cosine}, {"channels", m.spectrum.channel_count()}, {"level", m.spectrum.level},
+                     {"grid", m.spectrum.grid_kind}, {"has_lut", !m.lut.empty() || m.lut_float32}};
+    for (const auto& [k, v] : m.figures) j[k] = v;
+    for (const auto& [k, v] : m.labels) j[k] = v;
+    mats.push_back(j);
+  }
+  nlohmann::json j{{"file", path}, {"format_version", b.format_version}, {"creator", b.creator}, {"created", b.created},
+                   {"grid", b.grid ? nlohmann::json{{"kind", b.grid->kind}, {"level", b.grid->level}, {"cells", b.grid->cells()}} : nlohmann::json()},
+                   {"materials", mats}};
+  nlohmann::json basis = nlohmann::json::array();
+  for (const auto& a : b.basis) basis.push_back(a.path);
+  j["basis"] = basis;
+  if (json) {
+    std::cout << j.dump(2) << "\n";
+    return;
+  }
+  std::cout << fmt::format("{}: icobrdf bank {} by {}, created {}\n", path, b.format_version, b.creator, b.created);
+  if (b.grid) std::cout << fmt::format("  grid: {} level {} ({} cells)\n", b.grid->kind, b.grid->level, b.grid->cells());
+  std::cout << fmt::format("  basis arrays: {}\n", b.basis.size());
+  for (const auto& m : b.materials)
+    std::cout << fmt::format("  {:<18} order {:>2} {:<11} {} channel(s)  {}\n", m.name, m.spectrum.order, m.spectrum.isotropic ? "isotropic" : "anisotropic",
+                             m.spectrum.channel_count(), m.spectrum.source);
+}
+
+void run_extract(const std::string& spec, const std::string& out) {
+  const auto hash = spec.rfind('#');
+  if (hash == std::string::npos) throw ArgumentError("bank extract: expected BANK.h5#MATERIAL, found '" + spec + "'");
+  const MaterialRecord rec = read_bank_material(spec.substr(0, hash), spec.substr(hash + 1));
+  BankContents b;
+  b.materials.push_back(rec);
+  write_bank(out, b);
+}
+
+void add_bank_command(CLI::App& app) {
+  auto* bank = app.add_subcommand("bank", "Build, inspect and extract LUT banks (HDF5)");
+  bank->require_subcommand(1);
+  auto a = std::make_shared<BuildArgs>();
+  auto* build = bank->add_subcommand("build", "Build a bank from a scene: per material the smallest level and order meeting its target");
+  build->add_option("scene", a->scene, "SCENE.toml (see examples/default-scene.toml)")->required()->check(CLI::ExistingFile);
+  build->add_option("-o,--output", a->output, "Output bank (.h5)")->required();
+  build->add_flag("--resume", a->resume, "Keep the materials finished by an interrupted build");
+  build->add_flag("--json", a->json, "Print the per-material choices as JSON");
+  build->add_flag("--quiet,-q", a->quiet, "No progress lines on stderr");
+  build->callback([a] {
+    const int code = run_build(*a);
+    if (code != kExitOk) throw CLI::RuntimeError(code);
+  });
+  auto info_path = std::make_shared<std::string>();
+  auto info_json = std::make_shared<bool>(false);
+  auto* info = bank->add_subcommand("info", "Describe a bank: grid, operators and materials");
+  info->add_option("bank", *info_path, "BANK.h5")->required();
+  info->add_flag("--json", *info_json, "JSON output");
+  info->callback([info_path, info_json] { run_info(*info_path, *info_json); });
+  auto ex_spec = std::make_shared<std::string>(), ex_out = std::make_shared<std::string>();
+  auto* ex = bank->add_subcommand("extract", "Copy one material of a bank into a file of its own");
+  ex->add_option("material", *ex_spec, "BANK.h5#MATERIAL")->required();
+  ex->add_option("-o,--output", *ex_out, "Output file (.h5)")->required();
+  ex->callback([ex_spec, ex_out] { run_extract(*ex_spec, *ex_out); });
+}
+
+const CommandRegistrar kRegistrar("bank", add_bank_command);
+
+}  // namespace
+}  // namespace icobrdf::cli

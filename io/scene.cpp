@@ -1,0 +1,160 @@
+#include "io/scene.hpp"
+
+#include <toml++/toml.h>
+
+#include <set>
+
+#include "core/error.hpp"
+
+namespace icobrdf {
+namespace {
+
+[[noreturn]] void fail(const Scene& s, const std::string& where, const std::string& what) {
+  throw InputError(s.path + ": " + where + ": " + what);
+}
+
+template <class T>
+T get_or(const Scene& s, const toml::table& t, const std::string& where, const char* key, T fallback) {
+  const toml::node* n = t.get(key);
+  if (!n) return fallback;
+  if constexpr (std::is_same_v<T, double>) {
+    if (auto v = n->value<double>()) return *v;
+    fail(s, where, std::string("'") + key + "' expected a number");
+  } else if constexpr (std::is_same_v<T, int>) {
+    if (auto v = n->value<int64_t>()) return static_cast<int>(*v);
+    fail(s, where, std::string("'") + key + "' expected an integer");
+  } else if constexpr (std::is_same_v<T, bool>) {
+    if (auto v = n->value<bool>()) return *v;
+    fail(s, where, std::string("'") + key + "' expected true or false");
+  } else {
+    if (auto v = n->value<std::string>()) return *v;
+    fail(s, where, std::string("'") + key + "' expected a string");
+  }
+}
+
+std::vector<std::pair<double, double>> directions(const Scene& s, const toml::table& t, const std::string& where, const char* key) {
+  std::vector<std::pair<double, double>> out;
+  const toml::node* n = t.get(key);
+  if (!n) return out;
+  const auto* arr = n->as_array();
+  if (!arr) fail(s, where, std::string("'") + key + "' expected an array of [theta, phi] pairs in degrees");
+  for (size_t k = 0; k < arr->size(); ++k) {
+    const auto* pair = (*arr)[k].as_array();
+    if (!pair || pair->size() != 2 || !(*pair)[0].value<double>() || !(*pair)[1].value<double>())
+      fail(s, where, std::string("'") + key + "' entry " + std::to_string(k + 1) + " expected [theta, phi] in degrees");
+    const double th = *(*pair)[0].value<double>(), ph = *(*pair)[1].value<double>();
+    if (!(th >= 0 && th <= 90))
+      fail(s, where, std::string("'") + key + "' entry " + std::to_string(k + 1) + ": theta expected in [0, 90], found " + std::to_string(th));
+    out.emplace_back(th, ph);
+  }
+  return out;
+}
+
+bool valid_name(const std::string& n) {
+  if (n.empty() || n.size() > 64) return false;
+  for (char c : n)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-')) return false;
+  return true;
+}
+
+}  // namespace
+
+Scene read_scene(const std::string& path) {
+  Scene s;
+  s.path = path;
+  toml::table root;
+  try {
+    root = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    const auto& src = e.source();
+    throw InputError(path + ":" + std::to_string(src.begin.line) + ":" + std::to_string(src.begin.column) + ": " +
+                     std::string(e.description()));
+  }
+  if (const auto* bank = root["bank"].as_table()) {
+    const std::string w = "[bank]";
+    for (const auto& [k, v] : *bank) {
+      static const std::set<std::string> known{"level", "levels", "order_max", "target", "metric", "sampling", "store_lut", "lut_float32", "holdout_pairs"};
+      if (!known.count(std::string(k.str()))) fail(s, w, "unknown key '" + std::string(k.str()) + "'");
+      (void)v;
+    }
+    s.level = get_or(s, *bank, w, "level", s.level);
+    s.order_max = get_or(s, *bank, w, "order_max", s.order_max);
+    s.target = get_or(s, *bank, w, "target", s.target);
+    s.sampling = get_or(s, *bank, w, "sampling", s.sampling);
+    s.metric = get_or(s, *bank, w, "metric", s.metric);
+    if (s.metric != "f" && s.metric != "cosine") fail(s, w, "'metric' expected \"f\" or \"cosine\", found \"" + s.metric + "\"");
+    s.store_lut = get_or(s, *bank, w, "store_lut", s.store_lut);
+    s.lut_float32 = get_or(s, *bank, w, "lut_float32", s.lut_float32);
+    s.holdout_pairs = get_or(s, *bank, w, "holdout_pairs", s.holdout_pairs);
+    if (const auto* lv = bank->get("levels")) {
+      const auto* arr = lv->as_array();
+      if (!arr || arr->empty()) fail(s, w, "'levels' expected a non-empty array of integers");
+      s.levels.clear();
+      for (const auto& e : *arr) {
+        if (!e.value<int64_t>()) fail(s, w, "'levels' expected integers");
+        s.levels.push_back(static_cast<int>(*e.value<int64_t>()));
+      }
+    }
+    if (s.level < 0 || s.level > 8) fail(s, w, "'level' expected in [0, 8], found " + std::to_string(s.level));
+    for (int l : s.levels)
+      if (l < 0 || l > 8) fail(s, w, "'levels' entries expected in [0, 8], found " + std::to_string(l));
+    if (s.order_max < 0 || s.order_max > 128) fail(s, w, "'order_max' expected in [0, 128], found " + std::to_string(s.order_max));
+    if (!(s.target > 0)) fail(s, w, "'target' expected > 0");
+    if (s.sampling != "centre" && s.sampling != "average") fail(s, w, "'sampling' expected \"centre\" or \"average\", found \"" + s.sampling + "\"");
+    if (s.holdout_pairs < 16 || s.holdout_pairs > 1000000) fail(s, w, "'holdout_pairs' expected in [16, 1000000]");
+  }
+  for (const auto& [k, v] : root) {
+    if (k.str() != "bank" && k.str() != "material") fail(s, "top level", "unknown table '" + std::string(k.str()) + "'");
+    (void)v;
+  }
+  const auto* mats = root["material"].as_array();
+  if (!mats || mats->empty()) fail(s, "top level", "expected at least one [[material]] table");
+  std::set<std::string> names;
+  for (size_t i = 0; i < mats->size(); ++i) {
+    const auto* t = (*mats)[i].as_table();
+    std::string w = "material " + std::to_string(i + 1);
+    if (!t) fail(s, w, "expected a table");
+    static const std::set<std::string> known{"name", "source", "target", "metric", "isotropic", "order", "level", "incidence", "lights", "cameras", "prune"};
+    for (const auto& [k, v] : *t) {
+      if (!known.count(std::string(k.str()))) fail(s, w, "unknown key '" + std::string(k.str()) + "'");
+      (void)v;
+    }
+    SceneMaterial m;
+    m.name = get_or<std::string>(s, *t, w, "name", "");
+    if (!valid_name(m.name)) fail(s, w, "'name' expected 1-64 characters of [A-Za-z0-9_-], found \"" + m.name + "\"");
+    w = "material '" + m.name + "'";
+    if (!names.insert(m.name).second) fail(s, w, "duplicate name");
+    m.source = get_or<std::string>(s, *t, w, "source", "");
+    if (m.source.empty()) fail(s, w, "'source' is required");
+    m.target = get_or(s, *t, w, "target", s.target);
+    if (!(m.target > 0)) fail(s, w, "'target' expected > 0");
+    m.metric = get_or(s, *t, w, "metric", s.metric);
+    if (m.metric != "f" && m.metric != "cosine") fail(s, w, "'metric' expected \"f\" or \"cosine\", found \"" + m.metric + "\"");
+    if (const auto* iso = t->get("isotropic")) {
+      if (auto b = iso->value<bool>()) m.isotropic = *b ? "true" : "false";
+      else if (auto str = iso->value<std::string>(); str && *str == "auto") m.isotropic = "auto";
+      else fail(s, w, "'isotropic' expected \"auto\", true or false");
+    }
+    m.order = get_or(s, *t, w, "order", -1);
+    m.level = get_or(s, *t, w, "level", -1);
+    if (m.order != -1 && (m.order < 0 || m.order > 128)) fail(s, w, "'order' expected in [0, 128], found " + std::to_string(m.order));
+    if (m.level != -1 && (m.level < 0 || m.level > 8)) fail(s, w, "'level' expected in [0, 8], found " + std::to_string(m.level));
+    m.prune = get_or(s, *t, w, "prune", true);
+    if (const auto* inc = t->get("incidence")) {
+      const auto* arr = inc->as_array();
+      if (!arr || arr->size() != 2 || !(*arr)[0].value<double>() || !(*arr)[1].value<double>())
+        fail(s, w, "'incidence' expected [min, max] in degrees");
+      m.incidence_min = *(*arr)[0].value<double>();
+      m.incidence_max = *(*arr)[1].value<double>();
+      if (!(m.incidence_min >= 0 && m.incidence_min < m.incidence_max && m.incidence_max <= 90))
+        fail(s, w, "'incidence' expected 0 <= min < max <= 90");
+    }
+    m.lights = directions(s, *t, w, "lights");
+    m.cameras = directions(s, *t, w, "cameras");
+    if (m.lights.empty() != m.cameras.empty()) fail(s, w, "'lights' and 'cameras' go together: give both or neither");
+    s.materials.push_back(std::move(m));
+  }
+  return s;
+}
+
+}  // namespace icobrdf

@@ -1,0 +1,165 @@
+// icobrdf bank build / info / extract end to end: choices, failures, resume, scene errors.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+
+#include "tests/cli/cli_runner.hpp"
+
+using icobrdf::test::run_cli;
+using icobrdf::test::TempDir;
+using nlohmann::json;
+
+namespace {
+
+std::string write(const TempDir& d, const std::string& name, const std::string& text) {
+  std::ofstream(d.file(name)) << text;
+  return d.file(name);
+}
+
+bool exists(const std::string& path) { return std::ifstream(path).good(); }
+
+const char* kScene = R"(
+[bank]
+level = 2
+levels = [1, 2, 3]
+order_max = 6
+target = 0.01
+
+[[material]]
+name = "matte"
+source = "model:lambert:albedo=0.5"
+
+[[material]]
+name = "opik"
+source = "model:minnaert:k=2"
+target = 1e-6
+
+[[material]]
+name = "aniso"
+source = "model:ggx-aniso:alpha_x=0.4,alpha_y=1.2,fresnel=none"
+target = 0.2
+metric = "cosine"
+
+[[material]]
+name = "stone"
+source = "model:0.9*lambert+0.1*mirror"
+order = 3
+)";
+
+const json& material(const json& report, const std::string& name) {
+  for (const auto& m : report["materials"])
+    if (m["name"] == name) return m;
+  throw std::runtime_error("no material " + name);
+}
+
+}  // namespace
+
+TEST(CliBank, BuildsTheSmallestSufficientModelPerMaterial) {
+  TempDir d;
+  const auto scene = write(d, "scene.toml", kScene), bank = d.file("bank.h5");
+  const auto r = run_cli({"bank", "build", scene, "-o", bank, "--json", "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const auto j = json::parse(r.out);
+  EXPECT_TRUE(j["written"].get<bool>());
+  // Lambert is the order-0 mode itself: order 0, isotropic, one coefficient, exact to rounding.
+  const auto& matte = material(j, "matte");
+  EXPECT_EQ(matte["order"].get<int>(), 0);
+  EXPECT_TRUE(matte["isotropic"].get<bool>());
+  EXPECT_EQ(matte["kept_coefficients"].get<int>(), 1);
+  EXPECT_LT(matte["error_l2"].get<double>(), 1e-12);
+  // Minnaert k = 2: (3/(2 pi)) cos_i cos_r lies in the span of order 2 (cos = 1 - rho^2), and centre sampling
+  // with a consistent basis recovers it exactly: order 2, on the coarsest level that supports order 2 (asked
+  // of `icobrdf fit` with the same sampling). Its IBSSS has 3 non-zero terms: (0,0,0), (2,0,0), (2,2,0).
+  int coarsest = -1;
+  for (int level : {1, 2, 3})
+    if (coarsest < 0 && run_cli({"fit", "model:lambert", "--order", "2", "--level", std::to_string(level), "--sampling", "centre",
+                                 "-o", d.file("probe.h5")}).exit_code == 0)
+      coarsest = level;
+  const auto& opik = material(j, "opik");
+  EXPECT_EQ(opik["order"].get<int>(), 2);
+  EXPECT_EQ(opik["level"].get<int>(), coarsest);
+  EXPECT_EQ(opik["kept_coefficients"].get<int>(), 3);
+  EXPECT_LE(opik["error_l2"].get<double>(), 1e-6);
+  // The anisotropic GGX stays anisotropic (its isotropic part misses the target), and meets the target.
+  const auto& aniso = material(j, "aniso");
+  EXPECT_FALSE(aniso["isotropic"].get<bool>());
+  EXPECT_LE(aniso["error_l2"].get<double>(), 0.2);
+  EXPECT_GT(aniso["anisotropy"].get<double>(), 0.01);
+  // A delta BRDF: fixed order, error not measurable pointwise.
+  const auto& stone = material(j, "stone");
+  EXPECT_EQ(stone["order"].get<int>(), 3);
+  EXPECT_FALSE(stone["error_measured"].get<bool>());
+  EXPECT_FALSE(exists(bank + ".partial")) << "the resume file is removed after a complete build";
+
+  // bank info lists the grid, the operators of every order used and the materials with their choices.
+  const auto info = run_cli({"bank", "info", bank, "--json"});
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  const auto ij = json::parse(info.out);
+  EXPECT_EQ(ij["grid"]["cells"].get<int>(), 10 * 16 + 8);
+  EXPECT_EQ(ij["materials"].size(), 4u);
+  bool has_b2 = false;
+  for (const auto& p : ij["basis"]) has_b2 = has_b2 || p == "2/B";
+  EXPECT_TRUE(has_b2);
+  // extract: one material into a spectrum file, which `spectrum` reads.
+  ASSERT_EQ(run_cli({"bank", "extract", bank + "#opik", "-o", d.file("opik.h5")}).exit_code, 0);
+  const auto sp = run_cli({"spectrum", d.file("opik.h5"), "--json"});
+  ASSERT_EQ(sp.exit_code, 0) << sp.err;
+  EXPECT_EQ(json::parse(sp.out)["order"].get<int>(), 2);
+}
+
+TEST(CliBank, FailingMaterialFailsTheBuildKeepsTheOthersAndResumeReusesThem) {
+  TempDir d;
+  std::string text = kScene;
+  text += "\n[[material]]\nname = \"broken\"\nsource = \"model:nosuchmodel\"\n";
+  const auto scene = write(d, "scene.toml", text), bank = d.file("bank.h5");
+  auto r = run_cli({"bank", "build", scene, "-o", bank, "--json", "--quiet"});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_FALSE(exists(bank)) << "no bank is written when a material fails";
+  EXPECT_TRUE(exists(bank + ".partial"));
+  auto j = json::parse(r.out);
+  EXPECT_FALSE(material(j, "broken")["ok"].get<bool>());
+  EXPECT_NE(material(j, "broken")["error"].get<std::string>().find("nosuchmodel"), std::string::npos);
+  // Fix the scene; --resume takes the four finished materials from the resume file.
+  text.replace(text.find("model:nosuchmodel"), 17, "model:lambert:albedo=0.2");
+  write(d, "scene.toml", text);
+  r = run_cli({"bank", "build", scene, "-o", bank, "--json", "--quiet", "--resume"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  j = json::parse(r.out);
+  for (const char* name : {"matte", "opik", "aniso", "stone"}) EXPECT_TRUE(material(j, name)["resumed"].get<bool>()) << name;
+  EXPECT_FALSE(material(j, "broken")["resumed"].get<bool>());
+  EXPECT_TRUE(exists(bank));
+}
+
+TEST(CliBank, UnreachableTargetIsReportedWithTheBestAchieved) {
+  TempDir d;
+  const auto scene = write(d, "s.toml", "[bank]\nlevels = [1]\norder_max = 2\n[[material]]\nname = \"sharp\"\nsource = \"model:ggx:alpha=0.05\"\ntarget = 1e-3\n");
+  const auto r = run_cli({"bank", "build", scene, "-o", d.file("b.h5"), "--quiet"});
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  EXPECT_NE(r.out.find("target 0.001 not met: best relative L2 error"), std::string::npos) << r.out;
+}
+
+TEST(CliBank, SceneErrorsNameFileMaterialAndKey) {
+  TempDir d;
+  struct Case {
+    const char* text;
+    const char* fragment;
+  } cases[] = {
+      {"[[material]]\nname = \"a\"\n", "'source' is required"},
+      {"[[material]]\nname = \"a b\"\nsource = \"model:lambert\"\n", "'name' expected"},
+      {"[[material]]\nname = \"a\"\nsource = \"model:lambert\"\ncolour = 3\n", "unknown key 'colour'"},
+      {"[bank]\nlevel = 12\n[[material]]\nname = \"a\"\nsource = \"model:lambert\"\n", "'level' expected in [0, 8]"},
+      {"[[material]]\nname = \"a\"\nsource = \"model:lambert\"\n[[material]]\nname = \"a\"\nsource = \"model:lambert\"\n", "duplicate name"},
+      {"[[material]]\nname = \"a\"\nsource = \"model:lambert\"\nlights = [[30, 0]]\n", "'lights' and 'cameras' go together"},
+      {"[bank\n", "s.toml:1"},
+      {"", "expected at least one [[material]]"},
+  };
+  for (const auto& c : cases) {
+    const auto scene = write(d, "s.toml", c.text);
+    const auto r = run_cli({"bank", "build", scene, "-o", d.file("b.h5"), "--quiet"});
+    EXPECT_EQ(r.exit_code, 3) << c.text;
+    EXPECT_NE(r.err.find(c.fragment), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("s.toml"), std::string::npos) << r.err;
+    EXPECT_FALSE(exists(d.file("b.h5")));
+  }
+}
