@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <sstream>
 
 #include "tests/cli/cli_runner.hpp"
 
@@ -121,4 +122,24 @@ TEST(CliLut, LambertLutAlbedoSmoothAndFloat32) {
   ASSERT_EQ(run_cli({"lut", "model:mirror", "--level", "2", "--order", "2", "-o", dir.file("m.h5"), "--float32"}).exit_code, 0);
   j = json::parse(run_cli({"albedo", dir.file("m.h5"), "--json"}).out);
   EXPECT_NEAR(j["channels"][0]["max_albedo"].get<double>(), 1.0, kCellCosineTol + 1e-6) << "float32 storage: relative rounding 2^-24 per entry";
+}
+
+TEST(CliEval, SpectrumFileEvaluatesToTheModelForABrdfInTheSpan) {
+  // Minnaert k = 2 is in the span of order 2 (cos = 1 - rho^2); with B and the LUT sampled by the same rule
+  // its spectrum is recovered exactly, so evaluating the file at any pair gives (3/(2 pi)) cos_i cos_r.
+  TempDir dir;
+  const auto pairs = dir.file("pairs.csv");
+  std::ofstream(pairs) << "theta_i,phi_i,theta_r,phi_r\n0,0,0,0\n30,0,45,90\n89,10,70,-120\n";
+  ASSERT_EQ(run_cli({"fit", "model:minnaert:k=2", "--order", "3", "--level", "2", "-o", dir.file("m.h5")}).exit_code, 0);
+  const auto r = run_cli({"eval", dir.file("m.h5"), "--at", pairs});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::istringstream in(r.out);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "f");
+  const double deg = M_PI / 180;
+  for (auto [ti, tr] : {std::pair{0.0, 0.0}, std::pair{30.0, 45.0}, std::pair{89.0, 70.0}}) {
+    std::getline(in, line);
+    EXPECT_NEAR(std::stod(line), 3 / (2 * M_PI) * std::cos(ti * deg) * std::cos(tr * deg), kExactTol) << ti << " " << tr;
+  }
 }
