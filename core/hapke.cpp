@@ -1,5 +1,7 @@
 #include "core/hapke.hpp"
 
+#include "core/gauss_legendre.hpp"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -13,34 +15,12 @@ constexpr int kPanelNodes = 16;      // Gauss-Legendre nodes per panel
 constexpr int kDecades = 12;         // panels [0, 1e-12], [1e-12, 1e-11], ..., [0.1, 1]
 constexpr int kTableIntervals = 4096;  // table uniform in t = sqrt(mu)
 
-// Gauss-Legendre nodes and weights on [-1, 1] (Newton on P_n).
-void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
-  x.resize(n);
-  w.resize(n);
-  for (int i = 0; i < n; ++i) {
-    double z = std::cos(M_PI * (i + 0.75) / (n + 0.5)), dp = 0.0;
-    for (int it = 0; it < 100; ++it) {
-      double p0 = 1.0, p1 = z;
-      for (int k = 2; k <= n; ++k) {
-        const double p2 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-      }
-      dp = n * (z * p1 - p0) / (z * z - 1.0);
-      const double dz = p1 / dp;
-      z -= dz;
-      if (std::abs(dz) < 1e-16) break;
-    }
-    x[i] = z;
-    w[i] = 2.0 / ((1.0 - z * z) * dp * dp);
-  }
-}
-
 }  // namespace
 
 ChandrasekharH::ChandrasekharH(double w) : w_(w), s_(std::sqrt(std::max(0.0, 1.0 - w))) {
-  std::vector<double> gx, gw;
-  gauss_legendre(kPanelNodes, gx, gw);
+  const QuadratureRule gl = gauss_legendre(kPanelNodes);
+  const Eigen::VectorXd& gx = gl.nodes;
+  const Eigen::VectorXd& gw = gl.weights;
   std::vector<double> edges = {0.0};
   for (int d = kDecades; d >= 1; --d) edges.push_back(std::pow(10.0, -d));
   edges.push_back(1.0);
