@@ -21,7 +21,7 @@ constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
 
 struct PlotArgs {
   std::string source, output, filter = "none", light = "45,135", shading = "auto";
-  int order = 4, level = 4, size = 256, panel = 200;
+  int order = 4, level = 4, size = 256, panel = 200, basis_panel = 0;
   std::vector<int> orders{0, 1, 2, 4, 6, 8};
   double theta_i = 45.0, phi_i = 0.0, sky_radiance = 0.3, exposure = 1.0;
   bool separate = false, sky = false, no_exact = false, json = false;
@@ -48,11 +48,12 @@ void add_plot_command(CLI::App& app) {
 
   auto* basis = plot->add_subcommand("basis", "Every K_n^l up to --order on the Lambert disk (density + contours)");
   basis->add_option("--order,-n", a->order, "Largest order n")->capture_default_str()->check(CLI::Range(0, 16));
+  basis->add_option("--panel", a->basis_panel, "Disk diameter in pixels (default: from the order)");
   basis->add_flag("--separate", a->separate, "Also write one PNG per function, K_<n>_<l>.png");
   basis->add_option("-o,--output", a->output, "Output directory (must exist)")->required();
   basis->add_flag("--json", a->json, "Print the files written as JSON");
   basis->callback([a] {
-    const auto files = plot::plot_basis(a->order, a->output, a->separate);
+    const auto files = plot::plot_basis(a->order, a->output, a->separate, a->basis_panel);
     if (a->json) std::cout << nlohmann::json{{"files", files}}.dump(2) << "\n";
     else for (const auto& f : files) std::cout << "wrote " << f << "\n";
   });

@@ -95,12 +95,14 @@ void draw_disk_frame(Figure& fig, const PanelRect& r) {
 
 }  // namespace
 
-std::vector<std::string> plot_basis(int order, const std::string& dir, bool separate) {
+std::vector<std::string> plot_basis(int order, const std::string& dir, bool separate, int panel_request) {
   constexpr int kMaxBasisOrder = 16;
   if (order < 0 || order > kMaxBasisOrder)
     throw ArgumentError(fmt::format("--order {}: expected 0..{}", order, kMaxBasisOrder));
   if (!is_directory(dir)) throw ArgumentError("-o " + dir + ": not an existing directory");
-  const int panel = std::clamp(1400 / (order + 1) - 24, 60, 170);
+  if (panel_request != 0 && (panel_request < 32 || panel_request > 800))
+    throw ArgumentError(fmt::format("--panel {}: expected 32..800 pixels", panel_request));
+  const int panel = panel_request ? panel_request : std::clamp(1400 / (order + 1) - 24, 60, 170);
   const DiskSamples ds = disk_samples(panel);
   const Eigen::MatrixXd b = disk_basis(ds, order);
   std::vector<double> levels;
@@ -109,7 +111,7 @@ std::vector<std::string> plot_basis(int order, const std::string& dir, bool sepa
   const int width = left + (order + 1) * cell + 150, height = top + (order + 1) * (cell + label_h) + 30;
   Figure fig(width, height);
   fig.title(fmt::format("Hemisphere basis K_n^l, n = 0..{} (Lambert disk seen from above)", order));
-  fig.text(width / 2.0, 52, "each panel scaled to its own max|K| = sqrt((n+1)/pi); contours every 0.2 max|K|, zero contour bold",
+  fig.text(width / 2.0, 52, "each panel scaled to its own max|K| = sqrt((n+1)/pi); colour bands of 0.1, contours every 0.2 max|K|, zero contour bold",
            12.5, Align::Centre);
   std::vector<std::string> written;
   for (int n = 0; n <= order; ++n) {
@@ -119,7 +121,9 @@ std::vector<std::string> plot_basis(int order, const std::string& dir, bool sepa
       const int j = ansi_index(n, l);
       Eigen::MatrixXd v = disk_raster(ds, b.col(j) / kmax);
       const PanelRect r{static_cast<int>(std::lround(x0 + k * cell + 12)), top + n * (cell + label_h), panel};
-      fig.image(colorize(v, 1.0, diverging), r.x, r.y);
+      // Filled contours (the paper's contour-density plots): the colour is constant within bands of 0.1 max|K|.
+      const Eigen::MatrixXd banded = v.unaryExpr([](double x) { return std::isfinite(x) ? (std::floor(x * 10.0) + 0.5) / 10.0 : x; });
+      fig.image(colorize(banded, 1.0, diverging), r.x, r.y);
       fig.contours(v, r.x, r.y, levels);
       draw_disk_frame(fig, r);
       fig.text(r.x + panel / 2.0, r.y + panel + 17, fmt::format("K_{}^{}", n, l), 13.0, Align::Centre);
@@ -203,7 +207,8 @@ SliceFigure plot_slice(const std::string& text, const SliceRequest& q, const std
 
   const int ncol = static_cast<int>(cols.size());
   const int gap = 26, left = 30, top = 96, polar_h = panel / 2 + 34;
-  const int width = left + ncol * (panel + gap) + 130;
+  const int bar_x = left + ncol * (panel + gap) + 8;
+  const int width = std::max(bar_x + 122, 860);  // wide enough for the caption lines
   const int height = top + panel + 28 + polar_h + 70;
   Figure fig(width, height);
   const std::string quantity = g_form ? "g = f cos(theta_i)" : "f";
@@ -292,7 +297,7 @@ SliceFigure plot_slice(const std::string& text, const SliceRequest& q, const std
   if (s.level >= 0 || !s.grid_kind.empty())
     fig.text(left, py + 36, fmt::format("spectrum of order {} ({} grid level {})", s.order, s.grid_kind.empty() ? "?" : s.grid_kind, s.level),
              11.5);
-  fig.colorbar(width - 118, top, 20, panel, scale, diverging, quantity + " [1/sr]");
+  fig.colorbar(bar_x, top, 20, panel, scale, diverging, quantity + " [1/sr]");
   out.width = width;
   out.height = height;
   fig.save_png(path);
@@ -316,10 +321,10 @@ SpectrumFigure plot_spectrum(const Spectrum& s, const std::string& label, const 
   const bool matrix = !s.isotropic;
   const int M = s.modes();
   const int mcell = std::max(1, 440 / M);
-  const int left = 40, top = 110;
+  const int left = 40, top = 110;  // (the n numbers sit above the IBSSS, the m numbers at its right)
   const int ib_w = ncols * cell + N * sep, ib_h = (N + 1) * cell;
   const int width = std::max(left + ib_w + 40 + (matrix ? M * mcell + 90 : 0) + 160, 640);
-  const int height = std::max(top + ib_h, top + (matrix ? M * mcell + 40 : 0)) + 110;
+  const int height = std::max(top + ib_h, top + (matrix ? M * mcell + 40 : 0)) + 80;
   Figure fig(width, height);
   double scale = a.size() ? a.cwiseAbs().maxCoeff() : 0.0;
   if (matrix) scale = std::max(scale, c.cwiseAbs().maxCoeff());
@@ -343,19 +348,26 @@ SpectrumFigure plot_spectrum(const Spectrum& s, const std::string& label, const 
     for (int i = 0; i < cell - 1; ++i)
       for (int j = 0; j < cell - 1; ++j) r.set(i, j, grey(a[static_cast<Eigen::Index>(k)] / scale));
     fig.image(r, x, y);
+    cairo_t* cr = fig.context();
+    cairo_save(cr);
+    cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);
+    cairo_set_line_width(cr, 1.0);
+    cairo_rectangle(cr, x - 0.5, y - 0.5, cell, cell);  // outline, so that cells near white stay visible
+    cairo_stroke(cr);
+    cairo_restore(cr);
   }
   const double fs = std::clamp(cell * 0.55, 9.0, 13.0);
   for (int n = 0; n <= N; ++n)
     fig.text(left + col_start[n] * cell + n * sep + (n / 2 + 1) * cell / 2.0, top - 8, std::to_string(n), fs, Align::Centre);
   for (int m = 0; m <= N; ++m) fig.text(left + ib_w + 6, top + m * cell + cell * 0.5 + fs * 0.35, std::to_string(m), fs);
   fig.text(left + ib_w / 2.0, top - 24, "n \u2192", 12.0, Align::Centre);
-  fig.text(left + ib_w + 26, top + ib_h / 2.0, "m \u2192", 12.0, Align::Centre, false, -kPi / 2);
+  fig.text(left + ib_w + 6, top - 8, "m \u2193", 12.0);
   fig.text(left, top + ib_h + 22, fmt::format("{} isotropic modes I_nm^l; white = +{}, black = -{}", modes.size(), format_number(scale),
                                               format_number(scale)),
            11.5);
   int bar_x = left + ib_w + 50;
   if (matrix) {
-    const int mx = left + ib_w + 60, my = top;
+    const int mx = left + ib_w + 80, my = top;
     fig.text(mx, top - 40, "coefficient matrix C (K_a incident, K_b remitted)", 12.5, Align::Left, true);
     Raster r(M * mcell, M * mcell);
     for (int i = 0; i < M; ++i)
@@ -370,7 +382,7 @@ SpectrumFigure plot_spectrum(const Spectrum& s, const std::string& label, const 
       fig.line(mx, my + p, mx + M * mcell, my + p, 0.4, {0.6, 0.2, 0.2});
     }
     fig.text(mx + M * mcell / 2.0, my + M * mcell + 20, "b (ANSI index of K_b, remitted) \u2192", 11.5, Align::Centre);
-    fig.text(mx - 8, my + M * mcell / 2.0, "a (incident) \u2192", 11.5, Align::Centre, false, -kPi / 2);
+    fig.text(mx - 8, my + M * mcell / 2.0, "\u2190 a (ANSI index of K_a, incident)", 11.5, Align::Centre, false, kPi / 2);
     bar_x = mx + M * mcell + 30;
   }
   fig.colorbar(bar_x, top, 20, std::max(160, std::min(ib_h, 360)), scale, grey, "coefficient [1]");

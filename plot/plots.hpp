@@ -18,8 +18,8 @@ struct PanelRect {
 // Every K_n^l with n <= order on the Lambert disk (density in the diverging map + contours at multiples
 // of 0.2 max|K|, zero contour bold), as a pyramid: row n, l = -n..n step 2 left to right. Writes
 // DIR/basis.png and, when `separate`, DIR/K_<n>_<l>.png per function (with its colour bar in 1/sqrt(sr)).
-// Returns the files written. `order` in [0, 16].
-std::vector<std::string> plot_basis(int order, const std::string& dir, bool separate);
+// Returns the files written. `order` in [0, 16]; `panel` = disk diameter in pixels (0: from the order).
+std::vector<std::string> plot_basis(int order, const std::string& dir, bool separate, int panel = 0);
 
 struct SliceRequest {
   double theta_i = 0.785398163397448;  // radians
