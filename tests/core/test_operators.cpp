@@ -320,3 +320,21 @@ TEST(IsotropicPart, AgreesWithTheIsotropicModeProjectionAndIsRotationInvariant) 
   const Eigen::MatrixXd anti_iso = isotropic_part(anti, order);
   EXPECT_LT((anti_iso + anti_iso.transpose()).cwiseAbs().maxCoeff(), kAlgebraTol);
 }
+
+TEST(Threads, LutBasisAndProjectionAreIdenticalOnOneAndTwoThreads) {
+  // Every parallel loop writes disjoint rows in a fixed order, so results must agree bitwise.
+  const auto g = build_lat_long_grid(6, 12, 2);
+  auto run = [&](int threads) {
+    omp_set_num_threads(threads);
+    const auto b = build_discrete_basis(g, 4);
+    const auto lut = build_lut(NonReciprocal(), g, false);
+    const auto c = project_lut(make_projection(b), lut.channels[0]);
+    return std::make_tuple(b.B, lut.channels[0], c);
+  };
+  const auto [b1, f1, c1] = run(1);
+  const auto [b2, f2, c2] = run(2);
+  omp_set_num_threads(2);
+  EXPECT_EQ((b1 - b2).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((f1 - f2).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((c1 - c2).cwiseAbs().maxCoeff(), 0.0);
+}
