@@ -12,6 +12,12 @@ using nlohmann::json;
 
 namespace {
 
+// A BRDF in the span of the basis is recovered to rounding: relative errors of sums over 4096 pairs.
+constexpr double kRoundingError = 1e-12;
+// The anisotropic GGX (alpha 0.4 vs 1.2) has a large anisotropic part; 0.01 of the energy is far below it
+// and far above the ~1e-30 of isotropic models.
+constexpr double kClearlyAnisotropic = 0.01;
+
 std::string write(const TempDir& d, const std::string& name, const std::string& text) {
   std::ofstream(d.file(name)) << text;
   return d.file(name);
@@ -67,7 +73,7 @@ TEST(CliBank, BuildsTheSmallestSufficientModelPerMaterial) {
   EXPECT_EQ(matte["order"].get<int>(), 0);
   EXPECT_TRUE(matte["isotropic"].get<bool>());
   EXPECT_EQ(matte["kept_coefficients"].get<int>(), 1);
-  EXPECT_LT(matte["error_l2"].get<double>(), 1e-12);
+  EXPECT_LT(matte["error_l2"].get<double>(), kRoundingError);
   // Minnaert k = 2: (3/(2 pi)) cos_i cos_r lies in the span of order 2 (cos = 1 - rho^2), and centre sampling
   // with a consistent basis recovers it exactly: order 2, on the coarsest level that supports order 2 (asked
   // of `icobrdf fit` with the same sampling). Its IBSSS has 3 non-zero terms: (0,0,0), (2,0,0), (2,2,0).
@@ -85,7 +91,7 @@ TEST(CliBank, BuildsTheSmallestSufficientModelPerMaterial) {
   const auto& aniso = material(j, "aniso");
   EXPECT_FALSE(aniso["isotropic"].get<bool>());
   EXPECT_LE(aniso["error_l2"].get<double>(), 0.2);
-  EXPECT_GT(aniso["anisotropy"].get<double>(), 0.01);
+  EXPECT_GT(aniso["anisotropy"].get<double>(), kClearlyAnisotropic);
   // A delta BRDF: fixed order, error not measurable pointwise.
   const auto& stone = material(j, "stone");
   EXPECT_EQ(stone["order"].get<int>(), 3);

@@ -19,6 +19,9 @@ constexpr double kExactTol = 1e-10;
 // Albedos use cell-mean cosines from the cells' cubature; cos(theta) is not a polynomial in the planar cell
 // coordinates, so the degree-9 rule integrates it to ~5e-9 relative at level 2.
 constexpr double kCellCosineTol = 1e-7;
+// GGX with alpha_x = 0.3, alpha_y = 0.8 has an anisotropic part far above 1e-4 of the energy; grid-induced
+// anisotropy of isotropic models at level 3 stays below that.
+constexpr double kClearlyAnisotropic = 1e-4;
 // Level 4, order 6: Gram error 0.022 (max |G - I|), ||G - I||_2 below 0.05; the mirror's C = D G^-1 deviates
 // from the analytic value by at most ||G - I||_2 / (1 - ||G - I||_2) per entry, and IBSSS entries combine two
 // entries with weight 1/sqrt(2) each: 0.08 covers it.
@@ -96,7 +99,7 @@ TEST(CliFit, AnisotropicModelReportsAnisotropyAndSpectrumListsHelmholtzIndices) 
   const auto out = dir.file("aniso.h5");
   const auto r = run_cli({"fit", "model:ggx-aniso:alpha_x=0.3,alpha_y=0.8", "--order", "4", "--level", "3", "--sampling", "centre", "-o", out, "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_GT(json::parse(r.out)["anisotropy_fraction"].get<double>(), 1e-4);
+  EXPECT_GT(json::parse(r.out)["anisotropy_fraction"].get<double>(), kClearlyAnisotropic);
   const auto j = spectrum_json(out);
   EXPECT_FALSE(j["isotropic"].get<bool>());
   EXPECT_EQ(j["indices"].size(), 120u);  // M(M+1)/2 with M = 15 at order 4
