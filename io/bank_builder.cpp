@@ -343,6 +343,11 @@ class Builder {
     if (ctx.projection)
       bank.basis.push_back(BasisArray::matrix(p + "/P", ctx.projection->P, "sr^(1/2)",
                                               "cells x modes: least-squares projection W B G^-1; C = P^T F P"));
+    // Smoothing S = B diag(w) P^T is stored in this factored form (S itself is cells x cells); the bank's
+    // spectra are plain truncations, so w = 1 (core/lowpass_filter.hpp gives other filters' weights).
+    const Eigen::VectorXd w = mode_weights(LowPassFilter{}, order);
+    bank.basis.push_back(BasisArray::matrix(p + "/filter_weights", Eigen::MatrixXd(w.transpose()), "1",
+                                            "1 x modes: low-pass weights w of the smoothing S = B diag(w) P^T (plain truncation)"));
     BasisArray idx;
     idx.path = p + "/indices";
     const int m = hemisphere_basis_count(order);
