@@ -115,9 +115,9 @@ void run_info(const std::string& path, bool json) {
 }
 
 void run_extract(const std::string& spec, const std::string& out) {
-  const auto hash = spec.rfind('#');
-  if (hash == std::string::npos) throw ArgumentError("bank extract: expected BANK.h5#MATERIAL, found '" + spec + "'");
-  const MaterialRecord rec = read_bank_material(spec.substr(0, hash), spec.substr(hash + 1));
+  const MaterialRef ref = split_material_ref(spec);
+  if (spec.find('#') == std::string::npos) throw ArgumentError("bank extract: expected BANK.h5#MATERIAL, found '" + spec + "'");
+  const MaterialRecord rec = read_bank_material(ref.path, ref.name);
   BankContents b;
   b.materials.push_back(rec);
   write_bank(out, b);

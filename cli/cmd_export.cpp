@@ -16,6 +16,7 @@
 #include "cli/commands.hpp"
 #include "core/error.hpp"
 #include "io/scatmech_coefficients.hpp"
+#include "io/bank_file.hpp"
 #include "io/spectrum_file.hpp"
 
 namespace icobrdf::cli {
@@ -29,10 +30,8 @@ struct ExportArgs {
 
 void run_export(const ExportArgs& a) {
   if (a.format != "scatmech") throw ArgumentError("--format: expected 'scatmech', found '" + a.format + "'");
-  const auto hash = a.input.rfind('#');
-  const std::string path = hash == std::string::npos ? a.input : a.input.substr(0, hash);
-  const std::string name = hash == std::string::npos ? std::string() : a.input.substr(hash + 1);
-  const Spectrum s = read_spectrum_file(path, name);
+  const MaterialRef ref = split_material_ref(a.input);
+  const Spectrum s = read_spectrum_file(ref.path, ref.name);
   int channel = a.channel;
   if (channel < 0) {
     if (s.channel_count() != 1)

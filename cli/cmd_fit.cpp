@@ -24,13 +24,9 @@ struct FitArgs {
   double gram_tol = kDefaultGramTolerance;
 };
 
-// Cubature degree of the rule used for cell averages (LUT rows and B alike; cost ~ (points per cell)^2 per entry).
-constexpr int kLutSamplingDegree = 2;
-
-std::shared_ptr<const Grid> make_grid(const std::string& kind, int level, int degree = kDefaultCubatureDegree) {
+void check_grid_kind(const std::string& kind) {
   if (kind != "equal-area" && kind != "geodesic")
     throw ArgumentError("--grid: expected 'equal-area' or 'geodesic', found '" + kind + "'");
-  return std::make_shared<const Grid>(build_hemi_icosahedral_grid(level, kind, degree));
 }
 
 void run_fit(const FitArgs& a) {
@@ -45,12 +41,9 @@ void run_fit(const FitArgs& a) {
   else if (a.sampling == "centre" || a.sampling == "center") o.sampling = LutSampling::CellCentre;
   else throw ArgumentError("--sampling: expected 'average' or 'centre', found '" + a.sampling + "'");
   const auto source = open_source(a.source);  // validates the source before any work
-  // The LUT rows and B are sampled with the same rule, so a BRDF in the span of the basis is recovered
-  // exactly: centre sampling uses one point per cell (its direction), cell averages a degree-2 rule (each LUT
-  // entry costs (points per cell)^2 evaluations).
-  const bool centre = o.sampling == LutSampling::CellCentre;
-  const auto grid = centre ? std::make_shared<const Grid>(with_centre_cubature(*make_grid(a.grid, a.level)))
-                           : make_grid(a.grid, a.level, kLutSamplingDegree);
+  // LUT rows and B sampled with the same rule (mesh/tessellation.hpp: build_fitting_grid).
+  check_grid_kind(a.grid);
+  const auto grid = std::make_shared<const Grid>(build_fitting_grid(a.level, a.grid, o.sampling == LutSampling::CellCentre));
   const auto ctx = make_projection_context(grid, a.order, a.gram_tol);
   o.sampling = LutSampling::CellAverage;  // over the context's cubature (one point per cell when centre)
   Spectrum s = source->fit(ctx, o);

@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "cli/commands.hpp"
+#include "core/direction.hpp"
 #include "core/error.hpp"
 #include "core/reflection.hpp"
 #include "core/spectral_fit.hpp"
@@ -27,16 +28,9 @@ struct LutArgs {
   bool cosine = false, float32 = false, json = false;
 };
 
-void split_material(const std::string& spec, std::string& path, std::string& name) {
-  const auto hash = spec.rfind('#');
-  path = hash == std::string::npos ? spec : spec.substr(0, hash);
-  name = hash == std::string::npos ? std::string() : spec.substr(hash + 1);
-}
-
 // Reads a LUT file: its grid and one material that has a LUT.
 std::pair<std::shared_ptr<const Grid>, MaterialRecord> read_lut_file(const std::string& spec) {
-  std::string path, name;
-  split_material(spec, path, name);
+  const auto [path, name] = split_material_ref(spec);
   BankContents b = read_bank(path);
   if (!b.grid) throw InputError(path + ": no /grid group; a LUT file needs the grid its LUT lives on");
   const MaterialRecord* rec = nullptr;
@@ -76,7 +70,7 @@ void run_lut(const LutArgs& a) {
     throw ArgumentError("--sampling: expected 'average' or 'centre', found '" + a.sampling + "'");
   const bool cosine = a.cosine || !model->delta_parts().empty();
   // Cell averages with a degree-2 rule on the same cells: the LUT's own sampling, independent of B's rule.
-  const Grid sampling_grid = sampling == LutSampling::CellAverage ? build_equal_area_grid(a.level, 2) : *grid;
+  const Grid sampling_grid = sampling == LutSampling::CellAverage ? build_equal_area_grid(a.level, kLutSamplingDegree) : *grid;
   const Lut lut = build_lut(*model, sampling_grid, cosine, sampling);
   FitOptions o;
   o.order = a.order;
@@ -111,8 +105,8 @@ void run_albedo(const LutArgs& a) {
   for (const auto& f : rec.lut) {
     const auto wf = white_furnace(f, rec.spectrum.cosine, *grid);
     const auto al = directional_albedo(f, rec.spectrum.cosine, *grid);
-    const auto d = grid->directions.row(wf.worst_cell);
-    const double theta = std::atan2(std::hypot(d.x(), d.y()), d.z()) * 180 / M_PI, phi = std::atan2(d.y(), d.x()) * 180 / M_PI;
+    const Angles worst = angles_from_direction(grid->directions.row(wf.worst_cell).transpose());
+    const double theta = worst.theta * 180 / M_PI, phi = worst.phi * 180 / M_PI;
     ch.push_back({{"max_albedo", wf.max_albedo}, {"min_albedo", al.minCoeff()}, {"mean_albedo", wf.mean_albedo},
                   {"worst_cell", wf.worst_cell}, {"worst_theta_deg", theta}, {"worst_phi_deg", phi},
                   {"energy_conserving", wf.max_albedo <= 1.0}});

@@ -11,6 +11,7 @@
 #include "cli/commands.hpp"
 #include "core/error.hpp"
 #include "core/lowpass_filter.hpp"
+#include "io/bank_file.hpp"
 #include "io/spectrum_file.hpp"
 #include "plot/plots.hpp"
 
@@ -88,11 +89,10 @@ void add_plot_command(CLI::App& app) {
   spec->add_option("-o,--output", a->output, "Output PNG")->required();
   spec->add_flag("--json", a->json, "Print the figures as JSON");
   spec->callback([a] {
-    const auto hash = a->source.rfind('#');
-    const std::string path = hash == std::string::npos ? a->source : a->source.substr(0, hash);
-    if (path.size() < 4 || path.compare(path.size() - 3, 3, ".h5") != 0)
+    const MaterialRef ref = split_material_ref(a->source);
+    if (ref.path.size() < 4 || ref.path.compare(ref.path.size() - 3, 3, ".h5") != 0)
       throw ArgumentError("plot spectrum '" + a->source + "': expected SPECTRUM.h5[#material]");
-    const Spectrum s = read_spectrum_file(path, hash == std::string::npos ? std::string() : a->source.substr(hash + 1));
+    const Spectrum s = read_spectrum_file(ref.path, ref.name);
     const auto f = plot::plot_spectrum(s, a->source, a->output);
     report(*a, {{"output", a->output}, {"width", f.width}, {"height", f.height}, {"order", s.order}, {"matrix", f.matrix_drawn}});
   });

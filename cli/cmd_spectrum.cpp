@@ -11,6 +11,7 @@
 #include "core/helmholtz_modes.hpp"
 #include "core/isotropic_modes.hpp"
 #include "core/spectrum_ops.hpp"
+#include "io/bank_file.hpp"
 #include "io/spectrum_file.hpp"
 
 namespace icobrdf::cli {
@@ -26,10 +27,8 @@ struct SpectrumArgs {
 };
 
 void run_spectrum(const SpectrumArgs& a) {
-  const auto hash = a.file.rfind('#');
-  const std::string path = hash == std::string::npos ? a.file : a.file.substr(0, hash);
-  const std::string name = hash == std::string::npos ? std::string() : a.file.substr(hash + 1);
-  const Spectrum s = read_spectrum_file(path, name);
+  const MaterialRef ref = split_material_ref(a.file);
+  const Spectrum s = read_spectrum_file(ref.path, ref.name);
   nlohmann::json indices = nlohmann::json::array(), coefficients = nlohmann::json::array();
   double asym = 0.0;
   for (const auto& c : s.channels) asym = std::max(asym, coefficient_asymmetry(c));

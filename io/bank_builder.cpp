@@ -24,10 +24,6 @@
 namespace icobrdf {
 namespace {
 
-// Cubature degree of the grids used for fitting with cell-averaged sampling: degree 2 keeps the pair
-// sampling affordable (each LUT entry averages over the product of the two cells' rules).
-constexpr int kAverageSamplingDegree = 2;
-
 std::string fmt_double(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.17g", x);
@@ -130,8 +126,7 @@ class Builder {
   std::shared_ptr<const Grid> grid(int level) {
     auto& g = grids_[level];
     if (!g)
-      g = std::make_shared<const Grid>(s_.sampling == "average" ? build_equal_area_grid(level, kAverageSamplingDegree)
-                                                                : with_centre_cubature(build_equal_area_grid(level)));
+      g = std::make_shared<const Grid>(build_fitting_grid(level, "equal-area", s_.sampling != "average"));
     return g;
   }
   const ProjectionContext& context(int level, int order) {

@@ -269,4 +269,10 @@ std::vector<std::string> bank_material_names(const std::string& path) {
   return f.root().open_group(bank_format::kMaterialsGroup).children();
 }
 
+MaterialRef split_material_ref(const std::string& text) {
+  const auto hash = text.rfind('#');
+  if (hash == std::string::npos) return {text, ""};
+  return {text.substr(0, hash), text.substr(hash + 1)};
+}
+
 }  // namespace icobrdf

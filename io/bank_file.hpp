@@ -65,6 +65,12 @@ std::vector<std::string> bank_material_names(const std::string& path);
 // Opens a bank and checks the root attributes (format, major version, complete). Throws as read_bank.
 h5::ReadFile open_bank(const std::string& path);
 
+// "FILE.h5#MATERIAL" or "FILE.h5": the file and the material name (empty when there is no '#').
+struct MaterialRef {
+  std::string path, name;
+};
+MaterialRef split_material_ref(const std::string& text);
+
 // UTC ISO 8601 text of a time ("2026-11-22T04:49:30Z").
 std::string iso8601_utc(long long seconds_since_epoch);
 

@@ -7,6 +7,7 @@
 #include "core/model_spec.hpp"
 #include "core/spectrum_ops.hpp"
 #include "io/measured_sources.hpp"
+#include "io/bank_file.hpp"
 #include "io/spectrum_file.hpp"
 
 namespace icobrdf {
@@ -86,9 +87,7 @@ std::unique_ptr<BrdfSource> spectrum_source(Spectrum spectrum) {
 std::unique_ptr<BrdfSource> open_source(const std::string& text) {
   if (is_model_source(text)) return std::make_unique<ModelSource>(parse_model_source(text));
   if (auto measured = open_measured_source(text)) return measured;  // MERL, CSV samples, SCATMECH (io/measured_sources.hpp)
-  const auto hash = text.rfind('#');
-  const std::string path = hash == std::string::npos ? text : text.substr(0, hash);
-  const std::string name = hash == std::string::npos ? std::string() : text.substr(hash + 1);
+  const auto [path, name] = split_material_ref(text);
   if (path.size() > 3 && path.compare(path.size() - 3, 3, ".h5") == 0) {
     if (!is_regular_file(path)) throw InputError(path + ": no such file (SOURCE '" + text + "')");
     return std::make_unique<SpectrumSource>(read_spectrum_file(path, name), text);

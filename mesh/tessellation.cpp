@@ -79,6 +79,9 @@ std::array<Eigen::Vector3d, 3> corners_of(int f) {
 
 Grid build_equal_area_grid(int level) { return build_hemi_icosahedral_grid(level, "equal-area"); }
 Grid build_equal_area_grid(int level, int degree) { return build_hemi_icosahedral_grid(level, "equal-area", degree); }
+Grid build_fitting_grid(int level, const std::string& kind, bool centre) {
+  return centre ? with_centre_cubature(build_hemi_icosahedral_grid(level, kind)) : build_hemi_icosahedral_grid(level, kind, kLutSamplingDegree);
+}
 Grid build_geodesic_grid(int level) { return build_hemi_icosahedral_grid(level, "geodesic"); }
 Grid build_geodesic_grid(int level, int degree) { return build_hemi_icosahedral_grid(level, "geodesic", degree); }
 

@@ -59,4 +59,12 @@ Grid build_geodesic_grid(int level, int cubature_degree);
 // kind: "equal-area" or "geodesic".
 Grid build_hemi_icosahedral_grid(int level, const std::string& kind, int cubature_degree = kDefaultCubatureDegree);
 
+// Cubature degree of the rule that cell-averages LUT rows during fits: each LUT entry costs
+// (points per cell)^2 model evaluations, so fits use a cheap rule.
+inline constexpr int kLutSamplingDegree = 2;
+
+// The grid a fit samples on, LUT rows and basis B alike (so a BRDF in the span of the basis is recovered
+// exactly): one point per cell at its direction when `centre`, else the degree-kLutSamplingDegree rule.
+Grid build_fitting_grid(int level, const std::string& kind, bool centre);
+
 }  // namespace icobrdf

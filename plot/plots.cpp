@@ -29,8 +29,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = 180.0 / kPi;
-// Cubature degree of the rule that cell-averages LUT rows of models during a fit (as `icobrdf fit`).
-constexpr int kLutSamplingDegree = 2;
 // Level of the cells used as a midpoint quadrature for the directional albedo of a model (sky light).
 constexpr int kAlbedoQuadratureLevel = 3;
 
@@ -54,19 +52,18 @@ struct LoadedSource {
 
 LoadedSource load_source(const std::string& text, int order, int level) {
   LoadedSource r;
-  const auto hash = text.rfind('#');
-  const std::string path = hash == std::string::npos ? text : text.substr(0, hash);
+  const auto [path, name] = split_material_ref(text);
   if (!is_model_source(text) && ends_with_h5(path)) {
     struct stat st{};
     if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) throw InputError(path + ": no such file (SOURCE '" + text + "')");
-    r.spectrum = read_spectrum_file(path, hash == std::string::npos ? std::string() : text.substr(hash + 1));
+    r.spectrum = read_spectrum_file(path, name);
     if (r.spectrum.source.empty()) r.spectrum.source = text;
     return r;
   }
   r.source = open_source(text);
-  auto grid = std::make_shared<const Grid>(build_equal_area_grid(level));
-  auto sampling = std::make_shared<const Grid>(build_equal_area_grid(level, kLutSamplingDegree));
-  const auto ctx = make_projection_context(grid, order, kDefaultGramTolerance, ProjectionOperator::Kind::LeastSquares, sampling);
+  // Fitted as `icobrdf fit` does with cell-averaged sampling.
+  auto grid = std::make_shared<const Grid>(build_fitting_grid(level, "equal-area", false));
+  const auto ctx = make_projection_context(grid, order);
   FitOptions o;
   o.order = order;
   o.cosine = r.source->has_delta();

@@ -20,28 +20,26 @@ namespace icobrdf::test {
 inline void gauss_legendre(int g, std::vector<double>& x, std::vector<double>& w) {
   x.assign(static_cast<size_t>(g), 0.0);
   w.assign(static_cast<size_t>(g), 0.0);
-  for (int i = 0; i < g; ++i) {
-    double z = std::cos(M_PI * (i + 0.75) / (g + 0.5)), dp = 0.0;
-    for (int it = 0; it < 100; ++it) {
-      double p0 = 1.0, p1 = z;
-      for (int k = 2; k <= g; ++k) {
-        const double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-      }
-      dp = g * (z * p1 - p0) / (z * z - 1.0);
-      const double dz = p1 / dp;
-      z -= dz;
-      if (std::abs(dz) < 1e-16) break;
-    }
-    // Recompute the derivative at the converged node.
+  // P_g'(z) from P_g and P_{g-1}; returns P_g(z) through `p`.
+  const auto derivative = [g](double z, double& p) {
     double p0 = 1.0, p1 = z;
     for (int k = 2; k <= g; ++k) {
       const double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
       p0 = p1;
       p1 = p2;
     }
-    dp = g * (z * p1 - p0) / (z * z - 1.0);
+    p = p1;
+    return g * (z * p1 - p0) / (z * z - 1.0);
+  };
+  for (int i = 0; i < g; ++i) {
+    double z = std::cos(M_PI * (i + 0.75) / (g + 0.5)), p = 0.0;
+    for (int it = 0; it < 100; ++it) {
+      const double d = derivative(z, p);
+      const double dz = p / d;
+      z -= dz;
+      if (std::abs(dz) < 1e-16) break;
+    }
+    const double dp = derivative(z, p);  // at the converged node
     x[static_cast<size_t>(i)] = z;
     w[static_cast<size_t>(i)] = 2.0 / ((1.0 - z * z) * dp * dp);
   }
@@ -79,5 +77,26 @@ inline HemisphereRule hemisphere_rule(int g, int p) {
 
 // Smallest rule exact for the Gram matrix of K up to order n.
 inline HemisphereRule hemisphere_rule_for_order(int n) { return hemisphere_rule(n / 2 + 2, 2 * n + 2); }
+
+// The product rule on hemisphere x hemisphere: every pair (i, j) of nodes, weight w_i w_j. Exact for the
+// Gram matrix of pair functions (Helmholtz and isotropic modes) wherever `rule` is exact for K (Fubini).
+struct PairRule {
+  RowMatrix3d wi, wr;  // Q^2 x 3
+  Eigen::VectorXd w;   // Q^2
+};
+inline PairRule pair_rule(const HemisphereRule& rule) {
+  const Eigen::Index q = rule.dirs.rows();
+  PairRule r;
+  r.wi.resize(q * q, 3);
+  r.wr.resize(q * q, 3);
+  r.w.resize(q * q);
+  for (Eigen::Index i = 0; i < q; ++i)
+    for (Eigen::Index j = 0; j < q; ++j) {
+      r.wi.row(i * q + j) = rule.dirs.row(i);
+      r.wr.row(i * q + j) = rule.dirs.row(j);
+      r.w[i * q + j] = rule.weights[i] * rule.weights[j];
+    }
+  return r;
+}
 
 }  // namespace icobrdf::test

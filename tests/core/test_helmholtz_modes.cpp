@@ -157,17 +157,8 @@ TEST(HelmholtzModes, OrthonormalByExactProductQuadrature) {
   // the K Gram error at order 64 (test_hemisphere_basis) and the exact orthonormality of the mode
   // coefficient matrices (CoefficientRoundTripAndEnergy, order 64) together imply it for every order <= 64.
   for (int order : {2, 6}) {
-    const auto rule = test::hemisphere_rule_for_order(order);
-    const Eigen::Index q = rule.dirs.rows();
-    RowMatrix3d wi(q * q, 3), wr(q * q, 3);
-    Eigen::VectorXd w(q * q);
-    for (Eigen::Index i = 0; i < q; ++i)
-      for (Eigen::Index j = 0; j < q; ++j) {
-        wi.row(i * q + j) = rule.dirs.row(i);
-        wr.row(i * q + j) = rule.dirs.row(j);
-        w[i * q + j] = rule.weights[i] * rule.weights[j];
-      }
-    const Eigen::MatrixXd b = w.cwiseSqrt().asDiagonal() * helmholtz_modes_eval(order, wi, wr);
+    const auto pairs = test::pair_rule(test::hemisphere_rule_for_order(order));
+    const Eigen::MatrixXd b = pairs.w.cwiseSqrt().asDiagonal() * helmholtz_modes_eval(order, pairs.wi, pairs.wr);
     Eigen::MatrixXd g = Eigen::MatrixXd::Zero(b.cols(), b.cols());
     g.selfadjointView<Eigen::Lower>().rankUpdate(b.transpose());
     g.triangularView<Eigen::StrictlyUpper>() = g.transpose();

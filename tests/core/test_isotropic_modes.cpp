@@ -259,17 +259,8 @@ TEST(IsotropicModes, OrthonormalByExactProductQuadrature) {
   // 108^2 pairs) and 12 (140 modes on 208^2 = 43264 pairs, a 43264 x 140 matrix) are cheap; the general
   // argument is in CoefficientMatricesOrthonormalToOrder128.
   for (int order : {4, 8, 12}) {
-    const auto rule = test::hemisphere_rule_for_order(order);
-    const Eigen::Index q = rule.dirs.rows();
-    RowMatrix3d wi(q * q, 3), wr(q * q, 3);
-    Eigen::VectorXd w(q * q);
-    for (Eigen::Index i = 0; i < q; ++i)
-      for (Eigen::Index j = 0; j < q; ++j) {
-        wi.row(i * q + j) = rule.dirs.row(i);
-        wr.row(i * q + j) = rule.dirs.row(j);
-        w[i * q + j] = rule.weights[i] * rule.weights[j];
-      }
-    const Eigen::MatrixXd b = w.cwiseSqrt().asDiagonal() * isotropic_modes_eval(order, wi, wr);
+    const auto pairs = test::pair_rule(test::hemisphere_rule_for_order(order));
+    const Eigen::MatrixXd b = pairs.w.cwiseSqrt().asDiagonal() * isotropic_modes_eval(order, pairs.wi, pairs.wr);
     const Eigen::MatrixXd g = b.transpose() * b;
     const double err = (g - Eigen::MatrixXd::Identity(b.cols(), b.cols())).cwiseAbs().maxCoeff();
     std::cout << "isotropic order " << order << " (" << b.cols() << " modes): max |G - I| = " << err << "\n";
