@@ -3,12 +3,14 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <iostream>
 #include <memory>
 
 #include "cli/commands.hpp"
 #include "io/brdf_source.hpp"
+#include "io/measured_sources.hpp"
 #include "core/error.hpp"
 #include "core/spectral_fit.hpp"
 #include "io/spectrum_file.hpp"
@@ -66,6 +68,22 @@ void run_fit(const FitArgs& a) {
                    {"anisotropy_fraction", s.anisotropy_fraction},
                    {"max_albedo", s.max_albedo},
                    {"seconds", seconds}};
+  // Scattered-sample fits (MERL, CSV): the least-squares figures, so rank-deficient data is visible.
+  const SampleFitResult* sf = last_sample_fit(*source);
+  const std::int64_t missing = merl_missing_samples(*source);
+  if (sf) {
+    const auto& sv = sf->singular_values;
+    const double cond = sf->effective_rank > 0 ? sv(0) / sv(sf->effective_rank - 1) : 0.0;
+    j["sample_fit"] = {{"samples", sf->samples},
+                       {"unknowns", sf->unknowns},
+                       {"effective_rank", sf->effective_rank},
+                       {"null_space_dimension", sf->null_space_dimension},
+                       {"unseen_modes", sf->unseen_modes},
+                       {"rank_threshold", sf->rank_threshold},
+                       {"condition_of_kept_part", cond},
+                       {"residual_rms", std::vector<double>(sf->residual_rms.data(), sf->residual_rms.data() + sf->residual_rms.size())}};
+  }
+  if (missing >= 0) j["missing_samples"] = missing;
   if (a.json) {
     std::cout << j.dump(2) << "\n";
     return;
@@ -77,6 +95,18 @@ void run_fit(const FitArgs& a) {
             << fmt::format("  Gram error {:.3g} (condition {:.4g}), reciprocity violation {:.3g}, anisotropic energy {:.3g}\n",
                            s.gram_error, ctx.basis.condition, s.reciprocity_violation, s.anisotropy_fraction)
             << fmt::format("  max directional albedo {:.6g}, filter {}, {:.3f} s\n", s.max_albedo, s.filter, seconds);
+  if (sf) {
+    double worst = 0.0;
+    for (Eigen::Index c = 0; c < sf->residual_rms.size(); ++c) worst = std::max(worst, sf->residual_rms(c));
+    std::cout << fmt::format("  sample fit: {} samples, rank {} of {} unknowns (null space {}, unseen modes {}), "
+                             "condition {:.3g}, residual RMS {:.3g} 1/sr (worst channel)\n",
+                             sf->samples, sf->effective_rank, sf->unknowns, sf->null_space_dimension, sf->unseen_modes,
+                             j["sample_fit"]["condition_of_kept_part"].get<double>(), worst);
+    if (sf->null_space_dimension > 0)
+      std::cout << "  warning: the samples do not determine every mode; the minimum-norm solution sets the "
+                << sf->null_space_dimension << " undetermined combination(s) to zero\n";
+  }
+  if (missing >= 0) std::cout << fmt::format("  MERL missing samples (masked, all channels): {}\n", missing);
 }
 
 void add_fit_command(CLI::App& app) {

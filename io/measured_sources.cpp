@@ -252,4 +252,9 @@ const SampleFitResult* last_sample_fit(const BrdfSource& source) {
   return nullptr;
 }
 
+std::int64_t merl_missing_samples(const BrdfSource& source) {
+  if (const auto* m = dynamic_cast<const MerlSource*>(&source)) return m->missing();
+  return -1;
+}
+
 }  // namespace icobrdf

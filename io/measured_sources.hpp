@@ -22,6 +22,7 @@
 //   All three refuse --cosine (UnsupportedError): their expansions are of f; a low-pass filter applies after the fit.
 // Evaluation (eval()): MERL looks the table up (NaN at missing samples); SCATMECH evaluates its spectrum
 // at its own order; CSV samples throw ArgumentError (the samples must be fitted first).
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -37,5 +38,8 @@ std::unique_ptr<BrdfSource> open_measured_source(const std::string& text);
 // Figures of the last sample fit of a MERL or CSV source (for reports): nullptr for other sources or
 // before fit() was called.
 const SampleFitResult* last_sample_fit(const BrdfSource& source);
+
+// Missing samples (all channels) of a MERL source's table; -1 for other sources.
+std::int64_t merl_missing_samples(const BrdfSource& source);
 
 }  // namespace icobrdf

@@ -23,14 +23,17 @@ using icobrdf::test::TempDir;
 constexpr double kFitTol = 1e-10;
 
 // A MERL file of the Lambertian f = albedo/pi: stored value f / scale_c (R 1/1500, G 1.15/1500, B 1.66/1500).
-void write_lambert_merl(const std::string& path, double albedo, std::int64_t drop_bytes = 0) {
+// With missing_every = k > 0, every k-th sample of each channel is stored as -1 (missing).
+void write_lambert_merl(const std::string& path, double albedo, std::int64_t drop_bytes = 0, std::int64_t missing_every = 0) {
   std::ofstream o(path, std::ios::binary);
   const std::int32_t dims[3] = {90, 90, 180};
   o.write(reinterpret_cast<const char*>(dims), 12);
   const double scale[3] = {1.0 / 1500, 1.15 / 1500, 1.66 / 1500};
   const std::int64_t n = 90 * 90 * 180;
   for (int c = 0; c < 3; ++c) {
-    const std::vector<double> v(static_cast<size_t>(n), albedo / M_PI / scale[c]);
+    std::vector<double> v(static_cast<size_t>(n), albedo / M_PI / scale[c]);
+    if (missing_every > 0)
+      for (std::int64_t k = 0; k < n; k += missing_every) v[static_cast<size_t>(k)] = -1.0;
     o.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(8 * n - (c == 2 ? drop_bytes : 0)));
   }
 }
@@ -83,6 +86,59 @@ TEST(CliMeasured, MerlFitAndExport) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("choose one with --channel"), std::string::npos) << r.err;
   EXPECT_TRUE(slurp(d.file("no.csv")).empty());
+}
+
+// Isotropic modes up to order N (SPEC-NOTES, eqs. 22-23): n >= m >= l >= 0, n <= N, n - l and m - l even.
+int isotropic_mode_count(int order) {
+  int count = 0;
+  for (int n = 0; n <= order; ++n)
+    for (int m = 0; m <= n; ++m)
+      for (int l = 0; l <= m; ++l) count += (n - l) % 2 == 0 && (m - l) % 2 == 0;
+  return count;
+}
+
+TEST(CliMeasured, MerlFitReportsMissingSamplesRankAndResidual) {
+  TempDir d;
+  // Every 1000th of the 90*90*180 = 1458000 samples per channel missing: ceil(1458000 / 1000) = 1458 each.
+  write_lambert_merl(d.file("holes.binary"), 0.5, 0, 1000);
+  auto r = run_cli({"fit", d.file("holes.binary"), "--order", "4", "--level", "3", "-o", d.file("x.h5"), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["missing_samples"], 3 * 1458);
+  const auto& sf = j["sample_fit"];
+  EXPECT_EQ(sf["unknowns"], isotropic_mode_count(4));
+  // About a million well-spread nodes determine every isotropic mode of order 4: full rank.
+  EXPECT_EQ(sf["effective_rank"], isotropic_mode_count(4));
+  EXPECT_EQ(sf["null_space_dimension"], 0);
+  // A constant is in the span: the residual is rounding.
+  for (const auto& rms : sf["residual_rms"]) EXPECT_LT(rms.get<double>(), kFitTol);
+  // Fewer nodes than the full table: the missing ones and those below the horizon are excluded.
+  EXPECT_LT(sf["samples"].get<long long>(), 1458000 - 1458 + 1);
+  EXPECT_GT(sf["samples"].get<long long>(), 0);
+  // The text output names them too.
+  r = run_cli({"fit", d.file("holes.binary"), "--order", "4", "--level", "3", "-o", d.file("y.h5")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("MERL missing samples (masked, all channels): 4374"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("rank 14 of 14 unknowns"), std::string::npos) << r.out;
+}
+
+TEST(CliMeasured, PlaneOfIncidenceSamplesAreRankDeficientAndSaySo) {
+  TempDir d;
+  // Samples only in the plane of incidence (phi_r - phi_i in {0, 180}) do not see the sin(l phi) modes of the
+  // general Helmholtz basis: the fit must report a null space and warn.
+  std::ofstream o(d.file("p.csv"));
+  o << "theta_i,phi_i,theta_r,phi_r,value\n";
+  std::mt19937 g(3);
+  std::uniform_real_distribution<double> th(0, 89);
+  for (int k = 0; k < 400; ++k) o << th(g) << ",0," << th(g) << "," << (k % 2 ? 180 : 0) << "," << 0.3 / M_PI << "\n";
+  o.close();
+  const auto r = run_cli({"fit", d.file("p.csv"), "--order", "2", "--level", "2", "-o", d.file("p.h5"), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto sf = nlohmann::json::parse(r.out)["sample_fit"];
+  EXPECT_GT(sf["null_space_dimension"].get<int>(), 0);
+  EXPECT_EQ(sf["effective_rank"].get<int>() + sf["null_space_dimension"].get<int>(), sf["unknowns"].get<int>());
+  const auto t = run_cli({"fit", d.file("p.csv"), "--order", "2", "--level", "2", "-o", d.file("q.h5")});
+  EXPECT_NE(t.out.find("warning: the samples do not determine every mode"), std::string::npos) << t.out;
 }
 
 TEST(CliMeasured, BadMerlFailsWithoutOutput) {
