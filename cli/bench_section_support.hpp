@@ -1,0 +1,152 @@
+#pragma once
+// Shared pieces of the report sections measured apart from the sweep (cli/bench_baselines.cpp,
+// cli/bench_hard_cases.cpp): markdown tables, number formatting, timing, and the stand-alone subcommand
+//   icobrdf bench NAME [--levels 1..5] [--orders 0..32] [--quick] [--json] [--report DIR] [--threads T]
+// that runs one section and prints its markdown (or its JSON data), the same section `bench sweep` includes.
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+#include <omp.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cli/bench_commands.hpp"
+#include "core/error.hpp"
+
+namespace icobrdf::cli::section {
+
+// Wall-clock seconds of one call.
+template <class F>
+double seconds_of(F&& f) {
+  const auto t0 = std::chrono::steady_clock::now();
+  f();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// "1.23e-04"; "inf"/"nan" spelled out; exact zero as "0".
+inline std::string sci(double x, int digits = 2) {
+  if (std::isnan(x)) return "nan";
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  if (x == 0.0) return "0";
+  return fmt::format("{:.{}e}", x, digits);
+}
+inline std::string fixed(double x, int digits = 3) { return fmt::format("{:.{}f}", x, digits); }
+
+// A GitHub-markdown table.
+inline std::string md_table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows) {
+  std::string s = "|";
+  for (const auto& h : header) s += " " + h + " |";
+  s += "\n|";
+  for (size_t k = 0; k < header.size(); ++k) s += "---|";
+  s += "\n";
+  for (const auto& r : rows) {
+    s += "|";
+    for (const auto& c : r) s += " " + c + " |";
+    s += "\n";
+  }
+  return s + "\n";
+}
+
+// JSON cannot hold inf/nan: such values become null.
+inline nlohmann::json num(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+
+// "a..b" (inclusive) or "a,b,c"; every value in [lo, hi]; ArgumentError otherwise.
+inline std::vector<int> parse_int_range(const std::string& text, int lo, int hi, const std::string& what) {
+  std::vector<int> v;
+  const auto bad = [&] {
+    return ArgumentError(fmt::format("{}: expected 'a..b' or a comma list of integers in [{}, {}], got '{}'", what, lo, hi, text));
+  };
+  try {
+    const auto dots = text.find("..");
+    if (dots != std::string::npos) {
+      size_t p1 = 0, p2 = 0;
+      const int a = std::stoi(text.substr(0, dots), &p1), b = std::stoi(text.substr(dots + 2), &p2);
+      if (p1 != dots || p2 != text.size() - dots - 2 || a > b) throw bad();
+      for (int k = a; k <= b; ++k) v.push_back(k);
+    } else {
+      size_t start = 0;
+      while (start <= text.size()) {
+        const auto comma = text.find(',', start);
+        const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        size_t p = 0;
+        v.push_back(std::stoi(item, &p));
+        if (p != item.size()) throw bad();
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+      }
+    }
+  } catch (const std::logic_error&) {  // stoi's invalid_argument / out_of_range
+    throw bad();
+  }
+  if (v.empty()) throw bad();
+  for (int x : v)
+    if (x < lo || x > hi) throw bad();
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+  return v;
+}
+
+struct SubcommandDefaults {
+  std::string levels, orders;              // full run
+  std::string quick_levels, quick_orders;  // --quick
+  int max_level = 6, max_order = 128;
+};
+
+// Adds `bench NAME` running `run` once with the parsed options. Output: "# title" + markdown, or with
+// --json {"section", "title", "figures", "data"}; with --report DIR, also DIR/NAME.md and DIR/NAME.json
+// (and the figures, which the section writes there). Everything is computed before anything is printed.
+inline void add_section_subcommand(CLI::App& bench, const std::string& name, const std::string& description,
+                                   const SubcommandDefaults& defaults, ReportSectionRunner run) {
+  struct Args {
+    std::string levels, orders, report;
+    bool quick = false, json = false;
+    int threads = 0;
+  };
+  auto a = std::make_shared<Args>();
+  auto* cmd = bench.add_subcommand(name, description);
+  cmd->add_option("--levels", a->levels, "Tessellation levels, 'a..b' or a list (default " + defaults.levels + ", quick " + defaults.quick_levels + ")");
+  cmd->add_option("--orders", a->orders, "Expansion orders, 'a..b' or a list (default " + defaults.orders + ", quick " + defaults.quick_orders + ")");
+  cmd->add_flag("--quick", a->quick, "Small sizes (seconds): smoke runs and tests");
+  cmd->add_flag("--json", a->json, "Print the section's data as JSON instead of markdown");
+  cmd->add_option("--report", a->report, "Folder for the section's markdown, JSON and PNG figures (created if missing)");
+  cmd->add_option("--threads,-t", a->threads, "Threads (default: all cores)")->check(CLI::Range(0, 1024));
+  cmd->callback([a, name, defaults, run] {
+    SectionOptions o;
+    o.quick = a->quick;
+    o.levels = parse_int_range(a->levels.empty() ? (a->quick ? defaults.quick_levels : defaults.levels) : a->levels, 0,
+                               defaults.max_level, "--levels");
+    o.orders = parse_int_range(a->orders.empty() ? (a->quick ? defaults.quick_orders : defaults.orders) : a->orders, 0,
+                               defaults.max_order, "--orders");
+    o.threads = a->threads > 0 ? a->threads : omp_get_num_procs();
+    omp_set_num_threads(o.threads);
+    Eigen::setNbThreads(o.threads);
+    if (!a->report.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(a->report, ec);
+      if (ec || !std::filesystem::is_directory(a->report))
+        throw IoError("bench " + name + ": cannot create report folder '" + a->report + "': " + ec.message());
+      o.report_dir = a->report;
+    }
+    const ReportSection s = run(o);
+    const nlohmann::json j{{"section", name}, {"title", s.title}, {"figures", s.figures}, {"data", s.data}};
+    const std::string md = "# " + s.title + "\n\n" + s.markdown;
+    if (!o.report_dir.empty()) {
+      std::ofstream(o.report_dir / (name + ".md")) << md;
+      std::ofstream(o.report_dir / (name + ".json")) << j.dump(2) << "\n";
+    }
+    if (a->json)
+      std::cout << j.dump(2) << "\n";
+    else
+      std::cout << md;
+  });
+}
+
+}  // namespace icobrdf::cli::section
