@@ -158,6 +158,9 @@ void write_material(h5::Group& materials, const MaterialRecord& rec) {
         dst = rec.lut[c].cast<float>();
         err = std::max(err, (dst.cast<double>() - rec.lut[c]).cwiseAbs().maxCoeff());
       }
+      // A record read from a float32 LUT (resumed builds, bank extract) holds already rounded values, which
+      // round again exactly: keep the rounding error recorded against the original values.
+      if (rec.lut_max_rounding_error >= 0) err = std::max(err, rec.lut_max_rounding_error);
       g.write("lut", f.data(), Shape{u(ch), u(cells), u(cells)}, "1/sr", what + " (float32)");
       // The rounding error is a material attribute (docs/file-format.md), next to the float32 dataset.
       g.set_attr("lut_max_abs_rounding_error", err);
