@@ -31,6 +31,7 @@
 #include "core/reference_grids.hpp"
 #include "core/streaming_projection.hpp"
 #include "mesh/tessellation.hpp"
+#include "plot/line_chart.hpp"
 
 namespace icobrdf::cli {
 namespace {
@@ -45,6 +46,8 @@ constexpr int kNeededOrders[] = {4, 8, 12, 16};
 // Gauss points per direction in a lat-long cell: degree 2*5-1 = 9 in cos(theta) and phi, as the degree-9
 // rule of the icosahedral cells.
 constexpr int kLatLongPoints = 5;
+// Floor of the log-scale figures: Gram errors of exact rules are rounding, shown at machine epsilon.
+constexpr double kEps = std::numeric_limits<double>::epsilon();
 // Timed repetitions of each path in the direct-vs-matrix comparison (the best is reported; the first run
 // also pays for thread start-up and first touch of the buffers).
 constexpr int kRepeats = 2;
@@ -56,6 +59,7 @@ struct GridRun {
   std::string size;   // "level 3" or "rings x azimuths"
   int level = 0;      // tessellation level whose cell count it matches
   int cells = 0;
+  int rings = 0, azimuths = 0;  // lat-long bands x sectors, polar-gauss rings x azimuths (0 for the others)
   Eigen::Index points = 0;
   double grid_seconds = 0.0, basis_seconds = 0.0;
   std::vector<double> gram;           // max|G - I| per order 0..max order
@@ -233,8 +237,12 @@ ReportSection run_baselines(const SectionOptions& o) {
     const int k = std::max(1, static_cast<int>(std::lround(std::sqrt(ea.cells() / 4.0))));
     runs.push_back(measure_grid("lat-long", fmt::format("{} x {}", k, 4 * k), level,
                                 [&] { return build_lat_long_grid(k, 4 * k, kLatLongPoints); }, max_order, cond_orders));
+    runs.back().rings = k;
+    runs.back().azimuths = 4 * k;
     runs.push_back(measure_grid("polar-gauss", fmt::format("{} x {}", k, 4 * k), level,
                                 [&] { return build_polar_gauss_grid(k, 4 * k); }, max_order, cond_orders));
+    runs.back().rings = k;
+    runs.back().azimuths = 4 * k;
   }
   const std::vector<std::string> kinds = {"equal-area", "equal-area-centre", "geodesic", "lat-long", "polar-gauss"};
 
@@ -277,12 +285,39 @@ ReportSection run_baselines(const SectionOptions& o) {
                      {"size", r.size},
                      {"level", r.level},
                      {"cells", r.cells},
+                     {"rings", r.rings},
+                     {"azimuths", r.azimuths},
                      {"points", r.points},
                      {"grid_seconds", r.grid_seconds},
                      {"basis_seconds", r.basis_seconds},
                      {"gram_error", gram},
                      {"condition", cond},
                      {"largest_supported_order", largest}});
+  }
+  if (!o.report_dir.empty()) {  // figure: Gram error vs cells, one chart per order (log-log)
+    for (int n : kNeededOrders) {
+      if (n > max_order) continue;
+      std::vector<plot::Series> series;
+      for (const auto& kind : kinds) {
+        plot::Series sr;
+        sr.label = kind;
+        for (const auto& r : runs)
+          if (r.kind == kind) {
+            sr.x.push_back(r.cells);
+            sr.y.push_back(std::max(r.gram[static_cast<size_t>(n)], kEps));
+          }
+        series.push_back(sr);
+      }
+      plot::ChartOptions co;
+      co.title = fmt::format("Gram error vs cells, order {}", n);
+      co.x_label = "cells";
+      co.y_label = "max|G - I|";
+      co.log_x = co.log_y = true;
+      co.note = "values below machine epsilon shown at epsilon (exact rules)";
+      const std::string file = fmt::format("baselines_gram_vs_cells_N{}.png", n);
+      plot::draw_line_chart(series, co, (o.report_dir / file).string());
+      s.figures.push_back(file);
+    }
   }
   s.data["max_order"] = max_order;
   s.data["grids"] = jruns;
@@ -336,6 +371,8 @@ ReportSection run_baselines(const SectionOptions& o) {
         rows.push_back(a);
       }
     }
+    for (const auto& f : s.figures) md += "![" + f + "](" + f + ")\n";
+    if (!s.figures.empty()) md += "\n";
     md += "### Cells needed for a Gram error\n\n"
           "Smallest built size meeting the tolerance, with the log-log interpolation between it and the size "
           "before in parentheses (the Gram error of cell averages falls as a power of the cell size). "
