@@ -335,17 +335,21 @@ nlohmann::json fresnel_cases(bool quick, std::string& md) {
 }
 
 // ---------------------------------------------------------------------------------------------------
-// 4. Dynamic range: f = w lambert + beckmann(alpha = 0.3), w chosen so that the Lambertian level w/pi is 1e-4
-// of the lobe's peak f_lobe(n, n) (normal incidence, mirror direction). The lobe is Beckmann because its
-// tail falls as exp(-tan^2(theta_h)/alpha^2): GGX's tail D(90 deg)/D(0) = alpha^4 (1.6e-3 at alpha 0.2)
-// stays above 1e-4 of the peak everywhere, so a GGX lobe leaves no background region. The reconstruction of order N has
+// 4. Dynamic range: f = w lambert + phong(n = 20), w chosen so that the Lambertian level w/pi is 1e-4 of the
+// lobe's peak (n + 2)/(2 pi) (reached in the mirror direction at every incidence). A reciprocal Phong lobe
+// because its peak is the same at every incidence and its tail cos^n vanishes beyond 90 deg from the mirror
+// direction; a GGX lobe has neither: its tail D(90 deg)/D(0) = alpha^4 (1.6e-3 at alpha 0.2) stays above
+// 1e-4 of the peak everywhere, and its values grow towards grazing as 1/(cos_i cos_r). The reconstruction of order N has
 // a truncation error spread over the whole domain (ringing); if its size in the lobe, |e_lobe|, exceeds the
 // background level, the background is swamped. Expected background relative error ~ RMS |e| / background.
 constexpr double kDynamicRange = 1e4;
-constexpr double kLobeAlpha = 0.3;
+constexpr int kLobeExponent = 20;
+// Half-angle of the cone around the mirror direction where half the held-out pairs lie [rad]:
+// cos^20(0.6) = 4.6e-4, the cone covers the lobe down to its 1e-3 level.
+constexpr double kLobeCone = 0.6;
 
 nlohmann::json dynamic_range(bool quick, std::string& md) {
-  const auto lobe_model = std::shared_ptr<const BrdfModel>(parse_model("beckmann:alpha=" + format_parameter(kLobeAlpha)));
+  const auto lobe_model = std::shared_ptr<const BrdfModel>(parse_model("phong:n=" + std::to_string(kLobeExponent)));
   const auto lambert = std::shared_ptr<const BrdfModel>(parse_model("lambert"));
   const Eigen::Vector3d nz(0, 0, 1);
   const double peak = lobe_model->eval(nz, nz);
@@ -364,7 +368,7 @@ nlohmann::json dynamic_range(bool quick, std::string& md) {
     const Eigen::Vector3d wi = uniform_direction(rng, 0.5, 1.0);
     const Eigen::Vector3d m = mirror_direction(wi);
     const Eigen::Vector3d a = m.unitOrthogonal(), b = m.cross(a);
-    const double ang = 2.0 * kLobeAlpha * std::sqrt(u(rng)), az = 2.0 * M_PI * u(rng);
+    const double ang = kLobeCone * std::sqrt(u(rng)), az = 2.0 * M_PI * u(rng);
     Eigen::Vector3d wr = std::cos(ang) * m + std::sin(ang) * (std::cos(az) * a + std::sin(az) * b);
     if (wr.z() < 0.0) wr.z() = -wr.z();
     v.push_back({wi, wr.normalized()});
@@ -419,14 +423,15 @@ nlohmann::json dynamic_range(bool quick, std::string& md) {
   }
   md += fmt::format(
       "### Dynamic range 1e4 between lobe and background\n\n"
-      "f = {:.4g} lambert + beckmann (alpha {}): the Lambertian level {:.4g} /sr is 1e-4 of the lobe's peak {:.4g} /sr "
-      "(normal incidence, mirror direction). Fitted at level {} (centre-sampled, {} cells); {} held-out pairs "
+      "f = {:.4g} lambert + phong (n = {}): the Lambertian level {:.4g} /sr is 1e-4 of the lobe's peak {:.4g} /sr "
+      "(the mirror direction, at every incidence). Fitted at level {} (centre-sampled, {} cells); {} held-out pairs "
       "(half uniform, half within {} rad of the mirror direction): {} in the lobe region (lobe term >= 10% of its peak), "
-      "{} in the background region (lobe term <= 10% of the background). A Beckmann lobe because GGX's tail, "
-      "alpha^4 of its peak at a half-angle of 90 deg, stays above 1e-4 of the peak everywhere. Expected: the truncation error of the "
+      "{} in the background region (lobe term <= 10% of the background). A reciprocal Phong lobe because its "
+      "peak is the same at every incidence and its tail vanishes; a GGX lobe's tail, alpha^4 of its peak at a "
+      "half-angle of 90 deg, stays above 1e-4 of the peak everywhere. Expected: the truncation error of the "
       "lobe rings over the whole domain, so the background's relative error is about the lobe's RMS absolute "
       "error divided by the background level (column 'predicted').\n\n",
-      w, kLobeAlpha, background, peak, level, grid->cells(), 2 * n, 2 * kLobeAlpha, lobe.size(), bg.size());
+      w, kLobeExponent, background, peak, level, grid->cells(), 2 * n, kLobeCone, lobe.size(), bg.size());
   md += md_table({"order", "lobe rel. RMS error", "lobe RMS error / peak", "background rel. RMS error", "predicted", "background min / background",
                   "background < 0", "min f / peak"},
                  rows);
