@@ -129,10 +129,15 @@ void read_basis(const h5::Group& g, const std::string& prefix, int depth, const 
   }
 }
 
-// "MAJOR.MINOR" with decimal digits; false otherwise.
+// Most digits of a version part: any such number fits an int.
+constexpr size_t kMaxVersionDigits = 9;
+
+// "MAJOR.MINOR" with decimal digits (at most kMaxVersionDigits each); false otherwise.
 bool parse_version(const std::string& v, int* major, int* minor) {
   const auto dot = v.find('.');
-  if (dot == std::string::npos || dot == 0 || dot + 1 == v.size() || v.size() > 16) return false;
+  if (dot == std::string::npos || dot == 0 || dot + 1 == v.size() || dot > kMaxVersionDigits ||
+      v.size() - dot - 1 > kMaxVersionDigits)
+    return false;
   for (size_t i = 0; i < v.size(); ++i)
     if (i != dot && !(v[i] >= '0' && v[i] <= '9')) return false;
   *major = std::stoi(v.substr(0, dot));
