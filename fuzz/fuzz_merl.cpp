@@ -6,8 +6,9 @@
 //   odd:  bytes 1..12 are the header, the bytes after them are repeated to fill the 3 x 90 x 90 x 180
 //         doubles (zeros when there are none), and (first byte >> 1) trailing bytes are appended; this reaches
 //         the sample checks (NaN / Inf, -1 sentinels, all samples missing) and the trailing-bytes check.
-// On success the samples are also extracted (merl_samples) and every value checked: finite and >= 0, or NaN
-// exactly where the table counts a missing sample.
+// On success every value is checked: finite and >= 0, or NaN exactly where the table counts a missing sample.
+// (merl_samples is not run: it only walks the validated table, and at full size it would take seconds per
+// input under the sanitizers.)
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -47,8 +48,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, size_t size) {
       else if (!(std::isfinite(v) && v >= 0)) fuzz::finding("read_merl returned a value " + std::to_string(v));
     }
     if (missing != t.missing_total()) fuzz::finding("missing-sample count disagrees with the NaN entries");
-    const MerlSamples s = merl_samples(t);
-    if (!s.values.allFinite() || !s.weights.allFinite()) fuzz::finding("merl_samples returned a non-finite value");
   });
   return 0;
 }

@@ -51,4 +51,29 @@ TEST(BankFuzzRegressions, VersionNumbersBeyondIntAreInputErrors) {
   }
 }
 
+// Link names and string attributes may hold control bytes; they used to reach the message verbatim, so a
+// newline in a link name made the InputError span several lines. They are now written as \xHH.
+TEST(BankFuzzRegressions, ControlBytesInNamesAndValuesKeepMessagesOnOneLine) {
+  ScratchDir dir;
+  const std::string path = dir / "bank.h5";
+  write_small_bank(path);
+  {
+    const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    ASSERT_GE(H5Lcreate_soft("/materials", f, "a\nb", H5P_DEFAULT, H5P_DEFAULT), 0);
+    ASSERT_GE(H5Fclose(f), 0);
+  }
+  auto r = icobrdf::test::run_in_child([&] { icobrdf::read_bank(path); }, kChildTimeoutSeconds);
+  EXPECT_EQ(r.kind, "InputError") << r.message;
+  EXPECT_NE(r.message.find("/a\\x0ab: expected a hard link, found a soft link"), std::string::npos) << r.message;
+  EXPECT_EQ(r.message.find('\n'), std::string::npos) << r.message;
+
+  write_small_bank(path);
+  set_root_string_attr(path, "format", "icobrdf\r\nbank");
+  r = icobrdf::test::run_in_child([&] { icobrdf::read_bank(path); }, kChildTimeoutSeconds);
+  EXPECT_EQ(r.kind, "InputError") << r.message;
+  EXPECT_NE(r.message.find("found 'icobrdf\\x0d\\x0abank'"), std::string::npos) << r.message;
+  EXPECT_EQ(r.message.find('\n'), std::string::npos) << r.message;
+}
+
 }  // namespace
