@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/lambert_map.hpp"
@@ -59,6 +60,8 @@ BasisIndex ansi_to_nl(int j) {
 
 namespace {
 
+inline int radial_start(int n) { return (n + 1) * (n + 1) / 4; }
+
 // K_j(unit_dir) for j < count(order), no argument checks (order valid, z checked by the caller).
 void eval_unchecked(int order, const Eigen::Vector3d& unit_dir, double* out) {
   std::array<double, kMaxRadial> radial;
@@ -92,6 +95,84 @@ void eval_unchecked(int order, const Eigen::Vector3d& unit_dir, double* out) {
 
 }  // namespace
 
+int hemisphere_basis_lanes_scratch(int order) {
+  check_order(order, "hemisphere_basis_lanes_scratch");
+  return (radial_start(order + 1) + 2 * order + 1) * kBasisLanes;
+}
+
+// The recurrences of eval_unchecked, lanes innermost so that they vectorize.
+void hemisphere_basis_eval_lanes(int order, const double* x, const double* y, const double* z, const double* w,
+                                 double* scratch, double* __restrict out, bool accumulate) {
+  double* __restrict rad = scratch;
+  double* __restrict az = scratch + radial_start(order + 1) * kBasisLanes;
+  const double* norm = kNorm.data();
+  alignas(32) double rho[kBasisLanes], c1[kBasisLanes], s1[kBasisLanes], c[kBasisLanes], sn[kBasisLanes];
+  for (int k = 0; k < kBasisLanes; ++k) {
+    const double zc = z[k] < 0.0 ? 0.0 : z[k];
+    const double h2 = x[k] * x[k] + y[k] * y[k];
+    const double r2 = h2 / (1.0 + zc);  // rho^2 = 1 - cos(theta), without cancellation (core/lambert_map.hpp)
+    rho[k] = std::sqrt(r2 > 1.0 ? 1.0 : r2);
+    const double s = std::sqrt(h2);
+    c1[k] = s > 0.0 ? x[k] / s : 1.0;
+    s1[k] = s > 0.0 ? y[k] / s : 0.0;
+  }
+  // Zernike radial rows (packed as in core/zernike.hpp), times kBasisLanes.
+  for (int k = 0; k < kBasisLanes; ++k) {
+    rad[k] = 1.0;
+    if (order > 0) rad[kBasisLanes + k] = rho[k];
+  }
+  for (int n = 2; n <= order; ++n) {
+    double* __restrict cur = rad + radial_start(n) * kBasisLanes;
+    const double* __restrict prev = rad + radial_start(n - 1) * kBasisLanes;
+    const double* __restrict prev2 = rad + radial_start(n - 2) * kBasisLanes;
+    const int last = n / 2;
+    if (n % 2 == 0) {
+      for (int k = 0; k < kBasisLanes; ++k) cur[k] = 2.0 * rho[k] * prev[k] - prev2[k];
+      for (int i = 1; i < last; ++i)
+        for (int k = 0; k < kBasisLanes; ++k)
+          cur[i * kBasisLanes + k] = rho[k] * (prev[(i - 1) * kBasisLanes + k] + prev[i * kBasisLanes + k]) - prev2[i * kBasisLanes + k];
+      for (int k = 0; k < kBasisLanes; ++k) cur[last * kBasisLanes + k] = rho[k] * prev[(last - 1) * kBasisLanes + k];
+    } else {
+      for (int i = 0; i < last; ++i)
+        for (int k = 0; k < kBasisLanes; ++k)
+          cur[i * kBasisLanes + k] = rho[k] * (prev[i * kBasisLanes + k] + prev[(i + 1) * kBasisLanes + k]) - prev2[i * kBasisLanes + k];
+      for (int k = 0; k < kBasisLanes; ++k) cur[last * kBasisLanes + k] = rho[k] * prev[last * kBasisLanes + k];
+    }
+  }
+  // Weighted azimuthal factors: az[(order + l) kBasisLanes + lane] = w az_l(phi), by complex multiplication.
+  for (int k = 0; k < kBasisLanes; ++k) {
+    az[order * kBasisLanes + k] = w[k] * M_SQRT1_2;
+    c[k] = 1.0;
+    sn[k] = 0.0;
+  }
+  for (int l = 1; l <= order; ++l)
+    for (int k = 0; k < kBasisLanes; ++k) {
+      const double c_next = c[k] * c1[k] - sn[k] * s1[k];
+      sn[k] = sn[k] * c1[k] + c[k] * s1[k];
+      c[k] = c_next;
+      az[(order + l) * kBasisLanes + k] = w[k] * c[k];
+      az[(order - l) * kBasisLanes + k] = w[k] * sn[k];
+    }
+  for (int n = 0; n <= order; ++n) {
+    const double nn = norm[n];
+    const double* row = rad + radial_start(n) * kBasisLanes;
+    double* o = out + n * (n + 1) / 2 * kBasisLanes;
+    const double* a = az + (order - n) * kBasisLanes;  // a[2e kBasisLanes] = w az_l for l = -n + 2e
+    const int neg = (n + 1) / 2;
+    if (accumulate) {
+      for (int e = 0; e < neg; ++e)
+        for (int k = 0; k < kBasisLanes; ++k) o[e * kBasisLanes + k] += nn * row[(n / 2 - e) * kBasisLanes + k] * a[2 * e * kBasisLanes + k];
+      for (int e = neg; e <= n; ++e)
+        for (int k = 0; k < kBasisLanes; ++k) o[e * kBasisLanes + k] += nn * row[(e - neg) * kBasisLanes + k] * a[2 * e * kBasisLanes + k];
+    } else {
+      for (int e = 0; e < neg; ++e)
+        for (int k = 0; k < kBasisLanes; ++k) o[e * kBasisLanes + k] = nn * row[(n / 2 - e) * kBasisLanes + k] * a[2 * e * kBasisLanes + k];
+      for (int e = neg; e <= n; ++e)
+        for (int k = 0; k < kBasisLanes; ++k) o[e * kBasisLanes + k] = nn * row[(e - neg) * kBasisLanes + k] * a[2 * e * kBasisLanes + k];
+    }
+  }
+}
+
 void hemisphere_basis_eval(int order, const Eigen::Vector3d& unit_dir, double* out) {
   check_order(order, "hemisphere_basis_eval");
   eval_unchecked(order, unit_dir, out);
@@ -107,18 +188,31 @@ Eigen::MatrixXd hemisphere_basis_matrix(int order, const RowMatrix3d& dirs) {
                           std::to_string(dirs(r, 0)) + ", " + std::to_string(dirs(r, 1)) + ", " +
                           std::to_string(dirs(r, 2)) + ") is not a finite direction with z >= 0");
   Eigen::MatrixXd out(rows, count);
-  // Blocks of rows are evaluated into a row-major buffer and copied into the column-major result, which
-  // keeps the transposition cache-friendly.
+  // Blocks of rows are evaluated kBasisLanes directions at a time into a lane-interleaved buffer and copied
+  // into the column-major result (each mode's values for a block are then contiguous in the output).
   constexpr Eigen::Index kBlock = 32;
   const Eigen::Index blocks = (rows + kBlock - 1) / kBlock;
+  static const double kOnes[kBasisLanes] = {1.0, 1.0, 1.0, 1.0};
 #pragma omp parallel if (rows * count > 200000)
   {
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> buf(kBlock, count);
+    std::vector<double> scratch(static_cast<size_t>(hemisphere_basis_lanes_scratch(order)));
+    std::vector<double> k(static_cast<size_t>(count * kBasisLanes));
 #pragma omp for schedule(static)
     for (Eigen::Index b = 0; b < blocks; ++b) {
       const Eigen::Index r0 = b * kBlock, nr = std::min(kBlock, rows - r0);
-      for (Eigen::Index r = 0; r < nr; ++r) eval_unchecked(order, dirs.row(r0 + r).transpose(), buf.row(r).data());
-      out.middleRows(r0, nr) = buf.topRows(nr);
+      for (Eigen::Index g0 = 0; g0 < nr; g0 += kBasisLanes) {
+        alignas(32) double x[kBasisLanes], y[kBasisLanes], z[kBasisLanes];
+        const int lanes = static_cast<int>(std::min<Eigen::Index>(kBasisLanes, nr - g0));
+        for (int l = 0; l < kBasisLanes; ++l) {
+          const Eigen::Index r = r0 + g0 + std::min(l, lanes - 1);  // short group: repeat the last direction
+          x[l] = dirs(r, 0);
+          y[l] = dirs(r, 1);
+          z[l] = dirs(r, 2);
+        }
+        hemisphere_basis_eval_lanes(order, x, y, z, kOnes, scratch.data(), k.data(), false);
+        for (int j = 0; j < count; ++j)
+          for (int l = 0; l < lanes; ++l) out(r0 + g0 + l, j) = k[static_cast<size_t>(j) * kBasisLanes + l];
+      }
     }
   }
   return out;

@@ -39,6 +39,17 @@ BasisIndex ansi_to_nl(int j);
 // out[j] = K_j(unit_dir) for j < hemisphere_basis_count(order).
 void hemisphere_basis_eval(int order, const Eigen::Vector3d& unit_dir, double* out);
 
+// Lane-parallel form for batch code: kBasisLanes directions (x[l], y[l], z[l]) at once, with a factor each:
+//   out[j * kBasisLanes + l] (+)= scale[l] * K_j(direction l)   for j < hemisphere_basis_count(order),
+// added to out when `accumulate` (cell averages), else written.
+// No checks (batch callers validate): order in [0, 128]; unit vectors with z >= -1e-12 (z < 0 is taken as
+// 0); scratch holds hemisphere_basis_lanes_scratch(order) doubles. Same recurrences as hemisphere_basis_eval
+// (results equal to rounding), laid out so that the compiler vectorizes over the lanes.
+inline constexpr int kBasisLanes = 4;
+int hemisphere_basis_lanes_scratch(int order);
+void hemisphere_basis_eval_lanes(int order, const double* x, const double* y, const double* z, const double* scale,
+                                 double* scratch, double* out, bool accumulate = false);
+
 // dirs.rows() x hemisphere_basis_count(order): row r holds every K_j at direction r.
 Eigen::MatrixXd hemisphere_basis_matrix(int order, const RowMatrix3d& dirs);
 

@@ -27,41 +27,55 @@ Eigen::VectorXd cell_mean_cosines(const Grid& g) {
 
 void sample_lut_rows(const BrdfModel& model, const Grid& g, bool cosine, LutSampling sampling, int row_begin, int row_end,
                      std::vector<Eigen::MatrixXd>& out) {
-  const int cells = g.cells(), rows = row_end - row_begin, ch = model.channels();
+  std::vector<int> rows(static_cast<size_t>(std::max(0, row_end - row_begin)));
+  for (size_t i = 0; i < rows.size(); ++i) rows[i] = row_begin + static_cast<int>(i);
+  sample_lut_rows(model, g, cosine, sampling, rows, out);
+}
+
+void sample_lut_rows(const BrdfModel& model, const Grid& g, bool cosine, LutSampling sampling, const std::vector<int>& row_cells,
+                     std::vector<Eigen::MatrixXd>& out) {
+  const int cells = g.cells(), rows = static_cast<int>(row_cells.size()), ch = model.channels();
+  for (int cell : row_cells)
+    if (cell < 0 || cell >= cells)
+      throw ArgumentError("LUT rows: cell " + std::to_string(cell) + " is outside [0, " + std::to_string(cells) + ")");
   out.assign(static_cast<size_t>(ch), Eigen::MatrixXd::Zero(rows, cells));
   if (sampling == LutSampling::CellCentre) {
-    RowMatrix3d wi(static_cast<Eigen::Index>(rows) * cells, 3), wr(static_cast<Eigen::Index>(rows) * cells, 3);
-    for (int i = 0; i < rows; ++i)
-      for (int r = 0; r < cells; ++r) {
-        wi.row(static_cast<Eigen::Index>(i) * cells + r) = g.directions.row(row_begin + i);
-        wr.row(static_cast<Eigen::Index>(i) * cells + r) = g.directions.row(r);
-      }
-    Eigen::MatrixXd f(wi.rows(), ch);
-    model.eval(wi, wr, f);
-    for (int i = 0; i < rows; ++i)
-      for (int c = 0; c < ch; ++c)
-        out[c].row(i) = f.col(c).segment(static_cast<Eigen::Index>(i) * cells, cells).transpose() *
-                        (cosine ? g.directions(row_begin + i, 2) : 1.0);
+    // One incident direction at a time against every cell's direction (no copy of the remitted side).
+    RowMatrix3d wi(cells, 3);
+    Eigen::MatrixXd f(cells, ch);
+    for (int i = 0; i < rows; ++i) {
+      const int cell = row_cells[static_cast<size_t>(i)];
+      wi = g.directions.row(cell).replicate(cells, 1);
+      model.eval(wi, g.directions, f);
+      const double scale = cosine ? g.directions(cell, 2) : 1.0;
+      for (int c = 0; c < ch; ++c) out[c].row(i) = f.col(c).transpose() * scale;
+    }
     return;
   }
+  // Entry (i, r) = sum_p sum_q (w_p / Omega_i) (w_q / Omega_r) f(x_p, x_q) [cos theta_p]: for each incident
+  // point p the model runs against every remitted point at once; the incident cell's points are summed
+  // first (acc), then each remitted cell's points (contiguous in the cubature arrays).
   const Eigen::Index total_points = g.cubature_points.rows();
-  // Weight of each remitted point relative to its cell: w_q / Omega_r, and the cell of each point.
-  std::vector<int> cell_of(static_cast<size_t>(total_points));
-  Eigen::VectorXd rel(total_points);
+  Eigen::VectorXd rel(total_points);  // w_q / Omega_r of each point
   for (int r = 0; r < cells; ++r)
-    for (auto q = g.cubature_offsets[r]; q < g.cubature_offsets[r + 1]; ++q) {
-      cell_of[static_cast<size_t>(q)] = r;
-      rel[q] = g.cubature_weights[q] / g.solid_angles[r];
-    }
+    for (auto q = g.cubature_offsets[r]; q < g.cubature_offsets[r + 1]; ++q) rel[q] = g.cubature_weights[q] / g.solid_angles[r];
+  RowMatrix3d wi(total_points, 3);
+  Eigen::MatrixXd f(total_points, ch), acc(total_points, ch);
   for (int i = 0; i < rows; ++i) {
-    const int cell = row_begin + i;
+    const int cell = row_cells[static_cast<size_t>(i)];
+    acc.setZero();
     for (auto p = g.cubature_offsets[cell]; p < g.cubature_offsets[cell + 1]; ++p) {
       const double wp = g.cubature_weights[p] / g.solid_angles[cell] * (cosine ? g.cubature_points(p, 2) : 1.0);
-      RowMatrix3d wi = g.cubature_points.row(p).replicate(total_points, 1);
-      Eigen::MatrixXd f(total_points, ch);
+      wi = g.cubature_points.row(p).replicate(total_points, 1);
       model.eval(wi, g.cubature_points, f);
-      for (Eigen::Index q = 0; q < total_points; ++q)
-        for (int c = 0; c < ch; ++c) out[c](i, cell_of[static_cast<size_t>(q)]) += wp * rel[q] * f(q, c);
+      acc.noalias() += wp * f;
+    }
+    for (int c = 0; c < ch; ++c) {
+      const Eigen::VectorXd weighted = rel.cwiseProduct(acc.col(c));
+      for (int r = 0; r < cells; ++r) {
+        const auto b = g.cubature_offsets[r], e = g.cubature_offsets[r + 1];
+        out[c](i, r) = weighted.segment(b, e - b).sum();
+      }
     }
   }
 }

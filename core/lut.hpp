@@ -31,6 +31,10 @@ enum class LutSampling { CellAverage, CellCentre };
 // out is (row_end - row_begin) x cells for channel `channel`... for all channels: out[ch].
 void sample_lut_rows(const BrdfModel& model, const Grid& grid, bool cosine, LutSampling sampling, int row_begin,
                      int row_end, std::vector<Eigen::MatrixXd>& out);
+// The same for an arbitrary list of incident cells: out[ch] row k is the LUT row of cell row_cells[k]
+// (ArgumentError for a cell outside the grid).
+void sample_lut_rows(const BrdfModel& model, const Grid& grid, bool cosine, LutSampling sampling,
+                     const std::vector<int>& row_cells, std::vector<Eigen::MatrixXd>& out);
 
 // The whole LUT: regular part by blocks of rows (threads over rows; deterministic), plus delta parts in g
 // form. A model with delta parts requires cosine = true (ArgumentError otherwise: f is singular).

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/error.hpp"
 #include "core/fresnel.hpp"
@@ -77,6 +78,83 @@ double MicrofacetModel::value(const Eigen::Vector3d& wi_world, const Eigen::Vect
   }
   if (denom == 0.0) return 0.0;  // unreachable for unit vectors (z = 0 implies L > 0); guards 0/0
   return d * f / denom;
+}
+
+namespace {
+
+// Pairs per block of the vectorized GGX evaluation (structure-of-arrays buffers on the stack).
+constexpr Eigen::Index kGgxBlock = 128;
+using GgxArray = Eigen::Array<double, kGgxBlock, 1>;
+
+}  // namespace
+
+void MicrofacetModel::eval(const RowMatrix3d& wi_all, const RowMatrix3d& wr_all, Eigen::Ref<Eigen::MatrixXd> out) const {
+  if (p_.distribution != MicrofacetDistribution::Ggx) {
+    ScalarBrdfModel::eval(wi_all, wr_all, out);
+    return;
+  }
+  check_pair_shapes(wi_all, wr_all, out, 1);
+  const double ax = p_.alpha_x, ay = p_.alpha_y, ax2 = ax * ax, ay2 = ay * ay;
+  const double inv_ax2 = 1.0 / ax2, inv_ay2 = 1.0 / ay2, d_scale = 1.0 / (M_PI * ax * ay);
+  const Eigen::Index rows = wi_all.rows();
+  GgxArray xi, yi, zi, xr, yr, zr, valid;
+  for (Eigen::Index r0 = 0; r0 < rows; r0 += kGgxBlock) {
+    const Eigen::Index nb = std::min(kGgxBlock, rows - r0);
+    // Gather into the tangent frame (rotation about z by -azimuth); padding lanes get a harmless pair.
+    for (Eigen::Index k = 0; k < kGgxBlock; ++k) {
+      if (k < nb) {
+        const double* a = wi_all.data() + 3 * (r0 + k);
+        const double* b = wr_all.data() + 3 * (r0 + k);
+        xi[k] = cos_az_ * a[0] + sin_az_ * a[1];
+        yi[k] = -sin_az_ * a[0] + cos_az_ * a[1];
+        zi[k] = a[2];
+        xr[k] = cos_az_ * b[0] + sin_az_ * b[1];
+        yr[k] = -sin_az_ * b[0] + cos_az_ * b[1];
+        zr[k] = b[2];
+      } else {
+        xi[k] = yi[k] = xr[k] = yr[k] = 0.0;
+        zi[k] = zr[k] = 1.0;
+      }
+    }
+    // Below the horizon: f = 0; within the slack: z = 0 (core/brdf_model.hpp).
+    for (Eigen::Index k = 0; k < kGgxBlock; ++k) valid[k] = (zi[k] >= -kHorizonSlack && zr[k] >= -kHorizonSlack) ? 1.0 : 0.0;
+    zi = zi.max(0.0);
+    zr = zr.max(0.0);
+    const GgxArray hx = xi + xr, hy = yi + yr, hz = zi + zr;
+    const GgxArray n2 = hx * hx + hy * hy + hz * hz;
+    const GgxArray n = n2.sqrt();
+    // D(h/|h|) = 1 / (pi ax ay t^2), t = s / n^2, s = hx^2/ax^2 + hy^2/ay^2 + hz^2 (hz >= 0 here): the
+    // division is folded into the final one, D = n^4 / (pi ax ay s^2).
+    const GgxArray s = hx * hx * inv_ax2 + hy * hy * inv_ay2 + hz * hz;
+    const GgxArray c = (0.5 * n).min(1.0);
+    GgxArray f;
+    if (p_.fresnel == FresnelMode::Schlick) {
+      const GgxArray m = 1.0 - c, m2 = m * m;
+      f = p_.f0 + (1.0 - p_.f0) * m2 * m2 * m;
+    } else if (p_.fresnel == FresnelMode::Dielectric) {
+      for (Eigen::Index k = 0; k < kGgxBlock; ++k) f[k] = fresnel_dielectric(c[k], p_.ior);
+    } else {
+      f.setOnes();
+    }
+    // L = q^2 / (2 (sqrt(z^2 + q^2) + z)), 0 at the normal (q = 0).
+    const GgxArray qi = ax2 * xi * xi + ay2 * yi * yi, qr = ax2 * xr * xr + ay2 * yr * yr;
+    // (The floor only matters for q = z = 0, not a unit vector, where it makes L = 0 instead of 0/0.)
+    constexpr double tiny = std::numeric_limits<double>::min();
+    const GgxArray li = qi / (2.0 * ((zi * zi + qi).sqrt() + zi)).max(tiny);
+    const GgxArray lr = qr / (2.0 * ((zr * zr + qr).sqrt() + zr)).max(tiny);
+    GgxArray denom;
+    if (p_.masking == SmithMasking::HeightCorrelated) {
+      const GgxArray zfi = zi.max(kGrazingCosFloor), zfr = zr.max(kGrazingCosFloor);
+      denom = 4.0 * (zfi * zfr + (zfr * li + zfi * lr));
+    } else {
+      denom = 4.0 * (zi + li) * (zr + lr);
+    }
+    const GgxArray value = (d_scale * n2 * n2 * f) / (s * s * denom);
+    // Zero below the horizon, without a half vector (opposite horizontal directions) and for a vanishing
+    // denominator (guards 0/0), as value() does.
+    for (Eigen::Index k = 0; k < nb; ++k)
+      out(r0 + k, 0) = (valid[k] == 0.0 || n2[k] == 0.0 || denom[k] == 0.0) ? 0.0 : value[k];
+  }
 }
 
 const char* fresnel_mode_name(FresnelMode m) {

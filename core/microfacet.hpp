@@ -52,6 +52,10 @@ class MicrofacetModel final : public ScalarBrdfModel {
   // ArgumentError for an anisotropic Beckmann (no SOURCE name) or non-positive alphas.
   explicit MicrofacetModel(const MicrofacetParams& p);
   double value(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const override;
+  // Batch form: GGX pairs are evaluated in blocks with vectorized array code (the same formulas and
+  // horizon/grazing rules as value(), equal to it up to rounding); Beckmann goes pair by pair.
+  using ScalarBrdfModel::eval;
+  void eval(const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const override;
   bool is_isotropic() const override { return p_.alpha_x == p_.alpha_y; }
   std::string spec() const override;
   const MicrofacetParams& params() const { return p_; }

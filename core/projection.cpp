@@ -1,11 +1,21 @@
 #include "core/projection.hpp"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include "core/error.hpp"
 
 namespace icobrdf {
+namespace {
+
+// LUT columns per block of project_lut: enough blocks to balance two or more threads at level 4 and up,
+// wide enough that the packing of P^T for each block costs little next to the block of F.
+constexpr Eigen::Index kProjectColumns = 512;
+
+}  // namespace
+
 
 ProjectionOperator make_projection(const DiscreteBasis& basis, ProjectionOperator::Kind kind) {
   ProjectionOperator p;
@@ -29,10 +39,27 @@ Eigen::MatrixXd project_lut(const ProjectionOperator& proj, const Eigen::MatrixX
   if (lut.rows() != proj.P.rows() || lut.cols() != proj.P.rows())
     throw ArgumentError("project: LUT is " + std::to_string(lut.rows()) + " x " + std::to_string(lut.cols()) +
                         ", expected " + std::to_string(proj.P.rows()) + " x " + std::to_string(proj.P.rows()) + " (cells x cells)");
-  // (P^T F) P: the large product has the few modes as its rows, a shape Eigen's GEMM runs at ~1.3x the
-  // speed of F P (benchmarks/RESULTS.md).
-  const Eigen::MatrixXd pf = proj.P.transpose() * lut;  // modes x cells
-  return pf * proj.P;
+  // C = sum_J (P^T F_J) P_J over fixed blocks J of kProjectColumns LUT columns. Threads take whole blocks
+  // and each block's products run single-threaded, so the result does not depend on the thread count
+  // (partials are added in block order). Eigen's own threading of one (modes x cells) * (cells x cells)
+  // product splits the few result rows between threads in multiples of its 12-row kernel (12 + 33 rows for
+  // 45 modes on 2 threads), which left one core idle most of the time; splitting the columns balances it.
+  const Eigen::Index cells = lut.rows(), modes = proj.P.cols();
+  const Eigen::Index blocks = (cells + kProjectColumns - 1) / kProjectColumns;
+  std::vector<Eigen::MatrixXd> partial(static_cast<size_t>(blocks));
+#pragma omp parallel
+  {
+    Eigen::MatrixXd t(modes, kProjectColumns);  // P^T F_J, per thread
+#pragma omp for schedule(dynamic)
+    for (Eigen::Index b = 0; b < blocks; ++b) {
+      const Eigen::Index c0 = b * kProjectColumns, w = std::min(kProjectColumns, cells - c0);
+      t.leftCols(w).noalias() = proj.P.transpose() * lut.middleCols(c0, w);
+      partial[static_cast<size_t>(b)].noalias() = t.leftCols(w) * proj.P.middleRows(c0, w);
+    }
+  }
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(modes, modes);
+  for (const auto& p : partial) c += p;
+  return c;
 }
 
 Eigen::MatrixXd reconstruct_lut(const DiscreteBasis& basis, const Eigen::MatrixXd& c) {

@@ -1,7 +1,9 @@
 #include "core/spectrum_ops.hpp"
 
 #include <cmath>
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/hemisphere_basis.hpp"
@@ -14,9 +16,49 @@ Eigen::VectorXd evaluate_coefficients(const Eigen::MatrixXd& c, int order, const
     throw ArgumentError("evaluate: coefficient matrix is " + std::to_string(c.rows()) + " x " + std::to_string(c.cols()) +
                         ", expected " + std::to_string(m) + " x " + std::to_string(m) + " for order " + std::to_string(order));
   if (wi.rows() != wr.rows()) throw ArgumentError("evaluate: incident and remitted direction counts differ");
-  const Eigen::MatrixXd ki = hemisphere_basis_matrix(order, wi);  // rows x M
-  const Eigen::MatrixXd kr = hemisphere_basis_matrix(order, wr);
-  return ((ki * c).array() * kr.array()).rowwise().sum();
+  const Eigen::Index n = wi.rows();
+  for (const RowMatrix3d* d : {&wi, &wr})
+    for (Eigen::Index r = 0; r < n; ++r)
+      if (!d->row(r).allFinite() || !((*d)(r, 2) >= -1e-12))
+        throw ArgumentError(std::string("evaluate: ") + (d == &wi ? "incident" : "remitted") + " direction " + std::to_string(r) +
+                            " is not a finite direction with z >= 0");
+  // Blocks of kEvalBlock pairs: K(w_i) and K(w_r) (block x M, lane-parallel evaluation), T = K(w_i) C by a
+  // small GEMM, then the row-wise dot of T with K(w_r). Everything stays in cache; threads take blocks.
+  constexpr Eigen::Index kEvalBlock = 256;
+  static const double kOnes[kBasisLanes] = {1.0, 1.0, 1.0, 1.0};
+  Eigen::VectorXd out(n);
+  const Eigen::Index blocks = (n + kEvalBlock - 1) / kEvalBlock;
+#pragma omp parallel if (n > 4 * kEvalBlock)
+  {
+    std::vector<double> scratch(static_cast<size_t>(hemisphere_basis_lanes_scratch(order))), k(static_cast<size_t>(m * kBasisLanes));
+    Eigen::MatrixXd ki(kEvalBlock, m), kr(kEvalBlock, m), t(kEvalBlock, m);
+    Eigen::VectorXd acc(kEvalBlock);
+#pragma omp for schedule(static)
+    for (Eigen::Index b = 0; b < blocks; ++b) {
+      const Eigen::Index p0 = b * kEvalBlock, np = std::min(kEvalBlock, n - p0);
+      for (int side = 0; side < 2; ++side) {
+        const RowMatrix3d& d = side == 0 ? wi : wr;
+        Eigen::MatrixXd& kk = side == 0 ? ki : kr;
+        for (Eigen::Index g0 = 0; g0 < kEvalBlock; g0 += kBasisLanes) {
+          alignas(32) double x[kBasisLanes], y[kBasisLanes], z[kBasisLanes];
+          for (int l = 0; l < kBasisLanes; ++l) {
+            const Eigen::Index r = p0 + std::min<Eigen::Index>(g0 + l, np - 1);  // padding repeats the last pair
+            x[l] = d(r, 0);
+            y[l] = d(r, 1);
+            z[l] = d(r, 2);
+          }
+          hemisphere_basis_eval_lanes(order, x, y, z, kOnes, scratch.data(), k.data());
+          for (int j = 0; j < m; ++j)
+            for (int l = 0; l < kBasisLanes; ++l) kk(g0 + l, j) = k[static_cast<size_t>(j) * kBasisLanes + l];
+        }
+      }
+      t.noalias() = ki * c;
+      acc.setZero();
+      for (int j = 0; j < m; ++j) acc += t.col(j).cwiseProduct(kr.col(j));
+      out.segment(p0, np) = acc.head(np);
+    }
+  }
+  return out;
 }
 
 Eigen::MatrixXd rotation_matrix(int order, double angle) {
