@@ -1,0 +1,259 @@
+// icobrdf bench sweep [--levels 1..4] [--orders 0..20] [--models SPEC,SPEC,...] [--threads T] [--held-out N]
+//                     [--sampling centre|average] [--gram-tol G] [--quick] [--quiet] [--json] -o RESULTS.h5 --report DIR
+// Speed against error: for every (level, order) of the equal-area tessellation, Gram error, condition number,
+// the cost of the grid and operators, and per model the cost of one projection and the error of its
+// reconstruction at held-out direction pairs (cli/sweep_measure.hpp); then every registered report section
+// (cli/bench_commands.hpp). Writes RESULTS.h5 (docs/file-format.md, "Sweep results") and DIR/report.md with
+// PNG figures (cli/sweep_report.hpp); docs/benchmarks.md explains how to read them.
+//
+// Lists: levels and orders as "a..b" or "a,b,c". Models separated by ';' or ',': a comma item of the form
+// key=value (no ':' before its '=') continues the previous model's parameters, so
+// "lambert,ggx:alpha=0.2,f0=0.04" is two models. Models with delta parts have no pointwise error: refused.
+//
+// Nothing is written unless the whole sweep succeeds: the report is assembled in a hidden folder beside DIR
+// and moved into place at the end (report.md last), RESULTS.h5 is written atomically; on any error both
+// are removed and an existing RESULTS.h5 is left untouched.
+#include <fmt/core.h>
+#include <omp.h>
+#include <unistd.h>
+
+#include <Eigen/Core>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <tuple>
+
+#include "cli/bench_commands.hpp"
+#include "cli/bench_section_support.hpp"
+#include "cli/sweep_measure.hpp"
+#include "cli/sweep_report.hpp"
+#include "core/error.hpp"
+#include "core/model_spec.hpp"
+
+namespace icobrdf::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Defaults: levels 1..4 and orders 0..20 run in a few minutes on 2 cores; level 5 fits take ~10x a level-4
+// fit each (docs/benchmarks.md has the measured figures), so level 5 is asked for explicitly.
+constexpr const char* kDefaultLevels = "1..4";
+constexpr const char* kDefaultOrders = "0..20";
+constexpr const char* kQuickLevels = "1..2";
+constexpr const char* kQuickOrders = "0..4";
+constexpr int kMaxHeldOutPairs = 1000000;
+
+struct SweepArgs {
+  std::string levels, orders, models, output, report, sampling = "centre";
+  int threads = 0, held_out = 0;
+  double gram_tol = 0.1;
+  bool quick = false, json = false, quiet = false;
+};
+
+std::vector<std::string> split_models(const std::string& text) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t end = text.find_first_of(",;", start);
+    std::string item = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    const char sep = end == std::string::npos ? '\0' : text[end];
+    item.erase(0, item.find_first_not_of(" \t"));
+    item.erase(item.find_last_not_of(" \t") + 1);
+    const auto eq = item.find('='), colon = item.find(':');
+    const bool continues = !out.empty() && eq != std::string::npos && (colon == std::string::npos || colon > eq) &&
+                           item.find('+') == std::string::npos;
+    if (continues) out.back() += "," + item;
+    else out.push_back(item);
+    (void)sep;
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  return out;
+}
+
+// Canonical specs and the labels (as given) of the --models list.
+std::pair<std::vector<std::string>, std::vector<std::string>> parse_models(const std::string& text) {
+  const std::vector<std::string> items = text.empty() ? sweep::default_models() : split_models(text);
+  std::vector<std::string> specs;
+  for (const auto& item : items) {
+    if (item.empty()) throw ArgumentError("--models '" + text + "': empty model in the list, expected SPEC,SPEC,...");
+    const auto model = parse_model(item);  // ArgumentError naming the problem
+    if (!model->delta_parts().empty())
+      throw ArgumentError("--models: '" + item + "' has delta parts, which have no pointwise error; expected models without delta parts");
+    const std::string spec = model->spec();
+    if (std::find(specs.begin(), specs.end(), spec) != specs.end()) throw ArgumentError("--models: '" + spec + "' is listed twice");
+    specs.push_back(spec);
+  }
+  return {specs, items};
+}
+
+bool writable_dir(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_directory(p, ec) && ::access(p.c_str(), W_OK | X_OK) == 0;
+}
+
+fs::path folder_of(const fs::path& p) { return p.has_parent_path() ? p.parent_path() : fs::path("."); }
+
+void check_output_paths(const std::string& output, const std::string& report) {
+  std::error_code ec;
+  if (output.empty()) throw ArgumentError("-o: an output file name (RESULTS.h5) is required");
+  if (fs::is_directory(output, ec)) throw IoError("-o " + output + ": is a folder, expected an HDF5 file name");
+  if (!writable_dir(folder_of(output))) throw IoError("-o " + output + ": folder '" + folder_of(output).string() + "' is missing or not writable");
+  if (report.empty()) throw ArgumentError("--report: a report folder is required");
+  const fs::path dir = fs::path(report).lexically_normal();
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) throw IoError("--report " + report + ": exists and is not a folder");
+  if (fs::exists(dir, ec) && !writable_dir(dir)) throw IoError("--report " + report + ": folder is not writable");
+  if (!writable_dir(folder_of(dir))) throw IoError("--report " + report + ": parent folder '" + folder_of(dir).string() + "' is missing or not writable");
+}
+
+std::string command_line() {
+  std::ifstream in("/proc/self/cmdline", std::ios::binary);
+  std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()), out, arg;
+  for (char c : all) {
+    if (c != '\0') {
+      arg += c;
+      continue;
+    }
+    if (!out.empty()) out += ' ';
+    if (out.empty()) arg = fs::path(arg).filename().string();  // the program by its name
+    out += arg.find_first_of(" \t'\"") == std::string::npos && !arg.empty() ? arg : "'" + arg + "'";
+    arg.clear();
+  }
+  return out;
+}
+
+std::string now_iso8601() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+// Refuses (before anything is replaced) a report folder where a staged file's name is taken by a folder.
+void check_commit(const fs::path& stage, const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) return;
+  for (const auto& e : fs::directory_iterator(stage))
+    if (fs::is_directory(dir / e.path().filename(), ec))
+      throw IoError("--report " + dir.string() + ": '" + e.path().filename().string() + "' there is a folder, expected a file or nothing");
+}
+
+// Moves the staged report into `dir`: a rename of the whole folder when `dir` does not exist, else file by
+// file with report.md last. Files of `dir` not produced by this run are left alone.
+void commit_report(const fs::path& stage, const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) {
+    fs::rename(stage, dir, ec);
+    if (ec) throw IoError("--report " + dir.string() + ": cannot move the report into place: " + ec.message());
+    return;
+  }
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(stage)) files.push_back(e.path());
+  std::stable_partition(files.begin(), files.end(), [](const fs::path& p) { return p.filename() != "report.md"; });
+  for (const auto& f : files) {
+    fs::rename(f, dir / f.filename(), ec);
+    if (ec) throw IoError("--report " + dir.string() + ": cannot move '" + f.filename().string() + "' into place: " + ec.message());
+  }
+  fs::remove_all(stage, ec);
+}
+
+void run_sweep(const SweepArgs& a) {
+  using namespace sweep;
+  SweepResult r;
+  SweepConfig& cfg = r.config;
+  cfg.quick = a.quick;
+  cfg.levels = section::parse_int_range(a.levels.empty() ? (a.quick ? kQuickLevels : kDefaultLevels) : a.levels, 0, kMaxSweepLevel, "--levels");
+  cfg.orders = section::parse_int_range(a.orders.empty() ? (a.quick ? kQuickOrders : kDefaultOrders) : a.orders, 0, kMaxSweepOrder, "--orders");
+  std::tie(cfg.models, cfg.labels) = parse_models(a.models);
+  if (a.sampling != "centre" && a.sampling != "center" && a.sampling != "average")
+    throw ArgumentError("--sampling: expected 'centre' or 'average', found '" + a.sampling + "'");
+  cfg.sampling = a.sampling == "average" ? "average" : "centre";
+  if (!(a.gram_tol > 0.0 && a.gram_tol < 1.0)) throw ArgumentError(fmt::format("--gram-tol {}: expected a value in (0, 1)", a.gram_tol));
+  cfg.gram_tolerance = a.gram_tol;
+  cfg.held_out = a.held_out > 0 ? a.held_out : (a.quick ? kQuickHeldOutPairs : kDefaultHeldOutPairs);
+  cfg.threads = a.threads > 0 ? a.threads : omp_get_num_procs();
+  check_output_paths(a.output, a.report);
+
+  omp_set_num_threads(cfg.threads);
+  Eigen::setNbThreads(cfg.threads);
+  r.created = now_iso8601();
+  r.command_line = command_line();
+  r.machine = describe_machine(cfg.threads);
+  const auto progress = [&a](const std::string& line) {
+    if (!a.quiet) std::cerr << line << std::endl;
+  };
+
+  const fs::path dir = fs::path(a.report).lexically_normal();
+  const fs::path stage = folder_of(dir) / fmt::format(".{}.tmp-{}", dir.filename().string(), ::getpid());
+  std::error_code ec;
+  fs::remove_all(stage, ec);
+  if (!fs::create_directory(stage, ec) || ec) throw IoError("--report " + a.report + ": cannot create '" + stage.string() + "': " + ec.message());
+  bool wrote_output = false;
+  std::vector<std::string> figures;
+  try {
+    measure_table(r, progress);
+    run_sections(r, stage.string(), progress);
+    figures = draw_figures(r, stage.string());
+    {
+      std::ofstream md(stage / "report.md", std::ios::binary);
+      md << report_markdown(r, figures);
+      md.close();
+      if (!md) throw IoError("--report " + a.report + ": cannot write report.md");
+    }
+    check_commit(stage, dir);
+    write_results_h5(r, a.output);
+    wrote_output = true;
+    commit_report(stage, dir);
+  } catch (...) {
+    fs::remove_all(stage, ec);
+    if (wrote_output) fs::remove(a.output, ec);
+    throw;
+  }
+
+  if (a.json) {
+    nlohmann::json j = to_json(r);
+    j["output"] = a.output;
+    j["report"] = (dir / "report.md").string();
+    j["figures"] = figures;
+    std::cout << j.dump(2) << "\n";
+    return;
+  }
+  std::cout << fmt::format("bench sweep: {} (level, order) pairs x {} models in {:.1f} s, report sections in {:.1f} s\n", r.rows.size(),
+                           cfg.models.size(), r.table_seconds, r.sections_seconds);
+  for (const auto& s : r.support)
+    std::cout << fmt::format("  level {} ({} cells): supports order {}\n", s.level, s.cells,
+                             s.largest_order >= kSupportSearchOrder ? ">= " + std::to_string(kSupportSearchOrder) : std::to_string(s.largest_order));
+  std::cout << fmt::format("wrote {} and {} ({} sweep figures, {} sections)\n", a.output, (dir / "report.md").string(), figures.size(),
+                           r.sections.size());
+}
+
+void add_sweep(CLI::App& bench) {
+  auto a = std::make_shared<SweepArgs>();
+  auto* cmd = bench.add_subcommand("sweep", "Speed against error over tessellation levels x expansion orders, with every report section");
+  cmd->add_option("--levels", a->levels, fmt::format("Levels, 'a..b' or 'a,b,c' in [0, {}] (default {}, quick {})", sweep::kMaxSweepLevel,
+                                                     kDefaultLevels, kQuickLevels));
+  cmd->add_option("--orders", a->orders, fmt::format("Orders, 'a..b' or 'a,b,c' in [0, {}] (default {}, quick {})", sweep::kMaxSweepOrder,
+                                                     kDefaultOrders, kQuickOrders));
+  cmd->add_option("--models", a->models, "Model specs separated by ',' or ';' (default: lambert to ggx alpha 0.05, see `icobrdf models`)");
+  cmd->add_option("--threads,-t", a->threads, "Threads (default: all cores)")->check(CLI::Range(0, 1024));
+  cmd->add_option("--held-out", a->held_out, fmt::format("Held-out direction pairs (default {}, quick {})", sweep::kDefaultHeldOutPairs,
+                                                         sweep::kQuickHeldOutPairs))
+      ->check(CLI::Range(1, kMaxHeldOutPairs));
+  cmd->add_option("--sampling", a->sampling, "LUT sampling during fits: centre (as bank build) or average (as fit)")->capture_default_str();
+  cmd->add_option("--gram-tol", a->gram_tol, "Largest Gram error max|G - I| a supported (level, order) may have")->capture_default_str();
+  cmd->add_flag("--quick", a->quick, "Small defaults (levels 1..2, orders 0..4, 200 pairs, quick sections): smoke runs and tests");
+  cmd->add_flag("--json", a->json, "Print the results as JSON");
+  cmd->add_flag("--quiet,-q", a->quiet, "No progress lines on stderr");
+  cmd->add_option("-o,--output", a->output, "RESULTS.h5 (written atomically)")->required();
+  cmd->add_option("--report", a->report, "Folder for report.md and the PNG figures (created if missing)")->required();
+  cmd->callback([a] { run_sweep(*a); });
+}
+
+const BenchRegistrar kRegistrar("sweep", add_sweep);
+
+}  // namespace
+}  // namespace icobrdf::cli

@@ -1,0 +1,296 @@
+#include "cli/sweep_measure.hpp"
+
+#include <fmt/core.h>
+#include <omp.h>
+#include <sys/resource.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <numeric>
+#include <random>
+
+#include "core/brdf_model.hpp"
+#include "core/direction.hpp"
+#include "core/discrete_basis.hpp"
+#include "core/hemisphere_basis.hpp"
+#include "core/model_spec.hpp"
+#include "core/projection.hpp"
+#include "core/spectral_fit.hpp"
+#include "core/spectrum_ops.hpp"
+#include "mesh/tessellation.hpp"
+
+namespace icobrdf::cli::sweep {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// Side of the square matrices of the GEMM whose rate is reported beside the theoretical peak.
+constexpr int kGemmSize = 1024, kQuickGemmSize = 256;
+
+template <class F>
+double seconds_of(F&& f) {
+  const auto t0 = std::chrono::steady_clock::now();
+  f();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Best wall-clock time of f: once, or up to kTimingRepeats times when a run is shorter than kRepeatBelowSeconds.
+template <class F>
+double timed(F&& f) {
+  double best = seconds_of(f);
+  if (best < kRepeatBelowSeconds)
+    for (int k = 1; k < kTimingRepeats; ++k) best = std::min(best, seconds_of(f));
+  return best;
+}
+
+std::string read_first(const std::string& file, const std::string& key) {
+  std::ifstream in(file);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind(key, 0) == 0) {
+      auto v = line.substr(line.find(':') + 1);
+      v.erase(0, v.find_first_not_of(" \t"));
+      return v;
+    }
+  return "";
+}
+
+std::string loadavg() {
+  std::ifstream in("/proc/loadavg");
+  std::string a, b, c;
+  in >> a >> b >> c;
+  return a.empty() ? "unknown" : a + " " + b + " " + c + " (1, 5, 15 min)";
+}
+
+int flops_per_cycle_per_core() {
+#if defined(__AVX512F__)
+  return 32;
+#elif defined(__AVX2__) && defined(__FMA__)
+  return 16;
+#elif defined(__AVX__)
+  return 8;
+#else
+  return 4;
+#endif
+}
+
+std::int64_t peak_rss_bytes() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<std::int64_t>(u.ru_maxrss) * 1024;  // Linux reports KiB
+}
+
+struct HeldOut {
+  RowMatrix3d wi, wr;
+};
+
+HeldOut held_out_pairs(int n) {
+  HeldOut h;
+  h.wi.resize(n, 3);
+  h.wr.resize(n, 3);
+  std::mt19937_64 rng(kHeldOutSeed);
+  std::uniform_real_distribution<double> z(0.0, 1.0), phi(-M_PI, M_PI);
+  for (int k = 0; k < n; ++k) {
+    const double ti = std::acos(z(rng)), pi = phi(rng), tr = std::acos(z(rng)), pr = phi(rng);
+    h.wi.row(k) = direction_from_angles(ti, pi).transpose();
+    h.wr.row(k) = direction_from_angles(tr, pr).transpose();
+  }
+  return h;
+}
+
+// The exact model at the held-out pairs (pairs x channels) and the weights of the cosine metric.
+struct Reference {
+  Eigen::MatrixXd f;
+  double norm = 0.0, max = 0.0, cos_norm = 0.0;
+};
+
+Reference reference_values(const BrdfModel& model, const HeldOut& h, const Eigen::VectorXd& cosw) {
+  Reference r;
+  r.f.resize(h.wi.rows(), model.channels());
+  model.eval(h.wi, h.wr, r.f);
+  r.norm = r.f.norm();
+  r.max = r.f.cwiseAbs().maxCoeff();
+  r.cos_norm = (cosw.asDiagonal() * r.f).norm();
+  return r;
+}
+
+// Relative errors of a spectrum's reconstruction K(w_i)^T C K(w_r) against the reference (all channels).
+ModelCell errors_of(const Spectrum& s, const HeldOut& h, const Reference& ref, const Eigen::VectorXd& cosw) {
+  double sq = 0.0, mx = 0.0, csq = 0.0;
+  for (int ch = 0; ch < s.channel_count(); ++ch) {
+    const Eigen::VectorXd fit = evaluate_coefficients(s.channels[ch], s.order, h.wi, h.wr);
+    const Eigen::VectorXd d = fit - ref.f.col(ch);
+    sq += d.squaredNorm();
+    mx = std::max(mx, d.cwiseAbs().maxCoeff());
+    csq += cosw.cwiseProduct(d).squaredNorm();
+  }
+  const auto rel = [](double num, double den) { return den > 0 ? num / den : num; };
+  return {kNaN, rel(std::sqrt(sq), ref.norm), rel(mx, ref.max), rel(std::sqrt(csq), ref.cos_norm)};
+}
+
+}  // namespace
+
+std::vector<std::string> default_models() {
+  return {"lambert", "oren-nayar:sigma=20", "minnaert:k=1.5", "lafortune:cx=1,cy=1,cz=1,n=20",
+          "ggx:alpha=0.5", "ggx:alpha=0.2", "ggx:alpha=0.1", "ggx:alpha=0.05"};
+}
+
+Machine describe_machine(int threads) {
+  Machine m;
+  m.cpu_model = read_first("/proc/cpuinfo", "model name");
+  if (m.cpu_model.empty()) m.cpu_model = "unknown";
+  const std::string mhz = read_first("/proc/cpuinfo", "cpu MHz");
+  m.cpu_mhz = mhz.empty() ? 0.0 : std::stod(mhz);
+  m.cores = omp_get_num_procs();
+  const char* compiled =
+#if defined(__AVX512F__)
+      "AVX-512";
+#elif defined(__AVX2__) && defined(__FMA__)
+      "AVX2 + FMA";
+#elif defined(__AVX__)
+      "AVX";
+#else
+      "SSE2";
+#endif
+  m.isa = fmt::format("compiled for {} (Eigen: {})", compiled, Eigen::SimdInstructionSetsInUse());
+  m.flops_per_cycle_per_core = flops_per_cycle_per_core();
+  m.peak_gflops = threads * m.flops_per_cycle_per_core * m.cpu_mhz / 1e3;
+  m.load_before = loadavg();
+  return m;
+}
+
+namespace {
+
+double measure_gemm_gflops(int n) {
+  Eigen::MatrixXd a = Eigen::MatrixXd::Random(n, n), b = Eigen::MatrixXd::Random(n, n), c(n, n);
+  double best = 1e300;
+  for (int k = 0; k < 3; ++k) best = std::min(best, seconds_of([&] { c.noalias() = a * b; }));
+  return 2.0 * n * n * static_cast<double>(n) / best / 1e9;
+}
+
+}  // namespace
+
+void measure_table(SweepResult& result, const std::function<void(const std::string&)>& progress) {
+  const SweepConfig& cfg = result.config;
+  const auto t_start = std::chrono::steady_clock::now();
+  result.machine.gemm_gflops = measure_gemm_gflops(cfg.quick ? kQuickGemmSize : kGemmSize);
+  std::vector<std::unique_ptr<BrdfModel>> models;
+  for (const auto& spec : cfg.models) models.push_back(parse_model(spec));
+  const HeldOut held = held_out_pairs(cfg.held_out);
+  const Eigen::VectorXd cosw = held.wi.col(2).cwiseProduct(held.wr.col(2));
+  std::vector<Reference> refs;
+  for (const auto& m : models) refs.push_back(reference_values(*m, held, cosw));
+  const bool centre = cfg.sampling == "centre";
+
+  for (int level : cfg.levels) {
+    std::shared_ptr<const Grid> grid;
+    const double grid_seconds = timed([&] { grid = std::make_shared<const Grid>(build_fitting_grid(level, "equal-area", centre)); });
+    {  // The order this level supports: leading Gram blocks of one basis of order kSupportSearchOrder.
+      const DiscreteBasis top = build_discrete_basis(*grid, kSupportSearchOrder);
+      LevelSupport s;
+      s.level = level;
+      s.cells = grid->cells();
+      s.largest_order = largest_supported_order(top, cfg.gram_tolerance);
+      if (s.largest_order >= 0) {
+        const int m = hemisphere_basis_count(s.largest_order);
+        s.gram_error_at_largest = (top.G.topLeftCorner(m, m) - Eigen::MatrixXd::Identity(m, m)).cwiseAbs().maxCoeff();
+      }
+      result.support.push_back(s);
+    }
+    for (int order : cfg.orders) {
+      const auto t_row = std::chrono::steady_clock::now();
+      SweepRow row;
+      row.level = level;
+      row.order = order;
+      row.cells = grid->cells();
+      row.modes = hemisphere_basis_count(order);
+      row.grid_seconds = grid_seconds;
+      row.reconstruct_seconds = row.pairs_seconds = kNaN;
+      row.models.assign(models.size(), ModelCell{kNaN, kNaN, kNaN, kNaN});
+      ProjectionContext ctx;
+      ctx.grid = grid;
+      row.basis_seconds = timed([&] { ctx.basis = build_discrete_basis(*grid, order); });
+      row.gram_error = ctx.basis.gram_error;
+      row.condition = ctx.basis.condition;
+      row.basis_bytes = static_cast<std::int64_t>(sizeof(double)) * (ctx.basis.B.size() + ctx.basis.G.size() + ctx.basis.W.size());
+      row.supported = row.gram_error <= cfg.gram_tolerance && std::isfinite(row.condition);
+      if (row.supported) {
+        row.operator_seconds = timed([&] { ctx.projection = make_projection(ctx.basis); });
+        row.projection_bytes = static_cast<std::int64_t>(sizeof(double)) * ctx.projection.P.size();
+        FitOptions opt;
+        opt.order = order;
+        opt.gram_tolerance = cfg.gram_tolerance;
+        opt.sampling = LutSampling::CellAverage;  // over the fitting grid's cubature (one point per cell when centre)
+        Spectrum first;
+        for (std::size_t m = 0; m < models.size(); ++m) {
+          Spectrum s;
+          const double t = timed([&] { s = fit_model(*models[m], ctx, opt); });
+          row.models[m] = errors_of(s, held, refs[m], cosw);
+          row.models[m].project_seconds = t;
+          if (m == 0) first = std::move(s);
+        }
+        if (!models.empty()) {
+          const std::int64_t lut = static_cast<std::int64_t>(sizeof(double)) * row.cells * row.cells;
+          if (lut <= kMaxReconstructLutBytes) {
+            row.reconstruct_seconds = timed([&] { Eigen::MatrixXd f = reconstruct_lut(ctx.basis, first.channels[0]); });
+            row.lut_bytes = lut;
+          }
+          row.pairs_seconds = timed([&] { Eigen::VectorXd v = evaluate_coefficients(first.channels[0], order, held.wi, held.wr); });
+        }
+      } else {
+        row.operator_seconds = kNaN;
+      }
+      row.peak_rss_bytes = peak_rss_bytes();
+      result.rows.push_back(row);
+      if (progress)
+        progress(fmt::format("level {} order {:2d}: {} cells, {} modes, Gram error {:.2e}{}, {:.2f} s", level, order, row.cells, row.modes,
+                             row.gram_error, row.supported ? "" : " (unsupported)",
+                             std::chrono::duration<double>(std::chrono::steady_clock::now() - t_row).count()));
+    }
+  }
+  result.table_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+}
+
+void run_sections(SweepResult& result, const std::string& report_dir, const std::function<void(const std::string&)>& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SectionOptions o;
+  o.levels = result.config.levels;
+  o.orders = result.config.orders;
+  o.threads = result.config.threads;
+  o.quick = result.config.quick;
+  o.report_dir = report_dir;
+  for (const auto& [name, run] : report_section_registry()) {
+    const double s = seconds_of([&, n = name, r = run] { result.sections[n] = r(o); });
+    if (progress) progress(fmt::format("section {}: {:.2f} s", name, s));
+  }
+  result.sections_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  result.machine.load_after = loadavg();
+}
+
+std::vector<std::size_t> pareto_front(const SweepResult& r, std::size_t model) {
+  std::vector<std::size_t> idx;
+  for (std::size_t k = 0; k < r.rows.size(); ++k) {
+    const ModelCell& c = r.rows[k].models.at(model);
+    if (r.rows[k].supported && std::isfinite(c.project_seconds) && std::isfinite(c.error_l2)) idx.push_back(k);
+  }
+  std::stable_sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {
+    const ModelCell &x = r.rows[a].models[model], &y = r.rows[b].models[model];
+    return x.project_seconds != y.project_seconds ? x.project_seconds < y.project_seconds : x.error_l2 < y.error_l2;
+  });
+  std::vector<std::size_t> front;
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t k : idx) {
+    const double e = r.rows[k].models[model].error_l2;
+    if (e < best) {
+      front.push_back(k);
+      best = e;
+    }
+  }
+  return front;
+}
+
+}  // namespace icobrdf::cli::sweep
