@@ -27,6 +27,8 @@ constexpr double kFresnelFormTol = 1e-13;
 // f(i, r) and f(r, i) of a reciprocal microfacet model evaluate the same symmetric expression with the roles
 // swapped: rounding of a few tens of operations, relative to the largest value.
 constexpr double kReciprocityTol = 1e-13;
+// Relative rounding of G^-1 (a few hundred modes, condition < 2) on top of an attained bound.
+constexpr double kBoundRoundingSlack = 1e-12;
 
 const nlohmann::json& quick_run() {
   static const nlohmann::json j = [] {
@@ -81,8 +83,11 @@ TEST(CliBenchHardCases, DeltaSpectraWithinTheInverseGramBound) {
     EXPECT_LE(e2, m * e_max);
     ASSERT_LT(e2, 1.0);
     EXPECT_NEAR(c["bound"].get<double>(), e2 / (1.0 - e2), 1e-14);
-    EXPECT_LE(c["mirror_error"].get<double>(), c["bound"].get<double>()) << "level " << c["level"];
-    EXPECT_LE(c["retroreflector_error"].get<double>(), c["bound"].get<double>()) << "level " << c["level"];
+    // The bound is attained when G - I is dominated by one eigenvalue -e (C - I = e/(1 - e) there), so allow
+    // the rounding of G^-1 on top of it.
+    const double allowed = c["bound"].get<double>() * (1 + kBoundRoundingSlack);
+    EXPECT_LE(c["mirror_error"].get<double>(), allowed) << "level " << c["level"];
+    EXPECT_LE(c["retroreflector_error"].get<double>(), allowed) << "level " << c["level"];
   }
 }
 
