@@ -177,11 +177,20 @@ Spectrum scatmech_to_spectrum(const ScatmechCoefficients& file, const ScatmechIm
     const int L = std::abs(r.l);
     b[isotropic_mode_index(std::max(r.n, r.m), std::min(r.n, r.m), L)] += r.a * power * o.scale * scatmech_basis_factor(r.n, r.m, r.l);
   }
+  // Finite coefficients can still sum (or scale with lambda^p) beyond the double range.
+  for (Eigen::Index k = 0; k < b.size(); ++k)
+    if (!std::isfinite(b[k])) {
+      const auto md = isotropic_modes(order)[static_cast<size_t>(k)];
+      throw InputError(file.path + ": the rows of mode (N, M, L) = (" + std::to_string(md.n) + ", " + std::to_string(md.m) +
+                       ", " + std::to_string(md.l) + ") sum to " + g17(b[k]) + ", expected a finite coefficient");
+    }
   Spectrum s;
   s.order = order;
   s.isotropic = true;
   s.cosine = false;
   s.channels.push_back(coefficients_from_ibsss(order, b));
+  if (!s.channels.back().allFinite())
+    throw InputError(file.path + ": the coefficient matrix of the imported spectrum overflows, expected finite coefficients");
   s.source = "scatmech:" + file.path;
   s.anisotropy_fraction = 0.0;
   s.reciprocity_violation = 0.0;

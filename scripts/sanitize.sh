@@ -12,7 +12,7 @@ cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DICOBRDF_SANITIZE=ON -DIC
 cmake --build "$BUILD_DIR" -j"${JOBS:-$(nproc)}"
 # halt_on_error: the first report ends the process (UBSan would otherwise print and go on).
 # detect_leaks: LeakSanitizer checks every process at exit (it cannot run under ptrace, e.g. a debugger).
-export ASAN_OPTIONS="halt_on_error=1:abort_on_error=0:detect_leaks=1:strict_string_checks=1:check_initialization_order=1:detect_stack_use_after_return=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
+export ASAN_OPTIONS="halt_on_error=1:abort_on_error=0:detect_leaks=1:strict_string_checks=1:check_initialization_order=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
 cd "$BUILD_DIR"
 ctest --output-on-failure -j"${JOBS:-$(nproc)}" "$@"
