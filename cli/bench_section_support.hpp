@@ -139,8 +139,13 @@ inline void add_section_subcommand(CLI::App& bench, const std::string& name, con
     const nlohmann::json j{{"section", name}, {"title", s.title}, {"figures", s.figures}, {"data", s.data}};
     const std::string md = "# " + s.title + "\n\n" + s.markdown;
     if (!o.report_dir.empty()) {
-      std::ofstream(o.report_dir / (name + ".md")) << md;
-      std::ofstream(o.report_dir / (name + ".json")) << j.dump(2) << "\n";
+      const auto write = [&](const std::filesystem::path& path, const std::string& text) {
+        std::ofstream out(path);
+        out << text;
+        if (!out.flush()) throw IoError("bench " + name + ": cannot write '" + path.string() + "'");
+      };
+      write(o.report_dir / (name + ".md"), md);
+      write(o.report_dir / (name + ".json"), j.dump(2) + "\n");
     }
     if (a->json)
       std::cout << j.dump(2) << "\n";
