@@ -104,6 +104,21 @@ BrdfSamples read_sample_csv(const std::string& path, const SampleCsvOptions& opt
     s.values.row(k) = (sums[static_cast<size_t>(k)] / counts[static_cast<size_t>(k)]).transpose();
     s.weights[k] = counts[static_cast<size_t>(k)];
   }
+  // Finite values near the double range can overflow in their sum; such means are taken again as sums of
+  // value / count (each term finite, the mean lies between the extreme values).
+  if (!s.values.allFinite()) {
+    Eigen::MatrixXd scaled = Eigen::MatrixXd::Zero(n, ch);
+    for (size_t r = 0; r < t.rows.size(); ++r) {
+      const auto& row = t.rows[r];
+      Key key{row[0], row[1], row[2], row[3]};
+      normalize(key[0], key[1], full);
+      normalize(key[2], key[3], full);
+      const auto k = static_cast<Eigen::Index>(index.at(key));
+      for (int c = 0; c < ch; ++c) scaled(k, c) += row[4 + c] / counts[static_cast<size_t>(k)];
+    }
+    for (Eigen::Index k = 0; k < n; ++k)
+      if (!s.values.row(k).allFinite()) s.values.row(k) = scaled.row(k);
+  }
   s.plane_of_incidence = plane;
   // Reciprocal pairs: the swapped key present (each unordered pair once; a pair with w_i = w_r is its own
   // partner and trivially reciprocal).
