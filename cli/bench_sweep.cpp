@@ -58,7 +58,6 @@ std::vector<std::string> split_models(const std::string& text) {
   while (start <= text.size()) {
     const std::size_t end = text.find_first_of(",;", start);
     std::string item = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
-    const char sep = end == std::string::npos ? '\0' : text[end];
     item.erase(0, item.find_first_not_of(" \t"));
     item.erase(item.find_last_not_of(" \t") + 1);
     const auto eq = item.find('='), colon = item.find(':');
@@ -66,7 +65,6 @@ std::vector<std::string> split_models(const std::string& text) {
                            item.find('+') == std::string::npos;
     if (continues) out.back() += "," + item;
     else out.push_back(item);
-    (void)sep;
     if (end == std::string::npos) break;
     start = end + 1;
   }
