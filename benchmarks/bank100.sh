@@ -5,7 +5,7 @@
 # The materials: Lambert, Minnaert, Oren-Nayar, GGX (isotropic and anisotropic, Schlick and dielectric
 # Fresnel), Beckmann, Phong, Blinn-Phong, Lafortune and diffuse+specular sums over a range of parameters.
 # Each material fixes `level = 4` and `order = 8` (no level/order search), sampling "centre" (the
-# scene default), a loose target (1.0, so the fixed fit is always accepted) and prune = false, so the
+# scene default), a loose target (100: order 8 at level 4 cannot resolve the sharpest lobes to an error below 1, and the fixed fit is to be timed, not judged) and prune = false, so the
 # time is that of 100 fits plus their held-out error measurements and the HDF5 writing.
 # Results: benchmarks/RESULTS.md, section "Bank of 100 materials".
 set -euo pipefail
@@ -22,7 +22,7 @@ scene=$dir/scene100.toml
   i=0
   emit() {
     i=$((i + 1))
-    printf '\n[[material]]\nname = "m%03d"\nsource = "model:%s"\nlevel = 4\norder = 8\ntarget = 1.0\nprune = false\n' "$i" "$1"
+    printf '\n[[material]]\nname = "m%03d"\nsource = "model:%s"\nlevel = 4\norder = 8\ntarget = 100\nprune = false\n' "$i" "$1"
   }
   for a in 0.2 0.5 0.8; do emit "lambert:albedo=$a"; done
   for k in 1.5 2 2.5 3; do emit "minnaert:k=$k"; done
@@ -35,6 +35,7 @@ scene=$dir/scene100.toml
   for e in 2 5 10 20; do emit "phong:n=$e"; done
   for e in 5 10 20 40; do emit "blinn-phong:n=$e"; done
   emit "lafortune"
+  emit "hapke:w=0.5"
   for w in 0.1 0.2 0.3 0.4 0.5 0.6 0.7 0.8 0.9; do emit "$(awk -v w=$w 'BEGIN{printf "%g*lambert:albedo=0.8+%g*ggx:alpha=0.4", 1-w, w}')"; done
   for w in 0.1 0.2 0.3 0.4 0.5 0.6 0.7 0.8 0.9; do emit "$(awk -v w=$w 'BEGIN{printf "%g*oren-nayar:sigma=20+%g*beckmann:alpha=0.5", 1-w, w}')"; done
   for a in 0.3 0.4 0.5 0.6 0.7 0.8 0.9; do emit "lommel-seeliger:w=$a"; done

@@ -9,8 +9,7 @@
 namespace icobrdf {
 namespace {
 
-// Block of incident cells handled at once: big enough for vectorized model evaluation, small enough that
-// the pair buffers (block points x all points x 3 doubles) stay in the tens of MB.
+// Block of incident cells handled at once by one thread of build_lut (its rows are written together).
 constexpr int kRowBlock = 16;
 
 }  // namespace
