@@ -4,7 +4,7 @@
 // faults in the timed region). OpenBLAS runs both association orders; the faster is the baseline.
 //   bench_projection [--benchmark_filter=...]   (threads: OMP_NUM_THREADS and OPENBLAS_NUM_THREADS)
 // Counters: gflops (2 cells^2 modes + 2 cells modes^2 flops per call), peak_ratio = gflops / peak, with
-// peak = threads x 16 FP64 flops/cycle (AVX2 + FMA: two 4-wide FMA pipes) x the clock of /proc/cpuinfo.
+// peak = cli/machine.hpp fp64_peak_gflops: threads x FP64 flops/cycle of the ISA compiled for x the clock of /proc/cpuinfo.
 // Results: benchmarks/RESULTS.md, section "Projection".
 #include <benchmark/benchmark.h>
 #include <cblas.h>
@@ -15,6 +15,7 @@
 #include <random>
 #include <string>
 
+#include "cli/machine.hpp"
 #include "core/discrete_basis.hpp"
 #include "core/projection.hpp"
 #include "mesh/tessellation.hpp"
@@ -24,25 +25,6 @@ namespace {
 using namespace icobrdf;
 
 constexpr int kOrder = 8;
-
-double peak_gflops(int threads) {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  double mhz = 0.0;
-  while (std::getline(in, line))
-    if (line.rfind("cpu MHz", 0) == 0) {
-      mhz = std::stod(line.substr(line.find(':') + 1));
-      break;
-    }
-#if defined(__AVX512F__)
-  const int per_cycle = 32;
-#elif defined(__AVX2__) && defined(__FMA__)
-  const int per_cycle = 16;
-#else
-  const int per_cycle = 4;
-#endif
-  return threads * per_cycle * mhz / 1e3;
-}
 
 struct Setup {
   ProjectionOperator proj;
@@ -68,7 +50,7 @@ void report(benchmark::State& state, Eigen::Index c, Eigen::Index m) {
   const double flops = 2.0 * c * c * m + 2.0 * c * m * m;
   const int threads = omp_get_max_threads();
   state.counters["gflops"] = benchmark::Counter(flops / 1e9, benchmark::Counter::kIsIterationInvariantRate);
-  state.counters["peak_gflops"] = peak_gflops(threads);
+  state.counters["peak_gflops"] = icobrdf::cli::fp64_peak_gflops(threads);
   state.counters["threads"] = threads;
   state.counters["cells"] = static_cast<double>(c);
 }

@@ -18,6 +18,7 @@
 #include <random>
 
 #include "cli/bench_commands.hpp"
+#include "cli/machine.hpp"
 #include "core/discrete_basis.hpp"
 #include "core/error.hpp"
 #include "core/projection.hpp"
@@ -31,26 +32,6 @@ struct BenchArgs {
   double peak_gflops = 0.0;
   bool json = false;
 };
-
-int flops_per_cycle_per_core() {
-#if defined(__AVX512F__)
-  return 32;
-#elif defined(__AVX2__) && defined(__FMA__)
-  return 16;
-#elif defined(__AVX__)
-  return 8;
-#else
-  return 4;
-#endif
-}
-
-double cpu_mhz() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("cpu MHz", 0) == 0) return std::stod(line.substr(line.find(':') + 1));
-  return 0.0;
-}
 
 template <class F>
 double best_seconds(int repeat, F&& f) {
@@ -95,7 +76,7 @@ void run_project(const BenchArgs& a) {
   const double agree = (out - out_blas).cwiseAbs().maxCoeff() / std::max(1e-300, out.cwiseAbs().maxCoeff());
   const double flops = 2.0 * c * c * m + 2.0 * c * m * m;
   const double gflops = flops / ours / 1e9;
-  const double peak = a.peak_gflops > 0 ? a.peak_gflops : threads * flops_per_cycle_per_core() * cpu_mhz() / 1e3;
+  const double peak = a.peak_gflops > 0 ? a.peak_gflops : fp64_peak_gflops(threads);
   nlohmann::json j{{"level", a.level},      {"order", a.order},          {"cells", c},
                    {"modes", m},            {"threads", threads},        {"seconds", ours},
                    {"gflops", gflops},      {"peak_gflops", peak},       {"peak_ratio", peak > 0 ? gflops / peak : 0.0},

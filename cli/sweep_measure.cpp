@@ -14,6 +14,7 @@
 #include <numeric>
 #include <random>
 
+#include "cli/machine.hpp"
 #include "core/brdf_model.hpp"
 #include "core/direction.hpp"
 #include "core/discrete_basis.hpp"
@@ -45,37 +46,6 @@ double timed(F&& f) {
   if (best < kRepeatBelowSeconds)
     for (int k = 1; k < kTimingRepeats; ++k) best = std::min(best, seconds_of(f));
   return best;
-}
-
-std::string read_first(const std::string& file, const std::string& key) {
-  std::ifstream in(file);
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind(key, 0) == 0) {
-      auto v = line.substr(line.find(':') + 1);
-      v.erase(0, v.find_first_not_of(" \t"));
-      return v;
-    }
-  return "";
-}
-
-std::string loadavg() {
-  std::ifstream in("/proc/loadavg");
-  std::string a, b, c;
-  in >> a >> b >> c;
-  return a.empty() ? "unknown" : a + " " + b + " " + c + " (1, 5, 15 min)";
-}
-
-int flops_per_cycle_per_core() {
-#if defined(__AVX512F__)
-  return 32;
-#elif defined(__AVX2__) && defined(__FMA__)
-  return 16;
-#elif defined(__AVX__)
-  return 8;
-#else
-  return 4;
-#endif
 }
 
 std::int64_t peak_rss_bytes() {
@@ -141,25 +111,13 @@ std::vector<std::string> default_models() {
 
 Machine describe_machine(int threads) {
   Machine m;
-  m.cpu_model = read_first("/proc/cpuinfo", "model name");
-  if (m.cpu_model.empty()) m.cpu_model = "unknown";
-  const std::string mhz = read_first("/proc/cpuinfo", "cpu MHz");
-  m.cpu_mhz = mhz.empty() ? 0.0 : std::stod(mhz);
+  m.cpu_model = cpu_model();
+  m.cpu_mhz = cpu_mhz();
   m.cores = omp_get_num_procs();
-  const char* compiled =
-#if defined(__AVX512F__)
-      "AVX-512";
-#elif defined(__AVX2__) && defined(__FMA__)
-      "AVX2 + FMA";
-#elif defined(__AVX__)
-      "AVX";
-#else
-      "SSE2";
-#endif
-  m.isa = fmt::format("compiled for {} (Eigen: {})", compiled, Eigen::SimdInstructionSetsInUse());
+  m.isa = fmt::format("compiled for {} (Eigen: {})", compiled_isa(), Eigen::SimdInstructionSetsInUse());
   m.flops_per_cycle_per_core = flops_per_cycle_per_core();
-  m.peak_gflops = threads * m.flops_per_cycle_per_core * m.cpu_mhz / 1e3;
-  m.load_before = loadavg();
+  m.peak_gflops = fp64_peak_gflops(threads);
+  m.load_before = load_average();
   return m;
 }
 
@@ -268,7 +226,7 @@ void run_sections(SweepResult& result, const std::string& report_dir, const std:
     if (progress) progress(fmt::format("section {}: {:.2f} s", name, s));
   }
   result.sections_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  result.machine.load_after = loadavg();
+  result.machine.load_after = load_average();
 }
 
 std::vector<std::size_t> pareto_front(const SweepResult& r, std::size_t model) {
