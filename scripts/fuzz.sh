@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets of fuzz/ with clang into build-fuzz and runs each for SECONDS (default 60)
+# Builds the libFuzzer targets of fuzz/ with clang into build-check (scripts/build-check.sh, shared with
+# scripts/sanitize.sh) and runs each for SECONDS (default 60)
 # from a fresh copy of its seed corpus fuzz/corpus/<reader>/, JOBS targets at a time (default: the number of
 # cores). Exits non-zero on any finding: a crash, an ASan / UBSan report, an exception other than
 # InputError / IoError, a multi-line message, an input taking longer than TIMEOUT seconds (default 10) or
-# more than 2 GB. The input that caused it is kept as build-fuzz/fuzz-run/<reader>/findings/*.
+# more than 2 GB. The input that caused it is kept as build-check/fuzz-run/<reader>/findings/*.
 #   scripts/fuzz.sh [SECONDS]
 #   TARGETS="merl sample_csv" scripts/fuzz.sh 30     only some targets
 set -euo pipefail
@@ -12,14 +13,13 @@ seconds=${1:-60}
 timeout_s=${TIMEOUT:-10}
 jobs=${JOBS:-$(nproc)}
 scripts/install-deps.sh
-BUILD_DIR=${BUILD_DIR:-build-fuzz}
-cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Fuzz -DCMAKE_C_FLAGS_FUZZ="-O1 -g" -DCMAKE_CXX_FLAGS_FUZZ="-O1 -g" -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
-  -DICOBRDF_FUZZ=ON -DICOBRDF_BUILD_TESTS=OFF -DICOBRDF_BUILD_BENCHMARKS=OFF >/dev/null
-cmake --build "$BUILD_DIR" -j"$jobs" --target fuzzers
+BUILD_DIR=${CHECK_BUILD_DIR:-build-check}
+scripts/build-check.sh fuzzers   # up to date after scripts/sanitize.sh
 
 targets=${TARGETS:-$(for f in fuzz/fuzz_*.cpp; do basename "$f" .cpp | sed 's/^fuzz_//'; done)}
 export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
+export LSAN_OPTIONS="suppressions=$PWD/scripts/lsan-suppressions.txt:print_suppressions=0${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
 
 run_one() {  # reader name -> libFuzzer's exit status; log in fuzz-run/<reader>/log
   local t=$1 work="$BUILD_DIR/fuzz-run/$1"
