@@ -33,13 +33,6 @@ json spectrum_json(const std::string& file) {
   return json::parse(r.out);
 }
 
-double coefficient(const json& j, std::vector<int> index, int channel = 0) {
-  for (size_t k = 0; k < j["indices"].size(); ++k)
-    if (j["indices"][k].get<std::vector<int>>() == index) return j["coefficients"][channel][k].get<double>();
-  ADD_FAILURE() << "index not found";
-  return NAN;
-}
-
 }  // namespace
 
 TEST(CliFit, LambertIsotropicSpectrumIsTwiceTheAlbedoAtDc) {
