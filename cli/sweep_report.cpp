@@ -43,6 +43,22 @@ std::string level_note(const SweepResult& r) {
                      r.config.gram_tolerance);
 }
 
+// One chart series per level of the sweep: y(row) against the order.
+template <class Y>
+std::vector<plot::Series> series_per_level(const SweepResult& r, Y y) {
+  std::vector<plot::Series> series;
+  for (int level : r.config.levels) {
+    plot::Series s;
+    s.label = fmt::format("level {}", level);
+    for (const SweepRow* row : rows_of_level(r, level)) {
+      s.x.push_back(row->order);
+      s.y.push_back(y(*row));
+    }
+    series.push_back(std::move(s));
+  }
+  return series;
+}
+
 }  // namespace
 
 std::string model_slug(const std::string& spec) {
@@ -62,16 +78,8 @@ std::vector<std::string> draw_figures(const SweepResult& r, const std::string& d
   const auto& cfg = r.config;
   // Error vs order, one figure per model, one series per level.
   for (std::size_t m = 0; m < cfg.models.size(); ++m) {
-    std::vector<Series> series;
-    for (int level : cfg.levels) {
-      Series s;
-      s.label = fmt::format("level {}", level);
-      for (const SweepRow* row : rows_of_level(r, level)) {
-        s.x.push_back(row->order);
-        s.y.push_back(row->supported ? floored(row->models[m].error_l2) : std::nan(""));
-      }
-      series.push_back(std::move(s));
-    }
+    std::vector<Series> series = series_per_level(
+        r, [m](const SweepRow& row) { return row.supported ? floored(row.models[m].error_l2) : std::nan(""); });
     ChartOptions o;
     o.title = "Relative L2 error at held-out pairs: " + cfg.labels[m];
     o.x_label = "order N";
@@ -110,16 +118,7 @@ std::vector<std::string> draw_figures(const SweepResult& r, const std::string& d
   }
   // Gram error vs order, one series per level, and the tolerance.
   {
-    std::vector<Series> series;
-    for (int level : cfg.levels) {
-      Series s;
-      s.label = fmt::format("level {}", level);
-      for (const SweepRow* row : rows_of_level(r, level)) {
-        s.x.push_back(row->order);
-        s.y.push_back(floored(row->gram_error));
-      }
-      series.push_back(std::move(s));
-    }
+    std::vector<Series> series = series_per_level(r, [](const SweepRow& row) { return floored(row.gram_error); });
     Series tol;
     tol.label = fmt::format("tolerance {}", cfg.gram_tolerance);
     tol.x = {static_cast<double>(cfg.orders.front()), static_cast<double>(cfg.orders.back())};
