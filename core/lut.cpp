@@ -33,19 +33,31 @@ void sample_lut_rows(const BrdfModel& model, const Grid& g, bool cosine, LutSamp
 
 void sample_lut_rows(const BrdfModel& model, const Grid& g, bool cosine, LutSampling sampling, const std::vector<int>& row_cells,
                      std::vector<Eigen::MatrixXd>& out) {
+  sample_lut_block(model, g, cosine, sampling, row_cells, g.cells(), out);
+}
+
+void sample_lut_block(const BrdfModel& model, const Grid& g, bool cosine, LutSampling sampling, const std::vector<int>& row_cells,
+                      int col_end, std::vector<Eigen::MatrixXd>& out) {
   const int cells = g.cells(), rows = static_cast<int>(row_cells.size()), ch = model.channels();
   for (int cell : row_cells)
     if (cell < 0 || cell >= cells)
       throw ArgumentError("LUT rows: cell " + std::to_string(cell) + " is outside [0, " + std::to_string(cells) + ")");
-  out.assign(static_cast<size_t>(ch), Eigen::MatrixXd::Zero(rows, cells));
+  if (col_end < 0 || col_end > cells)
+    throw ArgumentError("LUT rows: column end " + std::to_string(col_end) + " is outside [0, " + std::to_string(cells) + "]");
+  // Every entry is written below: resize without clearing (buffers are reused across calls).
+  out.resize(static_cast<size_t>(ch));
+  for (auto& m : out) m.resize(rows, col_end);
   if (sampling == LutSampling::CellCentre) {
-    // One incident direction at a time against every cell's direction (no copy of the remitted side).
-    RowMatrix3d wi(cells, 3);
-    Eigen::MatrixXd f(cells, ch);
+    // One incident direction at a time against every remitted cell's direction (no copy of that side).
+    RowMatrix3d part;  // the remitted directions, copied once per call when only some columns are sampled
+    if (col_end < cells) part = g.directions.topRows(col_end);
+    const RowMatrix3d& wr = col_end < cells ? part : g.directions;
+    RowMatrix3d wi(col_end, 3);
+    Eigen::MatrixXd f(col_end, ch);
     for (int i = 0; i < rows; ++i) {
       const int cell = row_cells[static_cast<size_t>(i)];
-      wi = g.directions.row(cell).replicate(cells, 1);
-      model.eval(wi, g.directions, f);
+      wi = g.directions.row(cell).replicate(col_end, 1);
+      model.eval(wi, wr, f);
       const double scale = cosine ? g.directions(cell, 2) : 1.0;
       for (int c = 0; c < ch; ++c) out[c].row(i) = f.col(c).transpose() * scale;
     }
@@ -54,24 +66,27 @@ void sample_lut_rows(const BrdfModel& model, const Grid& g, bool cosine, LutSamp
   // Entry (i, r) = sum_p sum_q (w_p / Omega_i) (w_q / Omega_r) f(x_p, x_q) [cos theta_p]: for each incident
   // point p the model runs against every remitted point at once; the incident cell's points are summed
   // first (acc), then each remitted cell's points (contiguous in the cubature arrays).
-  const Eigen::Index total_points = g.cubature_points.rows();
-  Eigen::VectorXd rel(total_points);  // w_q / Omega_r of each point
-  for (int r = 0; r < cells; ++r)
+  const Eigen::Index points = g.cubature_offsets[static_cast<size_t>(col_end)];
+  Eigen::VectorXd rel(points);  // w_q / Omega_r of each point
+  for (int r = 0; r < col_end; ++r)
     for (auto q = g.cubature_offsets[r]; q < g.cubature_offsets[r + 1]; ++q) rel[q] = g.cubature_weights[q] / g.solid_angles[r];
-  RowMatrix3d wi(total_points, 3);
-  Eigen::MatrixXd f(total_points, ch), acc(total_points, ch);
+  RowMatrix3d part;
+  if (points < g.cubature_points.rows()) part = g.cubature_points.topRows(points);
+  const RowMatrix3d& wr = points < g.cubature_points.rows() ? part : g.cubature_points;
+  RowMatrix3d wi(points, 3);
+  Eigen::MatrixXd f(points, ch), acc(points, ch);
   for (int i = 0; i < rows; ++i) {
     const int cell = row_cells[static_cast<size_t>(i)];
     acc.setZero();
     for (auto p = g.cubature_offsets[cell]; p < g.cubature_offsets[cell + 1]; ++p) {
       const double wp = g.cubature_weights[p] / g.solid_angles[cell] * (cosine ? g.cubature_points(p, 2) : 1.0);
-      wi = g.cubature_points.row(p).replicate(total_points, 1);
-      model.eval(wi, g.cubature_points, f);
+      wi = g.cubature_points.row(p).replicate(points, 1);
+      model.eval(wi, wr, f);
       acc.noalias() += wp * f;
     }
     for (int c = 0; c < ch; ++c) {
       const Eigen::VectorXd weighted = rel.cwiseProduct(acc.col(c));
-      for (int r = 0; r < cells; ++r) {
+      for (int r = 0; r < col_end; ++r) {
         const auto b = g.cubature_offsets[r], e = g.cubature_offsets[r + 1];
         out[c](i, r) = weighted.segment(b, e - b).sum();
       }

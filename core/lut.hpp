@@ -35,6 +35,11 @@ void sample_lut_rows(const BrdfModel& model, const Grid& grid, bool cosine, LutS
 // (ArgumentError for a cell outside the grid).
 void sample_lut_rows(const BrdfModel& model, const Grid& grid, bool cosine, LutSampling sampling,
                      const std::vector<int>& row_cells, std::vector<Eigen::MatrixXd>& out);
+// The same rows restricted to the first `col_end` remitted cells: out[ch] is row_cells.size() x col_end
+// (ArgumentError unless 0 <= col_end <= cells). With a grid whose cells are reordered this samples any
+// subset of columns, e.g. one triangle of a symmetric LUT (core/streaming_projection.cpp).
+void sample_lut_block(const BrdfModel& model, const Grid& grid, bool cosine, LutSampling sampling,
+                      const std::vector<int>& row_cells, int col_end, std::vector<Eigen::MatrixXd>& out);
 
 // The whole LUT: regular part by blocks of rows (threads over rows; deterministic), plus delta parts in g
 // form. A model with delta parts requires cosine = true (ArgumentError otherwise: f is singular).

@@ -2,6 +2,10 @@
 // Spectrum of an analytic model without materializing its LUT: C = P^T F P accumulated over blocks of
 // incident cells, F's rows sampled on the fly (core/lut.hpp). Memory O(cells x modes + block x cells);
 // the result equals project_lut(P, build_lut(...)) up to the summation order.
+// Work saved by symmetry: an isotropic model on a D2-symmetric grid samples one incident cell per orbit
+// (a quarter of F); a Helmholtz-reciprocal model (BrdfModel::is_reciprocal) samples one triangle of the
+// symmetric f LUT (half of F; an eighth with D2), in f form with either sampling and in g form with centre
+// sampling (a cell-averaged g LUT is not diag(cos) times a symmetric matrix, so it takes the full path).
 #include <Eigen/Core>
 
 #include <vector>

@@ -1,0 +1,121 @@
+// The reciprocal streaming projection (core/streaming_projection.cpp): for a Helmholtz-reciprocal model
+// only one triangle of the LUT is sampled (an eighth of it with the D2 symmetry, half without), in f form
+// with any sampling and in g form with centre sampling. Each case must equal P^T F P of the materialized
+// LUT, be bitwise the same on 1 and 2 threads, and a model that is not reciprocal must not take the path.
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <memory>
+#include <string>
+
+#include "core/discrete_basis.hpp"
+#include "core/error.hpp"
+#include "core/grid_symmetry.hpp"
+#include "core/lut.hpp"
+#include "core/model_spec.hpp"
+#include "core/projection.hpp"
+#include "core/reference_grids.hpp"
+#include "core/streaming_projection.hpp"
+
+namespace icobrdf {
+namespace {
+
+// Streaming and materialized projections add the same products in another order (the triangle path adds
+// each off-diagonal pair once and transposes): rounding of sums of ~cells^2 terms, relative to max|C|.
+constexpr double kAlgebraTol = 1e-12;
+
+// f = 1 + wi_z: isotropic (depends on theta_i only) but not reciprocal, so its LUT is not symmetric.
+class IncidenceOnly final : public ScalarBrdfModel {
+ public:
+  double value(const Eigen::Vector3d& wi, const Eigen::Vector3d&) const override { return 1.0 + wi.z(); }
+  bool is_reciprocal() const override { return false; }
+  std::string spec() const override { return "test:incidence-only"; }
+};
+
+// f = 1 + wi_x / 2 + wr_y / 4: neither isotropic nor reciprocal.
+class Skewed final : public ScalarBrdfModel {
+ public:
+  double value(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const override { return 1.0 + 0.5 * wi.x() + 0.25 * wr.y(); }
+  bool is_isotropic() const override { return false; }
+  bool is_reciprocal() const override { return false; }
+  std::string spec() const override { return "test:skewed"; }
+};
+
+void expect_streaming_equals_lut(const BrdfModel& m, const Grid& g, const ProjectionOperator& p, bool cosine, LutSampling sampling) {
+  const Eigen::MatrixXd direct = project_lut(p, build_lut(m, g, cosine, sampling).channels[0]);
+  omp_set_num_threads(2);
+  const auto two = streaming_projection(m, g, p, cosine, sampling);
+  omp_set_num_threads(1);
+  const auto one = streaming_projection(m, g, p, cosine, sampling);
+  omp_set_num_threads(2);
+  const double scale = direct.cwiseAbs().maxCoeff();
+  const std::string what = m.spec() + " on " + g.kind + (cosine ? " g" : " f") +
+                           (sampling == LutSampling::CellCentre ? " centre" : " average");
+  EXPECT_LT((two[0] - direct).cwiseAbs().maxCoeff(), kAlgebraTol * scale) << what;
+  EXPECT_EQ((two[0] - one[0]).cwiseAbs().maxCoeff(), 0.0) << what << ": 1 and 2 threads must agree bitwise";
+}
+
+// Reciprocal models on a D2-symmetric grid (lat-long with an even sector count) and on one without the
+// rotation by pi (odd sector count): isotropic and anisotropic GGX, a diffuse + delta sum (in
+// g form), in every form the path covers and in g form with cell averages (which it must leave alone).
+TEST(ReciprocalStreaming, EqualsTheMaterializedLut) {
+  const Grid symmetric = build_lat_long_grid(6, 12, 2);
+  const Grid odd = build_lat_long_grid(5, 7, 2);
+  ASSERT_TRUE(has_d2_maps(symmetric));
+  ASSERT_FALSE(has_d2_maps(odd));
+  const int order = 4;
+  for (const Grid* g : {&symmetric, &odd}) {
+    const auto p = make_projection(build_discrete_basis(*g, order));
+    for (const std::string spec : {"ggx:alpha=0.3", "ggx-aniso:alpha_x=0.4,alpha_y=0.2,azimuth=30"}) {
+      const auto m = parse_model(spec);
+      ASSERT_TRUE(m->is_reciprocal());
+      for (bool cosine : {false, true})
+        for (auto sampling : {LutSampling::CellAverage, LutSampling::CellCentre}) expect_streaming_equals_lut(*m, *g, p, cosine, sampling);
+    }
+    // The mirror's delta needs the rotation by pi, which the odd grid lacks; the retroreflector's does not.
+    const auto with_delta = parse_model(g == &symmetric ? "0.7*lambert+0.3*mirror" : "0.7*lambert+0.3*retroreflector");
+    expect_streaming_equals_lut(*with_delta, *g, p, true, LutSampling::CellCentre);
+  }
+}
+
+// A non-reciprocal model's LUT is not symmetric (so sampling one triangle would be wrong, and this test
+// would catch it); the streaming projection must still equal the materialized LUT's.
+TEST(ReciprocalStreaming, NonReciprocalModelsTakeTheFullPath) {
+  const Grid symmetric = build_lat_long_grid(6, 12, 2);
+  const Grid odd = build_lat_long_grid(5, 7, 2);
+  // The relative antisymmetric part of f = 1 + wi_z is ~0.1 on any grid; 0.01 proves the LUT asymmetric.
+  constexpr double kClearlyAsymmetric = 0.01;
+  const IncidenceOnly incidence;
+  const Skewed skewed;
+  for (const Grid* g : {&symmetric, &odd}) {
+    const auto p = make_projection(build_discrete_basis(*g, 4));
+    for (const BrdfModel* m : {static_cast<const BrdfModel*>(&incidence), static_cast<const BrdfModel*>(&skewed)}) {
+      EXPECT_GT(reciprocity_violation(build_lut(*m, *g, false, LutSampling::CellCentre).channels[0], g->solid_angles), kClearlyAsymmetric)
+          << m->spec();
+      for (bool cosine : {false, true})
+        for (auto sampling : {LutSampling::CellAverage, LutSampling::CellCentre}) expect_streaming_equals_lut(*m, *g, p, cosine, sampling);
+    }
+  }
+}
+
+// sample_lut_block gives the leading columns of the full rows, bit for bit, in both samplings.
+TEST(LutBlock, LeadingColumnsOfTheFullRows) {
+  const Grid g = build_lat_long_grid(4, 8, 2);
+  const auto m = parse_model("ggx:alpha=0.3");
+  for (auto sampling : {LutSampling::CellAverage, LutSampling::CellCentre}) {
+    std::vector<Eigen::MatrixXd> full, block;
+    sample_lut_rows(*m, g, true, sampling, std::vector<int>{5, 0, 17}, full);
+    sample_lut_block(*m, g, true, sampling, std::vector<int>{5, 0, 17}, 11, block);
+    ASSERT_EQ(block[0].rows(), 3);
+    ASSERT_EQ(block[0].cols(), 11);
+    EXPECT_EQ((block[0] - full[0].leftCols(11)).cwiseAbs().maxCoeff(), 0.0);
+    sample_lut_block(*m, g, true, sampling, std::vector<int>{5}, 0, block);
+    EXPECT_EQ(block[0].cols(), 0);
+  }
+  std::vector<Eigen::MatrixXd> out;
+  EXPECT_THROW(sample_lut_block(*m, g, true, LutSampling::CellCentre, std::vector<int>{0}, g.cells() + 1, out), ArgumentError);
+  EXPECT_THROW(sample_lut_block(*m, g, true, LutSampling::CellCentre, std::vector<int>{0}, -1, out), ArgumentError);
+}
+
+}  // namespace
+}  // namespace icobrdf
