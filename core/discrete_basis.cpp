@@ -12,6 +12,7 @@
 #include "core/brdf_model.hpp"  // kHorizonSlack: the slack core/lambert_map.cpp accepts below z = 0
 #include "core/grid_symmetry.hpp"
 #include "core/hemisphere_basis.hpp"
+#include "core/huge_pages.hpp"
 
 namespace icobrdf {
 
@@ -64,6 +65,168 @@ std::pair<double, double> extreme_eigenvalues(const Eigen::MatrixXd& g) {
   return {lo, hi};
 }
 
+// Solid angles of mirrored cells agree within this fraction (they are computed from mirrored vertices); G
+// computed from one cell per orbit then differs from the full sum by at most this relative amount.
+constexpr double kSolidAngleTol = 1e-12;
+
+// The D2 maps form the group: each is an involution on the cells and rotate_pi = mirror_xz o mirror_yz.
+bool d2_maps_form_group(const Grid& g) {
+  if (!has_d2_maps(g)) return false;
+  const int n = g.cells();
+  for (int c = 0; c < n; ++c) {
+    const int r = g.rotate_pi[c], a = g.mirror_xz[c], b = g.mirror_yz[c];
+    if (r < 0 || r >= n || a < 0 || a >= n || b < 0 || b >= n) return false;
+    if (g.rotate_pi[r] != c || g.mirror_xz[a] != c || g.mirror_yz[b] != c || g.mirror_xz[b] != r) return false;
+  }
+  return true;
+}
+
+// True when cell t = s(c) carries exactly the image of c's cubature under map s: the same number of points,
+// point q of t equal to the mapped point q of c (negating a coordinate is exact, so a rule built by mapping,
+// mesh/cubature_symmetry.hpp, passes with equality), equal weights, and solid angles equal within
+// kSolidAngleTol. Then B_t = sign_s B_c up to the rounding of the basis values.
+bool is_exact_image(const Grid& g, const D2Map& s, int c, int t) {
+  const auto b = g.cubature_offsets[static_cast<size_t>(c)], e = g.cubature_offsets[static_cast<size_t>(c) + 1];
+  const auto tb = g.cubature_offsets[static_cast<size_t>(t)], te = g.cubature_offsets[static_cast<size_t>(t) + 1];
+  if (e - b != te - tb || !(std::abs(g.solid_angles[t] - g.solid_angles[c]) <= kSolidAngleTol * g.solid_angles[c])) return false;
+  for (auto q = b; q < e; ++q) {
+    const auto u = tb + (q - b);
+    if (g.cubature_points(u, 0) != s.sx * g.cubature_points(q, 0) || g.cubature_points(u, 1) != s.sy * g.cubature_points(q, 1) ||
+        g.cubature_points(u, 2) != g.cubature_points(q, 2) || g.cubature_weights[u] != g.cubature_weights[q])
+      return false;
+  }
+  return true;
+}
+
+// How to fill the rows of a cell that is not a representative: B_cell = sign_map B_rep.
+struct OrbitFill {
+  int rep;   // index into the representatives
+  int cell;
+  int map;   // index into d2_maps
+};
+
+// For every representative and every other cell of its orbit, the first map that sends the representative
+// there with an exact image of its cubature (a cell reached by two maps, as when the representative lies on
+// a mirror, needs only one of them). Empty when some orbit cell has none: the rows must then be evaluated.
+std::vector<OrbitFill> orbit_fill_plan(const Grid& g, const std::vector<D2Representative>& reps) {
+  const auto maps = d2_maps(g);
+  const int nr = static_cast<int>(reps.size());
+  std::vector<std::vector<OrbitFill>> per(static_cast<size_t>(nr));
+  bool ok = true;
+#pragma omp parallel for schedule(static) reduction(&& : ok) if (g.cubature_points.rows() > 100000)
+  for (int k = 0; k < nr; ++k) {
+    const int c = reps[static_cast<size_t>(k)].cell;
+    for (int s = 0; s < static_cast<int>(maps.size()) && ok; ++s) {
+      const int t = (*maps[static_cast<size_t>(s)].cells)[c];
+      bool seen = t == c;
+      for (const auto& f : per[static_cast<size_t>(k)]) seen = seen || f.cell == t;
+      if (seen) continue;
+      int found = -1;
+      for (int u = s; u < static_cast<int>(maps.size()) && found < 0; ++u)
+        if ((*maps[static_cast<size_t>(u)].cells)[c] == t && is_exact_image(g, maps[static_cast<size_t>(u)], c, t)) found = u;
+      if (found < 0) ok = false;
+      else per[static_cast<size_t>(k)].push_back({k, t, found});
+    }
+  }
+  std::vector<OrbitFill> plan;
+  if (!ok) return plan;
+  for (const auto& p : per) plan.insert(plan.end(), p.begin(), p.end());
+  return plan;
+}
+
+// Row of B for cell c: the cubature's weighted sum of K_j divided by the solid angle.
+void cell_average(const Grid& g, int order, int c, double* out) {
+  const auto b = g.cubature_offsets[static_cast<size_t>(c)], e = g.cubature_offsets[static_cast<size_t>(c) + 1];
+  hemisphere_basis_weighted_sum(order, e - b, g.cubature_points.data() + 3 * b, g.cubature_weights.data() + b, out);
+  const double omega = g.solid_angles[c];
+  const int m = hemisphere_basis_count(order);
+  for (int j = 0; j < m; ++j) out[j] /= omega;
+}
+
+// B and G from one cell per D2 orbit, when the grid's cubature is exactly equivariant: the representatives'
+// rows are evaluated (R, representatives x modes), every other row is a representative's times the mode
+// signs, and G = d2_average(X) with X = sum_rep (W_c / |stabilizer|) R_c^T R_c, of which only the blocks
+// within a symmetry class are needed (d2_average zeroes the rest). Returns false (nothing written) when a
+// cell fixed by a map has a row that is not invariant under it to kEquivarianceTol (an asymmetric rule).
+bool build_from_orbits(const Grid& grid, DiscreteBasis& d) {
+  const int modes = hemisphere_basis_count(d.order);
+  const auto reps = d2_representatives(grid);
+  const auto plan = orbit_fill_plan(grid, reps);
+  if (plan.empty() && static_cast<int>(reps.size()) < grid.cells()) return false;
+  const int nr = static_cast<int>(reps.size());
+  const auto maps = d2_maps(grid);
+  std::vector<std::vector<double>> sign(maps.size(), std::vector<double>(static_cast<size_t>(modes)));
+  for (size_t s = 0; s < maps.size(); ++s)
+    for (int j = 0; j < modes; ++j) sign[s][static_cast<size_t>(j)] = maps[s].sign(ansi_to_nl(j).l);
+  Eigen::MatrixXd r(nr, modes);  // representatives x modes
+  advise_huge_pages(r.data(), sizeof(double) * static_cast<size_t>(r.size()));
+#pragma omp parallel
+  {
+    std::vector<double> row(static_cast<size_t>(modes));
+#pragma omp for schedule(dynamic, 16)
+    for (int k = 0; k < nr; ++k) {
+      cell_average(grid, d.order, reps[static_cast<size_t>(k)].cell, row.data());
+      for (int j = 0; j < modes; ++j) r(k, j) = row[static_cast<size_t>(j)];
+    }
+  }
+  // A representative fixed by a map must have zero average for the modes that map reverses.
+  const double bound = kEquivarianceTol * std::max(1e-300, r.cwiseAbs().maxCoeff());
+  for (int k = 0; k < nr; ++k)
+    for (size_t s = 0; s < maps.size(); ++s)
+      if ((*maps[s].cells)[reps[static_cast<size_t>(k)].cell] == reps[static_cast<size_t>(k)].cell)
+        for (int j = 0; j < modes; ++j)
+          if (sign[s][static_cast<size_t>(j)] < 0 && std::abs(r(k, j)) > bound) return false;
+  // Source of each row of B: representative src_rep[c] times the signs of map src_map[c] (0 = identity,
+  // 1 + index into maps). Columns are then written in cell order.
+  std::vector<int> src_rep(static_cast<size_t>(grid.cells()), -1), src_map(static_cast<size_t>(grid.cells()), 0);
+  for (int k = 0; k < nr; ++k) src_rep[static_cast<size_t>(reps[static_cast<size_t>(k)].cell)] = k;
+  for (const auto& f : plan) {
+    src_rep[static_cast<size_t>(f.cell)] = f.rep;
+    src_map[static_cast<size_t>(f.cell)] = 1 + f.map;
+  }
+  if (std::find(src_rep.begin(), src_rep.end(), -1) != src_rep.end()) return false;  // a cell outside every orbit
+  d.B.resize(grid.cells(), modes);
+  advise_huge_pages(d.B.data(), sizeof(double) * static_cast<size_t>(d.B.size()));
+#pragma omp parallel for schedule(static)
+  for (int j = 0; j < modes; ++j) {
+    const double sg[4] = {1.0, sign[0][static_cast<size_t>(j)], sign[1][static_cast<size_t>(j)], sign[2][static_cast<size_t>(j)]};
+    double* col = d.B.col(j).data();
+    const double* rc = r.col(j).data();
+    for (int c = 0; c < grid.cells(); ++c) col[c] = sg[src_map[static_cast<size_t>(c)]] * rc[src_rep[static_cast<size_t>(c)]];
+  }
+  // Within-class blocks of G and their extreme eigenvalues, one class per task.
+  std::vector<std::vector<int>> idx(4);
+  for (int j = 0; j < modes; ++j) idx[static_cast<size_t>(d2_class(j))].push_back(j);
+  Eigen::VectorXd sw(nr);
+  for (int k = 0; k < nr; ++k) sw[k] = std::sqrt(reps[static_cast<size_t>(k)].weight * grid.solid_angles[reps[static_cast<size_t>(k)].cell]);
+  d.G = Eigen::MatrixXd::Zero(modes, modes);
+  double lo[4], hi[4];
+#pragma omp parallel for schedule(dynamic)
+  for (int cls = 0; cls < 4; ++cls) {
+    const auto& id = idx[static_cast<size_t>(cls)];
+    const int s = static_cast<int>(id.size());
+    lo[cls] = std::numeric_limits<double>::infinity();
+    hi[cls] = -lo[cls];
+    if (s == 0) continue;
+    Eigen::MatrixXd wb(nr, s);
+    for (int a = 0; a < s; ++a) wb.col(a) = sw.cwiseProduct(r.col(id[static_cast<size_t>(a)]));
+    Eigen::MatrixXd x = Eigen::MatrixXd::Zero(s, s);
+    x.selfadjointView<Eigen::Lower>().rankUpdate(wb.transpose(), 4.0);  // d2_average: 4 X within a class
+    x = x.selfadjointView<Eigen::Lower>();
+    for (int b = 0; b < s; ++b)
+      for (int a = 0; a < s; ++a) d.G(id[static_cast<size_t>(a)], id[static_cast<size_t>(b)]) = x(a, b);
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(x, Eigen::EigenvaluesOnly);
+    lo[cls] = eig.eigenvalues().minCoeff();
+    hi[cls] = eig.eigenvalues().maxCoeff();
+  }
+  const double lmin = std::min(std::min(lo[0], lo[1]), std::min(lo[2], lo[3]));
+  const double lmax = std::max(std::max(hi[0], hi[1]), std::max(hi[2], hi[3]));
+  d.gram_error = (d.G - Eigen::MatrixXd::Identity(modes, modes)).cwiseAbs().maxCoeff();
+  d.condition = lmin > 0.0 ? lmax / lmin : std::numeric_limits<double>::infinity();
+  d.evaluated_cells = nr;
+  return true;
+}
+
 }  // namespace
 
 DiscreteBasis build_discrete_basis(const Grid& grid, int order) {
@@ -77,33 +240,18 @@ DiscreteBasis build_discrete_basis(const Grid& grid, int order) {
   DiscreteBasis d;
   d.order = order;
   d.W = grid.solid_angles;
+  // On a D2-symmetric grid whose cubature is exactly equivariant, a quarter of the cells suffice.
+  if (d2_maps_form_group(grid) && build_from_orbits(grid, d)) return d;
+  d.evaluated_cells = cells;
   d.B.resize(cells, modes);
+  advise_huge_pages(d.B.data(), sizeof(double) * static_cast<size_t>(d.B.size()));
 #pragma omp parallel
   {
-    std::vector<double> scratch(static_cast<size_t>(hemisphere_basis_lanes_scratch(order)));
-    std::vector<double> acc(static_cast<size_t>(modes * kBasisLanes));
-    Eigen::RowVectorXd row(modes);
-#pragma omp for schedule(static)
+    std::vector<double> row(static_cast<size_t>(modes));
+#pragma omp for schedule(dynamic, 16)
     for (int c = 0; c < cells; ++c) {
-      const auto b = grid.cubature_offsets[static_cast<size_t>(c)], e = grid.cubature_offsets[static_cast<size_t>(c) + 1];
-      std::fill(acc.begin(), acc.end(), 0.0);
-      for (auto q0 = b; q0 < e; q0 += kBasisLanes) {
-        alignas(32) double x[kBasisLanes], y[kBasisLanes], z[kBasisLanes], w[kBasisLanes];
-        for (int l = 0; l < kBasisLanes; ++l) {
-          const auto q = q0 + l;
-          const bool in = q < e;  // a short last group is padded with the pole at weight 0
-          x[l] = in ? grid.cubature_points(q, 0) : 0.0;
-          y[l] = in ? grid.cubature_points(q, 1) : 0.0;
-          z[l] = in ? grid.cubature_points(q, 2) : 1.0;
-          w[l] = in ? grid.cubature_weights[q] : 0.0;
-        }
-        hemisphere_basis_eval_lanes(order, x, y, z, w, scratch.data(), acc.data(), true);
-      }
-      for (int j = 0; j < modes; ++j) {
-        const double* a = acc.data() + static_cast<size_t>(j) * kBasisLanes;
-        row[j] = ((a[0] + a[1]) + (a[2] + a[3])) / grid.solid_angles[c];
-      }
-      d.B.row(c) = row;
+      cell_average(grid, order, c, row.data());
+      for (int j = 0; j < modes; ++j) d.B(c, j) = row[static_cast<size_t>(j)];
     }
   }
   // G = B^T W B as a sum of symmetric rank updates over fixed blocks of cells (lower triangle, then

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/huge_pages.hpp"
 #include "core/lambert_map.hpp"
 #include "core/zernike.hpp"
 
@@ -188,32 +189,14 @@ Eigen::MatrixXd hemisphere_basis_matrix(int order, const RowMatrix3d& dirs) {
                           std::to_string(dirs(r, 0)) + ", " + std::to_string(dirs(r, 1)) + ", " +
                           std::to_string(dirs(r, 2)) + ") is not a finite direction with z >= 0");
   Eigen::MatrixXd out(rows, count);
-  // Blocks of rows are evaluated kBasisLanes directions at a time into a lane-interleaved buffer and copied
-  // into the column-major result (each mode's values for a block are then contiguous in the output).
-  constexpr Eigen::Index kBlock = 32;
+  advise_huge_pages(out.data(), sizeof(double) * static_cast<size_t>(out.size()));
+  // Blocks of rows go straight into the column-major result (each mode's values for a block are contiguous).
+  constexpr Eigen::Index kBlock = 256;
   const Eigen::Index blocks = (rows + kBlock - 1) / kBlock;
-  static const double kOnes[kBasisLanes] = {1.0, 1.0, 1.0, 1.0};
-#pragma omp parallel if (rows * count > 200000)
-  {
-    std::vector<double> scratch(static_cast<size_t>(hemisphere_basis_lanes_scratch(order)));
-    std::vector<double> k(static_cast<size_t>(count * kBasisLanes));
-#pragma omp for schedule(static)
-    for (Eigen::Index b = 0; b < blocks; ++b) {
-      const Eigen::Index r0 = b * kBlock, nr = std::min(kBlock, rows - r0);
-      for (Eigen::Index g0 = 0; g0 < nr; g0 += kBasisLanes) {
-        alignas(32) double x[kBasisLanes], y[kBasisLanes], z[kBasisLanes];
-        const int lanes = static_cast<int>(std::min<Eigen::Index>(kBasisLanes, nr - g0));
-        for (int l = 0; l < kBasisLanes; ++l) {
-          const Eigen::Index r = r0 + g0 + std::min(l, lanes - 1);  // short group: repeat the last direction
-          x[l] = dirs(r, 0);
-          y[l] = dirs(r, 1);
-          z[l] = dirs(r, 2);
-        }
-        hemisphere_basis_eval_lanes(order, x, y, z, kOnes, scratch.data(), k.data(), false);
-        for (int j = 0; j < count; ++j)
-          for (int l = 0; l < lanes; ++l) out(r0 + g0 + l, j) = k[static_cast<size_t>(j) * kBasisLanes + l];
-      }
-    }
+#pragma omp parallel for schedule(static) if (rows * count > 200000)
+  for (Eigen::Index b = 0; b < blocks; ++b) {
+    const Eigen::Index r0 = b * kBlock, nr = std::min(kBlock, rows - r0);
+    hemisphere_basis_block(order, nr, dirs.data() + 3 * r0, out.data() + r0, rows);
   }
   return out;
 }
