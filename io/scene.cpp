@@ -2,6 +2,9 @@
 
 #include <toml++/toml.h>
 
+#include <cmath>
+#include <cstdint>
+#include <limits>
 #include <set>
 
 #include "core/error.hpp"
@@ -13,15 +16,25 @@ namespace {
   throw InputError(s.path + ": " + where + ": " + what);
 }
 
+// An integer setting as int; values beyond int's range fail instead of wrapping (2^32 + 4 is not 4).
+int checked_int(const Scene& s, const std::string& where, const char* key, int64_t v) {
+  if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
+    fail(s, where, std::string("'") + key + "' expected an integer of a few digits, found " + std::to_string(v));
+  return static_cast<int>(v);
+}
+
 template <class T>
 T get_or(const Scene& s, const toml::table& t, const std::string& where, const char* key, T fallback) {
   const toml::node* n = t.get(key);
   if (!n) return fallback;
   if constexpr (std::is_same_v<T, double>) {
-    if (auto v = n->value<double>()) return *v;
+    if (auto v = n->value<double>()) {
+      if (std::isfinite(*v)) return *v;
+      fail(s, where, std::string("'") + key + "' expected a finite number, found " + std::to_string(*v));
+    }
     fail(s, where, std::string("'") + key + "' expected a number");
   } else if constexpr (std::is_same_v<T, int>) {
-    if (auto v = n->value<int64_t>()) return static_cast<int>(*v);
+    if (auto v = n->value<int64_t>()) return checked_int(s, where, key, *v);
     fail(s, where, std::string("'") + key + "' expected an integer");
   } else if constexpr (std::is_same_v<T, bool>) {
     if (auto v = n->value<bool>()) return *v;
@@ -45,6 +58,8 @@ std::vector<std::pair<double, double>> directions(const Scene& s, const toml::ta
     const double th = *(*pair)[0].value<double>(), ph = *(*pair)[1].value<double>();
     if (!(th >= 0 && th <= 90))
       fail(s, where, std::string("'") + key + "' entry " + std::to_string(k + 1) + ": theta expected in [0, 90], found " + std::to_string(th));
+    if (!std::isfinite(ph))
+      fail(s, where, std::string("'") + key + "' entry " + std::to_string(k + 1) + ": phi expected a finite angle, found " + std::to_string(ph));
     out.emplace_back(th, ph);
   }
   return out;
@@ -92,7 +107,7 @@ Scene read_scene(const std::string& path) {
       s.levels.clear();
       for (const auto& e : *arr) {
         if (!e.value<int64_t>()) fail(s, w, "'levels' expected integers");
-        s.levels.push_back(static_cast<int>(*e.value<int64_t>()));
+        s.levels.push_back(checked_int(s, w, "levels", *e.value<int64_t>()));
       }
     }
     if (s.level < 0 || s.level > 8) fail(s, w, "'level' expected in [0, 8], found " + std::to_string(s.level));

@@ -157,6 +157,11 @@ TEST(CliBank, SceneErrorsNameFileMaterialAndKey) {
       {"[bank]\nlevel = 12\n[[material]]\nname = \"a\"\nsource = \"model:lambert\"\n", "'level' expected in [0, 8]"},
       {"[[material]]\nname = \"a\"\nsource = \"model:lambert\"\n[[material]]\nname = \"a\"\nsource = \"model:lambert\"\n", "duplicate name"},
       {"[[material]]\nname = \"a\"\nsource = \"model:lambert\"\nlights = [[30, 0]]\n", "'lights' and 'cameras' go together"},
+      // Integers beyond int's range fail rather than wrap (4294967300 = 2^32 + 4 would read as level 4).
+      {"[bank]\nlevel = 4294967300\n[[material]]\nname = \"a\"\nsource = \"model:lambert\"\n", "'level' expected an integer of a few digits"},
+      {"[bank]\nlevels = [3, 4294967300]\n[[material]]\nname = \"a\"\nsource = \"model:lambert\"\n", "'levels' expected an integer of a few digits"},
+      {"[[material]]\nname = \"a\"\nsource = \"model:lambert\"\ntarget = inf\n", "'target' expected a finite number"},
+      {"[[material]]\nname = \"a\"\nsource = \"model:lambert\"\nlights = [[30, nan]]\ncameras = [[0, 0]]\n", "phi expected a finite angle"},
       {"[bank\n", "s.toml:1"},
       {"", "expected at least one [[material]]"},
   };
