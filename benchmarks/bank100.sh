@@ -2,6 +2,8 @@
 # Times `icobrdf bank build` on a generated scene of 100 analytic materials, each fitted at a fixed level 4
 # and order 8 (issue 6 target: "a bank of 100 analytic materials at level 4, order 8 in <= 10 s").
 #   benchmarks/bank100.sh [ICOBRDF] [REPEATS]     (default build/cli/icobrdf, 3 runs; the best is reported)
+# With BANK100_KEEP=DIR the scene, the last run's bank and its progress log are copied to DIR (to compare the
+# banks of two builds).
 # The materials: Lambert, Minnaert, Oren-Nayar, GGX (isotropic and anisotropic, Schlick and dielectric
 # Fresnel), Beckmann, Phong, Blinn-Phong, Lafortune and diffuse+specular sums over a range of parameters.
 # Each material fixes `level = 4` and `order = 8` (no level/order search), sampling "centre" (the
@@ -53,4 +55,8 @@ for r in $(seq 1 "$REPEATS"); do
   echo "run $r: $count materials in $s s (load average $load)"
   best=$(awk -v a="${best:-1e9}" -v b="$s" 'BEGIN{print (b < a) ? b : a}')
 done
+if [ -n "${BANK100_KEEP:-}" ]; then
+  mkdir -p "$BANK100_KEEP"
+  cp "$scene" "$dir/bank.h5" "$dir/log.txt" "$BANK100_KEEP"/
+fi
 echo "best: $count materials at level 4, order 8 in $best s ($(nproc) cores, OMP_NUM_THREADS=${OMP_NUM_THREADS:-unset})"

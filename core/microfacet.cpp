@@ -1,6 +1,7 @@
 #include "core/microfacet.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -85,15 +86,38 @@ namespace {
 // Pairs per block of the vectorized GGX evaluation (structure-of-arrays buffers on the stack).
 constexpr Eigen::Index kGgxBlock = 128;
 using GgxArray = Eigen::Array<double, kGgxBlock, 1>;
+// Beckmann: D is set to 0 where its exponent exceeds this (there D < exp(-700) (1 + 700 alpha^2)^2 / (pi alpha^2),
+// below 1e-290 for every alpha >= 1e-3; the factor n^4/h_z^4 is bounded by the same condition, so no
+// overflow meets the underflow of exp).
+constexpr double kBeckmannExponentMax = 700.0;
+
+// Beckmann L = (q exp(-a^2)/sqrt(pi) - z erfc(a))/2, a = z/q, for the lanes of a block (smith_z_lambda with
+// the exponential vectorized; erfc stays std::erfc, once per run of equal consecutive directions, which is
+// every lane of a LUT row's replicated incident direction). `prev` carries the last direction and its L
+// across blocks (prev[3] = L).
+void beckmann_z_lambda_block(const GgxArray& x, const GgxArray& y, const GgxArray& z, double ax2, double ay2,
+                             std::array<double, 4>& prev, GgxArray& out) {
+  const GgxArray q2 = ax2 * x * x + ay2 * y * y;
+  const GgxArray q = q2.sqrt();
+  const GgxArray a = z / q.max(std::numeric_limits<double>::min());
+  const GgxArray e = (-(a * a)).exp();
+  for (Eigen::Index k = 0; k < kGgxBlock; ++k) {
+    if (x[k] == prev[0] && y[k] == prev[1] && z[k] == prev[2]) {
+      out[k] = prev[3];
+      continue;
+    }
+    out[k] = q2[k] == 0.0 ? 0.0 : 0.5 * (q[k] * e[k] / std::sqrt(M_PI) - z[k] * std::erfc(a[k]));
+    prev = {x[k], y[k], z[k], out[k]};
+  }
+}
 
 }  // namespace
 
 void MicrofacetModel::eval(const RowMatrix3d& wi_all, const RowMatrix3d& wr_all, Eigen::Ref<Eigen::MatrixXd> out) const {
-  if (p_.distribution != MicrofacetDistribution::Ggx) {
-    ScalarBrdfModel::eval(wi_all, wr_all, out);
-    return;
-  }
   check_pair_shapes(wi_all, wr_all, out, 1);
+  const bool ggx = p_.distribution == MicrofacetDistribution::Ggx;
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  std::array<double, 4> prev_i{nan, nan, nan, 0.0}, prev_r{nan, nan, nan, 0.0};
   const double ax = p_.alpha_x, ay = p_.alpha_y, ax2 = ax * ax, ay2 = ay * ay;
   const double inv_ax2 = 1.0 / ax2, inv_ay2 = 1.0 / ay2, d_scale = 1.0 / (M_PI * ax * ay);
   const Eigen::Index rows = wi_all.rows();
@@ -123,9 +147,6 @@ void MicrofacetModel::eval(const RowMatrix3d& wi_all, const RowMatrix3d& wr_all,
     const GgxArray hx = xi + xr, hy = yi + yr, hz = zi + zr;
     const GgxArray n2 = hx * hx + hy * hy + hz * hz;
     const GgxArray n = n2.sqrt();
-    // D(h/|h|) = 1 / (pi ax ay t^2), t = s / n^2, s = hx^2/ax^2 + hy^2/ay^2 + hz^2 (hz >= 0 here): the
-    // division is folded into the final one, D = n^4 / (pi ax ay s^2).
-    const GgxArray s = hx * hx * inv_ax2 + hy * hy * inv_ay2 + hz * hz;
     const GgxArray c = (0.5 * n).min(1.0);
     GgxArray f;
     if (p_.fresnel == FresnelMode::Schlick) {
@@ -136,20 +157,43 @@ void MicrofacetModel::eval(const RowMatrix3d& wi_all, const RowMatrix3d& wr_all,
     } else {
       f.setOnes();
     }
-    // L = q^2 / (2 (sqrt(z^2 + q^2) + z)), 0 at the normal (q = 0).
-    const GgxArray qi = ax2 * xi * xi + ay2 * yi * yi, qr = ax2 * xr * xr + ay2 * yr * yr;
-    // (The floor only matters for q = z = 0, not a unit vector, where it makes L = 0 instead of 0/0.)
-    constexpr double tiny = std::numeric_limits<double>::min();
-    const GgxArray li = qi / (2.0 * ((zi * zi + qi).sqrt() + zi)).max(tiny);
-    const GgxArray lr = qr / (2.0 * ((zr * zr + qr).sqrt() + zr)).max(tiny);
+    GgxArray li, lr;
+    if (ggx) {
+      // L = q^2 / (2 (sqrt(z^2 + q^2) + z)), 0 at the normal (q = 0).
+      const GgxArray qi = ax2 * xi * xi + ay2 * yi * yi, qr = ax2 * xr * xr + ay2 * yr * yr;
+      // (The floor only matters for q = z = 0, not a unit vector, where it makes L = 0 instead of 0/0.)
+      constexpr double tiny = std::numeric_limits<double>::min();
+      li = qi / (2.0 * ((zi * zi + qi).sqrt() + zi)).max(tiny);
+      lr = qr / (2.0 * ((zr * zr + qr).sqrt() + zr)).max(tiny);
+    } else {
+      beckmann_z_lambda_block(xi, yi, zi, ax2, ay2, prev_i, li);
+      beckmann_z_lambda_block(xr, yr, zr, ax2, ay2, prev_r, lr);
+    }
     GgxArray denom;
     if (p_.masking == SmithMasking::HeightCorrelated) {
       const GgxArray zfi = zi.max(kGrazingCosFloor), zfr = zr.max(kGrazingCosFloor);
-      denom = 4.0 * (zfi * zfr + (zfr * li + zfi * lr));
+      // zr L_i + zi L_r summed as max + min of the two products: no product can be fused into the addition
+      // (which would round the two orders differently), so swapping w_i and w_r gives bitwise the same sum.
+      const GgxArray u = zfr * li, v = zfi * lr;
+      denom = 4.0 * (zfi * zfr + (u.max(v) + u.min(v)));
     } else {
       denom = 4.0 * (zi + li) * (zr + lr);
     }
-    const GgxArray value = (d_scale * n2 * n2 * f) / (s * s * denom);
+    GgxArray value;
+    if (ggx) {
+      // D(h/|h|) = 1 / (pi ax ay t^2), t = s / n^2, s = hx^2/ax^2 + hy^2/ay^2 + hz^2 (hz >= 0 here): the
+      // division is folded into the final one, D = n^4 / (pi ax ay s^2).
+      const GgxArray s = hx * hx * inv_ax2 + hy * hy * inv_ay2 + hz * hz;
+      value = (d_scale * n2 * n2 * f) / (s * s * denom);
+    } else {
+      // D(h/|h|) = exp(-t) n^4 / (pi ax ay hz^4), t = (hx^2/ax^2 + hy^2/ay^2) / hz^2 (scale-free); its limit 0
+      // at hz = 0 and beyond kBeckmannExponentMax.
+      const GgxArray hz2 = hz * hz;
+      const GgxArray t = (hx * hx * inv_ax2 + hy * hy * inv_ay2) / hz2.max(std::numeric_limits<double>::min());
+      const GgxArray r = n2 / hz2.max(std::numeric_limits<double>::min());
+      const GgxArray d = (t <= kBeckmannExponentMax).select(d_scale * (-t.min(kBeckmannExponentMax)).exp() * (r * r), 0.0);
+      value = (d * f) / denom;
+    }
     // Zero below the horizon, without a half vector (opposite horizontal directions) and for a vanishing
     // denominator (guards 0/0), as value() does.
     for (Eigen::Index k = 0; k < nb; ++k)

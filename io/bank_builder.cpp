@@ -24,6 +24,10 @@
 namespace icobrdf {
 namespace {
 
+// Resume-file checkpoints: time between two rewrites of OUTPUT.partial over the duration of the last rewrite
+// (at most 1/(1 + ratio) = 9% of a build is spent on them; a SIGKILL loses at most ratio x that duration).
+constexpr double kCheckpointRatio = 10.0;
+
 std::string fmt_double(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.17g", x);
@@ -221,9 +225,9 @@ class Builder {
             best_where = "level " + std::to_string(level) + " order " + std::to_string(n);
           }
           if (l2 > m.target) continue;
-          // Fit at exactly this order and verify.
+          // Fit at exactly this order and verify (at n = top that fit is the one just made: reused).
           o.order = n;
-          Spectrum exact = src->fit(context(level, n), o);
+          Spectrum exact = n == top ? s : src->fit(context(level, n), o);
           const auto [l2e, mxe] = ev.errors(exact.channels, n);
           if (l2e > m.target) continue;
           rep.anisotropy = exact.anisotropy_fraction;
@@ -401,6 +405,22 @@ BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& opt) {
   BankBuildResult result;
   BankContents done;  // finished materials, in scene order
   bool failed = false;
+  // Resume-file checkpoints: the whole file is rewritten each time (atomically), so its cost grows with the
+  // materials finished; a checkpoint is written once the time since the previous one reaches
+  // kCheckpointRatio times that one's duration (always after the first material, and at the end of a failed
+  // or interrupted build), which bounds the time spent on them to 1/(1 + kCheckpointRatio) of the build.
+  size_t saved = 0;  // materials in the resume file
+  double last_write_s = 0.0;
+  auto last_end = std::chrono::steady_clock::now();
+  auto checkpoint = [&](bool force) {
+    if (done.materials.size() == saved) return;
+    const auto t = std::chrono::steady_clock::now();
+    if (!force && std::chrono::duration<double>(t - last_end).count() < kCheckpointRatio * last_write_s) return;
+    write_bank(partial_path, done);
+    last_end = std::chrono::steady_clock::now();
+    last_write_s = std::chrono::duration<double>(last_end - t).count();
+    saved = done.materials.size();
+  };
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     const auto& m = scene.materials[i];
     if (opt.stop && opt.stop->load() != 0) {
@@ -437,7 +457,7 @@ BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& opt) {
       }
       rep.ok = true;
       done.materials.push_back(std::move(rec));
-      write_bank(partial_path, done);
+      checkpoint(false);
     } catch (const std::exception& e) {
       rep.ok = false;
       rep.error = e.what();
@@ -446,7 +466,10 @@ BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& opt) {
     }
     result.materials.push_back(std::move(rep));
   }
-  if (failed || result.interrupted) return result;
+  if (failed || result.interrupted) {
+    checkpoint(true);  // every finished material is kept for --resume
+    return result;
+  }
   // The bank: grid and operators on the bank level for every order used, and the materials.
   BankContents bank;
   bank.grid = b.bank_grid();

@@ -22,9 +22,11 @@
 // The bank stores its grid (level `level`) with B and G for every order used, and P where that grid supports
 // the order (its Gram error is within the default tolerance); reconstruction F = B C B^T needs only B.
 //
-// Resume: after each material the finished ones are written (atomically) to OUTPUT.partial, keyed by a hash
-// of the source text, the material's settings and the bank settings; with `resume`, materials whose key
-// matches are taken from there. The bank itself is written atomically at the end and the partial file removed.
+// Resume: the finished materials are written (atomically) to OUTPUT.partial, keyed by a hash of the source
+// text, the material's settings and the bank settings; with `resume`, materials whose key matches are taken
+// from there. The file is rewritten after the first material, then whenever the time since the last rewrite
+// reaches 10 times that rewrite's duration (rewrites grow with the materials kept; this bounds them to 9% of
+// the build), and at the end of a failed or interrupted build: a SIGKILL loses at most that much work. The bank itself is written atomically at the end and the partial file removed.
 #include <atomic>
 #include <functional>
 #include <string>
