@@ -160,13 +160,17 @@ bool build_from_orbits(const Grid& grid, DiscreteBasis& d) {
     for (int j = 0; j < modes; ++j) sign[s][static_cast<size_t>(j)] = maps[s].sign(ansi_to_nl(j).l);
   Eigen::MatrixXd r(nr, modes);  // representatives x modes
   advise_huge_pages(r.data(), sizeof(double) * static_cast<size_t>(r.size()));
+  // Groups of kRowGroup representatives: their rows are stored column by column, one cache line per column.
+  constexpr int kRowGroup = 8;
 #pragma omp parallel
   {
-    std::vector<double> row(static_cast<size_t>(modes));
-#pragma omp for schedule(dynamic, 16)
-    for (int k = 0; k < nr; ++k) {
-      cell_average(grid, d.order, reps[static_cast<size_t>(k)].cell, row.data());
-      for (int j = 0; j < modes; ++j) r(k, j) = row[static_cast<size_t>(j)];
+    std::vector<double> rows(static_cast<size_t>(modes) * kRowGroup);
+#pragma omp for schedule(dynamic, 2)
+    for (int k0 = 0; k0 < nr; k0 += kRowGroup) {
+      const int count = std::min(kRowGroup, nr - k0);
+      for (int k = 0; k < count; ++k) cell_average(grid, d.order, reps[static_cast<size_t>(k0 + k)].cell, rows.data() + static_cast<size_t>(k) * modes);
+      for (int j = 0; j < modes; ++j)
+        for (int k = 0; k < count; ++k) r(k0 + k, j) = rows[static_cast<size_t>(k) * modes + j];
     }
   }
   // A representative fixed by a map must have zero average for the modes that map reverses.
