@@ -238,9 +238,8 @@ DiscreteBasis build_discrete_basis(const Grid& grid, int order) {
   const int cells = grid.cells();
   const int modes = hemisphere_basis_count(order);
   // Validate up front: nothing may throw inside the parallel loop.
-  for (Eigen::Index q = 0; q < grid.cubature_points.rows(); ++q)
-    if (!grid.cubature_points.row(q).allFinite() || !(grid.cubature_points(q, 2) >= -kHorizonSlack))
-      throw ArgumentError("discrete basis: cubature point " + std::to_string(q) + " is not a finite direction with z >= 0");
+  if (const Eigen::Index q = first_invalid_direction(grid.cubature_points, kHorizonSlack); q >= 0)
+    throw ArgumentError("discrete basis: cubature point " + std::to_string(q) + " is not a finite direction with z >= 0");
   DiscreteBasis d;
   d.order = order;
   d.W = grid.solid_angles;

@@ -179,15 +179,23 @@ void hemisphere_basis_eval(int order, const Eigen::Vector3d& unit_dir, double* o
   eval_unchecked(order, unit_dir, out);
 }
 
+Eigen::Index first_invalid_direction(const RowMatrix3d& dirs, double z_slack) {
+  const Eigen::Index rows = dirs.rows();
+  Eigen::Index first = rows;
+#pragma omp parallel for schedule(static) reduction(min : first) if (rows > 100000)
+  for (Eigen::Index r = 0; r < rows; ++r)
+    if (r < first && !(std::isfinite(dirs(r, 0)) && std::isfinite(dirs(r, 1)) && std::isfinite(dirs(r, 2)) && dirs(r, 2) >= -z_slack))
+      first = r;
+  return first < rows ? first : -1;
+}
+
 Eigen::MatrixXd hemisphere_basis_matrix(int order, const RowMatrix3d& dirs) {
   const int count = hemisphere_basis_count(order);
   const Eigen::Index rows = dirs.rows();
   // Validate up front: nothing may throw inside the parallel loop.
-  for (Eigen::Index r = 0; r < rows; ++r)
-    if (!dirs.row(r).allFinite() || !(dirs(r, 2) >= -1e-12))
-      throw ArgumentError("hemisphere_basis_matrix: direction " + std::to_string(r) + " = (" +
-                          std::to_string(dirs(r, 0)) + ", " + std::to_string(dirs(r, 1)) + ", " +
-                          std::to_string(dirs(r, 2)) + ") is not a finite direction with z >= 0");
+  if (const Eigen::Index r = first_invalid_direction(dirs); r >= 0)
+    throw ArgumentError("hemisphere_basis_matrix: direction " + std::to_string(r) + " = (" + std::to_string(dirs(r, 0)) + ", " +
+                        std::to_string(dirs(r, 1)) + ", " + std::to_string(dirs(r, 2)) + ") is not a finite direction with z >= 0");
   Eigen::MatrixXd out(rows, count);
   advise_huge_pages(out.data(), sizeof(double) * static_cast<size_t>(out.size()));
   // Blocks of rows go straight into the column-major result (each mode's values for a block are contiguous).

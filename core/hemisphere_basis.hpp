@@ -63,6 +63,10 @@ void hemisphere_basis_block(int order, Eigen::Index n, const double* dirs, doubl
 // only on n), so results do not depend on threads.
 void hemisphere_basis_weighted_sum(int order, Eigen::Index n, const double* dirs, const double* w, double* out);
 
+// Validation for batch callers: the first row of dirs that is not a finite direction with z >= -z_slack,
+// or -1 when all are (threads over rows for large inputs; the answer does not depend on threads).
+Eigen::Index first_invalid_direction(const RowMatrix3d& dirs, double z_slack = 1e-12);
+
 // dirs.rows() x hemisphere_basis_count(order): row r holds every K_j at direction r.
 Eigen::MatrixXd hemisphere_basis_matrix(int order, const RowMatrix3d& dirs);
 

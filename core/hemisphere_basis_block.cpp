@@ -22,6 +22,12 @@
 #include "core/hemisphere_basis.hpp"
 #include "core/zernike.hpp"
 
+// Without AVX (ICOBRDF_NATIVE=OFF) GCC notes that 32-byte vectors are passed differently; these helpers are
+// internal to this file, so the ABI note does not apply.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
 namespace icobrdf {
 
 namespace {

@@ -10,6 +10,12 @@
 #include "core/hemisphere_basis.hpp"
 #include "core/huge_pages.hpp"
 
+// Without AVX (ICOBRDF_NATIVE=OFF) GCC notes that 32-byte vectors are passed differently; these helpers are
+// internal to this file, so the ABI note does not apply.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
 namespace icobrdf {
 
 namespace {
@@ -89,10 +95,9 @@ Eigen::VectorXd evaluate_coefficients(const Eigen::MatrixXd& c, int order, const
   if (wi.rows() != wr.rows()) throw ArgumentError("evaluate: incident and remitted direction counts differ");
   const Eigen::Index n = wi.rows();
   for (const RowMatrix3d* d : {&wi, &wr})
-    for (Eigen::Index r = 0; r < n; ++r)
-      if (!d->row(r).allFinite() || !((*d)(r, 2) >= -1e-12))
-        throw ArgumentError(std::string("evaluate: ") + (d == &wi ? "incident" : "remitted") + " direction " + std::to_string(r) +
-                            " is not a finite direction with z >= 0");
+    if (const Eigen::Index r = first_invalid_direction(*d); r >= 0)
+      throw ArgumentError(std::string("evaluate: ") + (d == &wi ? "incident" : "remitted") + " direction " + std::to_string(r) +
+                          " is not a finite direction with z >= 0");
   // Blocks of kEvalBlock pairs: K(w_i) and K(w_r) (block x M, column-major, by the block basis kernel), then
   // f = rowwise dot(K(w_i) C, K(w_r)) by a register-tiled kernel that never stores K(w_i) C. Threads take
   // blocks; each pair's value depends only on its own directions, so results do not depend on threads.

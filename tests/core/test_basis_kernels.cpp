@@ -9,6 +9,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -226,4 +227,24 @@ TEST(DiscreteBasisOrbits, IdenticalOnOneAndTwoThreads) {
   EXPECT_EQ((one.G - two.G).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_EQ(one.condition, two.condition);
   EXPECT_EQ(one.evaluated_cells, g.cells() / 4);
+}
+
+TEST(BasisBlock, FirstInvalidDirectionIsTheFirstBadRowOnAnyNumberOfThreads) {
+  // 300 000 rows (validated on several threads): bad rows at 150 000 (z below the slack) and 299 999 (NaN);
+  // z = -1e-12 itself is on the horizon, and z = 2 (not a unit vector) is not this function's concern.
+  RowMatrix3d d = RowMatrix3d::Zero(300000, 3);
+  d.col(2).setOnes();
+  d(10, 2) = -1e-12;
+  d(20, 2) = 2.0;
+  EXPECT_EQ(first_invalid_direction(d), -1);
+  d(299999, 1) = std::nan("");
+  d(150000, 2) = -2e-12;
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    EXPECT_EQ(first_invalid_direction(d), 150000);
+    EXPECT_EQ(first_invalid_direction(d, 1e-11), 299999);  // a larger slack accepts row 150 000
+  }
+  d(7, 0) = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(first_invalid_direction(d), 7);
+  EXPECT_EQ(first_invalid_direction(RowMatrix3d(0, 3)), -1);
 }
