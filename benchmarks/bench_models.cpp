@@ -1,5 +1,6 @@
 // Batch evaluation of the analytic BRDF models (core/model_spec.hpp): f at 4096 random direction pairs per
-// call, one thread.   bench_models [--benchmark_filter=...]
+// call (ModelEval), or one incident direction against 4096 remitted ones as in a LUT row (ModelEvalRow), one
+// thread.   bench_models [--benchmark_filter=...]
 // Results: benchmarks/RESULTS.md, section "Analytic BRDF models".
 #include <benchmark/benchmark.h>
 
@@ -39,6 +40,22 @@ void BM_ModelEval(benchmark::State& state, const std::string& spec) {
   state.SetItemsProcessed(state.iterations() * kPairs);
 }
 
+// The pattern of a LUT row: one incident direction against every remitted one (models that cache per-direction
+// factors, such as Beckmann's Smith term, compute the incident one once).
+void BM_ModelEvalRow(benchmark::State& state, const std::string& spec) {
+  std::mt19937_64 rng(5);
+  const RowMatrix3d wr = random_directions(rng);
+  const RowMatrix3d wi = wr.row(0).replicate(kPairs, 1);
+  const auto model = parse_model(spec);
+  Eigen::MatrixXd out(kPairs, model->channels());
+  for (auto _ : state) {
+    model->eval(wi, wr, out);
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * kPairs);
+}
+
 void BM_ParseModel(benchmark::State& state, const std::string& spec) {
   for (auto _ : state) {
     auto m = parse_model(spec);
@@ -51,6 +68,8 @@ const int kRegistered = [] {
                            "beckmann", "ggx-aniso", "oren-nayar", "lafortune", "lommel-seeliger", "hapke",
                            "0.8*lambert+0.2*ggx:alpha=0.1"})
     benchmark::RegisterBenchmark(("ModelEval/" + std::string(spec)).c_str(), BM_ModelEval, std::string(spec));
+  for (const char* spec : {"ggx", "beckmann"})
+    benchmark::RegisterBenchmark(("ModelEvalRow/" + std::string(spec)).c_str(), BM_ModelEvalRow, std::string(spec));
   benchmark::RegisterBenchmark("ParseModel/hapke", BM_ParseModel, std::string("hapke"));
   benchmark::RegisterBenchmark("ParseModel/ggx", BM_ParseModel, std::string("ggx:alpha=0.2,f0=0.04"));
   return 0;
