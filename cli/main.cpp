@@ -20,19 +20,19 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? kExitOk : kExitUsage;
   } catch (const icobrdf::ArgumentError& e) {
-    std::cerr << "icobrdf: error: " << e.what() << "\n";
+    std::cerr << "icobrdf: error: " << icobrdf::printable_text(e.what()) << "\n";
     return kExitUsage;
   } catch (const icobrdf::InputError& e) {
-    std::cerr << "icobrdf: error: " << e.what() << "\n";
+    std::cerr << "icobrdf: error: " << icobrdf::printable_text(e.what()) << "\n";
     return kExitInput;
   } catch (const icobrdf::UnsupportedError& e) {
-    std::cerr << "icobrdf: error: " << e.what() << "\n";
+    std::cerr << "icobrdf: error: " << icobrdf::printable_text(e.what()) << "\n";
     return kExitUnsupported;
   } catch (const icobrdf::IoError& e) {
-    std::cerr << "icobrdf: error: " << e.what() << "\n";
+    std::cerr << "icobrdf: error: " << icobrdf::printable_text(e.what()) << "\n";
     return kExitIo;
   } catch (const std::exception& e) {
-    std::cerr << "icobrdf: internal error: " << e.what() << "\n";
+    std::cerr << "icobrdf: internal error: " << icobrdf::printable_text(e.what()) << "\n";
     return kExitInternal;
   }
   return kExitOk;

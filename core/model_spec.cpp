@@ -269,7 +269,9 @@ const ModelInfo* find_model_info(const std::string& name) {
   return nullptr;
 }
 
-std::unique_ptr<BrdfModel> parse_model(const std::string& spec) {
+namespace {
+
+std::unique_ptr<BrdfModel> parse_spec(const std::string& spec) {
   const auto texts = split_terms(spec);
   std::vector<std::pair<double, std::unique_ptr<BrdfModel>>> parsed;
   for (const auto& t : texts) {
@@ -283,11 +285,22 @@ std::unique_ptr<BrdfModel> parse_model(const std::string& spec) {
   return std::make_unique<SumModel>(std::move(terms));
 }
 
+}  // namespace
+
+std::unique_ptr<BrdfModel> parse_model(const std::string& spec) {
+  try {
+    return parse_spec(spec);
+  } catch (const ArgumentError& e) {
+    throw ArgumentError(printable_text(e.what()));  // the spec is quoted: keep its control bytes off the line
+  }
+}
+
+
 bool is_model_source(const std::string& source) { return source.rfind(kModelSourcePrefix, 0) == 0; }
 
 std::unique_ptr<BrdfModel> parse_model_source(const std::string& source) {
   if (!is_model_source(source))
-    throw ArgumentError("SOURCE '" + source + "': expected model:NAME[:key=value,...]");
+    throw ArgumentError(printable_text("SOURCE '" + source + "': expected model:NAME[:key=value,...]"));
   return parse_model(source.substr(std::string(kModelSourcePrefix).size()));
 }
 

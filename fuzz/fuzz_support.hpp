@@ -12,6 +12,7 @@
 #include <exception>
 #include <string>
 #include <typeinfo>
+#include <utility>
 
 #include "core/error.hpp"
 
@@ -64,11 +65,19 @@ inline void check_message(const char* kind, const std::exception& e) {
   if (m.find('\n') != std::string::npos) finding(std::string(kind) + " message is not one line: " + m);
 }
 
-// Runs `read`: returning or throwing InputError / IoError (one-line message) is fine; anything else aborts.
-template <class F>
-void expect_input_errors_only(F&& read) {
+// Runs `call`: returning, or throwing InputError / IoError with a one-line message, is fine; with
+// `kUserText` (text a user types on the command line: a SOURCE, a model spec) so are ArgumentError (the
+// CLI's usage error) and UnsupportedError. Anything else aborts.
+template <bool kUserText, class F>
+void expect_errors_of_kind(F&& call) {
   try {
-    read();
+    call();
+  } catch (const ArgumentError& e) {
+    if (!kUserText) finding(std::string("unexpected ArgumentError: ") + e.what());
+    check_message("ArgumentError", e);
+  } catch (const UnsupportedError& e) {
+    if (!kUserText) finding(std::string("unexpected UnsupportedError: ") + e.what());
+    check_message("UnsupportedError", e);
   } catch (const InputError& e) {
     check_message("InputError", e);
   } catch (const IoError& e) {
@@ -78,6 +87,18 @@ void expect_input_errors_only(F&& read) {
   } catch (...) {
     finding("unexpected exception of a non-std type");
   }
+}
+
+// Readers of files: InputError / IoError only.
+template <class F>
+void expect_input_errors_only(F&& read) {
+  expect_errors_of_kind<false>(std::forward<F>(read));
+}
+
+// Parsers of command-line text: also ArgumentError / UnsupportedError.
+template <class F>
+void expect_user_errors_only(F&& parse) {
+  expect_errors_of_kind<true>(std::forward<F>(parse));
 }
 
 }  // namespace icobrdf::fuzz

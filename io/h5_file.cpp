@@ -238,28 +238,10 @@ const char* type_name(Type t) {
 
 std::string Group::child_path(const std::string& name) const { return path_ == "/" ? "/" + name : path_ + "/" + name; }
 
-namespace {
-// Control bytes (link names and string attributes of a file may hold any) as \xHH, so a message stays one line.
-std::string printable(const std::string& s) {
-  std::string out;
-  out.reserve(s.size());
-  for (const char c : s) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u == 0x7f) {
-      char buf[5];
-      std::snprintf(buf, sizeof buf, "\\x%02x", u);
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
-}  // namespace
 
 void Group::fail(const std::string& object, const std::string& what) const {
   H5Eclear2(H5E_DEFAULT);
-  throw InputError(printable(file_ + ": " + object + ": " + what));
+  throw InputError(printable_text(file_ + ": " + object + ": " + what));
 }
 
 // ---------------------------------------------------------------- writing

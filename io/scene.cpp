@@ -13,7 +13,7 @@ namespace icobrdf {
 namespace {
 
 [[noreturn]] void fail(const Scene& s, const std::string& where, const std::string& what) {
-  throw InputError(s.path + ": " + where + ": " + what);
+  throw InputError(printable_text(s.path + ": " + where + ": " + what));  // quoted file text stays on one line
 }
 
 // An integer setting as int; values beyond int's range fail instead of wrapping (2^32 + 4 is not 4).
@@ -82,8 +82,8 @@ Scene read_scene(const std::string& path) {
     root = toml::parse_file(path);
   } catch (const toml::parse_error& e) {
     const auto& src = e.source();
-    throw InputError(path + ":" + std::to_string(src.begin.line) + ":" + std::to_string(src.begin.column) + ": " +
-                     std::string(e.description()));
+    throw InputError(printable_text(path + ":" + std::to_string(src.begin.line) + ":" + std::to_string(src.begin.column) + ": " +
+                                    std::string(e.description())));
   }
   if (const auto* bank = root["bank"].as_table()) {
     const std::string w = "[bank]";

@@ -183,6 +183,10 @@ TEST(ModelSpec, BadSpecsAreOneLineArgumentErrorsNamingTheProblem) {
            {"minnaert:k=101", {"k", "[0, 100]", "got 101"}},
            {"lambert:albedo=1.5", {"albedo", "[0, 1]", "1.5"}},
            {"lafortune:cx=10,n=400", {"overflows", "10^400", "<= 300"}},
+           // Control bytes of the spec are quoted as \xHH (found by fuzz_model_spec: "la\n\0tro..." gave a
+           // message spanning two lines).
+           {"la\ntro", {"unknown model", "la\\x0atro"}},
+           {"ggx:alpha=0.1\x01", {"alpha", "0.1\\x01"}},
        }) {
     const std::string msg = error_of(c.spec);
     ASSERT_FALSE(msg.empty()) << "no error for '" << c.spec << "'";

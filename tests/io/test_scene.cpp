@@ -1,0 +1,45 @@
+// Scene files (io/scene.hpp): errors are InputErrors with one-line messages even when they quote text of
+// the file that holds control bytes (found by fuzz_scene: a TOML string "c\n..." for `sampling` made the
+// message span two lines). CLI-level scene errors are in tests/cli/test_bank.cpp.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "core/error.hpp"
+#include "io/scene.hpp"
+#include "tests/io/io_test_support.hpp"
+
+namespace icobrdf {
+namespace {
+
+std::string error_of(const std::string& path) {
+  try {
+    read_scene(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Scene, QuotedControlBytesStayOnOneLine) {
+  test::ScratchDir d;
+  struct Case {
+    const char* text;
+    const char* quoted;  // the control byte as the message must show it
+  } cases[] = {
+      {"[bank]\nsampling = \"c\\nx\"\n[[material]]\nname = \"a\"\nsource = \"model:lambert\"\n", "found \"c\\x0ax\""},
+      {"[bank]\nmetric = \"\\u0001\"\n[[material]]\nname = \"a\"\nsource = \"model:lambert\"\n", "found \"\\x01\""},
+      {"[[material]]\nname = \"a\\tb\"\nsource = \"model:lambert\"\n", "found \"a\\x09b\""},
+  };
+  for (const auto& c : cases) {
+    test::write_bytes(d / "s.toml", c.text);
+    const std::string msg = error_of(d / "s.toml");
+    ASSERT_FALSE(msg.empty()) << "no error for " << c.text;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\t'), std::string::npos) << msg;
+    EXPECT_NE(msg.find(c.quoted), std::string::npos) << msg;
+  }
+}
+
+}  // namespace
+}  // namespace icobrdf
