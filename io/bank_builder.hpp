@@ -26,7 +26,8 @@
 // text, the material's settings and the bank settings; with `resume`, materials whose key matches are taken
 // from there. The file is rewritten after the first material, then whenever the time since the last rewrite
 // reaches 10 times that rewrite's duration (rewrites grow with the materials kept; this bounds them to 9% of
-// the build), and at the end of a failed or interrupted build: a SIGKILL loses at most that much work. The bank itself is written atomically at the end and the partial file removed.
+// the build), and at the end of a failed or interrupted build: a SIGKILL loses at most that much work. The
+// bank itself is written atomically at the end and the partial file removed.
 #include <atomic>
 #include <functional>
 #include <string>
