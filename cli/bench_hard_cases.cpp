@@ -188,13 +188,6 @@ std::vector<ZernikeRow> zernike_vs_closed_sum(int n_max, int n_block, int sample
 
 // ---------------------------------------------------------------------------------------------------
 // Shared: held-out direction pairs and region errors.
-Eigen::Vector3d uniform_direction(std::mt19937_64& rng, double z_lo = 0.0, double z_hi = 1.0) {
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  const double z = z_lo + (z_hi - z_lo) * u(rng), phi = 2.0 * M_PI * u(rng);  // z uniform = uniform in solid angle
-  const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
-  return {s * std::cos(phi), s * std::sin(phi), z};
-}
-
 struct Pairs {
   RowMatrix3d wi, wr;
 };

@@ -63,11 +63,9 @@ HeldOut held_out_pairs(int n) {
   h.wi.resize(n, 3);
   h.wr.resize(n, 3);
   std::mt19937_64 rng(kHeldOutSeed);
-  std::uniform_real_distribution<double> z(0.0, 1.0), phi(-M_PI, M_PI);
   for (int k = 0; k < n; ++k) {
-    const double ti = std::acos(z(rng)), pi = phi(rng), tr = std::acos(z(rng)), pr = phi(rng);
-    h.wi.row(k) = direction_from_angles(ti, pi).transpose();
-    h.wr.row(k) = direction_from_angles(tr, pr).transpose();
+    h.wi.row(k) = uniform_direction(rng).transpose();
+    h.wr.row(k) = uniform_direction(rng).transpose();
   }
   return h;
 }

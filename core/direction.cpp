@@ -15,4 +15,11 @@ Angles angles_from_direction(const Eigen::Vector3d& d) {
   return {std::atan2(s, d.z()), s > 0.0 ? std::atan2(d.y(), d.x()) : 0.0};
 }
 
+Eigen::Vector3d uniform_direction(std::mt19937_64& rng, double z_lo, double z_hi) {
+  std::uniform_real_distribution<double> azimuth(-M_PI, M_PI), z(z_lo, z_hi);
+  const double phi = azimuth(rng);
+  const double cos_theta = z(rng);
+  return direction_from_angles(std::acos(cos_theta), phi);
+}
+
 }  // namespace icobrdf

@@ -68,17 +68,11 @@ HeldOut held_out_pairs(const Scene& s, const SceneMaterial& m, const BrdfSource&
     // Uniform in solid angle: z = cos(theta) uniform. Seeded by the material's name: reproducible.
     std::mt19937_64 rng(std::stoull(fnv1a_hex("holdout|" + m.name).substr(0, 15), nullptr, 16));
     const double zlo = std::cos(m.incidence_max * M_PI / 180), zhi = std::cos(m.incidence_min * M_PI / 180);
-    std::uniform_real_distribution<double> zi(zlo, zhi), zr(0.0, 1.0), ph(-M_PI, M_PI);
     h.wi.resize(s.holdout_pairs, 3);
     h.wr.resize(s.holdout_pairs, 3);
-    // Draws in separate statements: the order in which a compiler evaluates function arguments is
-    // unspecified, so draws inside one argument list would give other pairs with another compiler.
-    // (Azimuth first, then z: the order of the banks written so far.)
     for (int k = 0; k < s.holdout_pairs; ++k) {
-      const double phi_i = ph(rng), z_i = zi(rng);
-      const double phi_r = ph(rng), z_r = zr(rng);
-      h.wi.row(k) = direction_from_angles(std::acos(z_i), phi_i).transpose();
-      h.wr.row(k) = direction_from_angles(std::acos(z_r), phi_r).transpose();
+      h.wi.row(k) = uniform_direction(rng, zlo, zhi).transpose();
+      h.wr.row(k) = uniform_direction(rng).transpose();
     }
   }
   h.f = src.eval(h.wi, h.wr);
