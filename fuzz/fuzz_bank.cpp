@@ -212,7 +212,11 @@ struct Editor {
       switch (in.ConsumeIntegralInRange(0, 4)) {
         case 0: H5Pset_fletcher32(dcpl); break;
         case 1: H5Pset_shuffle(dcpl); H5Pset_deflate(dcpl, 4); H5Pset_fletcher32(dcpl); break;
-        case 2: H5Pset_nbit(dcpl); break;  // a filter the reader does not accept
+        case 2:  // a filter the reader does not accept; HDF5 1.10's own n-bit writer dereferences a null
+                 // pointer for variable-length strings, so those get none (a crash of the editing, not of
+                 // the reader under test)
+          if (H5Tis_variable_str(type) <= 0) H5Pset_nbit(dcpl);
+          break;
         case 3: H5Pset_deflate(dcpl, 1); break;
         default: break;
       }
