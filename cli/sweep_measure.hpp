@@ -50,8 +50,11 @@ inline constexpr std::int64_t kMaxReconstructLutBytes = std::int64_t{256} << 20;
 // Timing: steps faster than this are repeated (best of kTimingRepeats) to see past timer and cache noise.
 inline constexpr double kRepeatBelowSeconds = 0.05;
 inline constexpr int kTimingRepeats = 5;
-// Held-out pairs: default count, --quick count, and the generator's seed.
-inline constexpr int kDefaultHeldOutPairs = 2000;
+// Held-out pairs: default count, --quick count, and the generator's seed. The errors of lobes that grow
+// towards grazing angles are heavy-tailed over the pairs: at level 5, order 20 two sets of 2000 pairs gave
+// 3.3e-2 and 8.5e-2 for Oren-Nayar and 0.34 and 0.56 for GGX alpha 0.5, against 7.4e-2 and 0.37 with 100000;
+// 20000 pairs come within about 10% of those for 15% more run time.
+inline constexpr int kDefaultHeldOutPairs = 20000;
 inline constexpr int kQuickHeldOutPairs = 200;
 inline constexpr std::uint64_t kHeldOutSeed = 20260522;
 
