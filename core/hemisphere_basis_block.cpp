@@ -20,26 +20,21 @@
 #endif
 
 #include "core/hemisphere_basis.hpp"
+#include "core/simd4.hpp"
 #include "core/zernike.hpp"
 
-// Without AVX (ICOBRDF_NATIVE=OFF) GCC notes that 32-byte vectors are passed differently; these helpers are
-// internal to this file, so the ABI note does not apply.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wpsabi"
-#endif
 
 namespace icobrdf {
 
 namespace {
 
-// Four doubles (GCC/clang vector extension): one AVX register, or two SSE2 registers without AVX.
-typedef double v4d __attribute__((vector_size(32)));
-typedef long long v4l __attribute__((vector_size(32)));
+using simd4::v4d;
+using simd4::v4l;
+using simd4::splat;
+using simd4::storeu;
 constexpr int kLanes = 4;
 constexpr int kMaxVectors = 8;  // largest chunk: 32 directions
 
-inline v4d splat(double a) { return v4d{a, a, a, a}; }
-inline void storeu(double* p, v4d a) { std::memcpy(p, &a, sizeof a); }
 inline v4d select(v4l mask, v4d a, v4d b) { return (v4d)((mask & (v4l)a) | (~mask & (v4l)b)); }
 inline v4d vsqrt(v4d a) {
 #if defined(__AVX__)

@@ -1,34 +1,22 @@
 #include "core/spectrum_ops.hpp"
 
 #include <cmath>
-#include <cstring>
 #include <algorithm>
 #include <string>
 #include <vector>
 
 #include "core/error.hpp"
 #include "core/hemisphere_basis.hpp"
+#include "core/simd4.hpp"
 #include "core/huge_pages.hpp"
 
-// Without AVX (ICOBRDF_NATIVE=OFF) GCC notes that 32-byte vectors are passed differently; these helpers are
-// internal to this file, so the ABI note does not apply.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wpsabi"
-#endif
 
 namespace icobrdf {
 
 namespace {
 
-// Four doubles (GCC/clang vector extension): one AVX register.
-typedef double v4d __attribute__((vector_size(32)));
-
-inline v4d load4(const double* p) {
-  v4d r;
-  std::memcpy(&r, p, sizeof r);
-  return r;
-}
-inline v4d splat4(double a) { return v4d{a, a, a, a}; }
+using simd4::v4d;
+using simd4::load4;
 
 // Register tiles of the bilinear form: 8 pairs (two vectors) x Cols columns of C, 2 Cols accumulators
 // (Cols = 4, 5 or 6, whichever pads M least: 5 at order 8, M = 45).
@@ -60,16 +48,16 @@ template <int Cols>
 void bilinear_block(int m, int panels, Eigen::Index np, const double* ki, const double* kr, Eigen::Index ld,
                     const double* packed, double* f) {
   for (Eigen::Index p0 = 0; p0 < np; p0 += kTilePairs) {
-    v4d f0 = splat4(0.0), f1 = splat4(0.0);
+    v4d f0 = simd4::splat(0.0), f1 = simd4::splat(0.0);
     for (int b = 0; b < panels; ++b) {
       v4d a0[Cols], a1[Cols];
-      for (int jj = 0; jj < Cols; ++jj) a0[jj] = a1[jj] = splat4(0.0);
+      for (int jj = 0; jj < Cols; ++jj) a0[jj] = a1[jj] = simd4::splat(0.0);
       const double* cp = packed + static_cast<size_t>(b) * m * Cols;
       const double* x = ki + p0;
       for (int k = 0; k < m; ++k, x += ld, cp += Cols) {
         const v4d x0 = load4(x), x1 = load4(x + 4);
         for (int jj = 0; jj < Cols; ++jj) {
-          const v4d cb = splat4(cp[jj]);
+          const v4d cb = simd4::splat(cp[jj]);
           a0[jj] += x0 * cb;
           a1[jj] += x1 * cb;
         }
@@ -80,8 +68,8 @@ void bilinear_block(int m, int panels, Eigen::Index np, const double* ki, const 
         f1 += a1[jj] * load4(y + 4);
       }
     }
-    std::memcpy(f + p0, &f0, sizeof f0);
-    std::memcpy(f + p0 + 4, &f1, sizeof f1);
+    simd4::storeu(f + p0, f0);
+    simd4::storeu(f + p0 + 4, f1);
   }
 }
 
