@@ -27,9 +27,8 @@ RowMatrix3d random_directions(std::mt19937_64& rng) {
   return d;
 }
 
-void BM_ModelEval(benchmark::State& state, const std::string& spec) {
-  std::mt19937_64 rng(5);
-  const RowMatrix3d wi = random_directions(rng), wr = random_directions(rng);
+// Times BrdfModel::eval of `spec` on the kPairs pairs (wi, wr).
+void time_eval(benchmark::State& state, const std::string& spec, const RowMatrix3d& wi, const RowMatrix3d& wr) {
   const auto model = parse_model(spec);
   Eigen::MatrixXd out(kPairs, model->channels());
   for (auto _ : state) {
@@ -40,20 +39,18 @@ void BM_ModelEval(benchmark::State& state, const std::string& spec) {
   state.SetItemsProcessed(state.iterations() * kPairs);
 }
 
+void BM_ModelEval(benchmark::State& state, const std::string& spec) {
+  std::mt19937_64 rng(5);
+  const RowMatrix3d wi = random_directions(rng), wr = random_directions(rng);
+  time_eval(state, spec, wi, wr);
+}
+
 // The pattern of a LUT row: one incident direction against every remitted one (models that cache per-direction
 // factors, such as Beckmann's Smith term, compute the incident one once).
 void BM_ModelEvalRow(benchmark::State& state, const std::string& spec) {
   std::mt19937_64 rng(5);
   const RowMatrix3d wr = random_directions(rng);
-  const RowMatrix3d wi = wr.row(0).replicate(kPairs, 1);
-  const auto model = parse_model(spec);
-  Eigen::MatrixXd out(kPairs, model->channels());
-  for (auto _ : state) {
-    model->eval(wi, wr, out);
-    benchmark::DoNotOptimize(out.data());
-    benchmark::ClobberMemory();
-  }
-  state.SetItemsProcessed(state.iterations() * kPairs);
+  time_eval(state, spec, wr.row(0).replicate(kPairs, 1), wr);
 }
 
 void BM_ParseModel(benchmark::State& state, const std::string& spec) {
