@@ -13,6 +13,10 @@
 namespace icobrdf {
 namespace {
 
+// Rounding steps beyond the 2 cells additions: the two multiplications of each triple product, the
+// horizontal sum of a 4-lane accumulator (2) and the addition of the block partials, rounded up to 8.
+constexpr double kBoundSlackOps = 8.0;
+
 TEST(ProjectLut, EqualsThePlainProductAtEveryRemainder) {
   std::mt19937_64 rng(17);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -28,7 +32,7 @@ TEST(ProjectLut, EqualsThePlainProductAtEveryRemainder) {
     // Rounding bound of any summation order of the two products: (2 cells) eps |P|^T |F| |P| entrywise
     // (each entry is a sum of cells^2 triple products reached through 2 cells additions), plus slack.
     const Eigen::MatrixXd bound =
-        (2.0 * s.cells + 8.0) * DBL_EPSILON * (p.P.cwiseAbs().transpose() * f.cwiseAbs() * p.P.cwiseAbs());
+        (2.0 * s.cells + kBoundSlackOps) * DBL_EPSILON * (p.P.cwiseAbs().transpose() * f.cwiseAbs() * p.P.cwiseAbs());
     omp_set_num_threads(2);
     const Eigen::MatrixXd two = project_lut(p, f);
     omp_set_num_threads(1);
