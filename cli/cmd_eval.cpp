@@ -3,7 +3,7 @@
 //   icobrdf eval SOURCE --at PAIRS.csv [--radians]
 //
 // SOURCE: model:NAME[:key=value,...] (icobrdf models lists them; sums "model:0.8*lambert+0.2*ggx:alpha=0.1")
-// or any kind registered in cli/source_evaluator.hpp. PAIRS.csv: header theta_i,phi_i,theta_r,phi_r, degrees
+// or any other SOURCE that io/brdf_source.hpp opens. PAIRS.csv: header theta_i,phi_i,theta_r,phi_r, degrees
 // unless --radians (io/direction_csv.hpp). Output: CSV with a header of one column per channel ("f" or
 // "f_r,f_g,f_b"), one line per input row, f in 1/sr, shortest round-trip decimals. Delta parts (mirror,
 // retroreflector) have no pointwise value: the regular part is printed and a note goes to stderr.
@@ -15,7 +15,7 @@
 #include <string>
 
 #include "cli/commands.hpp"
-#include "cli/source_evaluator.hpp"
+#include "io/brdf_source.hpp"
 #include "io/direction_csv.hpp"
 
 namespace icobrdf::cli {
@@ -29,13 +29,13 @@ struct EvalOptions {
 };
 
 void run_eval(const EvalOptions& o) {
-  const PairEvaluator evaluator = open_pair_evaluator(o.source);
+  const auto source = open_source(o.source);
   const DirectionPairs pairs = read_direction_pairs_csv(o.at, o.radians);
-  Eigen::MatrixXd values(pairs.wi.rows(), static_cast<Eigen::Index>(evaluator.columns.size()));
-  evaluator.eval(pairs.wi, pairs.wr, values);
-  for (const auto& note : evaluator.notes) std::cerr << "icobrdf: note: " << evaluator.description << ": " << note << "\n";
+  const Eigen::MatrixXd values = source->eval(pairs.wi, pairs.wr);
+  for (const auto& note : source->notes()) std::cerr << "icobrdf: note: " << source->spec() << ": " << note << "\n";
+  const std::vector<std::string> columns = channel_column_names(source->channels());
   std::string text;
-  for (std::size_t c = 0; c < evaluator.columns.size(); ++c) text += (c ? "," : "") + evaluator.columns[c];
+  for (std::size_t c = 0; c < columns.size(); ++c) text += (c ? "," : "") + columns[c];
   text += "\n";
   for (Eigen::Index r = 0; r < values.rows(); ++r) {
     for (Eigen::Index c = 0; c < values.cols(); ++c) text += fmt::format(c ? ",{}" : "{}", values(r, c));

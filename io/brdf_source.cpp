@@ -19,6 +19,14 @@ class ModelSource final : public BrdfSource {
   std::string spec() const override { return "model:" + model_->spec(); }
   int channels() const override { return model_->channels(); }
   bool has_delta() const override { return !model_->delta_parts().empty(); }
+  std::vector<std::string> notes() const override {
+    std::vector<std::string> out;
+    for (const auto& part : model_->delta_parts())
+      out.push_back(std::string("values are the regular part only; the ") +
+                    (part.kind == DeltaPart::Mirror ? "mirror" : "retroreflector") + " delta part of weight " +
+                    format_parameter(part.weight) + " is not representable pointwise");
+    return out;
+  }
   Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
     Eigen::MatrixXd out(wi.rows(), model_->channels());
     model_->eval(wi, wr, out);
@@ -78,6 +86,14 @@ bool is_regular_file(const std::string& path) {
 }
 
 }  // namespace
+
+std::vector<std::string> channel_column_names(int channels) {
+  if (channels == 1) return {"f"};
+  if (channels == 3) return {"f_r", "f_g", "f_b"};
+  std::vector<std::string> names;
+  for (int c = 0; c < channels; ++c) names.push_back("f_" + std::to_string(c));
+  return names;
+}
 
 std::unique_ptr<BrdfSource> spectrum_source(Spectrum spectrum) {
   const std::string text = spectrum.source;
