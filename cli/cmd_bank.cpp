@@ -11,9 +11,9 @@
 #include "cli/commands.hpp"
 #include "cli/exit_codes.hpp"
 #include "core/error.hpp"
-#include "io/bank_builder.hpp"
 #include "io/bank_file.hpp"
 #include "io/scene.hpp"
+#include "pipeline/bank_builder.hpp"
 
 namespace icobrdf::cli {
 namespace {

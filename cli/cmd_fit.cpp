@@ -12,9 +12,8 @@
 #include "io/brdf_source.hpp"
 #include "io/measured_sources.hpp"
 #include "core/error.hpp"
-#include "core/spectral_fit.hpp"
 #include "io/spectrum_file.hpp"
-#include "mesh/tessellation.hpp"
+#include "pipeline/fit_source.hpp"
 
 namespace icobrdf::cli {
 namespace {
@@ -33,22 +32,22 @@ void check_grid_kind(const std::string& kind) {
 
 void run_fit(const FitArgs& a) {
   const auto t0 = std::chrono::steady_clock::now();
-  FitOptions o;
-  o.order = a.order;
-  o.isotropic = a.isotropic;
-  o.cosine = a.cosine;
-  o.filter = parse_lowpass_filter(a.filter);
-  o.gram_tolerance = a.gram_tol;
-  if (a.sampling == "average") o.sampling = LutSampling::CellAverage;
-  else if (a.sampling == "centre" || a.sampling == "center") o.sampling = LutSampling::CellCentre;
+  FitRequest r;
+  r.level = a.level;
+  r.order = a.order;
+  r.isotropic = a.isotropic;
+  r.cosine = a.cosine;
+  r.filter = parse_lowpass_filter(a.filter);
+  r.gram_tolerance = a.gram_tol;
+  if (a.sampling == "average") r.sampling = LutSampling::CellAverage;
+  else if (a.sampling == "centre" || a.sampling == "center") r.sampling = LutSampling::CellCentre;
   else throw ArgumentError("--sampling: expected 'average' or 'centre', found '" + a.sampling + "'");
   const auto source = open_source(a.source);  // validates the source before any work
-  // LUT rows and B sampled with the same rule (mesh/tessellation.hpp: build_fitting_grid).
   check_grid_kind(a.grid);
-  const auto grid = std::make_shared<const Grid>(build_fitting_grid(a.level, a.grid, o.sampling == LutSampling::CellCentre));
-  const auto ctx = make_projection_context(grid, a.order, a.gram_tol);
-  o.sampling = LutSampling::CellAverage;  // over the context's cubature (one point per cell when centre)
-  Spectrum s = source->fit(ctx, o);
+  r.grid_kind = a.grid;
+  const FitResult fit = fit_source(*source, r);
+  const Spectrum& s = fit.spectrum;
+  const ProjectionContext& ctx = *fit.context;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   write_spectrum_file(a.output, s, nullptr, a.name.empty() ? "material" : a.name);
   nlohmann::json j{{"source", s.source},

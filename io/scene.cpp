@@ -65,6 +65,14 @@ std::vector<std::pair<double, double>> directions(const Scene& s, const toml::ta
   return out;
 }
 
+// The key "metric" of a [bank] or [[material]] table, `fallback` when absent.
+ErrorMetric metric_or(const Scene& s, const toml::table& t, const std::string& where, ErrorMetric fallback) {
+  const std::string metric = get_or(s, t, where, "metric", to_string(fallback));
+  if (metric == "f") return ErrorMetric::F;
+  if (metric == "cosine") return ErrorMetric::Cosine;
+  fail(s, where, "'metric' expected \"f\" or \"cosine\", found \"" + metric + "\"");
+}
+
 bool valid_name(const std::string& n) {
   if (n.empty() || n.size() > 64) return false;
   for (char c : n)
@@ -73,6 +81,19 @@ bool valid_name(const std::string& n) {
 }
 
 }  // namespace
+
+std::string to_string(ErrorMetric metric) { return metric == ErrorMetric::Cosine ? "cosine" : "f"; }
+
+std::string to_string(IsotropicChoice choice) {
+  switch (choice) {
+    case IsotropicChoice::Always: return "true";
+    case IsotropicChoice::Never: return "false";
+    case IsotropicChoice::Auto: break;
+  }
+  return "auto";
+}
+
+std::string to_string(LutSampling sampling) { return sampling == LutSampling::CellAverage ? "average" : "centre"; }
 
 Scene read_scene(const std::string& path) {
   Scene s;
@@ -95,9 +116,8 @@ Scene read_scene(const std::string& path) {
     s.level = get_or(s, *bank, w, "level", s.level);
     s.order_max = get_or(s, *bank, w, "order_max", s.order_max);
     s.target = get_or(s, *bank, w, "target", s.target);
-    s.sampling = get_or(s, *bank, w, "sampling", s.sampling);
-    s.metric = get_or(s, *bank, w, "metric", s.metric);
-    if (s.metric != "f" && s.metric != "cosine") fail(s, w, "'metric' expected \"f\" or \"cosine\", found \"" + s.metric + "\"");
+    const std::string sampling = get_or(s, *bank, w, "sampling", to_string(s.sampling));
+    s.metric = metric_or(s, *bank, w, s.metric);
     s.store_lut = get_or(s, *bank, w, "store_lut", s.store_lut);
     s.lut_float32 = get_or(s, *bank, w, "lut_float32", s.lut_float32);
     s.holdout_pairs = get_or(s, *bank, w, "holdout_pairs", s.holdout_pairs);
@@ -115,7 +135,8 @@ Scene read_scene(const std::string& path) {
       if (l < 0 || l > 8) fail(s, w, "'levels' entries expected in [0, 8], found " + std::to_string(l));
     if (s.order_max < 0 || s.order_max > 128) fail(s, w, "'order_max' expected in [0, 128], found " + std::to_string(s.order_max));
     if (!(s.target > 0)) fail(s, w, "'target' expected > 0");
-    if (s.sampling != "centre" && s.sampling != "average") fail(s, w, "'sampling' expected \"centre\" or \"average\", found \"" + s.sampling + "\"");
+    if (sampling != "centre" && sampling != "average") fail(s, w, "'sampling' expected \"centre\" or \"average\", found \"" + sampling + "\"");
+    s.sampling = sampling == "average" ? LutSampling::CellAverage : LutSampling::CellCentre;
     if (s.holdout_pairs < 16 || s.holdout_pairs > 1000000) fail(s, w, "'holdout_pairs' expected in [16, 1000000]");
   }
   for (const auto& [k, v] : root) {
@@ -143,11 +164,10 @@ Scene read_scene(const std::string& path) {
     if (m.source.empty()) fail(s, w, "'source' is required");
     m.target = get_or(s, *t, w, "target", s.target);
     if (!(m.target > 0)) fail(s, w, "'target' expected > 0");
-    m.metric = get_or(s, *t, w, "metric", s.metric);
-    if (m.metric != "f" && m.metric != "cosine") fail(s, w, "'metric' expected \"f\" or \"cosine\", found \"" + m.metric + "\"");
+    m.metric = metric_or(s, *t, w, s.metric);
     if (const auto* iso = t->get("isotropic")) {
-      if (auto b = iso->value<bool>()) m.isotropic = *b ? "true" : "false";
-      else if (auto str = iso->value<std::string>(); str && *str == "auto") m.isotropic = "auto";
+      if (auto b = iso->value<bool>()) m.isotropic = *b ? IsotropicChoice::Always : IsotropicChoice::Never;
+      else if (auto str = iso->value<std::string>(); str && *str == "auto") m.isotropic = IsotropicChoice::Auto;
       else fail(s, w, "'isotropic' expected \"auto\", true or false");
     }
     m.order = get_or(s, *t, w, "order", -1);

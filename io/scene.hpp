@@ -32,13 +32,22 @@
 #include <string>
 #include <vector>
 
+#include "core/lut.hpp"
+
 namespace icobrdf {
+
+// The scene's words, parsed once by read_scene; to_string gives back the scene's text (resume keys use it).
+enum class ErrorMetric { F, Cosine };                 // "f" | "cosine"
+enum class IsotropicChoice { Auto, Always, Never };   // "auto" | true | false
+std::string to_string(ErrorMetric metric);
+std::string to_string(IsotropicChoice choice);        // "auto", "true", "false"
+std::string to_string(LutSampling sampling);          // "average", "centre"
 
 struct SceneMaterial {
   std::string name, source;
   double target = 0.02;
-  std::string metric = "f";        // f | cosine
-  std::string isotropic = "auto";  // auto | true | false
+  ErrorMetric metric = ErrorMetric::F;
+  IsotropicChoice isotropic = IsotropicChoice::Auto;
   int order = -1, level = -1;      // -1: search
   double incidence_min = 0.0, incidence_max = 90.0;  // degrees
   std::vector<std::pair<double, double>> lights, cameras;  // (theta, phi) degrees
@@ -51,8 +60,8 @@ struct Scene {
   std::vector<int> levels{3, 4, 5};
   int order_max = 16;
   double target = 0.02;
-  std::string metric = "f";
-  std::string sampling = "centre";
+  ErrorMetric metric = ErrorMetric::F;
+  LutSampling sampling = LutSampling::CellCentre;  // "centre": one point per cell; "average": cell cubature
   bool store_lut = false;
   bool lut_float32 = true;
   int holdout_pairs = 4096;

@@ -1,0 +1,63 @@
+#pragma once
+// Building a LUT bank from a scene: "model only what a scene needs" (io/scene.hpp for the scene file,
+// docs/architecture.md for the walk from `icobrdf bank build` down to the products).
+//
+// Per material:
+//   1. held-out direction pairs, never used in fitting, restricted to the directions the scene uses; the
+//      reference values f come from the source itself (pipeline/held_out.hpp);
+//   2. one candidate per representation (pipeline/material_candidate.hpp), the one with the fewest bytes
+//      meeting the target kept. The "modes" representation (pipeline/modes_representation.hpp) searches the
+//      smallest (level, order) (pipeline/level_order_search.hpp), makes the spectrum isotropic when the
+//      scene allows it and its isotropic projection still meets the target, and prunes coefficients while
+//      the target holds (pipeline/pruning.hpp);
+//   3. the record: spectrum, IBSSS, optional LUT on the bank grid, and the choice with its figures
+//      (kept coefficients, bytes, achieved errors, time) (pipeline/bank_assembly.hpp).
+// Materials with delta parts (ideal mirror, retroreflector) have no pointwise error: their order must be
+// given (or order_max is used), and the report says the error was not measured.
+// A material whose target cannot be met, or whose source fails, is reported with its reason; the build then
+// fails as a whole (no bank is written) while the finished materials stay in the resume file.
+//
+// The bank is written atomically at the end and the resume file OUTPUT.partial (pipeline/bank_resume.hpp)
+// removed.
+#include <atomic>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "io/scene.hpp"
+
+namespace icobrdf {
+
+struct MaterialReport {
+  std::string name, source, key;
+  bool ok = false;
+  std::string error;           // why it failed (ok = false)
+  bool resumed = false;        // taken from the resume file
+  bool isotropic = false;
+  bool measured = true;        // false for delta BRDFs
+  int level = -1, order = -1;
+  double target = 0.0;
+  double error_l2 = 0.0;       // relative L2 over the held-out pairs
+  double error_max = 0.0;      // max |f_fit - f| / max |f| over the held-out pairs
+  double anisotropy = 0.0;     // anisotropic energy fraction of the first fit
+  int kept = 0, total = 0;     // coefficients kept after pruning / in the full (B|IB)SSS vector
+  long long bytes = 0;         // kept coefficients (8 bytes per channel) and their indices (4 bytes each)
+  double seconds = 0.0;
+};
+
+struct BankBuildOptions {
+  std::string output;
+  bool resume = false;
+  std::function<void(const std::string&)> progress;  // one line per step, may be empty
+  const std::atomic<int>* stop = nullptr;             // non-zero: stop after the current material
+};
+
+struct BankBuildResult {
+  std::vector<MaterialReport> materials;
+  bool written = false;      // the bank was written
+  bool interrupted = false;  // stopped by *stop before all materials were done
+};
+
+BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& options);
+
+}  // namespace icobrdf

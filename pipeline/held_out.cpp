@@ -1,0 +1,79 @@
+#include "pipeline/held_out.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "core/direction.hpp"
+#include "core/error.hpp"
+#include "core/hemisphere_basis.hpp"
+#include "pipeline/keys.hpp"
+
+namespace icobrdf {
+namespace {
+
+Eigen::Vector3d direction_deg(const std::pair<double, double>& theta_phi) {
+  return direction_from_angles(theta_phi.first * M_PI / 180, theta_phi.second * M_PI / 180);
+}
+
+}  // namespace
+
+HeldOutPairs held_out_pairs(const Scene& s, const SceneMaterial& m, const BrdfSource& src) {
+  HeldOutPairs h;
+  if (!m.lights.empty()) {
+    const auto n = static_cast<Eigen::Index>(m.lights.size() * m.cameras.size());
+    h.wi.resize(n, 3);
+    h.wr.resize(n, 3);
+    Eigen::Index k = 0;
+    for (const auto& l : m.lights)
+      for (const auto& c : m.cameras) {
+        h.wi.row(k) = direction_deg(l).transpose();
+        h.wr.row(k++) = direction_deg(c).transpose();
+      }
+  } else {
+    // Uniform in solid angle: z = cos(theta) uniform. Seeded by the material's name: reproducible.
+    std::mt19937_64 rng(std::stoull(fnv1a_hex("holdout|" + m.name).substr(0, 15), nullptr, 16));
+    const double zlo = std::cos(m.incidence_max * M_PI / 180), zhi = std::cos(m.incidence_min * M_PI / 180);
+    h.wi.resize(s.holdout_pairs, 3);
+    h.wr.resize(s.holdout_pairs, 3);
+    for (int k = 0; k < s.holdout_pairs; ++k) {
+      h.wi.row(k) = uniform_direction(rng, zlo, zhi).transpose();
+      h.wr.row(k) = uniform_direction(rng).transpose();
+    }
+  }
+  h.f = src.eval(h.wi, h.wr);
+  for (Eigen::Index k = 0; k < h.f.size(); ++k)
+    if (!std::isfinite(h.f.data()[k])) throw InputError("source '" + src.spec() + "' gives a non-finite value at a held-out pair");
+  return h;
+}
+
+HeldOutErrors::HeldOutErrors(const HeldOutPairs& pairs, int max_order, ErrorMetric metric) : pairs_(&pairs) {
+  ki_ = hemisphere_basis_matrix(max_order, pairs.wi);
+  kr_ = hemisphere_basis_matrix(max_order, pairs.wr);
+  w_ = metric == ErrorMetric::Cosine ? Eigen::VectorXd(pairs.wi.col(2).cwiseProduct(pairs.wr.col(2)))
+                                     : Eigen::VectorXd::Ones(pairs.wi.rows());
+  const Eigen::MatrixXd wf = w_.asDiagonal() * pairs.f;
+  ref_norm_ = wf.norm();
+  ref_max_ = wf.cwiseAbs().maxCoeff();
+}
+
+HeldOutError HeldOutErrors::operator()(const std::vector<Eigen::MatrixXd>& c, int order) const {
+  const int m = hemisphere_basis_count(order);
+  double sq = 0.0, mx = 0.0;
+  for (size_t ch = 0; ch < c.size(); ++ch) {
+    const Eigen::VectorXd fit = ((ki_.leftCols(m) * c[ch].topLeftCorner(m, m)).array() * kr_.leftCols(m).array()).rowwise().sum();
+    const Eigen::VectorXd d = w_.cwiseProduct(fit - pairs_->f.col(static_cast<Eigen::Index>(ch)));
+    sq += d.squaredNorm();
+    mx = std::max(mx, d.cwiseAbs().maxCoeff());
+  }
+  return {ref_norm_ > 0 ? std::sqrt(sq) / ref_norm_ : std::sqrt(sq), ref_max_ > 0 ? mx / ref_max_ : mx};
+}
+
+std::vector<Eigen::MatrixXd> truncate_channels(const std::vector<Eigen::MatrixXd>& c, int order) {
+  const int m = hemisphere_basis_count(order);
+  std::vector<Eigen::MatrixXd> out;
+  for (const auto& x : c) out.push_back(x.topLeftCorner(m, m));
+  return out;
+}
+
+}  // namespace icobrdf

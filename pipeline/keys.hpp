@@ -1,0 +1,28 @@
+#pragma once
+// Texts the bank builder derives from its inputs: resume keys, held-out seeds, progress lines.
+#include <cstdint>
+#include <cstdio>
+#include <string>
+
+namespace icobrdf {
+
+// x with 17 significant digits (round-trips exactly).
+inline std::string exact_decimal(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
+// FNV-1a 64-bit hash as 16 hex digits.
+inline std::string fnv1a_hex(const std::string& text) {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ULL;
+  }
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+}  // namespace icobrdf
