@@ -1,0 +1,80 @@
+// pipeline/fit_source.hpp: one request gives the spectrum that the explicit sequence (fitting grid,
+// projection context, FitOptions, BrdfSource::fit) gives, and the context cache shares what it can.
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+#include "io/brdf_source.hpp"
+#include "mesh/tessellation.hpp"
+#include "pipeline/fit_source.hpp"
+
+namespace icobrdf {
+namespace {
+
+TEST(FitSource, EqualsTheExplicitSequence) {
+  const auto src = open_source("model:0.5*lambert+0.5*ggx:alpha=0.4");
+  for (const LutSampling sampling : {LutSampling::CellAverage, LutSampling::CellCentre}) {
+    FitRequest r;
+    r.level = 2;
+    r.order = 3;
+    r.sampling = sampling;
+    r.isotropic = true;
+    const FitResult got = fit_source(*src, r);
+    const auto grid = std::make_shared<const Grid>(build_fitting_grid(2, "equal-area", sampling == LutSampling::CellCentre));
+    FitOptions o;
+    o.order = 3;
+    o.isotropic = true;
+    const Spectrum want = src->fit(make_projection_context(grid, 3), o);
+    ASSERT_EQ(got.spectrum.channels.size(), want.channels.size());
+    EXPECT_EQ(got.spectrum.channels[0], want.channels[0]);  // the same operations: bit for bit
+    EXPECT_TRUE(got.spectrum.isotropic);
+    EXPECT_EQ(got.context->grid->cells(), grid->cells());
+    EXPECT_EQ(got.context->grid->cubature_points.rows(), grid->cubature_points.rows());
+  }
+}
+
+TEST(FitSource, FilterAndCosineReachTheFit) {
+  const auto src = open_source("model:phong:n=6");
+  FitRequest r;
+  r.level = 2;
+  r.order = 3;
+  r.filter = parse_lowpass_filter("hann");
+  r.cosine = true;
+  const Spectrum s = fit_source(*src, r).spectrum;
+  EXPECT_EQ(s.filter, "hann");
+  EXPECT_TRUE(s.cosine);
+}
+
+TEST(FitSource, ContextsAreSharedPerGridOrderAndTolerance) {
+  FitContexts contexts;
+  FitRequest a;
+  a.level = 1;
+  a.order = 1;
+  FitRequest b = a;
+  b.isotropic = true;  // not part of the context
+  EXPECT_EQ(contexts.context(a), contexts.context(b));
+  FitRequest c = a;
+  c.sampling = LutSampling::CellCentre;
+  EXPECT_NE(contexts.grid(a), contexts.grid(c));
+  EXPECT_NE(contexts.context(a), contexts.context(c));
+  FitRequest d = a;
+  d.order = 0;
+  EXPECT_EQ(contexts.grid(a), contexts.grid(d));
+  EXPECT_NE(contexts.context(a), contexts.context(d));
+}
+
+TEST(FitSource, SupportedOrderIsCappedAndRefusalsNameTheLimit) {
+  FitContexts contexts;
+  FitRequest r;
+  r.level = 1;
+  r.order = 16;
+  const int supported = contexts.supported_order(r);
+  EXPECT_GE(supported, 0);
+  EXPECT_LT(supported, 16);
+  r.order = 0;
+  EXPECT_EQ(contexts.supported_order(r), 0);
+  r.order = 30;
+  EXPECT_THROW(fit_source(*open_source("model:lambert"), r), UnsupportedError);
+}
+
+}  // namespace
+}  // namespace icobrdf
