@@ -36,7 +36,7 @@ void check_scene(const Scene& s) {
     if (!names.insert(m.name).second) fuzz::finding("duplicate material name accepted");
     if (m.source.empty()) fuzz::finding("empty source accepted");
     if (!(m.target > 0)) fuzz::finding("material target not > 0");
-    if (to_string(m.metric) != "f" && to_string(m.metric) != "cosine") fuzz::finding("unknown metric accepted");
+    if (m.metric != ErrorMetric::F && m.metric != ErrorMetric::Cosine) fuzz::finding("unknown metric accepted");
     if (m.order < -1 || m.order > 128 || m.level < -1 || m.level > 8) fuzz::finding("material order or level out of range");
     if (!(m.incidence_min >= 0 && m.incidence_min < m.incidence_max && m.incidence_max <= 90))
       fuzz::finding("incidence range out of [0, 90]");
