@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <string>
 
 #include "core/error.hpp"
 
@@ -23,17 +24,23 @@ int top_order(const LevelOrderSearch& search, FitContexts& contexts, int level, 
   return top < 0 || (search.fixed_order >= 0 && top < search.fixed_order) ? -1 : top;
 }
 
+// The smallest truncation error seen, for the message when no (level, order) meets the target.
+struct BestSoFar {
+  double error = INFINITY;
+  std::string where;
+};
+
 // The smallest order n in [first, top] of `level` whose own fit meets the target; `all` (the fit at top)
 // gives the errors of the truncations.
 std::optional<LevelOrderChoice> first_order_meeting(const BrdfSource& source, const LevelOrderSearch& search, FitContexts& contexts,
-                                                    const HeldOutErrors& errors, double target, int level, const Spectrum& all,
-                                                    double& best_err, std::string& best_where) {
-  const int top = all.order, first = search.fixed_order >= 0 ? search.fixed_order : 0;
+                                                    const HeldOutErrors& errors, double target, int level, int top, const Spectrum& all,
+                                                    BestSoFar& best) {
+  const int first = search.fixed_order >= 0 ? search.fixed_order : 0;
   for (int n = first; n <= top; ++n) {
     const double l2 = errors(truncate_channels(all.channels, n), n).l2;
-    if (l2 < best_err) {
-      best_err = l2;
-      best_where = "level " + std::to_string(level) + " order " + std::to_string(n);
+    if (l2 < best.error) {
+      best.error = l2;
+      best.where = "level " + std::to_string(level) + " order " + std::to_string(n);
     }
     if (l2 > target) continue;
     LevelOrderChoice c;
@@ -52,8 +59,8 @@ std::optional<LevelOrderChoice> first_order_meeting(const BrdfSource& source, co
 
 LevelOrderChoice fit_at_given_order(const BrdfSource& source, const LevelOrderSearch& search, FitContexts& contexts) {
   for (int level : search.levels) {
-    const int top = std::min(search.order_max, contexts.supported_order(at(search, level, search.order_max)));
-    if (search.fixed_order >= 0 ? top < search.fixed_order : top < 0) continue;
+    const int top = top_order(search, contexts, level, search.order_max);
+    if (top < 0) continue;
     LevelOrderChoice c;
     c.level = level;
     c.order = c.top = search.fixed_order >= 0 ? search.fixed_order : top;
@@ -70,20 +77,19 @@ LevelOrderChoice search_level_order(const BrdfSource& source, const LevelOrderSe
                                     const std::function<void(LevelOrderChoice&)>& accept,
                                     const std::function<void(const std::string&)>& say) {
   const int max_order = search.fixed_order >= 0 ? search.fixed_order : search.order_max;
-  double best_err = INFINITY;
-  std::string best_where;
+  BestSoFar best;
   for (int level : search.levels) {
     const int top = top_order(search, contexts, level, max_order);
     if (top < 0) continue;
     const Spectrum all = fit_source(source, at(search, level, top), contexts).spectrum;
-    auto choice = first_order_meeting(source, search, contexts, errors, target, level, all, best_err, best_where);
+    auto choice = first_order_meeting(source, search, contexts, errors, target, level, top, all, best);
     if (choice) accept(*choice);
     say(name + ": level " + std::to_string(level) + " up to order " + std::to_string(top) + (choice ? ": target met" : ": target not met"));
     if (choice) return std::move(*choice);
   }
   char buf[256];
   std::snprintf(buf, sizeof buf, "target %.3g not met: best relative L2 error %.3g at %s (order_max %d, levels tried up to %d)", target,
-                best_err, best_where.c_str(), search.order_max, search.levels.back());
+                best.error, best.where.c_str(), search.order_max, search.levels.back());
   throw UnsupportedError(buf);
 }
 
