@@ -2,13 +2,12 @@
 //                     [--sampling centre|average] [--gram-tol G] [--quick] [--quiet] [--json] -o RESULTS.h5 --report DIR
 // Speed against error: for every (level, order) of the equal-area tessellation, Gram error, condition number,
 // the cost of the grid and operators, and per model the cost of one projection and the error of its
-// reconstruction at held-out direction pairs (cli/sweep_measure.hpp); then every registered report section
-// (cli/bench_commands.hpp). Writes RESULTS.h5 (docs/file-format.md, "Sweep results") and DIR/report.md with
-// PNG figures (cli/sweep_report.hpp); docs/benchmarks.md explains how to read them.
+// reconstruction at held-out direction pairs (lab/sweep_measure.hpp); then every report section
+// (lab/report_section.hpp). Writes RESULTS.h5 (docs/file-format.md, "Sweep results") and DIR/report.md with
+// PNG figures (lab/sweep_report.hpp); docs/benchmarks.md explains how to read them.
 //
-// Lists: levels and orders as "a..b" or "a,b,c". Models separated by ';' or ',': a comma item of the form
-// key=value (no ':' before its '=') continues the previous model's parameters, so
-// "lambert,ggx:alpha=0.2,f0=0.04" is two models. Models with delta parts have no pointwise error: refused.
+// Lists: levels and orders as "a..b" or "a,b,c"; models as lab/sweep_measure.hpp split_model_list reads
+// them. Models with delta parts have no pointwise error: refused.
 //
 // Nothing is written unless the whole sweep succeeds: the report is assembled in a hidden folder beside DIR
 // and moved into place at the end (report.md last), RESULTS.h5 is written atomically; on any error both
@@ -18,7 +17,6 @@
 #include <unistd.h>
 
 #include <Eigen/Core>
-#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -26,16 +24,19 @@
 #include <tuple>
 
 #include "cli/bench_commands.hpp"
-#include "cli/bench_section_support.hpp"
-#include "cli/sweep_measure.hpp"
-#include "cli/sweep_report.hpp"
+#include "cli/bench_section_command.hpp"
 #include "core/error.hpp"
 #include "core/model_spec.hpp"
+#include "lab/invocation.hpp"
+#include "lab/staged_folder.hpp"
+#include "lab/sweep_measure.hpp"
+#include "lab/sweep_report.hpp"
 
 namespace icobrdf::cli {
 namespace {
 
 namespace fs = std::filesystem;
+namespace sweep = lab::sweep;
 
 // Defaults: levels 1..5 and orders 0..20 run in a few minutes on 2 cores (docs/benchmarks.md has the
 // measured time); level 6 (41088 cells, 16x a level-5 fit) is asked for explicitly.
@@ -52,28 +53,9 @@ struct SweepArgs {
   bool quick = false, json = false, quiet = false;
 };
 
-std::vector<std::string> split_models(const std::string& text) {
-  std::vector<std::string> out;
-  std::size_t start = 0;
-  while (start <= text.size()) {
-    const std::size_t end = text.find_first_of(",;", start);
-    std::string item = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
-    item.erase(0, item.find_first_not_of(" \t"));
-    item.erase(item.find_last_not_of(" \t") + 1);
-    const auto eq = item.find('='), colon = item.find(':');
-    const bool continues = !out.empty() && eq != std::string::npos && (colon == std::string::npos || colon > eq) &&
-                           item.find('+') == std::string::npos;
-    if (continues) out.back() += "," + item;
-    else out.push_back(item);
-    if (end == std::string::npos) break;
-    start = end + 1;
-  }
-  return out;
-}
-
 // Canonical specs and the labels (as given) of the --models list.
 std::pair<std::vector<std::string>, std::vector<std::string>> parse_models(const std::string& text) {
-  const std::vector<std::string> items = text.empty() ? sweep::default_models() : split_models(text);
+  const std::vector<std::string> items = text.empty() ? sweep::default_models() : sweep::split_model_list(text);
   std::vector<std::string> specs;
   for (const auto& item : items) {
     if (item.empty()) throw ArgumentError("--models '" + text + "': empty model in the list, expected SPEC,SPEC,...");
@@ -106,60 +88,8 @@ void check_output_paths(const std::string& output, const std::string& report) {
   if (!writable_dir(folder_of(dir))) throw IoError("--report " + report + ": parent folder '" + folder_of(dir).string() + "' is missing or not writable");
 }
 
-std::string command_line() {
-  std::ifstream in("/proc/self/cmdline", std::ios::binary);
-  std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()), out, arg;
-  for (char c : all) {
-    if (c != '\0') {
-      arg += c;
-      continue;
-    }
-    if (!out.empty()) out += ' ';
-    if (out.empty()) arg = fs::path(arg).filename().string();  // the program by its name
-    out += arg.find_first_of(" \t'\"") == std::string::npos && !arg.empty() ? arg : "'" + arg + "'";
-    arg.clear();
-  }
-  return out;
-}
-
-std::string now_iso8601() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
-
-// Refuses (before anything is replaced) a report folder where a staged file's name is taken by a folder.
-void check_commit(const fs::path& stage, const fs::path& dir) {
-  std::error_code ec;
-  if (!fs::exists(dir, ec)) return;
-  for (const auto& e : fs::directory_iterator(stage))
-    if (fs::is_directory(dir / e.path().filename(), ec))
-      throw IoError("--report " + dir.string() + ": '" + e.path().filename().string() + "' there is a folder, expected a file or nothing");
-}
-
-// Moves the staged report into `dir`: a rename of the whole folder when `dir` does not exist, else file by
-// file with report.md last. Files of `dir` not produced by this run are left alone.
-void commit_report(const fs::path& stage, const fs::path& dir) {
-  std::error_code ec;
-  if (!fs::exists(dir, ec)) {
-    fs::rename(stage, dir, ec);
-    if (ec) throw IoError("--report " + dir.string() + ": cannot move the report into place: " + ec.message());
-    return;
-  }
-  std::vector<fs::path> files;
-  for (const auto& e : fs::directory_iterator(stage)) files.push_back(e.path());
-  std::stable_partition(files.begin(), files.end(), [](const fs::path& p) { return p.filename() != "report.md"; });
-  for (const auto& f : files) {
-    fs::rename(f, dir / f.filename(), ec);
-    if (ec) throw IoError("--report " + dir.string() + ": cannot move '" + f.filename().string() + "' into place: " + ec.message());
-  }
-  fs::remove_all(stage, ec);
-}
-
 void run_sweep(const SweepArgs& a) {
+  using namespace lab;
   using namespace sweep;
   SweepResult r;
   SweepConfig& cfg = r.config;
@@ -178,9 +108,9 @@ void run_sweep(const SweepArgs& a) {
 
   omp_set_num_threads(cfg.threads);
   Eigen::setNbThreads(cfg.threads);
-  r.created = now_iso8601();
-  r.command_line = command_line();
-  r.machine = describe_machine(cfg.threads);
+  r.created = lab::now_iso8601();
+  r.command_line = lab::command_line();
+  r.machine = lab::describe_machine(cfg.threads);
   const auto progress = [&a](const std::string& line) {
     if (!a.quiet) std::cerr << line << std::endl;
   };
@@ -202,10 +132,10 @@ void run_sweep(const SweepArgs& a) {
       md.close();
       if (!md) throw IoError("--report " + a.report + ": cannot write report.md");
     }
-    check_commit(stage, dir);
+    check_staged_commit(stage, dir, "--report " + dir.string());
     write_results_h5(r, a.output);
     wrote_output = true;
-    commit_report(stage, dir);
+    commit_staged(stage, dir, "--report " + dir.string());
   } catch (...) {
     fs::remove_all(stage, ec);
     if (wrote_output) fs::remove(a.output, ec);

@@ -1,4 +1,4 @@
-#include "cli/sweep_measure.hpp"
+#include "lab/sweep_measure.hpp"
 
 #include <fmt/core.h>
 #include <omp.h>
@@ -14,7 +14,6 @@
 #include <numeric>
 #include <random>
 
-#include "cli/machine.hpp"
 #include "core/brdf_model.hpp"
 #include "core/direction.hpp"
 #include "core/discrete_basis.hpp"
@@ -23,29 +22,20 @@
 #include "core/projection.hpp"
 #include "core/spectral_fit.hpp"
 #include "core/spectrum_ops.hpp"
+#include "lab/timing.hpp"
 #include "mesh/tessellation.hpp"
 
-namespace icobrdf::cli::sweep {
+namespace icobrdf::lab::sweep {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Side of the square matrices of the GEMM whose rate is reported beside the theoretical peak.
 constexpr int kGemmSize = 1024, kQuickGemmSize = 256;
 
-template <class F>
-double seconds_of(F&& f) {
-  const auto t0 = std::chrono::steady_clock::now();
-  f();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 // Best wall-clock time of f: once, or up to kTimingRepeats times when a run is shorter than kRepeatBelowSeconds.
 template <class F>
 double timed(F&& f) {
-  double best = seconds_of(f);
-  if (best < kRepeatBelowSeconds)
-    for (int k = 1; k < kTimingRepeats; ++k) best = std::min(best, seconds_of(f));
-  return best;
+  return seconds_repeating_below(kRepeatBelowSeconds, kTimingRepeats, f);
 }
 
 std::int64_t peak_rss_bytes() {
@@ -102,30 +92,105 @@ ModelCell errors_of(const Spectrum& s, const HeldOut& h, const Reference& ref, c
 
 }  // namespace
 
+std::vector<std::string> split_model_list(const std::string& text) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t end = text.find_first_of(",;", start);
+    std::string item = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    item.erase(0, item.find_first_not_of(" \t"));
+    item.erase(item.find_last_not_of(" \t") + 1);
+    const auto eq = item.find('='), colon = item.find(':');
+    const bool continues = !out.empty() && eq != std::string::npos && (colon == std::string::npos || colon > eq) &&
+                           item.find('+') == std::string::npos;
+    if (continues) out.back() += "," + item;
+    else out.push_back(item);
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  return out;
+}
+
 std::vector<std::string> default_models() {
   return {"lambert", "oren-nayar:sigma=20", "minnaert:k=1.5", "lafortune:cx=1,cy=1,cz=1,n=20",
           "ggx:alpha=0.5", "ggx:alpha=0.2", "ggx:alpha=0.1", "ggx:alpha=0.05"};
 }
 
-Machine describe_machine(int threads) {
-  Machine m;
-  m.cpu_model = cpu_model();
-  m.cpu_mhz = cpu_mhz();
-  m.cores = omp_get_num_procs();
-  m.isa = fmt::format("compiled for {} (Eigen: {})", compiled_isa(), Eigen::SimdInstructionSetsInUse());
-  m.flops_per_cycle_per_core = flops_per_cycle_per_core();
-  m.peak_gflops = fp64_peak_gflops(threads);
-  m.load_before = load_average();
-  return m;
-}
-
 namespace {
 
-double measure_gemm_gflops(int n) {
-  Eigen::MatrixXd a = Eigen::MatrixXd::Random(n, n), b = Eigen::MatrixXd::Random(n, n), c(n, n);
-  double best = 1e300;
-  for (int k = 0; k < 3; ++k) best = std::min(best, seconds_of([&] { c.noalias() = a * b; }));
-  return 2.0 * n * n * static_cast<double>(n) / best / 1e9;
+// The models of a sweep, their exact values at the held-out pairs and the weights of the cosine metric.
+struct Truth {
+  std::vector<std::unique_ptr<BrdfModel>> models;
+  HeldOut held;
+  Eigen::VectorXd cosw;
+  std::vector<Reference> refs;
+};
+
+// The order a level supports: the leading Gram blocks of one basis of order kSupportSearchOrder.
+LevelSupport level_support(int level, const Grid& grid, double gram_tolerance) {
+  const DiscreteBasis top = build_discrete_basis(grid, kSupportSearchOrder);
+  LevelSupport s;
+  s.level = level;
+  s.cells = grid.cells();
+  s.largest_order = largest_supported_order(top, gram_tolerance);
+  if (s.largest_order >= 0) {
+    const int m = hemisphere_basis_count(s.largest_order);
+    s.gram_error_at_largest = (top.G.topLeftCorner(m, m) - Eigen::MatrixXd::Identity(m, m)).cwiseAbs().maxCoeff();
+  }
+  return s;
+}
+
+// Fits every model with the operators of `ctx` (timed) and measures its errors; then the reconstruction and
+// pair evaluation of the first model's spectrum.
+void fit_models(SweepRow& row, const ProjectionContext& ctx, const Truth& t, double gram_tolerance) {
+  FitOptions opt;
+  opt.order = row.order;
+  opt.gram_tolerance = gram_tolerance;
+  opt.sampling = LutSampling::CellAverage;  // over the fitting grid's cubature (one point per cell when centre)
+  Spectrum first;
+  for (std::size_t m = 0; m < t.models.size(); ++m) {
+    Spectrum s;
+    const double seconds = timed([&] { s = fit_model(*t.models[m], ctx, opt); });
+    row.models[m] = errors_of(s, t.held, t.refs[m], t.cosw);
+    row.models[m].project_seconds = seconds;
+    if (m == 0) first = std::move(s);
+  }
+  if (t.models.empty()) return;
+  const std::int64_t lut = static_cast<std::int64_t>(sizeof(double)) * row.cells * row.cells;
+  if (lut <= kMaxReconstructLutBytes) {
+    row.reconstruct_seconds = timed([&] { Eigen::MatrixXd f = reconstruct_lut(ctx.basis, first.channels[0]); });
+    row.lut_bytes = lut;
+  }
+  row.pairs_seconds = timed([&] { Eigen::VectorXd v = evaluate_coefficients(first.channels[0], row.order, t.held.wi, t.held.wr); });
+}
+
+// One (level, order) row on the level's grid built in grid_seconds.
+SweepRow measure_row(int level, int order, const std::shared_ptr<const Grid>& grid, double grid_seconds, const Truth& t,
+                     double gram_tolerance) {
+  SweepRow row;
+  row.level = level;
+  row.order = order;
+  row.cells = grid->cells();
+  row.modes = hemisphere_basis_count(order);
+  row.grid_seconds = grid_seconds;
+  row.reconstruct_seconds = row.pairs_seconds = kNaN;
+  row.models.assign(t.models.size(), ModelCell{kNaN, kNaN, kNaN, kNaN});
+  ProjectionContext ctx;
+  ctx.grid = grid;
+  row.basis_seconds = timed([&] { ctx.basis = build_discrete_basis(*grid, order); });
+  row.gram_error = ctx.basis.gram_error;
+  row.condition = ctx.basis.condition;
+  row.basis_bytes = static_cast<std::int64_t>(sizeof(double)) * (ctx.basis.B.size() + ctx.basis.G.size() + ctx.basis.W.size());
+  row.supported = row.gram_error <= gram_tolerance && std::isfinite(row.condition);
+  if (row.supported) {
+    row.operator_seconds = timed([&] { ctx.projection = make_projection(ctx.basis); });
+    row.projection_bytes = static_cast<std::int64_t>(sizeof(double)) * ctx.projection.P.size();
+    fit_models(row, ctx, t, gram_tolerance);
+  } else {
+    row.operator_seconds = kNaN;
+  }
+  row.peak_rss_bytes = peak_rss_bytes();
+  return row;
 }
 
 }  // namespace
@@ -134,73 +199,20 @@ void measure_table(SweepResult& result, const std::function<void(const std::stri
   const SweepConfig& cfg = result.config;
   const auto t_start = std::chrono::steady_clock::now();
   result.machine.gemm_gflops = measure_gemm_gflops(cfg.quick ? kQuickGemmSize : kGemmSize);
-  std::vector<std::unique_ptr<BrdfModel>> models;
-  for (const auto& spec : cfg.models) models.push_back(parse_model(spec));
-  const HeldOut held = held_out_pairs(cfg.held_out);
-  const Eigen::VectorXd cosw = held.wi.col(2).cwiseProduct(held.wr.col(2));
-  std::vector<Reference> refs;
-  for (const auto& m : models) refs.push_back(reference_values(*m, held, cosw));
+  Truth t;
+  for (const auto& spec : cfg.models) t.models.push_back(parse_model(spec));
+  t.held = held_out_pairs(cfg.held_out);
+  t.cosw = t.held.wi.col(2).cwiseProduct(t.held.wr.col(2));
+  for (const auto& m : t.models) t.refs.push_back(reference_values(*m, t.held, t.cosw));
   const bool centre = cfg.sampling == "centre";
 
   for (int level : cfg.levels) {
     std::shared_ptr<const Grid> grid;
     const double grid_seconds = timed([&] { grid = std::make_shared<const Grid>(build_fitting_grid(level, "equal-area", centre)); });
-    {  // The order this level supports: leading Gram blocks of one basis of order kSupportSearchOrder.
-      const DiscreteBasis top = build_discrete_basis(*grid, kSupportSearchOrder);
-      LevelSupport s;
-      s.level = level;
-      s.cells = grid->cells();
-      s.largest_order = largest_supported_order(top, cfg.gram_tolerance);
-      if (s.largest_order >= 0) {
-        const int m = hemisphere_basis_count(s.largest_order);
-        s.gram_error_at_largest = (top.G.topLeftCorner(m, m) - Eigen::MatrixXd::Identity(m, m)).cwiseAbs().maxCoeff();
-      }
-      result.support.push_back(s);
-    }
+    result.support.push_back(level_support(level, *grid, cfg.gram_tolerance));
     for (int order : cfg.orders) {
       const auto t_row = std::chrono::steady_clock::now();
-      SweepRow row;
-      row.level = level;
-      row.order = order;
-      row.cells = grid->cells();
-      row.modes = hemisphere_basis_count(order);
-      row.grid_seconds = grid_seconds;
-      row.reconstruct_seconds = row.pairs_seconds = kNaN;
-      row.models.assign(models.size(), ModelCell{kNaN, kNaN, kNaN, kNaN});
-      ProjectionContext ctx;
-      ctx.grid = grid;
-      row.basis_seconds = timed([&] { ctx.basis = build_discrete_basis(*grid, order); });
-      row.gram_error = ctx.basis.gram_error;
-      row.condition = ctx.basis.condition;
-      row.basis_bytes = static_cast<std::int64_t>(sizeof(double)) * (ctx.basis.B.size() + ctx.basis.G.size() + ctx.basis.W.size());
-      row.supported = row.gram_error <= cfg.gram_tolerance && std::isfinite(row.condition);
-      if (row.supported) {
-        row.operator_seconds = timed([&] { ctx.projection = make_projection(ctx.basis); });
-        row.projection_bytes = static_cast<std::int64_t>(sizeof(double)) * ctx.projection.P.size();
-        FitOptions opt;
-        opt.order = order;
-        opt.gram_tolerance = cfg.gram_tolerance;
-        opt.sampling = LutSampling::CellAverage;  // over the fitting grid's cubature (one point per cell when centre)
-        Spectrum first;
-        for (std::size_t m = 0; m < models.size(); ++m) {
-          Spectrum s;
-          const double t = timed([&] { s = fit_model(*models[m], ctx, opt); });
-          row.models[m] = errors_of(s, held, refs[m], cosw);
-          row.models[m].project_seconds = t;
-          if (m == 0) first = std::move(s);
-        }
-        if (!models.empty()) {
-          const std::int64_t lut = static_cast<std::int64_t>(sizeof(double)) * row.cells * row.cells;
-          if (lut <= kMaxReconstructLutBytes) {
-            row.reconstruct_seconds = timed([&] { Eigen::MatrixXd f = reconstruct_lut(ctx.basis, first.channels[0]); });
-            row.lut_bytes = lut;
-          }
-          row.pairs_seconds = timed([&] { Eigen::VectorXd v = evaluate_coefficients(first.channels[0], order, held.wi, held.wr); });
-        }
-      } else {
-        row.operator_seconds = kNaN;
-      }
-      row.peak_rss_bytes = peak_rss_bytes();
+      const SweepRow row = measure_row(level, order, grid, grid_seconds, t, cfg.gram_tolerance);
       result.rows.push_back(row);
       if (progress)
         progress(fmt::format("level {} order {:2d}: {} cells, {} modes, Gram error {:.2e}{}, {:.2f} s", level, order, row.cells, row.modes,
@@ -219,7 +231,7 @@ void run_sections(SweepResult& result, const std::string& report_dir, const std:
   o.threads = result.config.threads;
   o.quick = result.config.quick;
   o.report_dir = report_dir;
-  for (const auto& [name, run] : report_section_registry()) {
+  for (const auto& [name, run] : report_sections()) {
     const double s = seconds_of([&, n = name, r = run] { result.sections[n] = r(o); });
     if (progress) progress(fmt::format("section {}: {:.2f} s", name, s));
   }
@@ -249,4 +261,4 @@ std::vector<std::size_t> pareto_front(const SweepResult& r, std::size_t model) {
   return front;
 }
 
-}  // namespace icobrdf::cli::sweep
+}  // namespace icobrdf::lab::sweep

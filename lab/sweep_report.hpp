@@ -1,5 +1,5 @@
 #pragma once
-// The outputs of `icobrdf bench sweep` from a SweepResult (cli/sweep_measure.hpp):
+// The outputs of `icobrdf bench sweep` from a SweepResult (lab/sweep_measure.hpp):
 //   RESULTS.h5     schema "icobrdf-sweep" 1.0 (docs/file-format.md, section "Sweep results"), written atomically
 //   report.md      machine, command, the table, supported orders, Pareto fronts, figures, report sections
 //   PNG figures    sweep_error_<model>.png (relative L2 error vs order, one series per level),
@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "cli/sweep_measure.hpp"
+#include "lab/sweep_measure.hpp"
 
-namespace icobrdf::cli::sweep {
+namespace icobrdf::lab::sweep {
 
 inline constexpr const char* kSweepFormat = "icobrdf-sweep";
 inline constexpr const char* kSweepFormatVersion = "1.0";
@@ -32,4 +32,4 @@ nlohmann::json to_json(const SweepResult& r);
 // Writes RESULTS.h5 at `path` atomically (io/atomic_write.hpp): a reader sees the old file or the whole new one.
 void write_results_h5(const SweepResult& r, const std::string& path);
 
-}  // namespace icobrdf::cli::sweep
+}  // namespace icobrdf::lab::sweep

@@ -2,7 +2,7 @@
 // The measurements of `icobrdf bench sweep`: for every (level, order) of the equal-area tessellation, the
 // grid's resolving power (Gram error, condition number), the cost of its operators, and for every model
 // the cost of one projection and the error of the reconstructed BRDF against the exact model at held-out
-// direction pairs. cli/sweep_report.hpp turns a SweepResult into RESULTS.h5, report.md and PNG figures.
+// direction pairs. lab/sweep_report.hpp turns a SweepResult into RESULTS.h5, report.md and PNG figures.
 //
 // Per (level, order) row:
 //   cells, modes                 C = 10 4^L + 2^(L+1) cells, M = (N+1)(N+2)/2 modes
@@ -35,11 +35,12 @@
 #include <string>
 #include <vector>
 
-#include "cli/bench_commands.hpp"
+#include "lab/machine.hpp"
+#include "lab/report_section.hpp"
 
-namespace icobrdf::cli::sweep {
+namespace icobrdf::lab::sweep {
 
-// Largest level and order the sweep accepts (the range: level 6 = 41088 cells, order 32 = 561 modes).
+// Largest level and order the sweep accepts (level 6 = 41088 cells, order 32 = 561 modes).
 inline constexpr int kMaxSweepLevel = 6;
 inline constexpr int kMaxSweepOrder = 32;
 // The order up to which each level's supported order is searched (the leading blocks of one Gram matrix).
@@ -63,6 +64,11 @@ inline constexpr std::uint64_t kHeldOutSeed = 20260522;
 // direction itself (retroreflection).
 std::vector<std::string> default_models();
 
+// Splits a list of model specs separated by ',' or ';' (items trimmed of spaces and tabs): an item of the
+// form key=value (no ':' before its '=', no '+') continues the previous model's parameters, so
+// "lambert,ggx:alpha=0.2,f0=0.04" is two models. Empty items are kept (the caller refuses them).
+std::vector<std::string> split_model_list(const std::string& text);
+
 struct SweepConfig {
   std::vector<int> levels, orders;   // ascending
   std::vector<std::string> models;   // canonical model specs (parse_model(spec).spec())
@@ -72,16 +78,6 @@ struct SweepConfig {
   bool quick = false;
   std::string sampling = "centre";   // "centre" or "average": LUT rows and B sampled alike (build_fitting_grid)
   double gram_tolerance = 0.1;
-};
-
-struct Machine {
-  std::string cpu_model, isa;
-  int cores = 0;
-  double cpu_mhz = 0.0;
-  int flops_per_cycle_per_core = 0;  // FP64, of the instruction set compiled for
-  double peak_gflops = 0.0;          // threads x flops/cycle x clock (as `bench project`)
-  double gemm_gflops = 0.0;          // measured: Eigen 1024 x 1024 x 1024 product, best of 3
-  std::string load_before, load_after;  // /proc/loadavg
 };
 
 struct ModelCell {
@@ -118,13 +114,10 @@ struct SweepResult {
   double table_seconds = 0.0, sections_seconds = 0.0;
 };
 
-// The machine description (clock and peak as `bench project` computes them, plus a measured GEMM rate).
-Machine describe_machine(int threads);
-
-// Runs the level x order table. `progress` (may be empty) gets one line per finished row.
+// Runs the level x order table (and measures the GEMM rate of result.machine). `progress` (may be empty) gets one line per finished row.
 void measure_table(SweepResult& result, const std::function<void(const std::string&)>& progress);
 
-// Runs every registered report section (cli/bench_commands.hpp) with the sweep's levels, orders,
+// Runs every report section (lab/report_section.hpp) with the sweep's levels, orders,
 // threads, quick flag and report folder.
 void run_sections(SweepResult& result, const std::string& report_dir, const std::function<void(const std::string&)>& progress);
 
@@ -132,4 +125,4 @@ void run_sections(SweepResult& result, const std::string& report_dir, const std:
 // fast and at least as accurate and strictly better in one. Row indices, ascending time.
 std::vector<std::size_t> pareto_front(const SweepResult& r, std::size_t model);
 
-}  // namespace icobrdf::cli::sweep
+}  // namespace icobrdf::lab::sweep

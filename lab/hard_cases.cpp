@@ -1,17 +1,5 @@
-// Report section "hard-cases" of `icobrdf bench sweep`, also runnable alone:
-//   icobrdf bench hard-cases [--levels 3..5] [--quick] [--json] [--report DIR]
-// Numerical stability on hard cases; each measured error is shown next to the expectation it is
-// compared with, derived in the comments below and in the report text.
-//   1. The continuous basis to order 128: Gram matrix of K by an exact product rule, and the Zernike
-//      recurrence against the closed factorial sum evaluated in quadruple precision.
-//   2. Delta BRDFs (mirror, retroreflector) on equal-area grids against their analytic spectra, within
-//      ||G - I||_2 / (1 - ||G - I||_2).
-//   3. Fresnel at grazing and normal incidence: the reflectance against the s/p amplitude formulas, model
-//      values finite and reciprocal, reconstruction error near grazing and near normal vs overall.
-//   4. Dynamic range 1e4 between a GGX lobe and a Lambertian background: error of each region after
-//      projection and reconstruction, negative lobes.
-//   5. float32 vs float64 LUTs: the rounding of the LUT through P^T F P and B C B^T, against the bound
-//      u ||F||_W / lambda_min(G) (u = 2^-24).
+#include "lab/hard_cases.hpp"
+
 #include <fmt/core.h>
 
 #include <Eigen/Eigenvalues>
@@ -20,171 +8,30 @@
 #include <limits>
 #include <random>
 
-#include "cli/bench_section_support.hpp"
 #include "core/analytic_spectra.hpp"
 #include "core/direction.hpp"
 #include "core/discrete_basis.hpp"
+#include "core/error.hpp"
 #include "core/fresnel.hpp"
-#include "core/gauss_legendre.hpp"
 #include "core/hemisphere_basis.hpp"
 #include "core/lut.hpp"
 #include "core/model_spec.hpp"
 #include "core/projection.hpp"
-#include "core/reference_grids.hpp"
 #include "core/spectral_fit.hpp"
 #include "core/spectrum_ops.hpp"
 #include "core/streaming_projection.hpp"
-#include "core/zernike.hpp"
+#include "lab/basis_orthonormality.hpp"
+#include "lab/order_chart.hpp"
+#include "lab/report_format.hpp"
+#include "lab/zernike_reference.hpp"
 #include "mesh/tessellation.hpp"
 #include "plot/line_chart.hpp"
 
-namespace icobrdf::cli {
+namespace icobrdf::lab {
 namespace {
 
-using namespace section;
-
-constexpr double kEps = std::numeric_limits<double>::epsilon();  // 2^-52
-// Documented accuracy of the Zernike recurrence (core/zernike.hpp) and hence of K (core/hemisphere_basis.hpp):
-// |delta K_n^l| <= kZernikeAbsError sqrt((n + 1)/pi).
-constexpr double kZernikeAbsError = 1e-13;
 // Unit roundoff of float32 (round to nearest): |fl(x) - x| <= u |x|.
 constexpr double kFloat32Roundoff = 0x1p-24;
-
-#if defined(__SIZEOF_FLOAT128__)
-using Quad = __float128;
-constexpr const char* kQuadName = "binary128 (__float128)";
-constexpr double kQuadRoundoff = 0x1p-113;
-#else
-using Quad = long double;
-constexpr const char* kQuadName = "long double";
-constexpr double kQuadRoundoff = std::numeric_limits<long double>::epsilon() / 2;
-#endif
-
-// ---------------------------------------------------------------------------------------------------
-// 1a. Orthonormality of K to order N by the exact product rule.
-//
-// Rule: rings = N/2 + 2 Gauss-Legendre nodes in t = rho^2 (exact to degree N + 3 >= N) times
-// n_phi = 2N + 2 uniform azimuths (exact for trigonometric degree <= 2N + 1): exact for every K_a K_b.
-// Since the rule is a product, G_ab = Rad_ab Az_ab with
-//   Rad_ab = sum_k w_k r_a(t_k) r_b(t_k),  r_a = sqrt((n_a + 1)/pi) R_{n_a}^{|l_a|}  (depends on (n, |l|) only)
-//   Az_ab  = (2 pi / n_phi) sum_m az_{l_a}(phi_m) az_{l_b}(phi_m)                      (depends on l only),
-// both taken from the library's K: r_a from K at (rho_k, phi = 0) (az_l(0) = 1 for l > 0, 1/sqrt(2) for l = 0),
-// az_l from K_{|l|}^l on the rim rho = 1 (R_l^l(1) = 1). This needs O(rings + n_phi) evaluations of K
-// instead of rings x n_phi, so order 128 (8385 modes) takes well under a second.
-// Expected: |delta K_a| <= e_a = kZernikeAbsError sqrt((n_a + 1)/pi) gives, by Cauchy-Schwarz with
-// ||K||_2 = 1 and ||delta K||_2 <= sqrt(2 pi) e, |delta G_ab| <= sqrt(2 pi) (e_a + e_b)
-// <= 2 sqrt(2) kZernikeAbsError sqrt(N + 1); the sums add (rings + n_phi) eps relative to sums of absolute
-// values 1/pi (radial) and pi (azimuthal).
-struct OrthoResult {
-  int order, rings, n_phi, modes;
-  double gram_error, bound, seconds;
-  double full_gram_error = std::numeric_limits<double>::quiet_NaN();  // unfactorized B^T W B (moderate orders)
-};
-
-double ortho_bound(int order, int rings, int n_phi) {
-  return 2.0 * std::sqrt(2.0) * kZernikeAbsError * std::sqrt(order + 1.0) + (rings + n_phi) * kEps;
-}
-
-OrthoResult orthonormality(int order, bool full) {
-  OrthoResult r;
-  r.order = order;
-  r.rings = order / 2 + 2;
-  r.n_phi = 2 * order + 2;
-  r.modes = hemisphere_basis_count(order);
-  r.bound = ortho_bound(order, r.rings, r.n_phi);
-  r.seconds = seconds_of([&] {
-    const auto gl = gauss_legendre(r.rings, 0.0, 1.0);
-    const int m = r.modes, nrad = zernike_radial_count(order);
-    std::vector<double> k(static_cast<size_t>(m));
-    // Radial factors: rows = rings, columns = packed (n, |l|).
-    Eigen::MatrixXd rad(r.rings, nrad);
-    for (int q = 0; q < r.rings; ++q) {
-      const double t = gl.nodes[q], z = 1.0 - t, s = std::sqrt(t * (2.0 - t));
-      hemisphere_basis_eval(order, Eigen::Vector3d(s, 0.0, z), k.data());
-      for (int j = 0; j < m; ++j) {
-        const auto nl = ansi_to_nl(j);
-        if (nl.l < 0) continue;
-        rad(q, zernike_radial_index(nl.n, nl.l)) = k[static_cast<size_t>(j)] * (nl.l == 0 ? std::sqrt(2.0) : 1.0);
-      }
-    }
-    const Eigen::MatrixXd rg = rad.transpose() * gl.weights.asDiagonal() * rad;
-    // Azimuthal factors: rows = azimuth nodes, columns = l + order.
-    Eigen::MatrixXd az(r.n_phi, 2 * order + 1);
-    for (int p = 0; p < r.n_phi; ++p) {
-      const double phi = 2.0 * M_PI * p / r.n_phi;
-      hemisphere_basis_eval(order, Eigen::Vector3d(std::cos(phi), std::sin(phi), 0.0), k.data());
-      for (int l = -order; l <= order; ++l)
-        az(p, l + order) = k[static_cast<size_t>(ansi_index(std::abs(l), l))] / std::sqrt((std::abs(l) + 1.0) / M_PI);
-    }
-    const Eigen::MatrixXd ag = (2.0 * M_PI / r.n_phi) * (az.transpose() * az);
-    std::vector<int> ri(static_cast<size_t>(m)), li(static_cast<size_t>(m));
-    for (int j = 0; j < m; ++j) {
-      const auto nl = ansi_to_nl(j);
-      ri[static_cast<size_t>(j)] = zernike_radial_index(nl.n, std::abs(nl.l));
-      li[static_cast<size_t>(j)] = nl.l + order;
-    }
-    double worst = 0.0;
-#pragma omp parallel for reduction(max : worst) schedule(static)
-    for (int a = 0; a < m; ++a)
-      for (int b = 0; b < m; ++b) {
-        const double g = rg(ri[static_cast<size_t>(a)], ri[static_cast<size_t>(b)]) * ag(li[static_cast<size_t>(a)], li[static_cast<size_t>(b)]);
-        worst = std::max(worst, std::abs(g - (a == b ? 1.0 : 0.0)));
-      }
-    r.gram_error = worst;
-  });
-  if (full) {  // the same rule as a grid, B = K at the nodes, G = B^T W B: no factorization
-    const auto b = build_discrete_basis(build_polar_gauss_grid(r.rings, r.n_phi), order);
-    r.full_gram_error = b.gram_error;
-  }
-  return r;
-}
-
-// ---------------------------------------------------------------------------------------------------
-// 1b. Zernike recurrence vs the closed sum (eq. 3) in quadruple precision:
-//   R_n^l(rho) = sum_k (-1)^k (n - k)! / (k! ((n + l)/2 - k)! ((n - l)/2 - k)!) rho^(n - 2k).
-// The reference's own rounding is at most ~ (n + 4) u_q sum_k |c_k| rho^(n - 2k) (each term carries a few
-// roundings of the factorial ratio and the power); it is reported, and a degree counts as checked only
-// where it is below 1e-3 of the recurrence's documented error. The same sum in double shows why the
-// library does not use it: its error is ~ eps sum_k |c_k| rho^(n - 2k) (cancellation).
-struct ZernikeRow {
-  int n_from, n_to;
-  double recurrence_error = 0.0, reference_error_bound = 0.0, closed_double_error = 0.0, closed_double_estimate = 0.0;
-};
-
-std::vector<ZernikeRow> zernike_vs_closed_sum(int n_max, int n_block, int samples) {
-  std::vector<Quad> fact(static_cast<size_t>(n_max) + 1);
-  fact[0] = 1;
-  for (int k = 1; k <= n_max; ++k) fact[static_cast<size_t>(k)] = fact[static_cast<size_t>(k) - 1] * k;
-  std::vector<double> rec(static_cast<size_t>(zernike_radial_count(n_max)));
-  std::vector<ZernikeRow> rows;
-  for (int n0 = 0; n0 <= n_max; n0 += n_block) rows.push_back({n0, std::min(n_max, n0 + n_block - 1)});
-  for (int s = 0; s < samples; ++s) {
-    const double rho = static_cast<double>(s) / (samples - 1);  // includes 0 and 1
-    zernike_radial_all(n_max, rho, rec.data());
-    for (int n = 0; n <= n_max; ++n)
-      for (int l = n % 2; l <= n; l += 2) {
-        Quad sum = 0, abs_sum = 0;
-        double sum_d = 0.0;
-        for (int k = 0; k <= (n - l) / 2; ++k) {
-          const Quad c = fact[static_cast<size_t>(n - k)] /
-                         (fact[static_cast<size_t>(k)] * fact[static_cast<size_t>((n + l) / 2 - k)] * fact[static_cast<size_t>((n - l) / 2 - k)]);
-          Quad p = 1;
-          for (int e = 0; e < n - 2 * k; ++e) p *= rho;
-          const Quad term = (k % 2 ? -c : c) * p;
-          sum += term;
-          abs_sum += term < 0 ? -term : term;
-          sum_d += static_cast<double>(k % 2 ? -c : c) * std::pow(rho, n - 2 * k);
-        }
-        auto& row = rows[static_cast<size_t>(n / n_block)];
-        const double ref = static_cast<double>(sum);
-        row.recurrence_error = std::max(row.recurrence_error, std::abs(rec[static_cast<size_t>(zernike_radial_index(n, l))] - ref));
-        row.reference_error_bound = std::max(row.reference_error_bound, (n + 4) * kQuadRoundoff * static_cast<double>(abs_sum));
-        row.closed_double_error = std::max(row.closed_double_error, std::abs(sum_d - ref));
-        row.closed_double_estimate = std::max(row.closed_double_estimate, kEps * static_cast<double>(abs_sum));
-      }
-  }
-  return rows;
-}
 
 // ---------------------------------------------------------------------------------------------------
 // Shared: held-out direction pairs and region errors.
@@ -486,105 +333,27 @@ nlohmann::json float32_case(int level, int order, std::vector<std::string>& row)
           {"reconstruction_bound", r_bound}};
 }
 
-ReportSection run_hard_cases(const SectionOptions& o) {
-  ReportSection s;
-  s.title = "Numerical stability on hard cases";
-  std::string md;
+void add_delta_cases(const SectionOptions& o, ReportSection& s, std::string& md) {
+  std::vector<int> levels;
+  for (int L : o.levels)
+    if (L >= 1 && L <= 6) levels.push_back(L);
+  if (levels.empty()) throw ArgumentError("hard-cases: delta BRDFs need a level in [1, 6]");
+  std::vector<std::vector<std::string>> rows;
+  nlohmann::json jd = nlohmann::json::array();
+  for (int L : levels) {
+    std::vector<std::string> row;
+    jd.push_back(delta_case(L, L <= 2 ? 12 : 24, row));
+    rows.push_back(row);
+  }
+  s.data["delta"] = jd;
+  md += "### Delta BRDFs\n\n"
+        "Ideal mirror and retroreflector (g form) projected exactly on the equal-area grid (delta_projection) at "
+        "the largest order each level supports (Gram tolerance 0.1), against the analytic spectra D = diag((-1)^l) "
+        "and I. Since C = D G^-1 (resp. G^-1), every entry's error is at most ||G - I||_2 / (1 - ||G - I||_2).\n\n";
+  md += md_table({"level", "cells", "order", "max|G - I|", "||G - I||_2", "bound", "mirror max error", "retro max error", "error / bound"}, rows);
+}
 
-  {  // 1a
-    const std::vector<int> orders = o.quick ? std::vector<int>{32, 64, 128} : std::vector<int>{32, 64, 96, 128};
-    const int full_max = o.quick ? 32 : 64;
-    std::vector<std::vector<std::string>> rows;
-    nlohmann::json jo = nlohmann::json::array();
-    for (int n : orders) {
-      const auto r = orthonormality(n, n <= full_max);
-      rows.push_back({std::to_string(n), std::to_string(r.modes), fmt::format("{} x {}", r.rings, r.n_phi), sci(r.gram_error),
-                      std::isnan(r.full_gram_error) ? "-" : sci(r.full_gram_error), sci(r.bound), fixed(r.seconds, 3)});
-      jo.push_back({{"order", n},
-                    {"modes", r.modes},
-                    {"rings", r.rings},
-                    {"azimuths", r.n_phi},
-                    {"gram_error", r.gram_error},
-                    {"full_gram_error", num(r.full_gram_error)},
-                    {"bound", r.bound},
-                    {"seconds", r.seconds}});
-    }
-    s.data["orthonormality"] = jo;
-    if (!o.report_dir.empty()) {
-      plot::Series meas{"max|G - I| (factorized)", {}, {}}, bound{"expected bound", {}, {}};
-      bound.dashed = true;
-      for (const auto& r : jo) {
-        meas.x.push_back(r["order"].get<double>());
-        meas.y.push_back(r["gram_error"].get<double>());
-        bound.x.push_back(r["order"].get<double>());
-        bound.y.push_back(r["bound"].get<double>());
-      }
-      plot::ChartOptions co;
-      co.title = "Orthonormality of K by exact quadrature";
-      co.x_label = "order N";
-      co.y_label = "max|G - I|";
-      co.log_y = true;
-      co.integer_x = true;
-      const std::string file = "hard_cases_orthonormality.png";
-      plot::draw_line_chart({meas, bound}, co, (o.report_dir / file).string());
-      s.figures.push_back(file);
-    }
-    md += "### Continuous basis to order 128\n\n"
-          "Gram matrix of K_n^l (all (N+1)(N+2)/2 functions) by the exact product rule N/2 + 2 Gauss-Legendre "
-          "rings in rho^2 x 2N + 2 azimuths, factorized into radial and azimuthal sums of the library's K values; "
-          "at moderate orders also unfactorized (B^T W B on the same nodes). Expected bound: the documented "
-          "accuracy |dK| <= 1e-13 sqrt((n+1)/pi) gives |dG| <= 2 sqrt(2) 1e-13 sqrt(N+1) by Cauchy-Schwarz, plus "
-          "(rings + azimuths) eps for the sums.\n\n";
-    md += md_table({"order", "modes", "rule", "max|G - I| (factorized)", "max|G - I| (B^T W B)", "expected bound", "seconds"}, rows);
-    for (const auto& f : s.figures) md += "![" + f + "](" + f + ")\n\n";
-  }
-  {  // 1b
-    // Degrees to 40: beyond, the binary128 closed sum's own rounding bound (~3x per degree) exceeds 1e-3 of
-    // the recurrence's documented error and the reference stops being one.
-    const int n_max = 40, block = 10, samples = o.quick ? 51 : 201;
-    const auto zr = zernike_vs_closed_sum(n_max, block, samples);
-    std::vector<std::vector<std::string>> rows;
-    nlohmann::json jz = nlohmann::json::array();
-    for (const auto& r : zr) {
-      rows.push_back({fmt::format("{}-{}", r.n_from, r.n_to), sci(r.recurrence_error), sci(kZernikeAbsError, 0), sci(r.reference_error_bound),
-                      sci(r.closed_double_error), sci(r.closed_double_estimate)});
-      jz.push_back({{"n_from", r.n_from},
-                    {"n_to", r.n_to},
-                    {"recurrence_error", r.recurrence_error},
-                    {"documented_error", kZernikeAbsError},
-                    {"reference_error_bound", r.reference_error_bound},
-                    {"closed_sum_double_error", r.closed_double_error},
-                    {"closed_sum_double_estimate", r.closed_double_estimate}});
-    }
-    s.data["zernike"] = {{"n_max", n_max}, {"samples", samples}, {"reference", kQuadName}, {"rows", jz}};
-    md += fmt::format(
-        "Zernike radial polynomials R_n^l, all l, at {} values of rho in [0, 1] (0 and 1 included): the library's "
-        "recurrence against the closed factorial sum (eq. 3) evaluated in {} (its own rounding bound "
-        "(n + 4) u_q sum|c_k rho^(n-2k)| in the fourth column), and the same closed sum in double, whose "
-        "cancellation error is ~ eps sum|c_k rho^(n-2k)| (last column):\n\n",
-        samples, kQuadName);
-    md += md_table({"n", "recurrence max error", "documented", "reference bound", "closed sum in double: error", "expected ~"}, rows);
-  }
-  {  // 2
-    std::vector<int> levels;
-    for (int L : o.levels)
-      if (L >= 1 && L <= 6) levels.push_back(L);
-    if (levels.empty()) throw ArgumentError("hard-cases: delta BRDFs need a level in [1, 6]");
-    std::vector<std::vector<std::string>> rows;
-    nlohmann::json jd = nlohmann::json::array();
-    for (int L : levels) {
-      std::vector<std::string> row;
-      jd.push_back(delta_case(L, L <= 2 ? 12 : 24, row));
-      rows.push_back(row);
-    }
-    s.data["delta"] = jd;
-    md += "### Delta BRDFs\n\n"
-          "Ideal mirror and retroreflector (g form) projected exactly on the equal-area grid (delta_projection) at "
-          "the largest order each level supports (Gram tolerance 0.1), against the analytic spectra D = diag((-1)^l) "
-          "and I. Since C = D G^-1 (resp. G^-1), every entry's error is at most ||G - I||_2 / (1 - ||G - I||_2).\n\n";
-    md += md_table({"level", "cells", "order", "max|G - I|", "||G - I||_2", "bound", "mirror max error", "retro max error", "error / bound"}, rows);
-  }
-  s.data["fresnel"] = fresnel_cases(o.quick, md);
+void add_dynamic_range(const SectionOptions& o, ReportSection& s, std::string& md) {
   s.data["dynamic_range"] = dynamic_range(o.quick, md);
   if (!o.report_dir.empty()) {
     plot::Series lobe{"lobe, relative RMS error", {}, {}}, bg{"background, relative RMS error", {}, {}}, pred{"lobe RMS error / background", {}, {}};
@@ -598,53 +367,55 @@ ReportSection run_hard_cases(const SectionOptions& o) {
       pred.x.push_back(n);
       pred.y.push_back(r["predicted_background_relative_error"].get<double>());
     }
-    plot::ChartOptions co;
-    co.title = "Dynamic range 1e4: error by region";
-    co.x_label = "order N";
-    co.y_label = "relative RMS error";
-    co.log_y = true;
-    co.integer_x = true;
+    const plot::ChartOptions co = order_chart("Dynamic range 1e4: error by region", "relative RMS error");
     const std::string file = "hard_cases_dynamic_range.png";
     plot::draw_line_chart({lobe, bg, pred}, co, (o.report_dir / file).string());
     s.figures.push_back(file);
     md += "![" + file + "](" + file + ")\n\n";
   }
-  {  // 5
-    struct Case {
-      int level, order;
-    };
-    const std::vector<Case> cases = o.quick ? std::vector<Case>{{2, 4}, {3, 6}, {3, 12}} : std::vector<Case>{{3, 6}, {3, 12}, {4, 8}};
-    std::vector<std::vector<std::string>> rows;
-    nlohmann::json jf = nlohmann::json::array();
-    for (const auto& c : cases) {
-      std::vector<std::string> row;
-      jf.push_back(float32_case(c.level, c.order, row));
-      rows.push_back(row);
-    }
-    s.data["float32"] = jf;
-    md += fmt::format(
-        "### float32 vs float64 LUTs\n\n"
-        "The LUT of ggx (alpha 0.2), centre-sampled on the equal-area grid, rounded to float32 and projected "
-        "(least squares) like the float64 one. Rounding to nearest gives |dF| <= u |F| entrywise with u = 2^-24 = "
-        "{:.3g}; through C = P^T F P this becomes ||dC||_F <= u ||F||_W / lambda_min(G) (rigorous bound) and "
-        "through F' = B C B^T ||dF'||_W <= kappa(G) u ||F||_W: the amplification is the conditioning of G. "
-        "Independent roundings of random sign keep only ~ M/cells of the norm (random estimate). Errors are "
-        "relative (Frobenius norm for C, solid-angle weighted norm for the LUTs).\n\n",
-        kFloat32Roundoff);
-    md += md_table({"level", "order", "max|G - I|", "kappa(G)", "LUT rounding", "spectrum error", "random estimate", "bound",
-                    "reconstruction error", "bound"},
-                   rows);
+}
+
+void add_float32_cases(const SectionOptions& o, ReportSection& s, std::string& md) {
+  struct Case {
+    int level, order;
+  };
+  const std::vector<Case> cases = o.quick ? std::vector<Case>{{2, 4}, {3, 6}, {3, 12}} : std::vector<Case>{{3, 6}, {3, 12}, {4, 8}};
+  std::vector<std::vector<std::string>> rows;
+  nlohmann::json jf = nlohmann::json::array();
+  for (const auto& c : cases) {
+    std::vector<std::string> row;
+    jf.push_back(float32_case(c.level, c.order, row));
+    rows.push_back(row);
   }
+  s.data["float32"] = jf;
+  md += fmt::format(
+      "### float32 vs float64 LUTs\n\n"
+      "The LUT of ggx (alpha 0.2), centre-sampled on the equal-area grid, rounded to float32 and projected "
+      "(least squares) like the float64 one. Rounding to nearest gives |dF| <= u |F| entrywise with u = 2^-24 = "
+      "{:.3g}; through C = P^T F P this becomes ||dC||_F <= u ||F||_W / lambda_min(G) (rigorous bound) and "
+      "through F' = B C B^T ||dF'||_W <= kappa(G) u ||F||_W: the amplification is the conditioning of G. "
+      "Independent roundings of random sign keep only ~ M/cells of the norm (random estimate). Errors are "
+      "relative (Frobenius norm for C, solid-angle weighted norm for the LUTs).\n\n",
+      kFloat32Roundoff);
+  md += md_table({"level", "order", "max|G - I|", "kappa(G)", "LUT rounding", "spectrum error", "random estimate", "bound",
+                  "reconstruction error", "bound"},
+                 rows);
+}
+
+}  // namespace
+
+ReportSection run_hard_cases(const SectionOptions& o) {
+  ReportSection s;
+  s.title = "Numerical stability on hard cases";
+  std::string md;
+  add_orthonormality(o, s, md);
+  add_zernike_reference(o, s, md);
+  add_delta_cases(o, s, md);
+  s.data["fresnel"] = fresnel_cases(o.quick, md);
+  add_dynamic_range(o, s, md);
+  add_float32_cases(o, s, md);
   s.markdown = md;
   return s;
 }
 
-const ReportSectionRegistrar kSection("hard-cases", run_hard_cases);
-const BenchRegistrar kCommand("hard-cases", [](CLI::App& bench) {
-  add_section_subcommand(bench, "hard-cases",
-                         "Numerical stability: order 128, delta BRDFs, Fresnel at grazing, dynamic range 1e4, float32 LUTs",
-                         {"3..5", "0..32", "2..3", "0..12", 6, 128}, run_hard_cases);
-});
-
-}  // namespace
-}  // namespace icobrdf::cli
+}  // namespace icobrdf::lab

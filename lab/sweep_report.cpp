@@ -1,4 +1,4 @@
-#include "cli/sweep_report.hpp"
+#include "lab/sweep_report.hpp"
 
 #include <fmt/core.h>
 #include <fmt/ranges.h>
@@ -7,17 +7,14 @@
 #include <cmath>
 #include <cstdint>
 
-#include "cli/bench_section_support.hpp"
 #include "io/atomic_write.hpp"
 #include "io/h5_file.hpp"
+#include "lab/order_chart.hpp"
+#include "lab/report_format.hpp"
 #include "plot/line_chart.hpp"
 
-namespace icobrdf::cli::sweep {
+namespace icobrdf::lab::sweep {
 namespace {
-
-using section::md_table;
-using section::num;
-using section::sci;
 
 // Figure sizes: readable at report width, small PNGs (tens of KB).
 constexpr int kFigureWidth = 720, kFigureHeight = 440;
@@ -80,12 +77,7 @@ std::vector<std::string> draw_figures(const SweepResult& r, const std::string& d
   for (std::size_t m = 0; m < cfg.models.size(); ++m) {
     std::vector<Series> series = series_per_level(
         r, [m](const SweepRow& row) { return row.supported ? floored(row.models[m].error_l2) : std::nan(""); });
-    ChartOptions o;
-    o.title = "Relative L2 error at held-out pairs: " + cfg.labels[m];
-    o.x_label = "order N";
-    o.y_label = "relative L2 error";
-    o.log_y = true;
-    o.integer_x = true;
+    ChartOptions o = order_chart("Relative L2 error at held-out pairs: " + cfg.labels[m], "relative L2 error");
     o.width = kFigureWidth;
     o.height = kFigureHeight;
     o.note = level_note(r) + "; unsupported orders omitted; floor 1e-16";
@@ -128,12 +120,7 @@ std::vector<std::string> draw_figures(const SweepResult& r, const std::string& d
     tol.marker = plot::Marker::None;
     tol.line_width = 1.2;
     series.push_back(tol);
-    ChartOptions o;
-    o.title = "Gram error max|G - I| against order";
-    o.x_label = "order N";
-    o.y_label = "Gram error";
-    o.log_y = true;
-    o.integer_x = true;
+    ChartOptions o = order_chart("Gram error max|G - I| against order", "Gram error");
     o.width = kFigureWidth;
     o.height = kFigureHeight;
     o.note = fmt::format("{} sampling; a pair above the tolerance is unsupported (not fitted); values below 1e-16 drawn at 1e-16", cfg.sampling);
@@ -143,7 +130,10 @@ std::vector<std::string> draw_figures(const SweepResult& r, const std::string& d
   return files;
 }
 
-std::string report_markdown(const SweepResult& r, const std::vector<std::string>& figures) {
+namespace {
+
+// Title, provenance, machine and configuration, and how errors and times are measured.
+std::string header_markdown(const SweepResult& r) {
   const auto& cfg = r.config;
   const auto& mc = r.machine;
   std::string md = "# Speed against error: `icobrdf bench sweep`\n\n";
@@ -160,80 +150,102 @@ std::string report_markdown(const SweepResult& r, const std::vector<std::string>
         "(both directions uniform in solid angle): relative L2 = ||f_fit - f|| / ||f||, relative max = max|f_fit - f| / max|f|. "
         "Times are wall-clock seconds (best of up to 5 runs for steps under 50 ms); projection is `fit_model` "
         "(streaming, no LUT) with the operators already built.\n\n";
+  return md;
+}
 
+std::string support_markdown(const SweepResult& r) {
+  const auto& cfg = r.config;
+  std::string md;
   md += "## Order each level supports\n\n";
-  {
-    std::vector<std::vector<std::string>> rows;
-    for (const auto& s : r.support)
-      rows.push_back({std::to_string(s.level), std::to_string(s.cells),
-                      s.largest_order >= kSupportSearchOrder ? fmt::format(">= {}", kSupportSearchOrder) : std::to_string(s.largest_order),
-                      s.largest_order >= 0 ? sci(s.gram_error_at_largest) : "-"});
-    md += fmt::format("Largest order N <= {} whose Gram error max|G - I| is within the tolerance {}:\n\n", kSupportSearchOrder,
-                      cfg.gram_tolerance);
-    md += md_table({"level", "cells", "largest supported order", "Gram error there"}, rows);
-  }
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& s : r.support)
+    rows.push_back({std::to_string(s.level), std::to_string(s.cells),
+                    s.largest_order >= kSupportSearchOrder ? fmt::format(">= {}", kSupportSearchOrder) : std::to_string(s.largest_order),
+                    s.largest_order >= 0 ? sci(s.gram_error_at_largest) : "-"});
+  md += fmt::format("Largest order N <= {} whose Gram error max|G - I| is within the tolerance {}:\n\n", kSupportSearchOrder,
+                    cfg.gram_tolerance);
+  md += md_table({"level", "cells", "largest supported order", "Gram error there"}, rows);
+  return md;
+}
 
+std::string grid_markdown(const SweepResult& r) {
+  std::string md;
   md += "## Grid and operators per (level, order)\n\n";
-  {
-    std::vector<std::vector<std::string>> rows;
-    for (const auto& row : r.rows)
-      rows.push_back({std::to_string(row.level), std::to_string(row.order), std::to_string(row.cells), std::to_string(row.modes),
-                      sci(row.gram_error), sci(row.condition), row.supported ? "yes" : "**no**", secs(row.grid_seconds),
-                      secs(row.basis_seconds), secs(row.operator_seconds), secs(row.reconstruct_seconds), secs(row.pairs_seconds),
-                      mib(row.basis_bytes), mib(row.projection_bytes), mib(row.lut_bytes), mib(row.peak_rss_bytes)});
-    md += "Seconds: grid = build the level's fitting grid; B = basis, Gram matrix and its condition; P = projection operator; "
-          "reconstruct = B C B^T (the full LUT, `-` when larger than " +
-          mib(kMaxReconstructLutBytes) + " MiB); pairs = evaluate one spectrum at the held-out pairs. Memory in MiB; "
-          "peak RSS is the process's peak so far.\n\n";
-    md += md_table({"level", "order", "cells", "modes", "Gram error", "condition", "supported", "grid s", "B s", "P s", "reconstruct s",
-                    "pairs s", "B MiB", "P MiB", "LUT MiB", "peak RSS MiB"},
-                   rows);
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& row : r.rows)
+    rows.push_back({std::to_string(row.level), std::to_string(row.order), std::to_string(row.cells), std::to_string(row.modes),
+                    sci(row.gram_error), sci(row.condition), row.supported ? "yes" : "**no**", secs(row.grid_seconds),
+                    secs(row.basis_seconds), secs(row.operator_seconds), secs(row.reconstruct_seconds), secs(row.pairs_seconds),
+                    mib(row.basis_bytes), mib(row.projection_bytes), mib(row.lut_bytes), mib(row.peak_rss_bytes)});
+  md += "Seconds: grid = build the level's fitting grid; B = basis, Gram matrix and its condition; P = projection operator; "
+        "reconstruct = B C B^T (the full LUT, `-` when larger than " +
+        mib(kMaxReconstructLutBytes) + " MiB); pairs = evaluate one spectrum at the held-out pairs. Memory in MiB; "
+        "peak RSS is the process's peak so far.\n\n";
+  md += md_table({"level", "order", "cells", "modes", "Gram error", "condition", "supported", "grid s", "B s", "P s", "reconstruct s",
+                  "pairs s", "B MiB", "P MiB", "LUT MiB", "peak RSS MiB"},
+                 rows);
+  return md;
+}
+
+// A table of one value per (supported order, model) of a level; a sentence when no order is supported.
+template <class Value>
+std::string per_model_table(const SweepResult& r, int level, Value value) {
+  const auto& cfg = r.config;
+  std::vector<std::string> header{"order"};
+  for (const auto& m : cfg.labels) header.push_back("`" + m + "`");
+  std::vector<std::vector<std::string>> rows;
+  for (const SweepRow* row : rows_of_level(r, level)) {
+    if (!row->supported) continue;
+    std::vector<std::string> cells{std::to_string(row->order)};
+    for (std::size_t m = 0; m < cfg.models.size(); ++m) cells.push_back(value(row->models[m]));
+    rows.push_back(cells);
   }
+  if (rows.empty()) return fmt::format("Level {}: no swept order is supported.\n\n", level);
+  return md_table(header, rows);
+}
 
-  const auto per_model_table = [&](int level, auto value) {
-    std::vector<std::string> header{"order"};
-    for (const auto& m : cfg.labels) header.push_back("`" + m + "`");
-    std::vector<std::vector<std::string>> rows;
-    for (const SweepRow* row : rows_of_level(r, level)) {
-      if (!row->supported) continue;
-      std::vector<std::string> cells{std::to_string(row->order)};
-      for (std::size_t m = 0; m < cfg.models.size(); ++m) cells.push_back(value(row->models[m]));
-      rows.push_back(cells);
-    }
-    if (rows.empty()) return fmt::format("Level {}: no swept order is supported.\n\n", level);
-    return md_table(header, rows);
-  };
-
+std::string errors_markdown(const SweepResult& r) {
+  const auto& cfg = r.config;
+  std::string md;
   md += "## Relative L2 error against order\n\n";
   for (int level : cfg.levels) {
     md += fmt::format("### Level {}\n\n", level);
-    md += per_model_table(level, [](const ModelCell& c) { return sci(c.error_l2); });
+    md += per_model_table(r, level, [](const ModelCell& c) { return sci(c.error_l2); });
   }
   md += "## Relative max error and projection time\n\n";
   for (int level : cfg.levels) {
     md += fmt::format("<details><summary>Level {}: relative max error, cosine-weighted L2 error, seconds to project</summary>\n\n", level);
-    md += "Relative max error:\n\n" + per_model_table(level, [](const ModelCell& c) { return sci(c.error_max); });
-    md += "Relative L2 error of cos(theta_i) cos(theta_r) f:\n\n" + per_model_table(level, [](const ModelCell& c) { return sci(c.error_l2_cosine); });
-    md += "Seconds to project one material:\n\n" + per_model_table(level, [](const ModelCell& c) { return secs(c.project_seconds); });
+    md += "Relative max error:\n\n" + per_model_table(r, level, [](const ModelCell& c) { return sci(c.error_max); });
+    md += "Relative L2 error of cos(theta_i) cos(theta_r) f:\n\n" + per_model_table(r, level, [](const ModelCell& c) { return sci(c.error_l2_cosine); });
+    md += "Seconds to project one material:\n\n" + per_model_table(r, level, [](const ModelCell& c) { return secs(c.project_seconds); });
     md += "</details>\n\n";
   }
+  return md;
+}
 
+std::string pareto_markdown(const SweepResult& r) {
+  const auto& cfg = r.config;
+  std::string md;
   md += "## Pareto front of time against error\n\n";
   md += "Per model, the (level, order) pairs that no other pair beats in both projection time and relative L2 error, fastest first.\n\n";
-  {
-    std::vector<std::vector<std::string>> rows;
-    for (std::size_t m = 0; m < cfg.models.size(); ++m) {
-      std::string pts;
-      for (std::size_t k : pareto_front(r, m)) {
-        const auto& row = r.rows[k];
-        if (!pts.empty()) pts += "; ";
-        pts += fmt::format("L{} N{}: {} s, {}", row.level, row.order, secs(row.models[m].project_seconds), sci(row.models[m].error_l2));
-      }
-      rows.push_back({"`" + cfg.labels[m] + "`", pts.empty() ? "-" : pts});
+  std::vector<std::vector<std::string>> rows;
+  for (std::size_t m = 0; m < cfg.models.size(); ++m) {
+    std::string pts;
+    for (std::size_t k : pareto_front(r, m)) {
+      const auto& row = r.rows[k];
+      if (!pts.empty()) pts += "; ";
+      pts += fmt::format("L{} N{}: {} s, {}", row.level, row.order, secs(row.models[m].project_seconds), sci(row.models[m].error_l2));
     }
-    md += md_table({"model", "front (level, order: seconds, relative L2 error)"}, rows);
+    rows.push_back({"`" + cfg.labels[m] + "`", pts.empty() ? "-" : pts});
   }
+  md += md_table({"model", "front (level, order: seconds, relative L2 error)"}, rows);
+  return md;
+}
 
+}  // namespace
+
+std::string report_markdown(const SweepResult& r, const std::vector<std::string>& figures) {
+  std::string md = header_markdown(r) + support_markdown(r) + grid_markdown(r) + errors_markdown(r) + pareto_markdown(r);
   md += "## Figures\n\n";
   for (const auto& f : figures) md += fmt::format("![{}]({})\n\n", f, f);
 
@@ -325,102 +337,120 @@ void text_dataset(h5::Group& g, const std::string& name, const std::string& text
   g.write(name, bytes.data(), {static_cast<std::uint64_t>(bytes.size())}, "utf-8", description);
 }
 
+// Root attributes: format, provenance and the configuration.
+void write_root_attrs(h5::Group& root, const SweepResult& r, const nlohmann::json& j) {
+  const auto& cfg = r.config;
+  root.set_attr("format", kSweepFormat);
+  root.set_attr("format_version", kSweepFormatVersion);
+  root.set_attr("creator", std::string("icobrdf ") + ICOBRDF_VERSION);
+  root.set_attr("created", r.created);
+  root.set_attr("command", r.command_line);
+  root.set_attr("machine", j["machine"].dump());
+  root.set_attr("config", j["config"].dump());
+  root.set_attr("grid_kind", "equal-area");
+  root.set_attr("sampling", cfg.sampling);
+  root.set_attr("gram_tolerance", cfg.gram_tolerance);
+  root.set_attr("held_out_pairs", static_cast<std::int32_t>(cfg.held_out));
+  root.set_attr("held_out_seed", static_cast<std::int64_t>(kHeldOutSeed));
+  root.set_attr("threads", static_cast<std::int32_t>(cfg.threads));
+  root.set_attr("table_seconds", r.table_seconds);
+  root.set_attr("sections_seconds", r.sections_seconds);
+}
+
+// /table: one dataset per row column, rows x models datasets per model column, and the Pareto flags.
+void write_table(h5::Group& root, const SweepResult& r) {
+  const auto& cfg = r.config;
+  h5::Group t = root.create_group("table");
+  t.set_attr("rows", static_cast<std::int64_t>(r.rows.size()));
+  t.set_attr("models", nlohmann::json(cfg.models).dump());
+  t.set_attr("labels", nlohmann::json(cfg.labels).dump());
+  const auto& rows = r.rows;
+  column<std::int32_t>(t, "level", rows, [](const SweepRow& x) { return x.level; }, "1", "tessellation level L");
+  column<std::int32_t>(t, "order", rows, [](const SweepRow& x) { return x.order; }, "1", "expansion order N");
+  column<std::int64_t>(t, "cells", rows, [](const SweepRow& x) { return x.cells; }, "1", "cells C = 10 4^L + 2^(L+1)");
+  column<std::int32_t>(t, "modes", rows, [](const SweepRow& x) { return x.modes; }, "1", "modes M = (N+1)(N+2)/2");
+  column<std::uint8_t>(t, "supported", rows, [](const SweepRow& x) { return x.supported ? 1 : 0; }, "1",
+                       "1 when gram_error <= gram_tolerance and G is non-singular; 0: not fitted");
+  column<double>(t, "gram_error", rows, [](const SweepRow& x) { return x.gram_error; }, "1", "max |G - I|");
+  column<double>(t, "condition", rows, [](const SweepRow& x) { return x.condition; }, "1", "lambda_max(G) / lambda_min(G)");
+  column<double>(t, "grid_seconds", rows, [](const SweepRow& x) { return x.grid_seconds; }, "s", "build the level's fitting grid");
+  column<double>(t, "basis_seconds", rows, [](const SweepRow& x) { return x.basis_seconds; }, "s", "build B, G, Gram error and condition");
+  column<double>(t, "operator_seconds", rows, [](const SweepRow& x) { return x.operator_seconds; }, "s",
+                 "build P = W B G^-1; NaN when unsupported");
+  column<double>(t, "reconstruct_seconds", rows, [](const SweepRow& x) { return x.reconstruct_seconds; }, "s",
+                 "B C B^T of one spectrum; NaN when unsupported or the LUT is not materialized");
+  column<double>(t, "pairs_seconds", rows, [](const SweepRow& x) { return x.pairs_seconds; }, "s",
+                 "evaluate one spectrum at the held-out pairs; NaN when unsupported");
+  column<std::int64_t>(t, "basis_bytes", rows, [](const SweepRow& x) { return x.basis_bytes; }, "byte", "B, W and G");
+  column<std::int64_t>(t, "projection_bytes", rows, [](const SweepRow& x) { return x.projection_bytes; }, "byte", "P (0 when unsupported)");
+  column<std::int64_t>(t, "lut_bytes", rows, [](const SweepRow& x) { return x.lut_bytes; }, "byte",
+                       "reconstructed LUT (0 when not materialized)");
+  column<std::int64_t>(t, "peak_rss_bytes", rows, [](const SweepRow& x) { return x.peak_rss_bytes; }, "byte",
+                       "peak resident set of the process after the row");
+  model_column(t, "project_seconds", r, [](const ModelCell& c) { return c.project_seconds; }, "s",
+               "rows x models: fit_model of one material with the operators built; NaN when unsupported");
+  model_column(t, "error_l2", r, [](const ModelCell& c) { return c.error_l2; }, "1",
+               "rows x models: ||f_fit - f|| / ||f|| at the held-out pairs; NaN when unsupported");
+  model_column(t, "error_max", r, [](const ModelCell& c) { return c.error_max; }, "1",
+               "rows x models: max|f_fit - f| / max|f| at the held-out pairs; NaN when unsupported");
+  model_column(t, "error_l2_cosine", r, [](const ModelCell& c) { return c.error_l2_cosine; }, "1",
+               "rows x models: relative L2 error of cos(theta_i) cos(theta_r) f; NaN when unsupported");
+  {
+    std::vector<std::uint8_t> front(r.rows.size() * cfg.models.size(), 0);
+    for (std::size_t m = 0; m < cfg.models.size(); ++m)
+      for (std::size_t k : pareto_front(r, m)) front[k * cfg.models.size() + m] = 1;
+    t.write("pareto", front.data(), {static_cast<std::uint64_t>(r.rows.size()), static_cast<std::uint64_t>(cfg.models.size())}, "1",
+            "rows x models: 1 on the model's Pareto front of (project_seconds, error_l2)");
+  }
+}
+
+// /support: the largest supported order per level.
+void write_support(h5::Group& root, const SweepResult& r) {
+  h5::Group s = root.create_group("support");
+  std::vector<std::int32_t> lv, lo;
+  std::vector<std::int64_t> cells;
+  std::vector<double> ge;
+  for (const auto& x : r.support) {
+    lv.push_back(x.level);
+    lo.push_back(x.largest_order);
+    cells.push_back(x.cells);
+    ge.push_back(x.largest_order >= 0 ? x.gram_error_at_largest : std::nan(""));
+  }
+  const h5::Shape shape{static_cast<std::uint64_t>(r.support.size())};
+  s.set_attr("search_order", static_cast<std::int32_t>(kSupportSearchOrder));
+  s.write("level", lv.data(), shape, "1", "tessellation level");
+  s.write("cells", cells.data(), shape, "1", "cells of the level");
+  s.write("largest_order", lo.data(), shape, "1", "largest order <= search_order within the Gram tolerance (-1: none)");
+  s.write("gram_error", ge.data(), shape, "1", "max |G - I| at largest_order");
+}
+
+// /sections/<name>: each report section's title, figures, markdown and JSON data.
+void write_sections(h5::Group& root, const SweepResult& r) {
+  h5::Group secs_group = root.create_group("sections");
+  for (const auto& [name, sec] : r.sections) {
+    h5::Group g = secs_group.create_group(name);
+    g.set_attr("title", sec.title);
+    g.set_attr("figures", nlohmann::json(sec.figures).dump());
+    text_dataset(g, "markdown", sec.markdown, "the section's markdown (UTF-8 bytes)");
+    text_dataset(g, "data_json", sec.data.dump(), "the section's figures as JSON (UTF-8 bytes)");
+  }
+}
+
 }  // namespace
 
 void write_results_h5(const SweepResult& r, const std::string& path) {
-  const auto& cfg = r.config;
   const nlohmann::json j = to_json(r);
   atomic_write(path, [&](const std::string& temp) {
     h5::WriteFile f = h5::WriteFile::create(temp, path);
     {
       h5::Group root = f.root();
-      root.set_attr("format", kSweepFormat);
-      root.set_attr("format_version", kSweepFormatVersion);
-      root.set_attr("creator", std::string("icobrdf ") + ICOBRDF_VERSION);
-      root.set_attr("created", r.created);
-      root.set_attr("command", r.command_line);
-      root.set_attr("machine", j["machine"].dump());
-      root.set_attr("config", j["config"].dump());
-      root.set_attr("grid_kind", "equal-area");
-      root.set_attr("sampling", cfg.sampling);
-      root.set_attr("gram_tolerance", cfg.gram_tolerance);
-      root.set_attr("held_out_pairs", static_cast<std::int32_t>(cfg.held_out));
-      root.set_attr("held_out_seed", static_cast<std::int64_t>(kHeldOutSeed));
-      root.set_attr("threads", static_cast<std::int32_t>(cfg.threads));
-      root.set_attr("table_seconds", r.table_seconds);
-      root.set_attr("sections_seconds", r.sections_seconds);
-
-      h5::Group t = root.create_group("table");
-      t.set_attr("rows", static_cast<std::int64_t>(r.rows.size()));
-      t.set_attr("models", nlohmann::json(cfg.models).dump());
-      t.set_attr("labels", nlohmann::json(cfg.labels).dump());
-      const auto& rows = r.rows;
-      column<std::int32_t>(t, "level", rows, [](const SweepRow& x) { return x.level; }, "1", "tessellation level L");
-      column<std::int32_t>(t, "order", rows, [](const SweepRow& x) { return x.order; }, "1", "expansion order N");
-      column<std::int64_t>(t, "cells", rows, [](const SweepRow& x) { return x.cells; }, "1", "cells C = 10 4^L + 2^(L+1)");
-      column<std::int32_t>(t, "modes", rows, [](const SweepRow& x) { return x.modes; }, "1", "modes M = (N+1)(N+2)/2");
-      column<std::uint8_t>(t, "supported", rows, [](const SweepRow& x) { return x.supported ? 1 : 0; }, "1",
-                           "1 when gram_error <= gram_tolerance and G is non-singular; 0: not fitted");
-      column<double>(t, "gram_error", rows, [](const SweepRow& x) { return x.gram_error; }, "1", "max |G - I|");
-      column<double>(t, "condition", rows, [](const SweepRow& x) { return x.condition; }, "1", "lambda_max(G) / lambda_min(G)");
-      column<double>(t, "grid_seconds", rows, [](const SweepRow& x) { return x.grid_seconds; }, "s", "build the level's fitting grid");
-      column<double>(t, "basis_seconds", rows, [](const SweepRow& x) { return x.basis_seconds; }, "s", "build B, G, Gram error and condition");
-      column<double>(t, "operator_seconds", rows, [](const SweepRow& x) { return x.operator_seconds; }, "s",
-                     "build P = W B G^-1; NaN when unsupported");
-      column<double>(t, "reconstruct_seconds", rows, [](const SweepRow& x) { return x.reconstruct_seconds; }, "s",
-                     "B C B^T of one spectrum; NaN when unsupported or the LUT is not materialized");
-      column<double>(t, "pairs_seconds", rows, [](const SweepRow& x) { return x.pairs_seconds; }, "s",
-                     "evaluate one spectrum at the held-out pairs; NaN when unsupported");
-      column<std::int64_t>(t, "basis_bytes", rows, [](const SweepRow& x) { return x.basis_bytes; }, "byte", "B, W and G");
-      column<std::int64_t>(t, "projection_bytes", rows, [](const SweepRow& x) { return x.projection_bytes; }, "byte", "P (0 when unsupported)");
-      column<std::int64_t>(t, "lut_bytes", rows, [](const SweepRow& x) { return x.lut_bytes; }, "byte",
-                           "reconstructed LUT (0 when not materialized)");
-      column<std::int64_t>(t, "peak_rss_bytes", rows, [](const SweepRow& x) { return x.peak_rss_bytes; }, "byte",
-                           "peak resident set of the process after the row");
-      model_column(t, "project_seconds", r, [](const ModelCell& c) { return c.project_seconds; }, "s",
-                   "rows x models: fit_model of one material with the operators built; NaN when unsupported");
-      model_column(t, "error_l2", r, [](const ModelCell& c) { return c.error_l2; }, "1",
-                   "rows x models: ||f_fit - f|| / ||f|| at the held-out pairs; NaN when unsupported");
-      model_column(t, "error_max", r, [](const ModelCell& c) { return c.error_max; }, "1",
-                   "rows x models: max|f_fit - f| / max|f| at the held-out pairs; NaN when unsupported");
-      model_column(t, "error_l2_cosine", r, [](const ModelCell& c) { return c.error_l2_cosine; }, "1",
-                   "rows x models: relative L2 error of cos(theta_i) cos(theta_r) f; NaN when unsupported");
-      {
-        std::vector<std::uint8_t> front(r.rows.size() * cfg.models.size(), 0);
-        for (std::size_t m = 0; m < cfg.models.size(); ++m)
-          for (std::size_t k : pareto_front(r, m)) front[k * cfg.models.size() + m] = 1;
-        t.write("pareto", front.data(), {static_cast<std::uint64_t>(r.rows.size()), static_cast<std::uint64_t>(cfg.models.size())}, "1",
-                "rows x models: 1 on the model's Pareto front of (project_seconds, error_l2)");
-      }
-
-      h5::Group s = root.create_group("support");
-      std::vector<std::int32_t> lv, lo;
-      std::vector<std::int64_t> cells;
-      std::vector<double> ge;
-      for (const auto& x : r.support) {
-        lv.push_back(x.level);
-        lo.push_back(x.largest_order);
-        cells.push_back(x.cells);
-        ge.push_back(x.largest_order >= 0 ? x.gram_error_at_largest : std::nan(""));
-      }
-      const h5::Shape shape{static_cast<std::uint64_t>(r.support.size())};
-      s.set_attr("search_order", static_cast<std::int32_t>(kSupportSearchOrder));
-      s.write("level", lv.data(), shape, "1", "tessellation level");
-      s.write("cells", cells.data(), shape, "1", "cells of the level");
-      s.write("largest_order", lo.data(), shape, "1", "largest order <= search_order within the Gram tolerance (-1: none)");
-      s.write("gram_error", ge.data(), shape, "1", "max |G - I| at largest_order");
-
-      h5::Group secs_group = root.create_group("sections");
-      for (const auto& [name, sec] : r.sections) {
-        h5::Group g = secs_group.create_group(name);
-        g.set_attr("title", sec.title);
-        g.set_attr("figures", nlohmann::json(sec.figures).dump());
-        text_dataset(g, "markdown", sec.markdown, "the section's markdown (UTF-8 bytes)");
-        text_dataset(g, "data_json", sec.data.dump(), "the section's figures as JSON (UTF-8 bytes)");
-      }
+      write_root_attrs(root, r, j);
+      write_table(root, r);
+      write_support(root, r);
+      write_sections(root, r);
     }
     f.finish();
   });
 }
 
-}  // namespace icobrdf::cli::sweep
+}  // namespace icobrdf::lab::sweep

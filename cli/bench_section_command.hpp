@@ -1,16 +1,15 @@
 #pragma once
-// Shared pieces of the report sections measured apart from the sweep (cli/bench_baselines.cpp,
-// cli/bench_hard_cases.cpp): markdown tables, number formatting, timing, and the stand-alone subcommand
+// The stand-alone subcommand of a report section (lab/report_section.hpp)
 //   icobrdf bench NAME [--levels 1..5] [--orders 0..32] [--quick] [--json] [--report DIR] [--threads T]
-// that runs one section and prints its markdown (or its JSON data), the same section `bench sweep` includes.
+// that runs one section and prints its markdown (or its JSON data), the same section `bench sweep` includes,
+// and the parsing of level and order lists shared with `bench sweep`.
+#include <CLI/CLI.hpp>
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 #include <omp.h>
 
 #include <Eigen/Core>
 #include <algorithm>
-#include <chrono>
-#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -18,45 +17,14 @@
 #include <string>
 #include <vector>
 
-#include "cli/bench_commands.hpp"
 #include "core/error.hpp"
+#include "lab/report_section.hpp"
 
 namespace icobrdf::cli::section {
 
-// Wall-clock seconds of one call.
-template <class F>
-double seconds_of(F&& f) {
-  const auto t0 = std::chrono::steady_clock::now();
-  f();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// "1.23e-04"; "inf"/"nan" spelled out; exact zero as "0".
-inline std::string sci(double x, int digits = 2) {
-  if (std::isnan(x)) return "nan";
-  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
-  if (x == 0.0) return "0";
-  return fmt::format("{:.{}e}", x, digits);
-}
-inline std::string fixed(double x, int digits = 3) { return fmt::format("{:.{}f}", x, digits); }
-
-// A GitHub-markdown table.
-inline std::string md_table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows) {
-  std::string s = "|";
-  for (const auto& h : header) s += " " + h + " |";
-  s += "\n|";
-  for (size_t k = 0; k < header.size(); ++k) s += "---|";
-  s += "\n";
-  for (const auto& r : rows) {
-    s += "|";
-    for (const auto& c : r) s += " " + c + " |";
-    s += "\n";
-  }
-  return s + "\n";
-}
-
-// JSON cannot hold inf/nan: such values become null.
-inline nlohmann::json num(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+using lab::ReportSection;
+using lab::ReportSectionRunner;
+using lab::SectionOptions;
 
 // "a..b" (inclusive) or "a,b,c"; every value in [lo, hi]; ArgumentError otherwise.
 inline std::vector<int> parse_int_range(const std::string& text, int lo, int hi, const std::string& what) {

@@ -1,0 +1,87 @@
+#include "lab/machine.hpp"
+
+#include <fmt/core.h>
+#include <omp.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <fstream>
+
+#include "lab/timing.hpp"
+
+namespace icobrdf::lab {
+
+std::string proc_field(const std::string& file, const std::string& key) {
+  std::ifstream in(file);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind(key, 0) == 0) {
+      auto v = line.substr(line.find(':') + 1);
+      v.erase(0, v.find_first_not_of(" \t"));
+      return v;
+    }
+  return "";
+}
+
+double cpu_mhz() {
+  const std::string v = proc_field("/proc/cpuinfo", "cpu MHz");
+  return v.empty() ? 0.0 : std::stod(v);
+}
+
+std::string cpu_model() {
+  const std::string v = proc_field("/proc/cpuinfo", "model name");
+  return v.empty() ? "unknown" : v;
+}
+
+int flops_per_cycle_per_core() {
+#if defined(__AVX512F__)
+  return 32;
+#elif defined(__AVX2__) && defined(__FMA__)
+  return 16;
+#elif defined(__AVX__)
+  return 8;
+#else
+  return 4;
+#endif
+}
+
+const char* compiled_isa() {
+#if defined(__AVX512F__)
+  return "AVX-512";
+#elif defined(__AVX2__) && defined(__FMA__)
+  return "AVX2 + FMA";
+#elif defined(__AVX__)
+  return "AVX";
+#else
+  return "SSE2";
+#endif
+}
+
+double fp64_peak_gflops(int threads) { return threads * flops_per_cycle_per_core() * cpu_mhz() / 1e3; }
+
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  std::string a, b, c;
+  in >> a >> b >> c;
+  return a.empty() ? "unknown" : a + " " + b + " " + c + " (1, 5, 15 min)";
+}
+
+double measure_gemm_gflops(int n) {
+  Eigen::MatrixXd a = Eigen::MatrixXd::Random(n, n), b = Eigen::MatrixXd::Random(n, n), c(n, n);
+  const double best = best_seconds(3, [&] { c.noalias() = a * b; });
+  return 2.0 * n * n * static_cast<double>(n) / best / 1e9;
+}
+
+Machine describe_machine(int threads) {
+  Machine m;
+  m.cpu_model = cpu_model();
+  m.cpu_mhz = cpu_mhz();
+  m.cores = omp_get_num_procs();
+  m.isa = fmt::format("compiled for {} (Eigen: {})", compiled_isa(), Eigen::SimdInstructionSetsInUse());
+  m.flops_per_cycle_per_core = flops_per_cycle_per_core();
+  m.peak_gflops = fp64_peak_gflops(threads);
+  m.load_before = load_average();
+  return m;
+}
+
+}  // namespace icobrdf::lab

@@ -1,0 +1,35 @@
+#pragma once
+// One projection C = P^T F P of a dense cells x cells LUT (the large GEMM dominates: 2 cells^2 modes +
+// 2 cells modes^2 flops) timed with the library's call (core/projection.hpp, Eigen) and with raw OpenBLAS
+// doing the same products in the same run, in both association orders (the faster is the baseline).
+// The LUT holds uniform random values in [0, 1) and is written before timing (its pages are resident).
+#include <Eigen/Core>
+
+namespace icobrdf::lab {
+
+// A cells x cells matrix of uniform values in [0, 1) from std::mt19937_64(seed), written in storage order.
+Eigen::MatrixXd random_lut(Eigen::Index cells, unsigned seed = 1);
+
+// Raw OpenBLAS (cblas_dgemm, column-major as Eigen stores) computes out = P^T F P; P is cells x modes,
+// F cells x cells. pf_first: (P^T F) P, else P^T (F P). `tmp` is the intermediate product: modes x cells
+// when pf_first, cells x modes otherwise; `out` modes x modes; both sized by the caller.
+void blas_project(const Eigen::MatrixXd& P, const Eigen::MatrixXd& F, bool pf_first, Eigen::MatrixXd& tmp, Eigen::MatrixXd& out);
+
+// Threads OpenBLAS uses.
+void set_blas_threads(int threads);
+
+struct ProjectionBenchmark {
+  Eigen::Index cells = 0, modes = 0;
+  double seconds = 0.0;                            // best of `repeat`, the library's project_lut
+  double blas_seconds_fp_first = 0.0;              // best of `repeat`, P^T (F P)
+  double blas_seconds_pf_first = 0.0;              // best of `repeat`, (P^T F) P
+  double blas_seconds = 0.0;                       // the faster of the two
+  double relative_difference_to_blas = 0.0;        // max|C - C_blas| / max|C|
+  double flops = 0.0;                              // 2 cells^2 modes + 2 cells modes^2
+};
+
+// Times the projection at (level, order) on the centre-sampled equal-area grid with `threads` threads
+// (OpenMP, Eigen and OpenBLAS are set to it). Throws when the grid does not support the order.
+ProjectionBenchmark measure_projection(int level, int order, int threads, int repeat);
+
+}  // namespace icobrdf::lab
