@@ -200,7 +200,7 @@ nlohmann::json dynamic_range(bool quick, std::string& md) {
   const int level = quick ? 3 : 4;
   const std::vector<int> orders = quick ? std::vector<int>{4, 6} : std::vector<int>{4, 8, 11};
   const int n = quick ? 4000 : 20000;
-  // Held-out pairs: half uniform, half near the specular direction (cone of half-angle 2 alpha rad).
+  // Held-out pairs: half uniform, half near the specular direction (cone of half-angle kLobeCone rad).
   std::mt19937_64 rng(7);
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> v;
   for (int k = 0; k < n; ++k) v.push_back({uniform_direction(rng), uniform_direction(rng)});

@@ -51,7 +51,7 @@ inline constexpr std::int64_t kMaxReconstructLutBytes = std::int64_t{256} << 20;
 // Timing: steps faster than this are repeated (best of kTimingRepeats) to see past timer and cache noise.
 inline constexpr double kRepeatBelowSeconds = 0.05;
 inline constexpr int kTimingRepeats = 5;
-// Held-out pairs: default count, --quick count, and the generator's seed. The errors of lobes that grow
+// Held-out pairs: default count, quick-run count, and the generator's seed. The errors of lobes that grow
 // towards grazing angles are heavy-tailed over the pairs: at level 5, order 20 two sets of 2000 pairs gave
 // 3.3e-2 and 8.5e-2 for Oren-Nayar and 0.34 and 0.56 for GGX alpha 0.5, against 7.4e-2 and 0.37 with 100000;
 // 20000 pairs come within about 10% of those for 15% more run time.
@@ -110,11 +110,12 @@ struct SweepResult {
   std::string command_line;  // as typed
   std::vector<SweepRow> rows;
   std::vector<LevelSupport> support;
-  std::map<std::string, ReportSection> sections;  // by registered name
+  std::map<std::string, ReportSection> sections;  // by section name (lab/report_section.hpp)
   double table_seconds = 0.0, sections_seconds = 0.0;
 };
 
-// Runs the level x order table (and measures the GEMM rate of result.machine). `progress` (may be empty) gets one line per finished row.
+// Runs the level x order table and measures the GEMM rate of result.machine. `progress` (may be empty)
+// gets one line per finished row.
 void measure_table(SweepResult& result, const std::function<void(const std::string&)>& progress);
 
 // Runs every report section (lab/report_section.hpp) with the sweep's levels, orders,

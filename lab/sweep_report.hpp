@@ -5,7 +5,7 @@
 //   PNG figures    sweep_error_<model>.png (relative L2 error vs order, one series per level),
 //                  sweep_pareto.png (projection time vs error, Pareto front per model),
 //                  sweep_gram.png (Gram error vs order, one series per level, with the tolerance)
-//   JSON           the same content for --json
+//   JSON           the same content, machine-readable
 #include <nlohmann/json.hpp>
 
 #include <string>
