@@ -1,0 +1,101 @@
+// Pieces of the measurement lab that the CLI tests reach only through whole runs: the model list of
+// `bench sweep`, the Pareto front of a sweep, the staged report commit and the report number formats.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+
+#include "core/error.hpp"
+#include "lab/report_format.hpp"
+#include "lab/staged_folder.hpp"
+#include "lab/sweep_measure.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace icobrdf;
+using namespace icobrdf::lab;
+
+TEST(LabModelList, KeyValueItemsContinueThePreviousModel) {
+  using V = std::vector<std::string>;
+  EXPECT_EQ(sweep::split_model_list("lambert,ggx:alpha=0.2,f0=0.04"), (V{"lambert", "ggx:alpha=0.2,f0=0.04"}));
+  EXPECT_EQ(sweep::split_model_list(" lambert ; phong:n=20 "), (V{"lambert", "phong:n=20"}));
+  EXPECT_EQ(sweep::split_model_list("0.8*lambert+0.2*ggx:alpha=0.1,minnaert:k=1.5"), (V{"0.8*lambert+0.2*ggx:alpha=0.1", "minnaert:k=1.5"}));
+  EXPECT_EQ(sweep::split_model_list("lambert,,ggx"), (V{"lambert", "", "ggx"}));  // the caller refuses the empty item
+}
+
+sweep::SweepRow row(double seconds, double error, bool supported = true) {
+  sweep::SweepRow r;
+  r.supported = supported;
+  r.models = {sweep::ModelCell{seconds, error, error, error}};
+  return r;
+}
+
+TEST(LabParetoFront, KeepsExactlyTheUndominatedSupportedRowsFastestFirst) {
+  sweep::SweepResult r;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  r.rows = {row(3.0, 1e-3), row(1.0, 1e-1), row(2.0, 1e-1), row(0.5, 1e-4, false), row(2.0, 1e-2), row(4.0, 1e-3), row(nan, nan)};
+  EXPECT_EQ(sweep::pareto_front(r, 0), (std::vector<std::size_t>{1, 4, 0}));
+}
+
+struct TempDir {
+  fs::path path = fs::temp_directory_path() / ("icobrdf_lab_test_" + std::to_string(::getpid()));
+  TempDir() { fs::create_directories(path); }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+void touch(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+
+TEST(LabStagedFolder, CommitMovesStagedFilesAndKeepsOthers) {
+  TempDir t;
+  const fs::path stage = t.path / "stage", dir = t.path / "report";
+  fs::create_directories(stage);
+  fs::create_directories(dir);
+  touch(stage / "report.md", "new");
+  touch(stage / "a.png", "png");
+  touch(dir / "report.md", "old");
+  touch(dir / "notes.txt", "mine");
+  check_staged_commit(stage, dir, "report");
+  commit_staged(stage, dir, "report");
+  EXPECT_FALSE(fs::exists(stage));
+  std::ifstream in(dir / "report.md");
+  std::string text;
+  in >> text;
+  EXPECT_EQ(text, "new");
+  EXPECT_TRUE(fs::exists(dir / "a.png"));
+  EXPECT_TRUE(fs::exists(dir / "notes.txt"));
+}
+
+TEST(LabStagedFolder, AFolderInTheWayIsRefusedBeforeAnythingMoves) {
+  TempDir t;
+  const fs::path stage = t.path / "stage", dir = t.path / "report";
+  fs::create_directories(stage);
+  fs::create_directories(dir / "a.png");
+  touch(stage / "a.png", "png");
+  try {
+    check_staged_commit(stage, dir, "LABEL");
+    FAIL() << "expected IoError";
+  } catch (const IoError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("LABEL: 'a.png'", 0), 0u) << e.what();
+  }
+  EXPECT_TRUE(fs::exists(stage / "a.png"));
+}
+
+TEST(LabReportFormat, NumbersAndTables) {
+  EXPECT_EQ(sci(0.0), "0");
+  EXPECT_EQ(sci(std::nan("")), "nan");
+  EXPECT_EQ(sci(-std::numeric_limits<double>::infinity()), "-inf");
+  EXPECT_EQ(sci(1.234e-4), "1.23e-04");
+  EXPECT_EQ(fixed(2.0, 1), "2.0");
+  EXPECT_EQ(md_table({"a", "b"}, {{"1", "2"}}), "| a | b |\n|---|---|\n| 1 | 2 |\n\n");
+  EXPECT_TRUE(num(std::numeric_limits<double>::infinity()).is_null());
+  EXPECT_EQ(num(0.5).get<double>(), 0.5);
+}
+
+}  // namespace
