@@ -24,7 +24,7 @@ Spectrum finish(std::vector<Eigen::MatrixXd> channels, const std::string& source
   s.source = source;
   s.filter = o.filter.name();
   s.level = ctx.grid->level;
-  s.grid_kind = ctx.grid->kind;
+  s.grid_kind = to_string(ctx.grid->kind);
   s.gram_error = ctx.basis.gram_error;
   double asym = 0.0, aniso = 0.0;
   for (auto& c : channels) {

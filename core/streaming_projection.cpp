@@ -273,7 +273,7 @@ std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const 
 Eigen::MatrixXd delta_projection(const DeltaPart& part, const Grid& g, const ProjectionOperator& proj) {
   const bool mirror = part.kind == DeltaPart::Kind::Mirror;
   if (mirror && g.rotate_pi.size() != g.cells())
-    throw ArgumentError("mirror projection: grid of kind '" + g.kind + "' has no rotation-by-pi cell map");
+    throw ArgumentError("mirror projection: grid of kind '" + std::string(to_string(g.kind)) + "' has no rotation-by-pi cell map");
   // Row i of F has weight / Omega_r at r = image(i), so (F P)_i = weight / Omega_r P_r.
   Eigen::MatrixXd t(g.cells(), proj.P.cols());
   for (int i = 0; i < g.cells(); ++i) {

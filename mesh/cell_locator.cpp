@@ -28,9 +28,7 @@ std::array<Eigen::Vector3d, 3> corners_of(const HemiFace& f) {
 }  // namespace
 
 CellLocator::CellLocator(int level, const std::string& kind) : level_(level), n_(0), cells_(0), kind_(kind) {
-  if (kind != "equal-area" && kind != "geodesic")
-    throw ArgumentError("unknown grid kind '" + kind + "': expected 'equal-area' or 'geodesic'");
-  equal_area_ = kind == "equal-area";
+  equal_area_ = hemi_icosahedral_kind(kind) == GridKind::EqualArea;
   const HemiLattice lat(level);
   n_ = lat.n();
   cells_ = lat.cells();

@@ -75,7 +75,7 @@ inline void write_bytes(const std::string& path, const std::string& bytes) {
 // Upper cells carry one cubature point, lower cells two with half the weight each.
 inline Grid synthetic_grid() {
   Grid g;
-  g.kind = "test-bands";
+  g.kind = GridKind::Custom;
   g.level = 1;
   g.cubature_degree = 1;
   const double bands[3] = {0.0, M_PI / 3, M_PI / 2};
