@@ -83,8 +83,10 @@ struct SphereFigure {
   std::vector<std::string> names;
   int width = 0, height = 0;
 };
-// One sphere titled `title`, or a grid of spheres ("Materials of <title>", one per material, each shaded
-// from its spectrum). Shading::Model needs every material's `model`, Shading::Spectrum its `spectrum`.
+// One sphere titled `title`, or, for several materials, a grid of spheres titled "Materials of <title>" and
+// labelled with their names (captioned as shaded from stored spectra: meant for a bank's spectra). Each is
+// shaded as request.shading says: Model needs the material's `model`, Spectrum its `spectrum`, Auto takes
+// the model when there is one.
 SphereFigure plot_sphere(const std::string& title, const std::vector<SphereMaterial>& materials, const SphereRequest& request,
                          const std::string& path);
 
