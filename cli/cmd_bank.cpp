@@ -97,7 +97,7 @@ void run_info(const std::string& path, bool json) {
     mats.push_back(j);
   }
   nlohmann::json j{{"file", path}, {"format_version", b.format_version}, {"creator", b.creator}, {"created", b.created},
-                   {"grid", b.grid ? nlohmann::json{{"kind", b.grid->kind}, {"level", b.grid->level}, {"cells", b.grid->cells()}} : nlohmann::json()},
+                   {"grid", b.grid ? nlohmann::json{{"kind", to_string(b.grid->kind)}, {"level", b.grid->level}, {"cells", b.grid->cells()}} : nlohmann::json()},
                    {"materials", mats}};
   nlohmann::json basis = nlohmann::json::array();
   for (const auto& a : b.basis) basis.push_back(a.path);
@@ -107,7 +107,7 @@ void run_info(const std::string& path, bool json) {
     return;
   }
   std::cout << fmt::format("{}: icobrdf bank {} by {}, created {}\n", path, b.format_version, b.creator, b.created);
-  if (b.grid) std::cout << fmt::format("  grid: {} level {} ({} cells)\n", b.grid->kind, b.grid->level, b.grid->cells());
+  if (b.grid) std::cout << fmt::format("  grid: {} level {} ({} cells)\n", to_string(b.grid->kind), b.grid->level, b.grid->cells());
   std::cout << fmt::format("  basis arrays: {}\n", b.basis.size());
   for (const auto& m : b.materials)
     std::cout << fmt::format("  {:<18} order {:>2} {:<11} {} channel(s)  {}\n", m.name, m.spectrum.order, m.spectrum.isotropic ? "isotropic" : "anisotropic",

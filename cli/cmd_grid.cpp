@@ -40,7 +40,7 @@ void run_grid(const GridOptions& o) {
     first = false;
   }
   nlohmann::json j;
-  j["kind"] = g.kind;
+  j["kind"] = to_string(g.kind);
   j["level"] = g.level;
   j["cells"] = g.cells();
   j["whole_cells"] = g.cells() - half;
@@ -61,7 +61,7 @@ void run_grid(const GridOptions& o) {
     std::cout << j.dump(2) << "\n";
     return;
   }
-  std::cout << fmt::format("{} grid, level {}: {} cells ({} whole, {} half), {} vertices\n", g.kind, g.level, g.cells(),
+  std::cout << fmt::format("{} grid, level {}: {} cells ({} whole, {} half), {} vertices\n", to_string(g.kind), g.level, g.cells(),
                            g.cells() - half, half, g.vertices.rows())
             << fmt::format("solid angle [sr]: min {:.17g}, max {:.17g}, sum {:.17g} (2 pi = {:.17g})\n",
                            j["solid_angle_min"].get<double>(), j["solid_angle_max"].get<double>(),

@@ -1,8 +1,13 @@
 // icobrdf plot basis|slice|spectrum|sphere ... -o FILE.png: pictures of basis functions, slices, spectra
-// and lit spheres (plot/plots.hpp, docs/plots.md). Every picture is written atomically.
+// and lit spheres (plot/plots.hpp, docs/plots.md). Every picture is written atomically. The SOURCE is
+// loaded (and models fitted) here; plot/ draws what it is given. The flags are checked here, in the
+// order the pictures used to check them, so that the first error names the flag.
 #include <fmt/core.h>
+#include <sys/stat.h>
+
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <memory>
@@ -11,14 +16,24 @@
 #include "cli/commands.hpp"
 #include "core/error.hpp"
 #include "core/lowpass_filter.hpp"
+#include "core/model_spec.hpp"
+#include "core/spectral_fit.hpp"
 #include "io/bank_file.hpp"
+#include "io/brdf_source.hpp"
 #include "io/spectrum_file.hpp"
+#include "mesh/tessellation.hpp"
 #include "plot/plots.hpp"
 
 namespace icobrdf::cli {
 namespace {
 
-constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
+constexpr double kRadPerDeg = M_PI / 180.0;
+constexpr double kDegPerRad = 180.0 / M_PI;
+constexpr int kMaxPlotOrder = 32;           // largest truncation order a slice or sphere fit is drawn at
+constexpr std::size_t kMaxSliceColumns = 9;  // orders side by side in one slice picture
+constexpr int kMaxBasisOrder = 16, kMinBasisPanel = 32, kMaxBasisPanel = 800;
+constexpr int kMinSphereSize = 16, kMaxSphereSize = 2048;
+constexpr unsigned long long kBankReadLimitBytes = 1ull << 31;  // largest material read from a bank
 
 struct PlotArgs {
   std::string source, output, filter = "none", light = "45,135", shading = "auto";
@@ -42,23 +57,151 @@ std::pair<double, double> parse_light(const std::string& s) {
   return {t, p};
 }
 
-void add_plot_command(CLI::App& app) {
-  auto a = std::make_shared<PlotArgs>();
-  auto* plot = app.add_subcommand("plot", "Draw PNG pictures: basis functions, slices, spectra, lit spheres");
-  plot->require_subcommand(1);
+bool is_directory(const std::string& p) {
+  struct stat st{};
+  return ::stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
 
+bool is_regular_file(const std::string& p) {
+  struct stat st{};
+  return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
+bool ends_with_h5(const std::string& s) { return s.size() > 3 && s.compare(s.size() - 3, 3, ".h5") == 0; }
+
+void check_output_file(const std::string& path) {
+  if (path.empty()) throw ArgumentError("-o: an output file name is required");
+  if (is_directory(path)) throw ArgumentError("-o " + path + ": is a directory, expected a PNG file name");
+}
+
+void check_basis_args(const PlotArgs& a) {
+  if (a.order < 0 || a.order > kMaxBasisOrder) throw ArgumentError(fmt::format("--order {}: expected 0..{}", a.order, kMaxBasisOrder));
+  if (!is_directory(a.output)) throw ArgumentError("-o " + a.output + ": not an existing directory");
+  if (a.basis_panel != 0 && (a.basis_panel < kMinBasisPanel || a.basis_panel > kMaxBasisPanel))
+    throw ArgumentError(fmt::format("--panel {}: expected {}..{} pixels", a.basis_panel, kMinBasisPanel, kMaxBasisPanel));
+}
+
+void check_slice_args(const PlotArgs& a) {
+  check_output_file(a.output);
+  if (a.orders.empty()) throw ArgumentError("--order: at least one truncation order is required");
+  for (int n : a.orders)
+    if (n < 0 || n > kMaxPlotOrder) throw ArgumentError(fmt::format("--order {}: expected 0..{}", n, kMaxPlotOrder));
+  if (!(a.theta_i * kRadPerDeg >= 0.0 && a.theta_i * kRadPerDeg < M_PI / 2))
+    throw ArgumentError(fmt::format("--theta-i {}: expected 0 <= theta_i < 90 degrees", a.theta_i * kRadPerDeg * kDegPerRad));
+  if (a.orders.size() > kMaxSliceColumns)
+    throw ArgumentError(fmt::format("--order: at most {} orders side by side, found {}", kMaxSliceColumns, a.orders.size()));
+}
+
+plot::SphereRequest::Shading parse_shading(const std::string& s) {
+  if (s == "auto") return plot::SphereRequest::Shading::Auto;
+  if (s == "model") return plot::SphereRequest::Shading::Model;
+  if (s == "spectrum") return plot::SphereRequest::Shading::Spectrum;
+  throw ArgumentError("--shading: expected auto, model or spectrum, found '" + s + "'");
+}
+
+void check_sphere_request(const plot::SphereRequest& q) {
+  if (!(q.light_theta >= 0.0 && q.light_theta <= M_PI))
+    throw ArgumentError(fmt::format("--light theta {}: expected 0..180 degrees", q.light_theta * kDegPerRad));
+  if (!(q.exposure > 0.0) || !std::isfinite(q.exposure)) throw ArgumentError(fmt::format("--exposure {}: expected > 0", q.exposure));
+  if (!(q.sky >= 0.0) || !std::isfinite(q.sky)) throw ArgumentError(fmt::format("--sky-radiance {}: expected >= 0", q.sky));
+  if (q.size < kMinSphereSize || q.size > kMaxSphereSize)
+    throw ArgumentError(fmt::format("--size {}: expected {}..{} pixels", q.size, kMinSphereSize, kMaxSphereSize));
+}
+
+// A source fitted as `icobrdf fit` does (cell-averaged sampling) at `order` on the equal-area grid of
+// `level`, in g form when it has delta parts.
+Spectrum fit_for_plot(const BrdfSource& source, int order, int level) {
+  auto grid = std::make_shared<const Grid>(build_fitting_grid(level, "equal-area", false));
+  const auto ctx = make_projection_context(grid, order);
+  FitOptions o;
+  o.order = order;
+  o.cosine = source.has_delta();
+  return source.fit(ctx, o);
+}
+
+// The spectrum of FILE.h5[#material] as stored (its source named by `text` when it names none).
+Spectrum read_plot_spectrum(const std::string& text, const MaterialRef& ref) {
+  if (!is_regular_file(ref.path)) throw InputError(ref.path + ": no such file (SOURCE '" + text + "')");
+  Spectrum s = read_spectrum_file(ref.path, ref.name);
+  if (s.source.empty()) s.source = text;
+  return s;
+}
+
+plot::PairFunction evaluator_of(std::shared_ptr<const BrdfSource> source) {
+  return [source](const RowMatrix3d& wi, const RowMatrix3d& wr) { return source->eval(wi, wr); };
+}
+
+// A spectrum file as stored, or any other SOURCE fitted at `order`; models without delta parts also as
+// themselves (the exact column).
+plot::SliceSource load_slice_source(const std::string& text, int order, int level) {
+  plot::SliceSource src;
+  src.label = text;
+  const MaterialRef ref = split_material_ref(text);
+  if (!is_model_source(text) && ends_with_h5(ref.path)) {
+    src.spectrum = read_plot_spectrum(text, ref);
+    return src;
+  }
+  std::shared_ptr<const BrdfSource> source = open_source(text);
+  src.spectrum = fit_for_plot(*source, order, level);
+  if (is_model_source(text) && !source->has_delta()) src.exact = evaluator_of(source);
+  return src;
+}
+
+// Every material of a bank of several, or the one material of any other SOURCE: as the model itself when
+// it is a model without delta parts and shading allows, else as a spectrum (stored, or fitted at `order`).
+std::vector<plot::SphereMaterial> load_sphere_materials(const std::string& text, plot::SphereRequest::Shading shading, int order,
+                                                        int level) {
+  using Shading = plot::SphereRequest::Shading;
+  const bool is_model = is_model_source(text);
+  const bool bank = !is_model && text.find('#') == std::string::npos && ends_with_h5(text);
+  std::vector<std::string> names;
+  if (bank) {
+    if (!is_regular_file(text)) throw InputError(text + ": no such file (SOURCE '" + text + "')");
+    names = bank_material_names(text);
+  }
+  std::vector<plot::SphereMaterial> materials;
+  if (bank && names.size() > 1) {
+    if (shading == Shading::Model) throw ArgumentError("--shading model: a bank holds spectra only");
+    for (const auto& n : names) {
+      plot::SphereMaterial m;
+      m.name = n;
+      m.spectrum = read_bank_material(text, n, ReadOptions{kBankReadLimitBytes, false}).spectrum;
+      materials.push_back(std::move(m));
+    }
+    return materials;
+  }
+  std::shared_ptr<const BrdfSource> probe = is_model ? open_source(text) : nullptr;
+  const bool use_model = is_model && !probe->has_delta() && shading != Shading::Spectrum;
+  if (shading == Shading::Model && !use_model)
+    throw ArgumentError("--shading model: needs a model without delta parts, found '" + text + "'");
+  plot::SphereMaterial m;
+  m.name = text;
+  if (use_model) {
+    m.model = evaluator_of(probe);
+    m.model_channels = probe->channels();
+  } else {
+    m.spectrum = load_slice_source(text, order, level).spectrum;
+  }
+  materials.push_back(std::move(m));
+  return materials;
+}
+
+void add_basis_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   auto* basis = plot->add_subcommand("basis", "Every K_n^l up to --order on the Lambert disk (density + contours)");
-  basis->add_option("--order,-n", a->order, "Largest order n")->capture_default_str()->check(CLI::Range(0, 16));
+  basis->add_option("--order,-n", a->order, "Largest order n")->capture_default_str()->check(CLI::Range(0, kMaxBasisOrder));
   basis->add_option("--panel", a->basis_panel, "Disk diameter in pixels (default: from the order)");
   basis->add_flag("--separate", a->separate, "Also write one PNG per function, K_<n>_<l>.png");
   basis->add_option("-o,--output", a->output, "Output directory (must exist)")->required();
   basis->add_flag("--json", a->json, "Print the files written as JSON");
   basis->callback([a] {
+    check_basis_args(*a);
     const auto files = plot::plot_basis(a->order, a->output, a->separate, a->basis_panel);
     if (a->json) std::cout << nlohmann::json{{"files", files}}.dump(2) << "\n";
     else for (const auto& f : files) std::cout << "wrote " << f << "\n";
   });
+}
 
+void add_slice_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   auto* slice = plot->add_subcommand("slice", "Remitted distribution for one incident direction, several truncation orders");
   slice->add_option("source", a->source, "SOURCE: model:NAME[:key=value,...] or FILE.h5[#material]")->required();
   slice->add_option("--theta-i", a->theta_i, "Polar angle of incidence [deg], 0 <= theta_i < 90")->capture_default_str();
@@ -76,14 +219,21 @@ void add_plot_command(CLI::App& app) {
     q.phi_i = a->phi_i * kRadPerDeg;
     q.orders = a->orders;
     q.filter = parse_lowpass_filter(a->filter);
-    q.level = a->level;
     q.panel = a->panel;
     q.exact = !a->no_exact;
-    const auto f = plot::plot_slice(a->source, q, a->output);
+    check_slice_args(*a);
+    // A model is fitted once, at the largest order shown; a spectrum file is truncated.
+    const int top_order = *std::max_element(a->orders.begin(), a->orders.end());
+    const plot::SliceSource src = load_slice_source(a->source, top_order, a->level);
+    if (top_order > src.spectrum.order)
+      throw ArgumentError(fmt::format("--order {}: the spectrum of '{}' has order {}", top_order, a->source, src.spectrum.order));
+    const auto f = plot::plot_slice(src, q, a->output);
     report(*a, {{"output", a->output}, {"width", f.width}, {"height", f.height}, {"scale", f.scale},
                 {"quantity", f.g_form ? "g" : "f"}, {"columns", f.disks.size()}});
   });
+}
 
+void add_spectrum_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   auto* spec = plot->add_subcommand("spectrum", "IBSSS overview (paper Fig. 3) and the coefficient matrix of a spectrum file");
   spec->add_option("source", a->source, "SPECTRUM.h5[#material]")->required();
   spec->add_option("-o,--output", a->output, "Output PNG")->required();
@@ -93,10 +243,13 @@ void add_plot_command(CLI::App& app) {
     if (ref.path.size() < 4 || ref.path.compare(ref.path.size() - 3, 3, ".h5") != 0)
       throw ArgumentError("plot spectrum '" + a->source + "': expected SPECTRUM.h5[#material]");
     const Spectrum s = read_spectrum_file(ref.path, ref.name);
+    check_output_file(a->output);
     const auto f = plot::plot_spectrum(s, a->source, a->output);
     report(*a, {{"output", a->output}, {"width", f.width}, {"height", f.height}, {"order", s.order}, {"matrix", f.matrix_drawn}});
   });
+}
 
+void add_sphere_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   auto* sphere = plot->add_subcommand("sphere", "A sphere of the material lit by a distant light (a grid for a bank)");
   sphere->add_option("source", a->source, "SOURCE: model:..., FILE.h5[#material], or BANK.h5 (all materials)")->required();
   sphere->add_option("--light", a->light, "Light direction THETA,PHI [deg] in the camera frame (theta from the viewing axis)")
@@ -118,13 +271,26 @@ void add_plot_command(CLI::App& app) {
     q.sky = a->sky ? a->sky_radiance : 0.0;
     q.exposure = a->exposure;
     q.size = a->size;
-    q.order = sphere->count("--order") ? a->orders.front() : 8;
-    if (q.order < 0 || q.order > 32) throw ArgumentError(fmt::format("--order {}: expected 0..32", q.order));
-    q.level = a->level;
-    q.shading = a->shading;
-    const auto f = plot::plot_sphere(a->source, q, a->output);
+    constexpr int kDefaultSphereOrder = 8;
+    const int order = sphere->count("--order") ? a->orders.front() : kDefaultSphereOrder;
+    if (order < 0 || order > kMaxPlotOrder) throw ArgumentError(fmt::format("--order {}: expected 0..{}", order, kMaxPlotOrder));
+    check_output_file(a->output);
+    q.shading = parse_shading(a->shading);
+    check_sphere_request(q);
+    const auto materials = load_sphere_materials(a->source, q.shading, order, a->level);
+    const auto f = plot::plot_sphere(a->source, materials, q, a->output);
     report(*a, {{"output", a->output}, {"width", f.width}, {"height", f.height}, {"spheres", f.names}});
   });
+}
+
+void add_plot_command(CLI::App& app) {
+  auto a = std::make_shared<PlotArgs>();
+  auto* plot = app.add_subcommand("plot", "Draw PNG pictures: basis functions, slices, spectra, lit spheres");
+  plot->require_subcommand(1);
+  add_basis_command(plot, a);
+  add_slice_command(plot, a);
+  add_spectrum_command(plot, a);
+  add_sphere_command(plot, a);
 }
 
 const CommandRegistrar kRegistrar("plot", add_plot_command);

@@ -27,11 +27,10 @@
 #include <vector>
 
 #include "core/grid.hpp"
+#include "core/horizon.hpp"
 
 namespace icobrdf {
 
-// z in [-kHorizonSlack, 0) counts as on the horizon (z = 0), below that as below the horizon (f = 0).
-inline constexpr double kHorizonSlack = 1e-12;
 // Floor of the cosines in factors that diverge at grazing (documented per model).
 inline constexpr double kGrazingCosFloor = 1e-6;
 

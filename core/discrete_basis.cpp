@@ -9,7 +9,7 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "core/brdf_model.hpp"  // kHorizonSlack: the slack core/lambert_map.cpp accepts below z = 0
+#include "core/horizon.hpp"
 #include "core/grid_symmetry.hpp"
 #include "core/hemisphere_basis.hpp"
 #include "core/huge_pages.hpp"

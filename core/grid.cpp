@@ -4,8 +4,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/error.hpp"
+
 namespace icobrdf {
 namespace {
+
+constexpr GridKind kGridKinds[] = {GridKind::Custom, GridKind::EqualArea, GridKind::Geodesic, GridKind::PolarGauss, GridKind::LatLong};
 
 // Cubature weights are sums of exact per-point weights; a relative 1e-12 allows the rounding of summing
 // thousands of terms while still catching any wrong weight.
@@ -34,6 +38,26 @@ void check_units(const RowMatrix3d& m, const char* name) {
 }
 
 }  // namespace
+
+const char* to_string(GridKind kind) {
+  switch (kind) {
+    case GridKind::Custom: return "custom";
+    case GridKind::EqualArea: return "equal-area";
+    case GridKind::Geodesic: return "geodesic";
+    case GridKind::PolarGauss: return "polar-gauss";
+    case GridKind::LatLong: return "lat-long";
+  }
+  return "custom";
+}
+
+GridKind parse_grid_kind(const std::string& name) {
+  std::string names;
+  for (GridKind k : kGridKinds) {
+    if (name == to_string(k)) return k;
+    names += std::string(names.empty() ? "" : ", ") + to_string(k);
+  }
+  throw ArgumentError("unknown grid kind '" + name + "': expected one of " + names);
+}
 
 Grid with_centre_cubature(const Grid& grid) {
   Grid g = grid;

@@ -30,8 +30,20 @@ namespace icobrdf {
 using RowMatrix3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 using RowMatrix3i = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
+// What built a grid. Files hold its name (to_string), and Spectrum::grid_kind the same name.
+enum class GridKind {
+  Custom,      // "custom": put together by hand (tests, tools)
+  EqualArea,   // "equal-area": mesh/tessellation.hpp
+  Geodesic,    // "geodesic": mesh/tessellation.hpp
+  PolarGauss,  // "polar-gauss": core/reference_grids.hpp
+  LatLong,     // "lat-long": core/reference_grids.hpp
+};
+const char* to_string(GridKind kind);
+// The kind whose to_string is `name`; ArgumentError naming the accepted names otherwise.
+GridKind parse_grid_kind(const std::string& name);
+
 struct Grid {
-  std::string kind;  // "equal-area", "geodesic", ...
+  GridKind kind = GridKind::Custom;
   int level = 0;
   RowMatrix3d directions;
   Eigen::VectorXd solid_angles;

@@ -14,6 +14,9 @@ namespace {
 constexpr int kPanelNodes = 16;      // Gauss-Legendre nodes per panel
 constexpr int kDecades = 12;         // panels [0, 1e-12], [1e-12, 1e-11], ..., [0.1, 1]
 constexpr int kTableIntervals = 4096;  // table uniform in t = sqrt(mu)
+// Newton on the H-function nodes stops when the step is below this relative to max|H|: a few ulps of H
+// (about 1), where the iteration has converged to rounding.
+constexpr double kNewtonRelStep = 1e-15;
 
 }  // namespace
 
@@ -45,7 +48,7 @@ ChandrasekharH::ChandrasekharH(double w) : w_(w), s_(std::sqrt(std::max(0.0, 1.0
     jac.diagonal() += q;
     const Eigen::VectorXd dh = jac.partialPivLu().solve(r);
     h -= dh;
-    if (dh.cwiseAbs().maxCoeff() < 1e-15 * h.cwiseAbs().maxCoeff()) break;
+    if (dh.cwiseAbs().maxCoeff() < kNewtonRelStep * h.cwiseAbs().maxCoeff()) break;
   }
   h_nodes_.assign(h.data(), h.data() + n);
   table_.resize(kTableIntervals + 1);

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 
 #include "core/grid.hpp"
+#include "core/horizon.hpp"
 
 namespace icobrdf {
 
@@ -42,8 +43,8 @@ void hemisphere_basis_eval(int order, const Eigen::Vector3d& unit_dir, double* o
 // Lane-parallel form for batch code: kBasisLanes directions (x[l], y[l], z[l]) at once, with a factor each:
 //   out[j * kBasisLanes + l] (+)= scale[l] * K_j(direction l)   for j < hemisphere_basis_count(order),
 // added to out when `accumulate` (cell averages), else written.
-// No checks (batch callers validate): order in [0, 128]; unit vectors with z >= -1e-12 (z < 0 is taken as
-// 0); scratch holds hemisphere_basis_lanes_scratch(order) doubles. Same recurrences as hemisphere_basis_eval
+// No checks (batch callers validate): order in [0, 128]; unit vectors with z >= -kHorizonSlack (z < 0 is
+// taken as 0); scratch holds hemisphere_basis_lanes_scratch(order) doubles. Same recurrences as hemisphere_basis_eval
 // (results equal to rounding), laid out so that the compiler vectorizes over the lanes.
 inline constexpr int kBasisLanes = 4;
 int hemisphere_basis_lanes_scratch(int order);
@@ -54,7 +55,7 @@ void hemisphere_basis_eval_lanes(int order, const double* x, const double* y, co
 //   out[j * ld + r] = K_j(direction r)   for r < n, j < hemisphere_basis_count(order),
 // i.e. a column-major n x count block with leading dimension ld >= n. dirs holds the n directions as
 // (x, y, z) triples (row-major, e.g. RowMatrix3d::data()). No checks (batch callers validate): order in
-// [0, 128]; unit vectors with z >= -1e-12 (z < 0 is taken as 0). Same arithmetic as hemisphere_basis_eval
+// [0, 128]; unit vectors with z >= -kHorizonSlack (z < 0 is taken as 0). Same arithmetic as hemisphere_basis_eval
 // (results equal to rounding). Thread-safe (per-thread workspace).
 void hemisphere_basis_block(int order, Eigen::Index n, const double* dirs, double* out, Eigen::Index ld);
 
@@ -65,7 +66,7 @@ void hemisphere_basis_weighted_sum(int order, Eigen::Index n, const double* dirs
 
 // Validation for batch callers: the first row of dirs that is not a finite direction with z >= -z_slack,
 // or -1 when all are (threads over rows for large inputs; the answer does not depend on threads).
-Eigen::Index first_invalid_direction(const RowMatrix3d& dirs, double z_slack = 1e-12);
+Eigen::Index first_invalid_direction(const RowMatrix3d& dirs, double z_slack = kHorizonSlack);
 
 // dirs.rows() x hemisphere_basis_count(order): row r holds every K_j at direction r.
 Eigen::MatrixXd hemisphere_basis_matrix(int order, const RowMatrix3d& dirs);

@@ -92,7 +92,7 @@ void prepare(const double* dirs, int n, const double* w, Chunk<V>& ch) {
     std::memcpy(&yv, y + kLanes * v, sizeof yv);
     std::memcpy(&zv, z + kLanes * v, sizeof zv);
     std::memcpy(&ch.w[v], ww + kLanes * v, sizeof zv);
-    const v4d zc = select(zv < zero, zero, zv);  // z down to -1e-12 is the horizon
+    const v4d zc = select(zv < zero, zero, zv);  // z down to -kHorizonSlack is the horizon
     const v4d h2 = xv * xv + yv * yv;
     const v4d r2 = h2 / (one + zc);  // rho^2 = 1 - cos(theta), without cancellation (core/lambert_map.hpp)
     ch.rho[v] = vsqrt(select(r2 > one, one, r2));

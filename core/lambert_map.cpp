@@ -4,13 +4,11 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/horizon.hpp"
 
 namespace icobrdf {
 
 namespace {
-
-// Directions built from degrees (theta = 90) can have z = cos(pi/2) of either sign at the 1e-16 level.
-constexpr double kHorizonSlack = 1e-12;
 
 double checked_z(const Eigen::Vector3d& u, const char* where) {
   if (!(u.z() >= -kHorizonSlack))

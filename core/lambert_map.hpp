@@ -13,11 +13,12 @@
 
 namespace icobrdf {
 
-// unit_dir: a unit vector with z >= 0 (z down to -1e-12 is accepted as the horizon). Its length is not
-// checked (the caller normalizes); z < -1e-12 throws ArgumentError. Result: a point with |p| <= 1 (+ rounding).
+// unit_dir: a unit vector with z >= 0 (z down to -kHorizonSlack, core/horizon.hpp, is accepted as the
+// horizon). Its length is not checked (the caller normalizes); z < -kHorizonSlack throws ArgumentError.
+// Result: a point with |p| <= 1 (+ rounding).
 Eigen::Vector2d lambert_to_disk(const Eigen::Vector3d& unit_dir);
 
-// p: a disk point with |p| <= 1 (values up to 1 + 1e-12 are treated as on the circle); larger throws
+// p: a disk point with |p| <= 1 (values up to 1 + kHorizonSlack are treated as on the circle); larger throws
 // ArgumentError. Result: a unit vector with z >= 0.
 Eigen::Vector3d lambert_from_disk(const Eigen::Vector2d& p);
 

@@ -96,7 +96,7 @@ void sample_lut_block(const BrdfModel& model, const Grid& g, bool cosine, LutSam
 
 void add_delta_lut(const DeltaPart& part, const Grid& g, Eigen::MatrixXd& lut) {
   if (part.kind == DeltaPart::Kind::Mirror && g.rotate_pi.size() != g.cells())
-    throw ArgumentError("mirror LUT: grid of kind '" + g.kind + "' has no rotation-by-pi cell map");
+    throw ArgumentError("mirror LUT: grid of kind '" + std::string(to_string(g.kind)) + "' has no rotation-by-pi cell map");
   for (int i = 0; i < g.cells(); ++i) {
     const int r = part.kind == DeltaPart::Kind::Mirror ? g.rotate_pi[i] : i;
     lut(i, r) += part.weight / g.solid_angles[r];

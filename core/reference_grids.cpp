@@ -40,7 +40,7 @@ Grid build_polar_gauss_grid(int rings, int n_phi) {
     throw ArgumentError("polar Gauss grid: rings and n_phi expected >= 1, got " + std::to_string(rings) + " and " + std::to_string(n_phi));
   const auto gl = gauss_legendre(rings, 0.0, 1.0);
   Grid g;
-  g.kind = "polar-gauss";
+  g.kind = GridKind::PolarGauss;
   g.level = -1;
   const int n = rings * n_phi;
   g.directions.resize(n, 3);
@@ -66,7 +66,7 @@ Grid build_lat_long_grid(int n_theta, int n_phi, int points) {
     throw ArgumentError("lat-long grid: n_theta, n_phi and points expected >= 1, got " + std::to_string(n_theta) + ", " +
                         std::to_string(n_phi) + ", " + std::to_string(points));
   Grid g;
-  g.kind = "lat-long";
+  g.kind = GridKind::LatLong;
   g.level = -1;
   const int n = n_theta * n_phi, pp = points * points;
   g.directions.resize(n, 3);

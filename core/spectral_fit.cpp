@@ -10,6 +10,11 @@
 namespace icobrdf {
 namespace {
 
+// The white furnace of a g spectrum divides a(w) by cos(theta_i): cells whose representative direction has
+// cos(theta) below this (within 0.06 degrees of the horizon) would amplify a's truncation error over 1000
+// times, so they are left out of max_albedo.
+constexpr double kGrazingCellCos = 1e-3;
+
 double anisotropy(const Eigen::MatrixXd& c, const Eigen::MatrixXd& iso) {
   const double total = c.squaredNorm();
   return total == 0.0 ? 0.0 : (c - iso).squaredNorm() / total;
@@ -24,7 +29,7 @@ Spectrum finish(std::vector<Eigen::MatrixXd> channels, const std::string& source
   s.source = source;
   s.filter = o.filter.name();
   s.level = ctx.grid->level;
-  s.grid_kind = ctx.grid->kind;
+  s.grid_kind = to_string(ctx.grid->kind);
   s.gram_error = ctx.basis.gram_error;
   double asym = 0.0, aniso = 0.0;
   for (auto& c : channels) {
@@ -44,7 +49,7 @@ Spectrum finish(std::vector<Eigen::MatrixXd> channels, const std::string& source
     const Eigen::VectorXd a = spectral_albedo(c, s.order, ctx.grid->directions);
     for (Eigen::Index i = 0; i < a.size(); ++i) {
       const double z = ctx.grid->directions(i, 2);
-      if (cosine && z < 1e-3) continue;
+      if (cosine && z < kGrazingCellCos) continue;
       max_albedo = std::max(max_albedo, cosine ? a[i] / z : a[i]);
     }
   }

@@ -9,7 +9,7 @@ namespace icobrdf {
 // f(w_i, w_r) = K(w_i)^T C K(w_r) at many pairs (rows x 3 each): returns rows values [1/sr]. Threads over
 // blocks of 256 pairs (basis of both sides by hemisphere_basis_block, then a register-tiled kernel for the
 // bilinear form; rates in benchmarks/RESULTS.md). Each value depends only on its own pair (thread-invariant).
-// ArgumentError for a direction that is not finite or has z < -1e-12.
+// ArgumentError for a direction that is not finite or has z < -kHorizonSlack (core/horizon.hpp).
 Eigen::VectorXd evaluate_coefficients(const Eigen::MatrixXd& c, int order, const RowMatrix3d& wi, const RowMatrix3d& wr);
 
 // Rotation of the whole BRDF about the normal by `angle` (radians, counter-clockwise seen from above):

@@ -17,6 +17,10 @@ constexpr int kBlockRows = 32;
 // equivariant): a grid built symmetric matches to rounding, 1e-12 leaves room for a few ulps of the
 // mesh construction and of G^-1 while rejecting any grid that is symmetric only up to discretization.
 constexpr double kSymmetryTol = 1e-12;
+// Solid angles of the sampling grid against the projection grid's, relative to the largest: the two are
+// built from the same cells (build_fitting_grid with either cubature), so they agree to the rounding of
+// summing cubature weights; any real difference in cells is far larger.
+constexpr double kSameCellsRelTol = 1e-12;
 
 // True when every cell's sampling points (cubature, or the directions for centre sampling) and weights are
 // mapped by each symmetry onto those of the image cell.
@@ -206,7 +210,7 @@ std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const
 std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const Grid& g, const ProjectionOperator& proj,
                                                   bool cosine, LutSampling sampling, const Grid* sampling_grid) {
   const Grid& sg = sampling_grid ? *sampling_grid : g;
-  if (sg.cells() != g.cells() || (sg.solid_angles - g.solid_angles).cwiseAbs().maxCoeff() > 1e-12 * g.solid_angles.maxCoeff())
+  if (sg.cells() != g.cells() || (sg.solid_angles - g.solid_angles).cwiseAbs().maxCoeff() > kSameCellsRelTol * g.solid_angles.maxCoeff())
     throw ArgumentError("projection: the sampling grid's cells differ from the projection grid's (" + std::to_string(sg.cells()) +
                         " vs " + std::to_string(g.cells()) + " cells)");
   const auto deltas = model.delta_parts();
@@ -273,7 +277,7 @@ std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const 
 Eigen::MatrixXd delta_projection(const DeltaPart& part, const Grid& g, const ProjectionOperator& proj) {
   const bool mirror = part.kind == DeltaPart::Kind::Mirror;
   if (mirror && g.rotate_pi.size() != g.cells())
-    throw ArgumentError("mirror projection: grid of kind '" + g.kind + "' has no rotation-by-pi cell map");
+    throw ArgumentError("mirror projection: grid of kind '" + std::string(to_string(g.kind)) + "' has no rotation-by-pi cell map");
   // Row i of F has weight / Omega_r at r = image(i), so (F P)_i = weight / Omega_r P_r.
   Eigen::MatrixXd t(g.cells(), proj.P.cols());
   for (int i = 0; i < g.cells(); ++i) {

@@ -4,13 +4,14 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/horizon.hpp"
 
 namespace icobrdf {
 
 namespace {
 
-// Radii computed from unit vectors may exceed 1 by a few ulps at the horizon; they are clamped to 1.
-constexpr double kRhoSlack = 1e-12;
+// Radii computed from unit vectors may exceed 1 by a few ulps at the horizon (rho = 1): up to
+// 1 + kHorizonSlack they are clamped to 1 (core/horizon.hpp).
 
 inline int row_start(int n) { return (n + 1) * (n + 1) / 4; }
 
@@ -27,7 +28,7 @@ void check_pair(int n, int l, const char* where) {
 }
 
 double checked_rho(double rho, const char* where) {
-  if (!(rho >= 0.0 && rho <= 1.0 + kRhoSlack))
+  if (!(rho >= 0.0 && rho <= 1.0 + kHorizonSlack))
     throw ArgumentError(std::string(where) + ": rho must be in [0, 1], got " + std::to_string(rho));
   return rho > 1.0 ? 1.0 : rho;
 }

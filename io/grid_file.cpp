@@ -75,7 +75,7 @@ void write_grid(h5::Group& parent, const Grid& grid, const std::string& name) {
   }
   h5::Group g = parent.create_group(name);
   const std::uint64_t c = u(grid.cells());
-  g.set_attr("kind", grid.kind);
+  g.set_attr("kind", std::string(to_string(grid.kind)));
   g.set_attr("level", static_cast<std::int32_t>(grid.level));
   g.set_attr("cells", static_cast<std::int32_t>(grid.cells()));
   g.set_attr("cubature_degree", static_cast<std::int32_t>(grid.cubature_degree));
@@ -109,7 +109,11 @@ Grid read_grid(const h5::Group& g, const h5::ReadLimits& lim) {
   g.check_links();
   const GridSummary s = read_grid_summary(g);
   Grid grid;
-  grid.kind = s.kind;
+  try {
+    grid.kind = parse_grid_kind(s.kind);
+  } catch (const ArgumentError& e) {
+    g.fail(g.path(), e.what());
+  }
   grid.level = s.level;
   grid.cubature_degree = static_cast<int>(g.attr_int("cubature_degree", 0, 1000));
   const int c = s.cells;

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/horizon.hpp"
 #include "io/atomic_write.hpp"
 
 namespace icobrdf {

@@ -64,13 +64,17 @@ bool parse_double(const std::string& f, double& v) {
   return *end == '\0';
 }
 
-int a_ours(int n, int m, int l) {  // n >= m >= l >= 0 (core/isotropic_modes.hpp)
+// The divisor A_nml in the normalization of the isotropic mode I_nm^l as this program defines it
+// (core/isotropic_modes.hpp): n >= m >= l >= 0.
+int isotropic_norm_divisor(int n, int m, int l) {
   if (n == m && l == 0) return 4;
   if (n == m || l == 0) return 2;
   return 1;
 }
 
-int a_scatmech(int n, int m, int l) {  // as SCATMECH evaluates it, n = column 3
+// The divisor A^S_nml of SCATMECH's basis function as SCATMECH evaluates it (n = its column 3): unlike A,
+// it is 4 whenever its n is 0.
+int scatmech_norm_divisor(int n, int m, int l) {
   if (n == 0 || (n == m && l == 0)) return 4;
   if (n == m || l == 0) return 2;
   return 1;
@@ -86,7 +90,7 @@ std::string g17(double x) {
 
 double scatmech_basis_factor(int n, int m, int l) {
   const int L = std::abs(l);
-  return std::sqrt(static_cast<double>(a_ours(std::max(n, m), std::min(n, m), L)) / a_scatmech(n, m, l));
+  return std::sqrt(static_cast<double>(isotropic_norm_divisor(std::max(n, m), std::min(n, m), L)) / scatmech_norm_divisor(n, m, l));
 }
 
 ScatmechCoefficients read_scatmech_coefficients(const std::string& path) {

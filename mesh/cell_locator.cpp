@@ -6,8 +6,10 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/horizon.hpp"
 #include "mesh/hemi_lattice.hpp"
 #include "mesh/icosahedron.hpp"
+#include "mesh/tessellation_mesh.hpp"
 
 namespace icobrdf {
 namespace {
@@ -15,8 +17,6 @@ namespace {
 // Inputs are normalized vectors; 1e-10 on the norm allows any rounding of a normalization while
 // rejecting vectors that were never normalized.
 constexpr double kUnitTol = 1e-10;
-// Directions computed on the equator may carry a rounding-sized negative z.
-constexpr double kHorizonTol = 1e-12;
 // Face centres have coordinates 0 or >= 0.35: 1e-9 tells zero from non-zero with a wide margin.
 constexpr double kFoldTol = 1e-9;
 
@@ -28,9 +28,7 @@ std::array<Eigen::Vector3d, 3> corners_of(const HemiFace& f) {
 }  // namespace
 
 CellLocator::CellLocator(int level, const std::string& kind) : level_(level), n_(0), cells_(0), kind_(kind) {
-  if (kind != "equal-area" && kind != "geodesic")
-    throw ArgumentError("unknown grid kind '" + kind + "': expected 'equal-area' or 'geodesic'");
-  equal_area_ = kind == "equal-area";
+  equal_area_ = hemi_icosahedral_kind(kind) == GridKind::EqualArea;
   const HemiLattice lat(level);
   n_ = lat.n();
   cells_ = lat.cells();
@@ -163,7 +161,7 @@ void CellLocator::locate_block(const double* p, int count, int* out) const {
 
 void CellLocator::check(const double* p, Eigen::Index k) {
   const double nn = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
-  if (!(std::abs(nn - 1.0) <= kUnitTol) || !(p[2] >= -kHorizonTol))
+  if (!(std::abs(nn - 1.0) <= kUnitTol) || !(p[2] >= -kHorizonSlack))
     throw ArgumentError("CellLocator::locate: direction " + std::to_string(k) + " (" + std::to_string(p[0]) + ", " +
                         std::to_string(p[1]) + ", " + std::to_string(p[2]) +
                         ") is not a unit vector with z >= 0 (norm^2 = " + std::to_string(nn) + ")");

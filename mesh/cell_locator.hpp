@@ -31,7 +31,8 @@ class CellLocator {
   // kind: "equal-area" or "geodesic"; 0 <= level <= 8. ArgumentError otherwise.
   explicit CellLocator(int level, const std::string& kind = "equal-area");
 
-  // unit_dir: unit vector with z >= -1e-12 (ArgumentError otherwise: |norm - 1| > 1e-10 or z < -1e-12).
+  // unit_dir: unit vector with z >= -kHorizonSlack (ArgumentError otherwise: |norm - 1| > 1e-10 or
+  // z < -kHorizonSlack; core/horizon.hpp).
   int locate(const Eigen::Vector3d& unit_dir) const;
   // dirs: N x 3 unit vectors; cells resized to N.
   void locate(const RowMatrix3d& dirs, Eigen::VectorXi& cells) const;

@@ -19,7 +19,7 @@ Eigen::Vector3d apply(int gamma, const Eigen::Vector3d& p) { return {kSigns[gamm
 void make_cubature_equivariant(Grid& g) {
   const int n = g.cells();
   if (g.rotate_pi.size() != n || g.mirror_xz.size() != n || g.mirror_yz.size() != n)
-    throw ArgumentError("equivariant cubature: grid of kind '" + g.kind + "' lacks its symmetry maps");
+    throw ArgumentError("equivariant cubature: grid of kind '" + std::string(to_string(g.kind)) + "' lacks its symmetry maps");
   auto image = [&](int gamma, int c) {
     switch (gamma) {
       case 1: return g.rotate_pi[c];

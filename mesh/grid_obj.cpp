@@ -13,7 +13,7 @@ namespace icobrdf {
 
 void write_grid_obj(const Grid& g, const std::string& path) {
   if (g.vertices.rows() == 0 || g.faces.rows() == 0)
-    throw IoError("cannot export '" + path + "': the grid has no triangle mesh (kind " + g.kind + ")");
+    throw IoError("cannot export '" + path + "': the grid has no triangle mesh (kind " + std::string(to_string(g.kind)) + ")");
   std::string tmpl = path + ".tmp.XXXXXX";
   const int fd = mkstemp(tmpl.data());
   if (fd < 0) throw IoError("cannot create a temporary file next to '" + path + "': " + std::strerror(errno));
@@ -24,7 +24,7 @@ void write_grid_obj(const Grid& g, const std::string& path) {
     std::remove(tmpl.c_str());
     throw IoError("cannot write '" + tmpl + "': " + std::strerror(err));
   }
-  bool ok = std::fprintf(f, "# icobrdf %s hemisphere grid, level %d: %d cells, %d vertices\n", g.kind.c_str(), g.level,
+  bool ok = std::fprintf(f, "# icobrdf %s hemisphere grid, level %d: %d cells, %d vertices\n", to_string(g.kind), g.level,
                          g.cells(), static_cast<int>(g.vertices.rows())) > 0;
   for (Eigen::Index v = 0; ok && v < g.vertices.rows(); ++v)
     ok = std::fprintf(f, "v %.17g %.17g %.17g\n", g.vertices(v, 0), g.vertices(v, 1), g.vertices(v, 2)) > 0;

@@ -75,21 +75,43 @@ std::array<Eigen::Vector3d, 3> corners_of(int f) {
   return {v[h.v[0]], v[h.v[1]], v[h.v[2]]};
 }
 
+// Symmetry permutations: the cell containing the image of each cell's interior direction.
+void set_symmetry_maps(Grid& g) {
+  const int nc = g.cells();
+  const CellLocator loc(g.level, to_string(g.kind));
+  g.rotate_pi.resize(nc);
+  g.mirror_xz.resize(nc);
+  g.mirror_yz.resize(nc);
+#pragma omp parallel for schedule(static)
+  for (int c = 0; c < nc; ++c) {
+    const Eigen::Vector3d d = g.directions.row(c).transpose();
+    g.rotate_pi[c] = loc.locate(Eigen::Vector3d(-d.x(), -d.y(), d.z()));
+    g.mirror_xz[c] = loc.locate(Eigen::Vector3d(d.x(), -d.y(), d.z()));
+    g.mirror_yz[c] = loc.locate(Eigen::Vector3d(-d.x(), d.y(), d.z()));
+  }
+}
+
 }  // namespace
 
-Grid build_equal_area_grid(int level) { return build_hemi_icosahedral_grid(level, "equal-area"); }
-Grid build_equal_area_grid(int level, int degree) { return build_hemi_icosahedral_grid(level, "equal-area", degree); }
-Grid build_fitting_grid(int level, const std::string& kind, bool centre) {
+Grid build_equal_area_grid(int level) { return build_hemi_icosahedral_grid(level, GridKind::EqualArea); }
+Grid build_equal_area_grid(int level, int degree) { return build_hemi_icosahedral_grid(level, GridKind::EqualArea, degree); }
+Grid build_fitting_grid(int level, GridKind kind, bool centre) {
   return centre ? with_centre_cubature(build_hemi_icosahedral_grid(level, kind)) : build_hemi_icosahedral_grid(level, kind, kLutSamplingDegree);
 }
-Grid build_geodesic_grid(int level) { return build_hemi_icosahedral_grid(level, "geodesic"); }
-Grid build_geodesic_grid(int level, int degree) { return build_hemi_icosahedral_grid(level, "geodesic", degree); }
-
+Grid build_fitting_grid(int level, const std::string& kind, bool centre) {
+  return build_fitting_grid(level, hemi_icosahedral_kind(kind), centre);
+}
+Grid build_geodesic_grid(int level) { return build_hemi_icosahedral_grid(level, GridKind::Geodesic); }
+Grid build_geodesic_grid(int level, int degree) { return build_hemi_icosahedral_grid(level, GridKind::Geodesic, degree); }
 Grid build_hemi_icosahedral_grid(int level, const std::string& kind, int degree) {
+  return build_hemi_icosahedral_grid(level, hemi_icosahedral_kind(kind), degree);
+}
+
+Grid build_hemi_icosahedral_grid(int level, GridKind kind, int degree) {
   const HemiLattice lat(level);
   const TriangleRule rule = stroud_conical_rule(degree);
-  const auto tm = build_tessellation_mesh(lat, kind);  // validates kind
-  const bool equal_area = kind == "equal-area";
+  const auto tm = build_tessellation_mesh(lat, to_string(kind));  // validates kind
+  const bool equal_area = kind == GridKind::EqualArea;
   const auto& mesh = tm->mesh;
   const int nc = lat.cells();
   const double s = static_cast<double>(lat.scale());
@@ -192,18 +214,7 @@ Grid build_hemi_icosahedral_grid(int level, const std::string& kind, int degree)
     }
   }
 
-  // Symmetry permutations: the cell containing the image of each cell's interior direction.
-  const CellLocator loc(level, kind);
-  g.rotate_pi.resize(nc);
-  g.mirror_xz.resize(nc);
-  g.mirror_yz.resize(nc);
-#pragma omp parallel for schedule(static)
-  for (int c = 0; c < nc; ++c) {
-    const Eigen::Vector3d d = g.directions.row(c).transpose();
-    g.rotate_pi[c] = loc.locate(Eigen::Vector3d(-d.x(), -d.y(), d.z()));
-    g.mirror_xz[c] = loc.locate(Eigen::Vector3d(d.x(), -d.y(), d.z()));
-    g.mirror_yz[c] = loc.locate(Eigen::Vector3d(-d.x(), d.y(), d.z()));
-  }
+  set_symmetry_maps(g);
   // Symmetry relations of cell averages then hold to rounding (mesh/cubature_symmetry.hpp).
   make_cubature_equivariant(g);
   return g;

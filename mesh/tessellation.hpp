@@ -57,6 +57,8 @@ Grid build_equal_area_grid(int level, int cubature_degree);
 Grid build_geodesic_grid(int level);
 Grid build_geodesic_grid(int level, int cubature_degree);
 // kind: "equal-area" or "geodesic".
+Grid build_hemi_icosahedral_grid(int level, GridKind kind, int cubature_degree = kDefaultCubatureDegree);
+// The same with the kind by name (parse_grid_kind; ArgumentError for any kind but these two).
 Grid build_hemi_icosahedral_grid(int level, const std::string& kind, int cubature_degree = kDefaultCubatureDegree);
 
 // Cubature degree of the rule that cell-averages LUT rows during fits: each LUT entry costs
@@ -65,6 +67,7 @@ inline constexpr int kLutSamplingDegree = 2;
 
 // The grid a fit samples on, LUT rows and basis B alike (so a BRDF in the span of the basis is recovered
 // exactly): one point per cell at its direction when `centre`, else the degree-kLutSamplingDegree rule.
-Grid build_fitting_grid(int level, const std::string& kind, bool centre);
+Grid build_fitting_grid(int level, GridKind kind, bool centre);
+Grid build_fitting_grid(int level, const std::string& kind, bool centre);  // kind by name, as above
 
 }  // namespace icobrdf

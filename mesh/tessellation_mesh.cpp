@@ -50,10 +50,14 @@ std::unique_ptr<TessellationMesh> build_tessellation_mesh(int level, const std::
   return build_tessellation_mesh(lat, kind);
 }
 
+GridKind hemi_icosahedral_kind(const std::string& kind) {
+  if (kind == to_string(GridKind::EqualArea)) return GridKind::EqualArea;
+  if (kind == to_string(GridKind::Geodesic)) return GridKind::Geodesic;
+  throw ArgumentError("unknown grid kind '" + kind + "': expected 'equal-area' or 'geodesic'");
+}
+
 std::unique_ptr<TessellationMesh> build_tessellation_mesh(const HemiLattice& lat, const std::string& kind) {
-  if (kind != "equal-area" && kind != "geodesic")
-    throw ArgumentError("unknown grid kind '" + kind + "': expected 'equal-area' or 'geodesic'");
-  const bool equal_area = kind == "equal-area";
+  const bool equal_area = hemi_icosahedral_kind(kind) == GridKind::EqualArea;
   const int nc = lat.cells();
   const double s = static_cast<double>(lat.scale());
 

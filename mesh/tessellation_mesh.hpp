@@ -19,6 +19,8 @@
 #include <memory>
 #include <string>
 
+#include "core/grid.hpp"
+
 namespace icobrdf {
 
 class HemiLattice;
@@ -42,5 +44,8 @@ struct TessellationMesh {
 // kind: "equal-area" or "geodesic"; 0 <= level <= 8 (ArgumentError otherwise).
 std::unique_ptr<TessellationMesh> build_tessellation_mesh(int level, const std::string& kind = "equal-area");
 std::unique_ptr<TessellationMesh> build_tessellation_mesh(const HemiLattice& lattice, const std::string& kind);
+// kind by name: GridKind::EqualArea or GridKind::Geodesic; ArgumentError("unknown grid kind ...") for any
+// other name (the tessellations exist in these two placements only).
+GridKind hemi_icosahedral_kind(const std::string& kind);
 
 }  // namespace icobrdf

@@ -12,12 +12,7 @@
 #include "core/hemisphere_basis.hpp"
 #include "core/isotropic_modes.hpp"
 #include "core/lambert_map.hpp"
-#include "core/model_spec.hpp"
-#include "core/spectral_fit.hpp"
 #include "core/spectrum_ops.hpp"
-#include "io/bank_file.hpp"
-#include "io/brdf_source.hpp"
-#include "io/spectrum_file.hpp"
 #include "mesh/tessellation.hpp"
 #include "plot/disk_raster.hpp"
 #include "plot/figure.hpp"
@@ -27,10 +22,10 @@
 namespace icobrdf::plot {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = 180.0 / kPi;
+constexpr double kDeg = 180.0 / M_PI;  // degrees per radian (M_PI: the tree's one pi)
 // Level of the cells used as a midpoint quadrature for the directional albedo of a model (sky light).
 constexpr int kAlbedoQuadratureLevel = 3;
+constexpr int kMinSphereSize = 16, kMaxSphereSize = 2048;  // pixels
 
 const Rgb kPositiveCurve{0.70, 0.25, 0.05};
 const Rgb kNegativeCurve{0.10, 0.30, 0.85};
@@ -38,38 +33,6 @@ const Rgb kNegativeCurve{0.10, 0.30, 0.85};
 bool is_directory(const std::string& p) {
   struct stat st{};
   return ::stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
-}
-
-bool ends_with_h5(const std::string& s) { return s.size() > 3 && s.compare(s.size() - 3, 3, ".h5") == 0; }
-
-// The spectrum a picture is drawn from: a file's as stored, a model's fitted at `order` on the
-// equal-area grid of `level` (g form for models with delta parts).
-struct LoadedSource {
-  Spectrum spectrum;
-  std::unique_ptr<BrdfSource> source;  // set for models and measured sources
-  bool exact_available = false;        // source->eval() is the whole BRDF (no delta parts)
-};
-
-LoadedSource load_source(const std::string& text, int order, int level) {
-  LoadedSource r;
-  const auto [path, name] = split_material_ref(text);
-  if (!is_model_source(text) && ends_with_h5(path)) {
-    struct stat st{};
-    if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) throw InputError(path + ": no such file (SOURCE '" + text + "')");
-    r.spectrum = read_spectrum_file(path, name);
-    if (r.spectrum.source.empty()) r.spectrum.source = text;
-    return r;
-  }
-  r.source = open_source(text);
-  // Fitted as `icobrdf fit` does with cell-averaged sampling.
-  auto grid = std::make_shared<const Grid>(build_fitting_grid(level, "equal-area", false));
-  const auto ctx = make_projection_context(grid, order);
-  FitOptions o;
-  o.order = order;
-  o.cosine = r.source->has_delta();
-  r.spectrum = r.source->fit(ctx, o);
-  r.exact_available = is_model_source(text) && !r.source->has_delta();
-  return r;
 }
 
 std::string deg(double rad) { return format_number(std::round(rad * kDeg * 100.0) / 100.0) + "\u00b0"; }
@@ -80,8 +43,8 @@ std::string shorten(const std::string& s, std::size_t max_chars) {
 }
 
 void check_output_path(const std::string& path) {
-  if (path.empty()) throw ArgumentError("-o: an output file name is required");
-  if (is_directory(path)) throw ArgumentError("-o " + path + ": is a directory, expected a PNG file name");
+  if (path.empty()) throw ArgumentError("plot: an output file name is required");
+  if (is_directory(path)) throw ArgumentError("plot: " + path + " is a directory, expected a PNG file name");
 }
 
 // ---------------------------------------------------------------------------------------------- basis
@@ -95,10 +58,10 @@ void draw_disk_frame(Figure& fig, const PanelRect& r) {
 std::vector<std::string> plot_basis(int order, const std::string& dir, bool separate, int panel_request) {
   constexpr int kMaxBasisOrder = 16;
   if (order < 0 || order > kMaxBasisOrder)
-    throw ArgumentError(fmt::format("--order {}: expected 0..{}", order, kMaxBasisOrder));
-  if (!is_directory(dir)) throw ArgumentError("-o " + dir + ": not an existing directory");
+    throw ArgumentError(fmt::format("plot_basis: order {} outside 0..{}", order, kMaxBasisOrder));
+  if (!is_directory(dir)) throw ArgumentError("plot_basis: " + dir + " is not an existing directory");
   if (panel_request != 0 && (panel_request < 32 || panel_request > 800))
-    throw ArgumentError(fmt::format("--panel {}: expected 32..800 pixels", panel_request));
+    throw ArgumentError(fmt::format("plot_basis: panel {} outside 32..800 pixels", panel_request));
   const int panel = panel_request ? panel_request : std::clamp(1400 / (order + 1) - 24, 60, 170);
   const DiskSamples ds = disk_samples(panel);
   const Eigen::MatrixXd b = disk_basis(ds, order);
@@ -112,7 +75,7 @@ std::vector<std::string> plot_basis(int order, const std::string& dir, bool sepa
            12.5, Align::Centre);
   std::vector<std::string> written;
   for (int n = 0; n <= order; ++n) {
-    const double kmax = std::sqrt((n + 1) / kPi);
+    const double kmax = std::sqrt((n + 1) / M_PI);
     const double x0 = left + (order - n) * cell / 2.0;
     for (int l = -n, k = 0; l <= n; l += 2, ++k) {
       const int j = ansi_index(n, l);
@@ -133,7 +96,7 @@ std::vector<std::string> plot_basis(int order, const std::string& dir, bool sepa
         one.contours(bv / kmax, 30, 50, levels);
         draw_disk_frame(one, {30, 50, panel * 2});
         one.text(30 + panel, 50 + 2 * panel + 22, "x = rho cos(phi)  \u2192", 12.0, Align::Centre);
-        one.text(18, 50 + panel, "y = rho sin(phi)  \u2192", 12.0, Align::Centre, false, kPi / 2);
+        one.text(18, 50 + panel, "y = rho sin(phi)  \u2192", 12.0, Align::Centre, false, M_PI / 2);
         one.colorbar(panel * 2 + 50, 60, 20, panel * 2 - 20, kmax, diverging, "K [1/sqrt(sr)]");
         const std::string p = dir + fmt::format("/K_{}_{}.png", n, l);
         one.save_png(p);
@@ -150,57 +113,142 @@ std::vector<std::string> plot_basis(int order, const std::string& dir, bool sepa
 
 // ---------------------------------------------------------------------------------------------- slice
 
-SliceFigure plot_slice(const std::string& text, const SliceRequest& q, const std::string& path) {
-  check_output_path(path);
-  if (q.orders.empty()) throw ArgumentError("--order: at least one truncation order is required");
-  for (int n : q.orders)
-    if (n < 0 || n > 32) throw ArgumentError(fmt::format("--order {}: expected 0..32", n));
-  if (!(q.theta_i >= 0.0 && q.theta_i < kPi / 2))
-    throw ArgumentError(fmt::format("--theta-i {}: expected 0 <= theta_i < 90 degrees", q.theta_i * kDeg));
-  if (q.orders.size() > 9) throw ArgumentError(fmt::format("--order: at most 9 orders side by side, found {}", q.orders.size()));
-  std::vector<int> orders = q.orders;
-  const int top_order = *std::max_element(orders.begin(), orders.end());
-  const LoadedSource src = load_source(text, top_order, q.level);
-  const Spectrum& s = src.spectrum;
-  if (top_order > s.order)
-    throw ArgumentError(fmt::format("--order {}: the spectrum of '{}' has order {}", top_order, text, s.order));
-  const Eigen::MatrixXd c = channel_mean(s);
-  const Eigen::Vector3d wi(std::sin(q.theta_i) * std::cos(q.phi_i), std::sin(q.theta_i) * std::sin(q.phi_i), std::cos(q.theta_i));
-  const int panel = q.panel;
-  const DiskSamples ds = disk_samples(panel);
-  constexpr int kPolarSamples = 721;
-  Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(kPolarSamples, -kPi / 2, kPi / 2);
-  const RowMatrix3d plane = plane_of_incidence_directions(q.phi_i, t);
+namespace {
 
-  struct Column {
-    std::string label;
-    Eigen::MatrixXd disk;
-    Eigen::VectorXd polar;
-  };
-  std::vector<Column> cols;
-  double scale = 0.0;
-  for (int n : orders) {
+constexpr int kPolarSamples = 721;
+constexpr int kMaxSliceOrder = 32;
+constexpr std::size_t kMaxSliceColumns = 9;
+
+void check_slice_request(const SliceSource& src, const SliceRequest& q) {
+  if (q.orders.empty()) throw ArgumentError("plot_slice: at least one truncation order is required");
+  for (int n : q.orders)
+    if (n < 0 || n > kMaxSliceOrder) throw ArgumentError(fmt::format("plot_slice: order {} outside 0..{}", n, kMaxSliceOrder));
+  if (!(q.theta_i >= 0.0 && q.theta_i < M_PI / 2))
+    throw ArgumentError(fmt::format("plot_slice: theta_i {} degrees outside [0, 90)", q.theta_i * kDeg));
+  if (q.orders.size() > kMaxSliceColumns)
+    throw ArgumentError(fmt::format("plot_slice: at most {} orders side by side, found {}", kMaxSliceColumns, q.orders.size()));
+  const int top_order = *std::max_element(q.orders.begin(), q.orders.end());
+  if (top_order > src.spectrum.order)
+    throw ArgumentError(fmt::format("plot_slice: order {} beyond the order {} of the spectrum", top_order, src.spectrum.order));
+}
+
+// One column of a slice picture: its values on the disk raster and along the plane of incidence.
+struct SliceColumn {
+  std::string label;
+  Eigen::MatrixXd disk;
+  Eigen::VectorXd polar;
+};
+
+std::vector<SliceColumn> slice_columns(const SliceSource& src, const SliceRequest& q, const Eigen::Vector3d& wi, const DiskSamples& ds,
+                                       const RowMatrix3d& plane) {
+  const Eigen::MatrixXd c = channel_mean(src.spectrum);
+  std::vector<SliceColumn> cols;
+  for (int n : q.orders) {
     const Eigen::MatrixXd cn = truncated_coefficients(c, n, q.filter);
-    Column col{fmt::format("order {}", n), disk_raster(ds, slice_values(cn, n, wi, ds.directions)),
-               slice_values(cn, n, wi, plane)};
-    cols.push_back(std::move(col));
+    cols.push_back({fmt::format("order {}", n), disk_raster(ds, slice_values(cn, n, wi, ds.directions)), slice_values(cn, n, wi, plane)});
   }
-  const bool g_form = s.cosine;
-  if (q.exact && src.exact_available) {
+  if (q.exact && src.exact) {
     auto eval_mean = [&](const RowMatrix3d& wr) {
       RowMatrix3d wis(wr.rows(), 3);
       wis.rowwise() = wi.transpose();
-      const Eigen::MatrixXd v = src.source->eval(wis, wr);
+      const Eigen::MatrixXd v = src.exact(wis, wr);
       return Eigen::VectorXd(v.rowwise().mean());
     };
     cols.push_back({"model", disk_raster(ds, eval_mean(ds.directions)), eval_mean(plane)});
   }
+  return cols;
+}
+
+// The largest |value| over every column (1 when all vanish): the colour bar's range.
+double slice_scale(const std::vector<SliceColumn>& cols) {
+  double scale = 0.0;
   for (const auto& col : cols) {
     for (Eigen::Index k = 0; k < col.disk.size(); ++k)
       if (std::isfinite(col.disk(k))) scale = std::max(scale, std::fabs(col.disk(k)));
     scale = std::max(scale, col.polar.cwiseAbs().maxCoeff());
   }
-  if (!(scale > 0.0)) scale = 1.0;
+  return scale > 0.0 ? scale : 1.0;
+}
+
+// The disk of one column with the marks of the plane of incidence and the incident and mirror directions.
+void draw_slice_disk(Figure& fig, const SliceColumn& col, const PanelRect& r, double phi_i, double scale, const Eigen::Vector3d& wi) {
+  const int panel = r.size;
+  fig.text(r.x + panel / 2.0, r.y - 6, col.label, 14.0, Align::Centre, true);
+  fig.image(colorize(col.disk, scale, diverging), r.x, r.y);
+  fig.contours(col.disk, r.x, r.y, {0.0});
+  draw_disk_frame(fig, r);
+  const double cx = r.x + panel / 2.0, cy = r.y + panel / 2.0, R = panel / 2.0;
+  const Eigen::Vector2d pi_disk = lambert_to_disk(wi);
+  const Eigen::Vector2d pm_disk = lambert_to_disk(Eigen::Vector3d(-wi.x(), -wi.y(), wi.z()));
+  // Plane of incidence (dashed), incident direction (ring) and mirror direction (cross).
+  // Plane of incidence: ticks outside the rim at both ends (the disk itself stays clean).
+  for (double sgn : {-1.0, 1.0})
+    fig.line(cx + sgn * (R + 2) * std::cos(phi_i), cy - sgn * (R + 2) * std::sin(phi_i), cx + sgn * (R + 10) * std::cos(phi_i),
+             cy - sgn * (R + 10) * std::sin(phi_i), 1.5, {0.1, 0.1, 0.1});
+  fig.circle(cx + R * pi_disk.x(), cy - R * pi_disk.y(), 5.0, 1.4, 0.0);
+  const double mx = cx + R * pm_disk.x(), my = cy - R * pm_disk.y();
+  // A reticle with an open centre, so the pixels at the mirror direction show the data.
+  for (int sx : {-1, 1})
+    for (int sy : {-1, 1}) fig.line(mx + 4 * sx, my + 4 * sy, mx + 8 * sx, my + 8 * sy, 1.3, {0, 0, 0});
+}
+
+// Polar plot in the plane of incidence centred at (pcx, pcy): radius |value| / scale (at most PR), angle
+// t from the normal.
+void draw_slice_polar(Figure& fig, const Eigen::VectorXd& polar, const Eigen::VectorXd& t, double pcx, double pcy, double PR,
+                      double theta_i, double scale) {
+  fig.line(pcx - PR - 4, pcy, pcx + PR + 4, pcy, 1.0, {0.2, 0.2, 0.2});
+  cairo_t* cr = fig.context();
+  cairo_save(cr);
+  for (double f : {0.5, 1.0}) {
+    cairo_set_source_rgb(cr, 0.75, 0.75, 0.75);
+    cairo_set_line_width(cr, 0.7);
+    cairo_new_path(cr);
+    cairo_arc(cr, pcx, pcy, PR * f, M_PI, 2 * M_PI);
+    cairo_stroke(cr);
+  }
+  cairo_restore(cr);
+  fig.line(pcx, pcy, pcx, pcy - PR, 0.6, {0.6, 0.6, 0.6}, true);
+  // The incident side is drawn to the right, the forward (mirror) side to the left: as on the disk for phi_i = 0.
+  fig.line(pcx, pcy, pcx + PR * std::sin(theta_i), pcy - PR * std::cos(theta_i), 1.0, {0.35, 0.35, 0.35}, true);
+  fig.text(pcx + (PR + 10) * std::sin(theta_i), pcy - (PR + 10) * std::cos(theta_i) + 4, "in", 10.0, Align::Centre);
+  cairo_save(cr);
+  cairo_set_line_width(cr, 1.8);
+  for (int sgn = 0; sgn < 2; ++sgn) {
+    const Rgb& colr = sgn == 0 ? kPositiveCurve : kNegativeCurve;
+    cairo_set_source_rgb(cr, colr[0], colr[1], colr[2]);
+    cairo_new_path(cr);
+    bool pen = false;
+    for (Eigen::Index m = 0; m < polar.size(); ++m) {
+      const double v = polar[m];
+      const bool mine = sgn == 0 ? v >= 0.0 : v < 0.0;
+      if (!mine) {
+        pen = false;
+        continue;
+      }
+      const double rr = PR * std::min(1.0, std::fabs(v) / scale);
+      const double x = pcx - rr * std::sin(t[m]), y = pcy - rr * std::cos(t[m]);
+      if (pen) cairo_line_to(cr, x, y);
+      else cairo_move_to(cr, x, y);
+      pen = true;
+    }
+    cairo_stroke(cr);
+  }
+  cairo_restore(cr);
+}
+
+}  // namespace
+
+SliceFigure plot_slice(const SliceSource& src, const SliceRequest& q, const std::string& path) {
+  check_output_path(path);
+  check_slice_request(src, q);
+  const Spectrum& s = src.spectrum;
+  const Eigen::Vector3d wi(std::sin(q.theta_i) * std::cos(q.phi_i), std::sin(q.theta_i) * std::sin(q.phi_i), std::cos(q.theta_i));
+  const int panel = q.panel;
+  const DiskSamples ds = disk_samples(panel);
+  const Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(kPolarSamples, -M_PI / 2, M_PI / 2);
+  const std::vector<SliceColumn> cols = slice_columns(src, q, wi, ds, plane_of_incidence_directions(q.phi_i, t));
+  const double scale = slice_scale(cols);
+  const bool g_form = s.cosine;
 
   const int ncol = static_cast<int>(cols.size());
   const int gap = 26, left = 30, top = 96, polar_h = panel / 2 + 34;
@@ -209,7 +257,7 @@ SliceFigure plot_slice(const std::string& text, const SliceRequest& q, const std
   const int height = top + panel + 28 + polar_h + 70;
   Figure fig(width, height);
   const std::string quantity = g_form ? "g = f cos(theta_i)" : "f";
-  fig.title(shorten(text, 90), 17.0);
+  fig.title(shorten(src.label, 90), 17.0);
   fig.text(width / 2.0, 50,
            fmt::format("remitted {} for incidence theta_i = {}, phi_i = {}{}{}", quantity, deg(q.theta_i), deg(q.phi_i),
                        s.channel_count() > 1 ? " (mean of the channels)" : "",
@@ -221,69 +269,11 @@ SliceFigure plot_slice(const std::string& text, const SliceRequest& q, const std
   SliceFigure out;
   out.scale = scale;
   out.g_form = g_form;
-  const Eigen::Vector2d pi_disk = lambert_to_disk(wi);
-  Eigen::Vector3d mirror(-wi.x(), -wi.y(), wi.z());
-  const Eigen::Vector2d pm_disk = lambert_to_disk(mirror);
   for (int k = 0; k < ncol; ++k) {
-    const Column& col = cols[k];
     const PanelRect r{left + k * (panel + gap), top, panel};
     out.disks.push_back(r);
-    fig.text(r.x + panel / 2.0, top - 6, col.label, 14.0, Align::Centre, true);
-    fig.image(colorize(col.disk, scale, diverging), r.x, r.y);
-    fig.contours(col.disk, r.x, r.y, {0.0});
-    draw_disk_frame(fig, r);
-    const double cx = r.x + panel / 2.0, cy = r.y + panel / 2.0, R = panel / 2.0;
-    // Plane of incidence (dashed), incident direction (ring) and mirror direction (cross).
-    // Plane of incidence: ticks outside the rim at both ends (the disk itself stays clean).
-    for (double sgn : {-1.0, 1.0})
-      fig.line(cx + sgn * (R + 2) * std::cos(q.phi_i), cy - sgn * (R + 2) * std::sin(q.phi_i), cx + sgn * (R + 10) * std::cos(q.phi_i),
-               cy - sgn * (R + 10) * std::sin(q.phi_i), 1.5, {0.1, 0.1, 0.1});
-    fig.circle(cx + R * pi_disk.x(), cy - R * pi_disk.y(), 5.0, 1.4, 0.0);
-    const double mx = cx + R * pm_disk.x(), my = cy - R * pm_disk.y();
-    // A reticle with an open centre, so the pixels at the mirror direction show the data.
-    for (int sx : {-1, 1})
-      for (int sy : {-1, 1}) fig.line(mx + 4 * sx, my + 4 * sy, mx + 8 * sx, my + 8 * sy, 1.3, {0, 0, 0});
-
-    // Polar plot in the plane of incidence: radius |value| / scale, angle from the normal.
-    const double pcx = cx, pcy = top + panel + 28 + polar_h - 12, PR = panel / 2.0 - 6;
-    fig.line(pcx - PR - 4, pcy, pcx + PR + 4, pcy, 1.0, {0.2, 0.2, 0.2});
-    cairo_t* cr = fig.context();
-    cairo_save(cr);
-    for (double f : {0.5, 1.0}) {
-      cairo_set_source_rgb(cr, 0.75, 0.75, 0.75);
-      cairo_set_line_width(cr, 0.7);
-      cairo_new_path(cr);
-      cairo_arc(cr, pcx, pcy, PR * f, kPi, 2 * kPi);
-      cairo_stroke(cr);
-    }
-    cairo_restore(cr);
-    fig.line(pcx, pcy, pcx, pcy - PR, 0.6, {0.6, 0.6, 0.6}, true);
-    // The incident side is drawn to the right, the forward (mirror) side to the left: as on the disk for phi_i = 0.
-    fig.line(pcx, pcy, pcx + PR * std::sin(q.theta_i), pcy - PR * std::cos(q.theta_i), 1.0, {0.35, 0.35, 0.35}, true);
-    fig.text(pcx + (PR + 10) * std::sin(q.theta_i), pcy - (PR + 10) * std::cos(q.theta_i) + 4, "in", 10.0, Align::Centre);
-    cairo_save(cr);
-    cairo_set_line_width(cr, 1.8);
-    for (int sgn = 0; sgn < 2; ++sgn) {
-      const Rgb& colr = sgn == 0 ? kPositiveCurve : kNegativeCurve;
-      cairo_set_source_rgb(cr, colr[0], colr[1], colr[2]);
-      cairo_new_path(cr);
-      bool pen = false;
-      for (int m = 0; m < kPolarSamples; ++m) {
-        const double v = col.polar[m];
-        const bool mine = sgn == 0 ? v >= 0.0 : v < 0.0;
-        if (!mine) {
-          pen = false;
-          continue;
-        }
-        const double rr = PR * std::min(1.0, std::fabs(v) / scale);
-        const double x = pcx - rr * std::sin(t[m]), y = pcy - rr * std::cos(t[m]);
-        if (pen) cairo_line_to(cr, x, y);
-        else cairo_move_to(cr, x, y);
-        pen = true;
-      }
-      cairo_stroke(cr);
-    }
-    cairo_restore(cr);
+    draw_slice_disk(fig, cols[k], r, q.phi_i, scale, wi);
+    draw_slice_polar(fig, cols[k].polar, t, r.x + panel / 2.0, top + panel + 28 + polar_h - 12, panel / 2.0 - 6, q.theta_i, scale);
   }
   const int py = top + panel + 28 + polar_h + 18;
   fig.text(left, py, fmt::format("polar plot: radius |{}| / {} (grey arcs at 1/2 and 1); angle = theta_r from the normal", quantity,
@@ -379,7 +369,7 @@ SpectrumFigure plot_spectrum(const Spectrum& s, const std::string& label, const 
       fig.line(mx, my + p, mx + M * mcell, my + p, 0.4, {0.6, 0.2, 0.2});
     }
     fig.text(mx + M * mcell / 2.0, my + M * mcell + 20, "b (ANSI index of K_b, remitted) \u2192", 11.5, Align::Centre);
-    fig.text(mx - 8, my + M * mcell / 2.0, "\u2190 a (ANSI index of K_a, incident)", 11.5, Align::Centre, false, kPi / 2);
+    fig.text(mx - 8, my + M * mcell / 2.0, "\u2190 a (ANSI index of K_a, incident)", 11.5, Align::Centre, false, M_PI / 2);
     bar_x = mx + M * mcell + 30;
   }
   fig.colorbar(bar_x, top, 20, std::max(160, std::min(ib_h, 360)), scale, grey, "coefficient [1]");
@@ -419,7 +409,7 @@ Shader spectrum_shader(const Spectrum& s, const std::string& name) {
     // spectra), or integral g(w, w_o) dOmega = K(w_o)^T C^T m with m = sqrt(2 pi) e_0 (g spectra: only K_0^0
     // = 1/sqrt(2 pi) has a non-zero integral).
     const int M = sp->modes();
-    Eigen::VectorXd e = sp->cosine ? Eigen::VectorXd(Eigen::VectorXd::Unit(M, 0) * std::sqrt(2.0 * kPi)) : cosine_moments(sp->order);
+    Eigen::VectorXd e = sp->cosine ? Eigen::VectorXd(Eigen::VectorXd::Unit(M, 0) * std::sqrt(2.0 * M_PI)) : cosine_moments(sp->order);
     const Eigen::MatrixXd k = hemisphere_basis_matrix(sp->order, wo);
     Eigen::MatrixXd a(wo.rows(), sp->channel_count());
     for (int c = 0; c < sp->channel_count(); ++c) a.col(c) = k * (sp->channels[c].transpose() * e);
@@ -428,69 +418,69 @@ Shader spectrum_shader(const Spectrum& s, const std::string& name) {
   return sh;
 }
 
-Shader model_shader(std::shared_ptr<BrdfSource> src, const std::string& name) {
+Shader model_shader(const PairFunction& f, int channels, const std::string& name) {
   Shader sh;
   sh.name = name;
-  sh.channels = src->channels();
-  sh.reflect = [src](const RowMatrix3d& wi, const RowMatrix3d& wo) {
-    Eigen::MatrixXd r = src->eval(wi, wo);
+  sh.channels = channels;
+  sh.reflect = [f](const RowMatrix3d& wi, const RowMatrix3d& wo) {
+    Eigen::MatrixXd r = f(wi, wo);
     for (int c = 0; c < r.cols(); ++c) r.col(c) = r.col(c).cwiseProduct(wi.col(2));
     return r;
   };
-  sh.albedo = [src](const RowMatrix3d& wo) {
+  sh.albedo = [f, channels](const RowMatrix3d& wo) {
     // Midpoint rule over the cells of a tessellation: sum_c f(d_c, w_o) cos(theta_c) Omega_c.
     static const Grid g = build_equal_area_grid(kAlbedoQuadratureLevel);
     const Eigen::VectorXd wcos = g.solid_angles.cwiseProduct(g.directions.col(2));
-    Eigen::MatrixXd a(wo.rows(), src->channels());
+    Eigen::MatrixXd a(wo.rows(), channels);
     RowMatrix3d wor(g.cells(), 3);
     for (Eigen::Index k = 0; k < wo.rows(); ++k) {
       wor.rowwise() = wo.row(k);
-      a.row(k) = (src->eval(g.directions, wor).transpose() * wcos).transpose();
+      a.row(k) = (f(g.directions, wor).transpose() * wcos).transpose();
     }
     return a;
   };
   return sh;
 }
 
+void check_sphere_request(const SphereRequest& q) {
+  if (!(q.light_theta >= 0.0 && q.light_theta <= M_PI))
+    throw ArgumentError(fmt::format("plot_sphere: light theta {} degrees outside 0..180", q.light_theta * kDeg));
+  if (!(q.exposure > 0.0) || !std::isfinite(q.exposure)) throw ArgumentError(fmt::format("plot_sphere: exposure {} is not > 0", q.exposure));
+  if (!(q.sky >= 0.0) || !std::isfinite(q.sky)) throw ArgumentError(fmt::format("plot_sphere: sky radiance {} is not >= 0", q.sky));
+  if (q.size < kMinSphereSize || q.size > kMaxSphereSize)
+    throw ArgumentError(fmt::format("plot_sphere: size {} outside {}..{} pixels", q.size, kMinSphereSize, kMaxSphereSize));
+}
+
+// The shader of each material as `shading` asks: the model itself, or the spectrum.
+std::vector<Shader> sphere_shaders(const std::vector<SphereMaterial>& materials, SphereRequest::Shading shading) {
+  if (materials.empty()) throw ArgumentError("plot_sphere: no material to draw");
+  std::vector<Shader> shaders;
+  for (const auto& m : materials) {
+    const bool use_model = m.model && shading != SphereRequest::Shading::Spectrum;
+    if (shading == SphereRequest::Shading::Model && !use_model)
+      throw ArgumentError("plot_sphere: model shading needs the model of '" + m.name + "' (a model without delta parts)");
+    if (!use_model && !m.spectrum) throw ArgumentError("plot_sphere: '" + m.name + "' has no spectrum to shade from");
+    shaders.push_back(use_model ? model_shader(m.model, m.model_channels, m.name) : spectrum_shader(*m.spectrum, m.name));
+  }
+  return shaders;
+}
+
+// How the caption says the spheres were shaded.
+std::string shading_method(const std::vector<SphereMaterial>& materials, SphereRequest::Shading shading) {
+  if (materials.size() > 1) return "from the stored spectra";
+  const SphereMaterial& m = materials.front();
+  if (m.model && shading != SphereRequest::Shading::Spectrum) return "from the model";
+  return fmt::format("from its spectrum (order {})", m.spectrum->order);
+}
+
 }  // namespace
 
-SphereFigure plot_sphere(const std::string& text, const SphereRequest& q, const std::string& path) {
+SphereFigure plot_sphere(const std::string& title, const std::vector<SphereMaterial>& materials, const SphereRequest& q,
+                         const std::string& path) {
   check_output_path(path);
-  if (q.shading != "auto" && q.shading != "model" && q.shading != "spectrum")
-    throw ArgumentError("--shading: expected auto, model or spectrum, found '" + q.shading + "'");
-  if (!(q.light_theta >= 0.0 && q.light_theta <= kPi))
-    throw ArgumentError(fmt::format("--light theta {}: expected 0..180 degrees", q.light_theta * kDeg));
-  if (!(q.exposure > 0.0) || !std::isfinite(q.exposure)) throw ArgumentError(fmt::format("--exposure {}: expected > 0", q.exposure));
-  if (!(q.sky >= 0.0) || !std::isfinite(q.sky)) throw ArgumentError(fmt::format("--sky-radiance {}: expected >= 0", q.sky));
-  if (q.size < 16 || q.size > 2048) throw ArgumentError(fmt::format("--size {}: expected 16..2048 pixels", q.size));
-  std::vector<Shader> shaders;
-  std::string method;
-  const bool bank = !is_model_source(text) && text.find('#') == std::string::npos && ends_with_h5(text);
-  std::vector<std::string> names;
-  if (bank) {
-    struct stat st{};
-    if (::stat(text.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) throw InputError(text + ": no such file (SOURCE '" + text + "')");
-    names = bank_material_names(text);
-  }
-  if (bank && names.size() > 1) {
-    if (q.shading == "model") throw ArgumentError("--shading model: a bank holds spectra only");
-    for (const auto& n : names) shaders.push_back(spectrum_shader(read_bank_material(text, n, ReadOptions{1ull << 31, false}).spectrum, n));
-    method = "from the stored spectra";
-  } else {
-    const bool is_model = is_model_source(text);
-    std::unique_ptr<BrdfSource> probe = is_model ? open_source(text) : nullptr;
-    const bool use_model = is_model && !probe->has_delta() && q.shading != "spectrum";
-    if (q.shading == "model" && !use_model)
-      throw ArgumentError("--shading model: needs a model without delta parts, found '" + text + "'");
-    if (use_model) {
-      shaders.push_back(model_shader(std::shared_ptr<BrdfSource>(std::move(probe)), text));
-      method = "from the model";
-    } else {
-      LoadedSource ls = load_source(text, q.order, q.level);
-      shaders.push_back(spectrum_shader(ls.spectrum, text));
-      method = fmt::format("from its spectrum (order {})", ls.spectrum.order);
-    }
-  }
+  check_sphere_request(q);
+  const std::vector<Shader> shaders = sphere_shaders(materials, q.shading);
+  const std::string method = shading_method(materials, q.shading);
   SphereLighting light;
   light.light = light_direction(q.light_theta, q.light_phi);
   light.sky = q.sky;
@@ -502,7 +492,7 @@ SphereFigure plot_sphere(const std::string& text, const SphereRequest& q, const 
   const int x_off = count == 1 ? (width - 110 - size) / 2 - left : 0;  // centre a single sphere
   const int height = top + nrow * (size + label_h + gap) + 46;
   Figure fig(width, height);
-  fig.title(count == 1 ? shorten(text, 70) : "Materials of " + shorten(text, 60), 17.0);
+  fig.title(count == 1 ? shorten(title, 70) : "Materials of " + shorten(title, 60), 17.0);
   fig.text(width / 2.0, 50,
            fmt::format("distant light at theta = {}, phi = {} (irradiance pi){}; shaded {}", deg(q.light_theta), deg(q.light_phi),
                        q.sky > 0 ? fmt::format(" + uniform sky of radiance {}", format_number(q.sky)) : "", method),

@@ -2,9 +2,12 @@
 // The pictures of `icobrdf plot`: basis functions, slices, spectra and lit spheres, written as PNG
 // (atomically: a failed plot leaves no file). Every picture has a title, axis labels and a colour bar
 // with its unit. The returned layouts say where the disk / sphere rasters are (for checks by pixel).
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/grid.hpp"
 #include "core/lowpass_filter.hpp"
 #include "core/spectrum.hpp"
 
@@ -14,6 +17,13 @@ namespace icobrdf::plot {
 struct PanelRect {
   int x = 0, y = 0, size = 0;
 };
+
+// The BRDF itself: f [1/sr] at direction pairs (rows x 3 each), rows x channels (for example
+// BrdfSource::eval of a model without delta parts).
+using PairFunction = std::function<Eigen::MatrixXd(const RowMatrix3d& wi, const RowMatrix3d& wr)>;
+
+// Argument checks here throw ArgumentError with neutral wording; `icobrdf plot` checks its flags first
+// and words the same conditions after them (cli/cmd_plot.cpp).
 
 // Every K_n^l with n <= order on the Lambert disk (density in the diverging map + contours at multiples
 // of 0.2 max|K|, zero contour bold), as a pyramid: row n, l = -n..n step 2 left to right. Writes
@@ -26,9 +36,15 @@ struct SliceRequest {
   double phi_i = 0.0;
   std::vector<int> orders{0, 1, 2, 4, 6, 8};
   LowPassFilter filter;
-  int level = 4;  // grid level of the fit of a model source
   int panel = 200;
-  bool exact = true;  // add the model itself as a last column (models without delta parts)
+  bool exact = true;  // add the model itself as a last column (when SliceSource::exact is set)
+};
+// What a slice is drawn from, already loaded: a spectrum of order >= every requested order (truncated per
+// column; drawn as g = f cos(theta_i) when spectrum.cosine) and, optionally, the BRDF itself.
+struct SliceSource {
+  std::string label;   // the title (the SOURCE as the user named it)
+  Spectrum spectrum;
+  PairFunction exact;  // empty: no model column
 };
 struct SliceFigure {
   std::vector<PanelRect> disks;  // one per column (orders, then the exact model when drawn)
@@ -36,9 +52,8 @@ struct SliceFigure {
   bool g_form = false;           // g = f cos(theta_i) is drawn instead of f
   int width = 0, height = 0;
 };
-// SOURCE: a model (fitted once at the largest requested order on the equal-area grid of `level`, in g form
-// when it has delta parts), or a spectrum file FILE.h5[#material] (truncated; orders beyond its own refused).
-SliceFigure plot_slice(const std::string& source, const SliceRequest& request, const std::string& path);
+// Orders in [0, 32], at most 9 of them, none beyond the spectrum's; theta_i in [0, pi/2).
+SliceFigure plot_slice(const SliceSource& source, const SliceRequest& request, const std::string& path);
 
 struct SpectrumFigure {
   int width = 0, height = 0;
@@ -53,15 +68,26 @@ struct SphereRequest {
   double sky = 0.0;        // sky radiance (0: none)
   double exposure = 1.0;   // radiance shown as white
   int size = 256;          // sphere diameter in pixels
-  int order = 8, level = 4;  // fit of model sources with delta parts / spectrum shading
-  std::string shading = "auto";  // auto | model | spectrum
+  // Auto: from the model when the material has one, else from its spectrum.
+  enum class Shading { Auto, Model, Spectrum } shading = Shading::Auto;
+};
+// One material of a sphere picture: its spectrum and/or the BRDF itself (a model without delta parts).
+struct SphereMaterial {
+  std::string name;
+  std::optional<Spectrum> spectrum;
+  PairFunction model;
+  int model_channels = 1;  // columns of model(wi, wr)
 };
 struct SphereFigure {
   std::vector<PanelRect> spheres;
   std::vector<std::string> names;
   int width = 0, height = 0;
 };
-// SOURCE: a model, a spectrum file, FILE.h5#material, or a bank with several materials (a grid of spheres).
-SphereFigure plot_sphere(const std::string& source, const SphereRequest& request, const std::string& path);
+// One sphere titled `title`, or, for several materials, a grid of spheres titled "Materials of <title>" and
+// labelled with their names (captioned as shaded from stored spectra: meant for a bank's spectra). Each is
+// shaded as request.shading says: Model needs the material's `model`, Spectrum its `spectrum`, Auto takes
+// the model when there is one.
+SphereFigure plot_sphere(const std::string& title, const std::vector<SphereMaterial>& materials, const SphereRequest& request,
+                         const std::string& path);
 
 }  // namespace icobrdf::plot

@@ -171,16 +171,16 @@ Eigen::MatrixXd cell_averages(const Grid& g, int order) {
 
 void expect_matches_cell_by_cell(const Grid& g, int order, int evaluated) {
   const auto d = build_discrete_basis(g, order);
-  EXPECT_EQ(d.evaluated_cells, evaluated) << g.kind << " order " << order;
+  EXPECT_EQ(d.evaluated_cells, evaluated) << to_string(g.kind) << " order " << order;
   const Eigen::MatrixXd b = cell_averages(g, order);
   const double scale = std::sqrt((order + 1) / M_PI);
-  EXPECT_LE((d.B - b).cwiseAbs().maxCoeff(), kAverageTol * scale) << g.kind << " order " << order;
+  EXPECT_LE((d.B - b).cwiseAbs().maxCoeff(), kAverageTol * scale) << to_string(g.kind) << " order " << order;
   const Eigen::MatrixXd gram = b.transpose() * g.solid_angles.asDiagonal() * b;
-  EXPECT_LE((d.G - gram).cwiseAbs().maxCoeff(), kGramTol) << g.kind << " order " << order;
+  EXPECT_LE((d.G - gram).cwiseAbs().maxCoeff(), kGramTol) << to_string(g.kind) << " order " << order;
   EXPECT_NEAR(d.gram_error, (gram - Eigen::MatrixXd::Identity(gram.rows(), gram.cols())).cwiseAbs().maxCoeff(), kGramTol);
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(gram, Eigen::EigenvaluesOnly);
   const double cond = eig.eigenvalues().maxCoeff() / eig.eigenvalues().minCoeff();
-  EXPECT_NEAR(d.condition, cond, kConditionTol * cond) << g.kind << " order " << order;
+  EXPECT_NEAR(d.condition, cond, kConditionTol * cond) << to_string(g.kind) << " order " << order;
 }
 
 }  // namespace

@@ -11,7 +11,7 @@ namespace {
 // per cell. Each cell subtends pi sr (a quarter sphere).
 icobrdf::Grid two_cell_grid() {
   icobrdf::Grid g;
-  g.kind = "test";
+  g.kind = icobrdf::GridKind::Custom;
   g.directions.resize(2, 3);
   const double s = std::sqrt(0.5);
   g.directions << s, 0, s, -s, 0, s;

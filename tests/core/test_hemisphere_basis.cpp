@@ -16,7 +16,7 @@ namespace {
 
 using namespace icobrdf;
 
-// The requirement for the Gram matrix of K on an exact quadrature, order <= 64.
+// The required accuracy of the Gram matrix of K on an exact quadrature, order <= 64.
 constexpr double kGramTol = 1e-12;
 // Values of O(1) built from a few products: a few ulps (relative to the normalization sqrt((n+1)/pi)).
 constexpr double kValueTol = 1e-14;

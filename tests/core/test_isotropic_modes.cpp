@@ -22,7 +22,7 @@ namespace {
 
 using namespace icobrdf;
 
-// The requirement for Table 1: relative agreement 1e-13. Near a nodal line the closed form itself
+// The required agreement with Table 1: relative 1e-13. Near a nodal line the closed form itself
 // cancels, so values below kNodalFloor (1/sr) are compared with absolute tolerance kRelTol * kNodalFloor.
 constexpr double kRelTol = 1e-13;
 constexpr double kNodalFloor = 1e-2;

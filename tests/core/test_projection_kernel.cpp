@@ -1,6 +1,6 @@
 // project_lut's block kernel (core/projection.cpp: P^T F_J as register-tiled dot products along the cells)
 // against the plain product P^T F P, at sizes that exercise every remainder: cells not a multiple of 4
-// (scalar tail) or of the 256-cell chunk, LUT blocks whose width is not a multiple of 4 (Eigen tail),
+// (scalar tail) or of the 512-cell chunk, LUT blocks whose width is not a multiple of 4 (Eigen tail),
 // mode counts not a multiple of the 3-mode tile (1, 10, 21), and several 512-column blocks.
 #include <gtest/gtest.h>
 #include <omp.h>

@@ -49,7 +49,7 @@ void expect_streaming_equals_lut(const BrdfModel& m, const Grid& g, const Projec
   const auto one = streaming_projection(m, g, p, cosine, sampling);
   omp_set_num_threads(2);
   const double scale = direct.cwiseAbs().maxCoeff();
-  const std::string what = m.spec() + " on " + g.kind + (cosine ? " g" : " f") +
+  const std::string what = m.spec() + " on " + std::string(to_string(g.kind)) + (cosine ? " g" : " f") +
                            (sampling == LutSampling::CellCentre ? " centre" : " average");
   EXPECT_LT((two[0] - direct).cwiseAbs().maxCoeff(), kAlgebraTol * scale) << what;
   EXPECT_EQ((two[0] - one[0]).cwiseAbs().maxCoeff(), 0.0) << what << ": 1 and 2 threads must agree bitwise";

@@ -20,7 +20,7 @@ using icobrdf::zernike_radial_index;
 using Mp = boost::multiprecision::cpp_bin_float_100;
 
 constexpr int kMaxOrder = 128;
-// The accuracy requirement: absolute error of every R_n^l, n <= 128, rho in [0, 1].
+// The required accuracy: absolute error of every R_n^l, n <= 128, rho in [0, 1].
 constexpr double kAbsTol = 1e-13;
 // R_n^l(1) = 1 and R_n^l(0) in {0, +-1}: the recurrence only adds and subtracts exact ones/zeros there.
 constexpr double kExactTol = 0.0;

@@ -75,7 +75,7 @@ inline void write_bytes(const std::string& path, const std::string& bytes) {
 // Upper cells carry one cubature point, lower cells two with half the weight each.
 inline Grid synthetic_grid() {
   Grid g;
-  g.kind = "test-bands";
+  g.kind = GridKind::Custom;
   g.level = 1;
   g.cubature_degree = 1;
   const double bands[3] = {0.0, M_PI / 3, M_PI / 2};
@@ -138,7 +138,7 @@ inline Spectrum synthetic_spectrum(int order, int channels) {
   s.source = "model:test?order=" + std::to_string(order);
   s.filter = "none";
   s.level = 1;
-  s.grid_kind = "test-bands";
+  s.grid_kind = to_string(GridKind::Custom);  // the kind of synthetic_grid()
   s.gram_error = 1.25e-13;
   s.max_albedo = 0.875;  // reciprocity_violation and anisotropy_fraction stay NaN
   const int m = s.modes();

@@ -23,7 +23,7 @@ using icobrdf::test::ScratchDir;
 
 // Rewrites per child in the reader test; each takes some tens of milliseconds.
 constexpr int kRewrites = 30;
-// SIGKILL repetitions (issue 8 asks for at least 50).
+// SIGKILL repetitions: at least 50, so that the delays drawn below land in every phase of a write.
 constexpr int kKills = 50;
 // Kill delays are drawn uniformly from [0, kMaxKillDelayUs): a bank write here takes about 5 ms (13 ms for
 // the first in a process), so kills land before, during and after the first rename and later ones.

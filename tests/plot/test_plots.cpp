@@ -4,13 +4,19 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/lambert_map.hpp"
+#include "core/spectral_fit.hpp"
+#include "io/brdf_source.hpp"
+#include "mesh/tessellation.hpp"
 #include "plot/colormap.hpp"
 #include "plot/disk_raster.hpp"
 #include "plot/figure.hpp"
@@ -40,6 +46,38 @@ struct TempDir {
 
 bool exists(const std::string& p) { return access(p.c_str(), F_OK) == 0; }
 
+// A model as `icobrdf plot` hands it to the pictures (cli/cmd_plot.cpp): fitted at `order` on the
+// equal-area grid of `level` (g form when it has delta parts), and as itself when it has none.
+struct LoadedModel {
+  std::shared_ptr<const BrdfSource> source;
+  Spectrum spectrum;
+  PairFunction exact;
+};
+LoadedModel load_model(const std::string& text, int order, int level) {
+  LoadedModel m;
+  m.source = open_source(text);
+  const auto ctx = make_projection_context(std::make_shared<const Grid>(build_fitting_grid(level, "equal-area", false)), order);
+  FitOptions o;
+  o.order = order;
+  o.cosine = m.source->has_delta();
+  m.spectrum = m.source->fit(ctx, o);
+  if (!m.source->has_delta()) m.exact = [src = m.source](const RowMatrix3d& wi, const RowMatrix3d& wr) { return src->eval(wi, wr); };
+  return m;
+}
+SliceSource slice_source(const std::string& text, const SliceRequest& q, int level) {
+  const LoadedModel m = load_model(text, *std::max_element(q.orders.begin(), q.orders.end()), level);
+  return {text, m.spectrum, m.exact};
+}
+std::vector<SphereMaterial> sphere_material(const std::string& text, int order, int level) {
+  const LoadedModel m = load_model(text, order, level);
+  SphereMaterial s;
+  s.name = text;
+  s.spectrum = m.spectrum;
+  s.model = m.exact;
+  s.model_channels = m.source->channels();
+  return {s};
+}
+
 std::array<int, 3> bytes(const Rgb& c) {
   return {static_cast<int>(std::lround(c[0] * 255)), static_cast<int>(std::lround(c[1] * 255)), static_cast<int>(std::lround(c[2] * 255))};
 }
@@ -54,9 +92,8 @@ TEST(PlotSlice, LambertIsConstantOverTheDisk) {
   q.theta_i = 30.0 * kPi / 180.0;
   q.orders = {0, 2, 4};
   q.exact = false;
-  q.level = 3;
   q.panel = 120;
-  const auto f = plot_slice("model:lambert:albedo=0.8", q, d.file("lambert.png"));
+  const auto f = plot_slice(slice_source("model:lambert:albedo=0.8", q, 3), q, d.file("lambert.png"));
   // f = albedo / pi everywhere; the projection of a constant is exact up to the grid's Gram error.
   constexpr double kScaleTolerance = 1e-6;  // relative, >> the level-3 Gram error of order 4 yet far below a colour step
   EXPECT_NEAR(f.scale, 0.8 / kPi, kScaleTolerance * 0.8 / kPi);
@@ -92,9 +129,8 @@ TEST(PlotSlice, MirrorPeaksAtTheMirrorDirection) {
     q.theta_i = theta_deg * kPi / 180.0;
     q.phi_i = 30.0 * kPi / 180.0;
     q.orders = {8};
-    q.level = 4;
     q.panel = 200;
-    const auto f = plot_slice("model:mirror", q, d.file("mirror.png"));
+    const auto f = plot_slice(slice_source("model:mirror", q, 4), q, d.file("mirror.png"));
     EXPECT_TRUE(f.g_form);  // delta models are fitted and drawn as g = f cos(theta_i)
     const PngImage img = read_png(d.file("mirror.png"));
     const auto& r = f.disks.at(0);
@@ -135,10 +171,8 @@ TEST(PlotSphere, LambertFollowsCosineOfTheLight) {
     q.light_theta = 40.0 * kPi / 180.0;
     q.light_phi = 120.0 * kPi / 180.0;
     q.size = 128;
-    q.order = 4;
-    q.level = 3;
-    q.shading = shading;
-    const auto f = plot_sphere("model:lambert:albedo=0.8", q, d.file("sphere.png"));
+    q.shading = shading == "model" ? SphereRequest::Shading::Model : SphereRequest::Shading::Spectrum;
+    const auto f = plot_sphere("model:lambert:albedo=0.8", sphere_material("model:lambert:albedo=0.8", 4, 3), q, d.file("sphere.png"));
     const PngImage img = read_png(d.file("sphere.png"));
     ASSERT_EQ(f.spheres.size(), 1u);
     const auto& r = f.spheres[0];
@@ -168,10 +202,8 @@ TEST(PlotSphere, SkyAddsSkyRadianceTimesAlbedo) {
     q.light_theta = kPi;  // light straight behind the sphere: only the sky reaches the visible side
     q.sky = 0.5;
     q.size = 64;
-    q.order = 2;
-    q.level = 3;
-    q.shading = shading;
-    const auto f = plot_sphere("model:lambert:albedo=0.6", q, d.file("sky.png"));
+    q.shading = shading == "model" ? SphereRequest::Shading::Model : SphereRequest::Shading::Spectrum;
+    const auto f = plot_sphere("model:lambert:albedo=0.6", sphere_material("model:lambert:albedo=0.6", 2, 3), q, d.file("sky.png"));
     const PngImage img = read_png(d.file("sky.png"));
     const auto& r = f.spheres[0];
     // Directional albedo of a Lambertian = its albedo, so L = 0.5 * 0.6 everywhere. The model path uses a
@@ -203,17 +235,19 @@ TEST(PlotErrors, BadRequestsLeaveNoFile) {
   TempDir d;
   SliceRequest q;
   q.theta_i = 95.0 * kPi / 180.0;
-  EXPECT_THROW(plot_slice("model:lambert", q, d.file("a.png")), ArgumentError);
+  q.orders = {2};
+  const SliceSource lambert = slice_source("model:lambert", q, 2);
+  EXPECT_THROW(plot_slice(lambert, q, d.file("a.png")), ArgumentError);
   EXPECT_FALSE(exists(d.file("a.png")));
   q.theta_i = 0.5;
-  q.orders = {2};
-  EXPECT_THROW(plot_slice("model:no-such-model", q, d.file("b.png")), ArgumentError);
+  EXPECT_THROW(plot_slice(slice_source("model:no-such-model", q, 2), q, d.file("b.png")), ArgumentError);
   EXPECT_FALSE(exists(d.file("b.png")));
-  EXPECT_THROW(plot_slice("model:lambert", q, d.file("missing-folder/c.png")), IoError);
+  EXPECT_THROW(plot_slice(lambert, q, d.file("missing-folder/c.png")), IoError);
   EXPECT_FALSE(exists(d.file("missing-folder/c.png")));
   SphereRequest s;
-  s.shading = "model";
-  EXPECT_THROW(plot_sphere("model:mirror", s, d.file("d.png")), ArgumentError);  // delta models have no model shading
+  s.shading = SphereRequest::Shading::Model;
+  // delta models have no model shading
+  EXPECT_THROW(plot_sphere("model:mirror", sphere_material("model:mirror", 2, 2), s, d.file("d.png")), ArgumentError);
   EXPECT_FALSE(exists(d.file("d.png")));
   EXPECT_THROW(plot_basis(3, d.file("no-dir"), false), ArgumentError);
   // Only the files named above were ever attempted: the folder holds nothing (no temporaries either).
