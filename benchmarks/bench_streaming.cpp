@@ -1,7 +1,7 @@
 // Streaming projection of an analytic GGX material without its LUT (core/streaming_projection.hpp), the
 // path behind `icobrdf fit`: issue 6 target "level 5, order 8 in <= 0.25 s on 2 cores".
 //   bench_streaming [--benchmark_filter=...]   (threads: OMP_NUM_THREADS, default all cores)
-// Grids: "fit" = build_fitting_grid(level, "equal-area", false), the cell-averaged sampling `icobrdf fit`
+// Grids: "fit" = build_fitting_grid(level, GridKind::EqualArea, false), the cell-averaged sampling `icobrdf fit`
 // and the bank builder use (degree-kLutSamplingDegree rule in every cell, for B and the LUT rows alike);
 // "centre" = one point per cell (centre sampling). Counters: model evaluations per second (the product of
 // the two cells' rules for every LUT entry), cells, points per cell; the components (model evaluation of
@@ -38,7 +38,7 @@ const Setup& setup(int level, bool centre) {
   auto& s = cache[centre ? 1 : 0][level];
   if (!s) {
     s = std::make_unique<Setup>();
-    s->grid = std::make_shared<const Grid>(build_fitting_grid(level, "equal-area", centre));
+    s->grid = std::make_shared<const Grid>(build_fitting_grid(level, GridKind::EqualArea, centre));
     s->ctx = make_projection_context(s->grid, kOrder);
   }
   return *s;

@@ -97,9 +97,9 @@ void run_sweep(const SweepArgs& a) {
   cfg.levels = section::parse_int_range(a.levels.empty() ? (a.quick ? kQuickLevels : kDefaultLevels) : a.levels, 0, kMaxSweepLevel, "--levels");
   cfg.orders = section::parse_int_range(a.orders.empty() ? (a.quick ? kQuickOrders : kDefaultOrders) : a.orders, 0, kMaxSweepOrder, "--orders");
   std::tie(cfg.models, cfg.labels) = parse_models(a.models);
-  if (a.sampling != "centre" && a.sampling != "center" && a.sampling != "average")
-    throw ArgumentError("--sampling: expected 'centre' or 'average', found '" + a.sampling + "'");
-  cfg.sampling = a.sampling == "average" ? "average" : "centre";
+  const auto sampling = lut_sampling_named(a.sampling);
+  if (!sampling) throw ArgumentError("--sampling: expected 'centre' or 'average', found '" + a.sampling + "'");
+  cfg.sampling = *sampling;
   if (!(a.gram_tol > 0.0 && a.gram_tol < 1.0)) throw ArgumentError(fmt::format("--gram-tol {}: expected a value in (0, 1)", a.gram_tol));
   cfg.gram_tolerance = a.gram_tol;
   cfg.held_out = a.held_out > 0 ? a.held_out : (a.quick ? kQuickHeldOutPairs : kDefaultHeldOutPairs);

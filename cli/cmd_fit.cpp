@@ -25,9 +25,10 @@ struct FitArgs {
   double gram_tol = kDefaultGramTolerance;
 };
 
-void check_grid_kind(const std::string& kind) {
-  if (kind != "equal-area" && kind != "geodesic")
-    throw ArgumentError("--grid: expected 'equal-area' or 'geodesic', found '" + kind + "'");
+GridKind fitting_grid_kind(const std::string& text) {
+  if (text == to_string(GridKind::EqualArea)) return GridKind::EqualArea;
+  if (text == to_string(GridKind::Geodesic)) return GridKind::Geodesic;
+  throw ArgumentError("--grid: expected 'equal-area' or 'geodesic', found '" + text + "'");
 }
 
 void run_fit(const FitArgs& a) {
@@ -39,12 +40,11 @@ void run_fit(const FitArgs& a) {
   r.cosine = a.cosine;
   r.filter = parse_lowpass_filter(a.filter);
   r.gram_tolerance = a.gram_tol;
-  if (a.sampling == "average") r.sampling = LutSampling::CellAverage;
-  else if (a.sampling == "centre" || a.sampling == "center") r.sampling = LutSampling::CellCentre;
-  else throw ArgumentError("--sampling: expected 'average' or 'centre', found '" + a.sampling + "'");
+  const auto sampling = lut_sampling_named(a.sampling);
+  if (!sampling) throw ArgumentError("--sampling: expected 'average' or 'centre', found '" + a.sampling + "'");
+  r.sampling = *sampling;
   const auto source = open_source(a.source);  // validates the source before any work
-  check_grid_kind(a.grid);
-  r.grid_kind = a.grid;
+  r.grid_kind = fitting_grid_kind(a.grid);
   const FitResult fit = fit_source(*source, r);
   const Spectrum& s = fit.spectrum;
   const ProjectionContext& ctx = *fit.context;

@@ -14,6 +14,12 @@ constexpr int kRowBlock = 16;
 
 }  // namespace
 
+std::optional<LutSampling> lut_sampling_named(const std::string& word) {
+  if (word == "average") return LutSampling::CellAverage;
+  if (word == "centre" || word == "center") return LutSampling::CellCentre;
+  return std::nullopt;
+}
+
 Eigen::VectorXd cell_mean_cosines(const Grid& g) {
   Eigen::VectorXd d(g.cells());
   for (int c = 0; c < g.cells(); ++c) {

@@ -12,6 +12,8 @@
 // symmetric with D the cell-mean cosines.
 #include <Eigen/Core>
 
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "core/brdf_model.hpp"
@@ -26,6 +28,9 @@ struct Lut {
 };
 
 enum class LutSampling { CellAverage, CellCentre };
+// The sampling a command-line word names: "average", or "centre" (also spelt "center"); nullopt for any
+// other word, so that each caller words its own error. Scene files are parsed by io/scene.cpp.
+std::optional<LutSampling> lut_sampling_named(const std::string& word);
 
 // Fills a block of rows [row_begin, row_end) of the LUT of `model`'s regular part (no delta parts):
 // out is (row_end - row_begin) x cells for channel `channel`... for all channels: out[ch].

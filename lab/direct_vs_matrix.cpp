@@ -15,7 +15,7 @@ namespace icobrdf::lab {
 
 nlohmann::json direct_vs_matrix(const DirectCase& dc, std::vector<std::string>& row) {
   const auto model = parse_model(kDirectModel);
-  const Grid g = build_fitting_grid(dc.level, "equal-area", true);  // one point per cell (centre sampling)
+  const Grid g = build_fitting_grid(dc.level, GridKind::EqualArea, true);  // one point per cell (centre sampling)
   // Matrix path as `icobrdf fit` runs it: B and P once, then C = P^T F P with F's rows streamed.
   DiscreteBasis basis;
   ProjectionOperator ls, plain;

@@ -132,7 +132,7 @@ nlohmann::json fresnel_cases(bool quick, std::string& md) {
 
   // Reconstruction error by region after fitting (centre-sampled equal-area grid, least squares).
   const int level = quick ? 3 : 4, order = quick ? 6 : 8, n = quick ? 4000 : 20000;
-  auto grid = std::make_shared<const Grid>(build_fitting_grid(level, "equal-area", true));
+  auto grid = std::make_shared<const Grid>(build_fitting_grid(level, GridKind::EqualArea, true));
   const auto ctx = make_projection_context(grid, order);
   FitOptions fo;
   fo.order = order;
@@ -221,7 +221,7 @@ nlohmann::json dynamic_range(bool quick, std::string& md) {
     if (lobe_part[k] >= 0.1 * peak) lobe.push_back(k);      // lobe region: the lobe term above 10% of its peak
     if (lobe_part[k] <= 0.1 * background) bg.push_back(k);  // background: the Lambertian term dominates 10:1
   }
-  auto grid = std::make_shared<const Grid>(build_fitting_grid(level, "equal-area", true));
+  auto grid = std::make_shared<const Grid>(build_fitting_grid(level, GridKind::EqualArea, true));
   std::vector<std::vector<std::string>> rows;
   nlohmann::json jo = nlohmann::json::array();
   for (int order : orders) {
@@ -296,7 +296,7 @@ nlohmann::json dynamic_range(bool quick, std::string& md) {
 // about (M / cells)^2 of the squared norm, an estimate ||dF||_W M / (cells lambda_min).
 nlohmann::json float32_case(int level, int order, std::vector<std::string>& row) {
   const auto model = parse_model("ggx:alpha=0.2");
-  const Grid g = build_fitting_grid(level, "equal-area", true);
+  const Grid g = build_fitting_grid(level, GridKind::EqualArea, true);
   const auto b = build_discrete_basis(g, order);
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(b.G, Eigen::EigenvaluesOnly);
   const double lmin = eig.eigenvalues().minCoeff(), lmax = eig.eigenvalues().maxCoeff();

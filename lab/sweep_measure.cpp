@@ -204,11 +204,11 @@ void measure_table(SweepResult& result, const std::function<void(const std::stri
   t.held = held_out_pairs(cfg.held_out);
   t.cosw = t.held.wi.col(2).cwiseProduct(t.held.wr.col(2));
   for (const auto& m : t.models) t.refs.push_back(reference_values(*m, t.held, t.cosw));
-  const bool centre = cfg.sampling == "centre";
+  const bool centre = cfg.sampling == LutSampling::CellCentre;
 
   for (int level : cfg.levels) {
     std::shared_ptr<const Grid> grid;
-    const double grid_seconds = timed([&] { grid = std::make_shared<const Grid>(build_fitting_grid(level, "equal-area", centre)); });
+    const double grid_seconds = timed([&] { grid = std::make_shared<const Grid>(build_fitting_grid(level, GridKind::EqualArea, centre)); });
     result.support.push_back(level_support(level, *grid, cfg.gram_tolerance));
     for (int order : cfg.orders) {
       const auto t_row = std::chrono::steady_clock::now();

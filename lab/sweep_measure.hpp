@@ -35,6 +35,7 @@
 #include <string>
 #include <vector>
 
+#include "core/lut.hpp"
 #include "lab/machine.hpp"
 #include "lab/report_section.hpp"
 
@@ -76,7 +77,7 @@ struct SweepConfig {
   int threads = 1;
   int held_out = kDefaultHeldOutPairs;
   bool quick = false;
-  std::string sampling = "centre";   // "centre" or "average": LUT rows and B sampled alike (build_fitting_grid)
+  LutSampling sampling = LutSampling::CellCentre;  // LUT rows and B sampled alike (build_fitting_grid)
   double gram_tolerance = 0.1;
 };
 

@@ -9,6 +9,7 @@
 
 #include "io/atomic_write.hpp"
 #include "io/h5_file.hpp"
+#include "io/scene.hpp"
 #include "lab/order_chart.hpp"
 #include "lab/report_format.hpp"
 #include "plot/line_chart.hpp"
@@ -36,7 +37,7 @@ std::vector<const SweepRow*> rows_of_level(const SweepResult& r, int level) {
 }
 
 std::string level_note(const SweepResult& r) {
-  return fmt::format("{} held-out pairs (seed {}), {} sampling, Gram tolerance {}", r.config.held_out, kHeldOutSeed, r.config.sampling,
+  return fmt::format("{} held-out pairs (seed {}), {} sampling, Gram tolerance {}", r.config.held_out, kHeldOutSeed, to_string(r.config.sampling),
                      r.config.gram_tolerance);
 }
 
@@ -123,7 +124,7 @@ std::vector<std::string> draw_figures(const SweepResult& r, const std::string& d
     ChartOptions o = order_chart("Gram error max|G - I| against order", "Gram error");
     o.width = kFigureWidth;
     o.height = kFigureHeight;
-    o.note = fmt::format("{} sampling; a pair above the tolerance is unsupported (not fitted); values below 1e-16 drawn at 1e-16", cfg.sampling);
+    o.note = fmt::format("{} sampling; a pair above the tolerance is unsupported (not fitted); values below 1e-16 drawn at 1e-16", to_string(cfg.sampling));
     draw_line_chart(series, o, dir + "/sweep_gram.png");
     files.push_back("sweep_gram.png");
   }
@@ -272,7 +273,7 @@ nlohmann::json to_json(const SweepResult& r) {
                   {"gemm_gflops", mc.gemm_gflops}, {"load_before", mc.load_before}, {"load_after", mc.load_after}};
   j["config"] = {{"levels", cfg.levels}, {"orders", cfg.orders}, {"models", cfg.models}, {"labels", cfg.labels}, {"threads", cfg.threads},
                  {"held_out_pairs", cfg.held_out}, {"held_out_seed", kHeldOutSeed}, {"quick", cfg.quick},
-                 {"sampling", cfg.sampling}, {"gram_tolerance", cfg.gram_tolerance}};
+                 {"sampling", to_string(cfg.sampling)}, {"gram_tolerance", cfg.gram_tolerance}};
   j["table_seconds"] = r.table_seconds;
   j["sections_seconds"] = r.sections_seconds;
   json support = json::array();
@@ -348,7 +349,7 @@ void write_root_attrs(h5::Group& root, const SweepResult& r, const nlohmann::jso
   root.set_attr("machine", j["machine"].dump());
   root.set_attr("config", j["config"].dump());
   root.set_attr("grid_kind", "equal-area");
-  root.set_attr("sampling", cfg.sampling);
+  root.set_attr("sampling", to_string(cfg.sampling));
   root.set_attr("gram_tolerance", cfg.gram_tolerance);
   root.set_attr("held_out_pairs", static_cast<std::int32_t>(cfg.held_out));
   root.set_attr("held_out_seed", static_cast<std::int64_t>(kHeldOutSeed));

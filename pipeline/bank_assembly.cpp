@@ -59,7 +59,7 @@ MaterialRecord BankOperators::finish_record(MaterialCandidate candidate) {
     for (const auto& c : rec.spectrum.channels) rec.lut.push_back(reconstruct_lut(ctx.basis, c));
     // The LUT lives on the bank grid; the fitting level stays in the figure fit_level.
     rec.spectrum.level = scene_.level;
-    rec.spectrum.grid_kind = "equal-area";
+    rec.spectrum.grid_kind = to_string(GridKind::EqualArea);
     rec.lut_float32 = scene_.lut_float32;
   }
   return rec;

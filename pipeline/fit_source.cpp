@@ -5,7 +5,7 @@
 namespace icobrdf {
 namespace {
 
-std::tuple<int, std::string, bool> grid_key(const FitRequest& r) {
+std::tuple<int, GridKind, bool> grid_key(const FitRequest& r) {
   return {r.level, r.grid_kind, r.sampling == LutSampling::CellCentre};
 }
 

@@ -26,7 +26,7 @@ namespace icobrdf {
 struct FitRequest {
   int level = 4;
   int order = 8;
-  std::string grid_kind = "equal-area";                 // "equal-area" or "geodesic"
+  GridKind grid_kind = GridKind::EqualArea;             // EqualArea or Geodesic (build_fitting_grid)
   LutSampling sampling = LutSampling::CellAverage;      // how the fitting grid samples each cell
   bool isotropic = false;                               // project onto the isotropic modes
   bool cosine = false;                                  // fit g = f cos(theta_i) (forced for delta models)
@@ -43,7 +43,7 @@ class FitContexts {
   int supported_order(const FitRequest& request);
 
  private:
-  using GridKey = std::tuple<int, std::string, bool>;  // level, kind, centre
+  using GridKey = std::tuple<int, GridKind, bool>;     // level, kind, centre
   using ContextKey = std::tuple<GridKey, int, double>; // grid, order, Gram tolerance
   std::map<GridKey, std::shared_ptr<const Grid>> grids_;
   std::map<ContextKey, std::shared_ptr<const ProjectionContext>> contexts_;

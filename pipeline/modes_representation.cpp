@@ -13,7 +13,7 @@ namespace {
 
 LevelOrderSearch search_for(const MaterialProblem& p) {
   LevelOrderSearch s;
-  s.base.grid_kind = "equal-area";
+  s.base.grid_kind = GridKind::EqualArea;
   s.base.sampling = p.scene.sampling;  // LUT rows and B sampled with the same rule (exact for BRDFs in the span)
   s.levels = p.material.level >= 0 ? std::vector<int>{p.material.level} : p.scene.levels;
   s.order_max = p.scene.order_max;

@@ -19,7 +19,7 @@ TEST(FitSource, EqualsTheExplicitSequence) {
     r.sampling = sampling;
     r.isotropic = true;
     const FitResult got = fit_source(*src, r);
-    const auto grid = std::make_shared<const Grid>(build_fitting_grid(2, "equal-area", sampling == LutSampling::CellCentre));
+    const auto grid = std::make_shared<const Grid>(build_fitting_grid(2, GridKind::EqualArea, sampling == LutSampling::CellCentre));
     FitOptions o;
     o.order = 3;
     o.isotropic = true;

@@ -56,7 +56,7 @@ struct LoadedModel {
 LoadedModel load_model(const std::string& text, int order, int level) {
   LoadedModel m;
   m.source = open_source(text);
-  const auto ctx = make_projection_context(std::make_shared<const Grid>(build_fitting_grid(level, "equal-area", false)), order);
+  const auto ctx = make_projection_context(std::make_shared<const Grid>(build_fitting_grid(level, GridKind::EqualArea, false)), order);
   FitOptions o;
   o.order = order;
   o.cosine = m.source->has_delta();
