@@ -1,7 +1,7 @@
 // icobrdf plot basis|slice|spectrum|sphere ... -o FILE.png: pictures of basis functions, slices, spectra
 // and lit spheres (plot/plots.hpp, docs/plots.md). Every picture is written atomically. The SOURCE is
-// loaded (and models fitted) here; plot/ draws what it is given. The flags are checked here, in the
-// order the pictures used to check them, so that the first error names the flag.
+// loaded (and models fitted) by pipeline/picture_source.hpp; plot/ draws what it is given. The flags are
+// checked here, in the order the pictures used to check them, so that the first error names the flag.
 #include <fmt/core.h>
 #include <sys/stat.h>
 
@@ -16,12 +16,9 @@
 #include "cli/commands.hpp"
 #include "core/error.hpp"
 #include "core/lowpass_filter.hpp"
-#include "core/model_spec.hpp"
-#include "core/spectral_fit.hpp"
 #include "io/bank_file.hpp"
-#include "io/brdf_source.hpp"
 #include "io/spectrum_file.hpp"
-#include "mesh/tessellation.hpp"
+#include "pipeline/picture_source.hpp"
 #include "plot/plots.hpp"
 
 namespace icobrdf::cli {
@@ -33,7 +30,6 @@ constexpr int kMaxPlotOrder = 32;           // largest truncation order a slice 
 constexpr std::size_t kMaxSliceColumns = 9;  // orders side by side in one slice picture
 constexpr int kMaxBasisOrder = 16, kMinBasisPanel = 32, kMaxBasisPanel = 800;
 constexpr int kMinSphereSize = 16, kMaxSphereSize = 2048;
-constexpr unsigned long long kBankReadLimitBytes = 1ull << 31;  // largest material read from a bank
 
 struct PlotArgs {
   std::string source, output, filter = "none", light = "45,135", shading = "auto";
@@ -61,13 +57,6 @@ bool is_directory(const std::string& p) {
   struct stat st{};
   return ::stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
 }
-
-bool is_regular_file(const std::string& p) {
-  struct stat st{};
-  return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
-}
-
-bool ends_with_h5(const std::string& s) { return s.size() > 3 && s.compare(s.size() - 3, 3, ".h5") == 0; }
 
 void check_output_file(const std::string& path) {
   if (path.empty()) throw ArgumentError("-o: an output file name is required");
@@ -108,43 +97,8 @@ void check_sphere_request(const plot::SphereRequest& q) {
     throw ArgumentError(fmt::format("--size {}: expected {}..{} pixels", q.size, kMinSphereSize, kMaxSphereSize));
 }
 
-// A source fitted as `icobrdf fit` does (cell-averaged sampling) at `order` on the equal-area grid of
-// `level`, in g form when it has delta parts.
-Spectrum fit_for_plot(const BrdfSource& source, int order, int level) {
-  auto grid = std::make_shared<const Grid>(build_fitting_grid(level, "equal-area", false));
-  const auto ctx = make_projection_context(grid, order);
-  FitOptions o;
-  o.order = order;
-  o.cosine = source.has_delta();
-  return source.fit(ctx, o);
-}
-
-// The spectrum of FILE.h5[#material] as stored (its source named by `text` when it names none).
-Spectrum read_plot_spectrum(const std::string& text, const MaterialRef& ref) {
-  if (!is_regular_file(ref.path)) throw InputError(ref.path + ": no such file (SOURCE '" + text + "')");
-  Spectrum s = read_spectrum_file(ref.path, ref.name);
-  if (s.source.empty()) s.source = text;
-  return s;
-}
-
-plot::PairFunction evaluator_of(std::shared_ptr<const BrdfSource> source) {
-  return [source](const RowMatrix3d& wi, const RowMatrix3d& wr) { return source->eval(wi, wr); };
-}
-
-// A spectrum file as stored, or any other SOURCE fitted at `order`; models without delta parts also as
-// themselves (the exact column).
-plot::SliceSource load_slice_source(const std::string& text, int order, int level) {
-  plot::SliceSource src;
-  src.label = text;
-  const MaterialRef ref = split_material_ref(text);
-  if (!is_model_source(text) && ends_with_h5(ref.path)) {
-    src.spectrum = read_plot_spectrum(text, ref);
-    return src;
-  }
-  std::shared_ptr<const BrdfSource> source = open_source(text);
-  src.spectrum = fit_for_plot(*source, order, level);
-  if (is_model_source(text) && !source->has_delta()) src.exact = evaluator_of(source);
-  return src;
+plot::SliceSource slice_source(PictureMaterial m) {
+  return plot::SliceSource{std::move(m.name), std::move(*m.spectrum), std::move(m.exact)};
 }
 
 // Every material of a bank of several, or the one material of any other SOURCE: as the model itself when
@@ -152,37 +106,17 @@ plot::SliceSource load_slice_source(const std::string& text, int order, int leve
 std::vector<plot::SphereMaterial> load_sphere_materials(const std::string& text, plot::SphereRequest::Shading shading, int order,
                                                         int level) {
   using Shading = plot::SphereRequest::Shading;
-  const bool is_model = is_model_source(text);
-  const bool bank = !is_model && text.find('#') == std::string::npos && ends_with_h5(text);
-  std::vector<std::string> names;
-  if (bank) {
-    if (!is_regular_file(text)) throw InputError(text + ": no such file (SOURCE '" + text + "')");
-    names = bank_material_names(text);
-  }
+  const std::vector<std::string> names = several_bank_materials(text);
   std::vector<plot::SphereMaterial> materials;
-  if (bank && names.size() > 1) {
-    if (shading == Shading::Model) throw ArgumentError("--shading model: a bank holds spectra only");
-    for (const auto& n : names) {
-      plot::SphereMaterial m;
-      m.name = n;
-      m.spectrum = read_bank_material(text, n, ReadOptions{kBankReadLimitBytes, false}).spectrum;
-      materials.push_back(std::move(m));
-    }
-    return materials;
-  }
-  std::shared_ptr<const BrdfSource> probe = is_model ? open_source(text) : nullptr;
-  const bool use_model = is_model && !probe->has_delta() && shading != Shading::Spectrum;
+  if (!names.empty() && shading == Shading::Model) throw ArgumentError("--shading model: a bank holds spectra only");
+  for (const auto& n : names) materials.push_back({n, stored_bank_material(text, n).spectrum, {}, 1});
+  if (!names.empty()) return materials;
+  const bool use_model = shading != Shading::Spectrum && is_exact_model(text);
   if (shading == Shading::Model && !use_model)
     throw ArgumentError("--shading model: needs a model without delta parts, found '" + text + "'");
-  plot::SphereMaterial m;
-  m.name = text;
-  if (use_model) {
-    m.model = evaluator_of(probe);
-    m.model_channels = probe->channels();
-  } else {
-    m.spectrum = load_slice_source(text, order, level).spectrum;
-  }
-  materials.push_back(std::move(m));
+  PictureMaterial m = load_picture_material(text, order, level, use_model);
+  if (use_model) materials.push_back({text, std::nullopt, std::move(m.exact), m.exact_channels});
+  else materials.push_back({text, std::move(m.spectrum), {}, 1});
   return materials;
 }
 
@@ -224,7 +158,7 @@ void add_slice_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
     check_slice_args(*a);
     // A model is fitted once, at the largest order shown; a spectrum file is truncated.
     const int top_order = *std::max_element(a->orders.begin(), a->orders.end());
-    const plot::SliceSource src = load_slice_source(a->source, top_order, a->level);
+    const plot::SliceSource src = slice_source(load_picture_material(a->source, top_order, a->level));
     if (top_order > src.spectrum.order)
       throw ArgumentError(fmt::format("--order {}: the spectrum of '{}' has order {}", top_order, a->source, src.spectrum.order));
     const auto f = plot::plot_slice(src, q, a->output);

@@ -1,0 +1,78 @@
+#include "pipeline/picture_source.hpp"
+
+#include <sys/stat.h>
+
+#include <memory>
+
+#include "core/error.hpp"
+#include "core/model_spec.hpp"
+#include "io/bank_file.hpp"
+#include "io/brdf_source.hpp"
+#include "io/spectrum_file.hpp"
+#include "pipeline/fit_source.hpp"
+
+namespace icobrdf {
+namespace {
+
+constexpr unsigned long long kBankReadLimitBytes = 1ull << 31;  // largest material read from a bank
+
+bool is_regular_file(const std::string& p) {
+  struct stat st{};
+  return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
+bool ends_with_h5(const std::string& s) { return s.size() > 3 && s.compare(s.size() - 3, 3, ".h5") == 0; }
+
+// The spectrum of FILE.h5[#material] as stored (its source named by `text` when it names none).
+Spectrum read_picture_spectrum(const std::string& text, const MaterialRef& ref) {
+  if (!is_regular_file(ref.path)) throw InputError(ref.path + ": no such file (SOURCE '" + text + "')");
+  Spectrum s = read_spectrum_file(ref.path, ref.name);
+  if (s.source.empty()) s.source = text;
+  return s;
+}
+
+}  // namespace
+
+bool is_exact_model(const std::string& text) { return is_model_source(text) && !open_source(text)->has_delta(); }
+
+PictureMaterial load_picture_material(const std::string& text, int order, int level, bool model_only) {
+  PictureMaterial m;
+  m.name = text;
+  const MaterialRef ref = split_material_ref(text);
+  if (!is_model_source(text) && ends_with_h5(ref.path)) {
+    m.spectrum = read_picture_spectrum(text, ref);
+    return m;
+  }
+  std::shared_ptr<const BrdfSource> source = open_source(text);
+  const bool exact = is_model_source(text) && !source->has_delta();
+  if (exact) {
+    m.exact = [source](const RowMatrix3d& wi, const RowMatrix3d& wr) { return source->eval(wi, wr); };
+    m.exact_channels = source->channels();
+    if (model_only) return m;
+  }
+  FitRequest r;
+  r.level = level;
+  r.order = order;
+  r.grid_kind = GridKind::EqualArea;
+  r.sampling = LutSampling::CellAverage;
+  r.cosine = source->has_delta();
+  m.spectrum = fit_source(*source, r).spectrum;
+  return m;
+}
+
+std::vector<std::string> several_bank_materials(const std::string& text) {
+  if (is_model_source(text) || text.find('#') != std::string::npos || !ends_with_h5(text)) return {};
+  if (!is_regular_file(text)) throw InputError(text + ": no such file (SOURCE '" + text + "')");
+  auto names = bank_material_names(text);
+  if (names.size() < 2) names.clear();
+  return names;
+}
+
+PictureMaterial stored_bank_material(const std::string& bank, const std::string& name) {
+  PictureMaterial m;
+  m.name = name;
+  m.spectrum = read_bank_material(bank, name, ReadOptions{kBankReadLimitBytes, false}).spectrum;
+  return m;
+}
+
+}  // namespace icobrdf
