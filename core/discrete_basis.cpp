@@ -65,9 +65,6 @@ std::pair<double, double> extreme_eigenvalues(const Eigen::MatrixXd& g) {
   return {lo, hi};
 }
 
-// Solid angles of mirrored cells agree within this fraction (they are computed from mirrored vertices); G
-// computed from one cell per orbit then differs from the full sum by at most this relative amount.
-constexpr double kSolidAngleTol = 1e-12;
 
 // The D2 maps form the group: each is an involution on the cells and rotate_pi = mirror_xz o mirror_yz.
 bool d2_maps_form_group(const Grid& g) {
@@ -81,23 +78,6 @@ bool d2_maps_form_group(const Grid& g) {
   return true;
 }
 
-// True when cell t = s(c) carries exactly the image of c's cubature under map s: the same number of points,
-// point q of t equal to the mapped point q of c (negating a coordinate is exact, so a rule built by mapping,
-// mesh/cubature_symmetry.hpp, passes with equality), equal weights, and solid angles equal within
-// kSolidAngleTol. Then B_t = sign_s B_c up to the rounding of the basis values.
-bool is_exact_image(const Grid& g, const D2Map& s, int c, int t) {
-  const auto b = g.cubature_offsets[static_cast<size_t>(c)], e = g.cubature_offsets[static_cast<size_t>(c) + 1];
-  const auto tb = g.cubature_offsets[static_cast<size_t>(t)], te = g.cubature_offsets[static_cast<size_t>(t) + 1];
-  if (e - b != te - tb || !(std::abs(g.solid_angles[t] - g.solid_angles[c]) <= kSolidAngleTol * g.solid_angles[c])) return false;
-  for (auto q = b; q < e; ++q) {
-    const auto u = tb + (q - b);
-    if (g.cubature_points(u, 0) != s.sx * g.cubature_points(q, 0) || g.cubature_points(u, 1) != s.sy * g.cubature_points(q, 1) ||
-        g.cubature_points(u, 2) != g.cubature_points(q, 2) || g.cubature_weights[u] != g.cubature_weights[q])
-      return false;
-  }
-  return true;
-}
-
 // How to fill the rows of a cell that is not a representative: B_cell = sign_map B_rep.
 struct OrbitFill {
   int rep;   // index into the representatives
@@ -106,8 +86,8 @@ struct OrbitFill {
 };
 
 // For every representative and every other cell of its orbit, the first map that sends the representative
-// there with an exact image of its cubature (a cell reached by two maps, as when the representative lies on
-// a mirror, needs only one of them). Empty when some orbit cell has none: the rows must then be evaluated.
+// there carrying the image of its cubature (cubature_is_image, core/grid_symmetry.hpp; a cell reached by
+// two maps, as when the representative lies on a mirror, needs only one of them). Empty when some orbit cell has none: the rows must then be evaluated.
 std::vector<OrbitFill> orbit_fill_plan(const Grid& g, const std::vector<D2Representative>& reps) {
   const auto maps = d2_maps(g);
   const int nr = static_cast<int>(reps.size());
@@ -123,7 +103,7 @@ std::vector<OrbitFill> orbit_fill_plan(const Grid& g, const std::vector<D2Repres
       if (seen) continue;
       int found = -1;
       for (int u = s; u < static_cast<int>(maps.size()) && found < 0; ++u)
-        if ((*maps[static_cast<size_t>(u)].cells)[c] == t && is_exact_image(g, maps[static_cast<size_t>(u)], c, t)) found = u;
+        if ((*maps[static_cast<size_t>(u)].cells)[c] == t && cubature_is_image(g, maps[static_cast<size_t>(u)], c, t)) found = u;
       if (found < 0) ok = false;
       else per[static_cast<size_t>(k)].push_back({k, t, found});
     }
@@ -143,7 +123,7 @@ void cell_average(const Grid& g, int order, int c, double* out) {
   for (int j = 0; j < m; ++j) out[j] /= omega;
 }
 
-// B and G from one cell per D2 orbit, when the grid's cubature is exactly equivariant: the representatives'
+// B and G from one cell per D2 orbit, when the grid's cubature is equivariant (cubature_is_image): the representatives'
 // rows are evaluated (R, representatives x modes), every other row is a representative's times the mode
 // signs, and G = d2_average(X) with X = sum_rep (W_c / |stabilizer|) R_c^T R_c, of which only the blocks
 // within a symmetry class are needed (d2_average zeroes the rest). Returns false (nothing written) when a
@@ -243,7 +223,7 @@ DiscreteBasis build_discrete_basis(const Grid& grid, int order) {
   DiscreteBasis d;
   d.order = order;
   d.W = grid.solid_angles;
-  // On a D2-symmetric grid whose cubature is exactly equivariant, a quarter of the cells suffice.
+  // On a D2-symmetric grid whose cubature is equivariant (cubature_is_image), a quarter of the cells suffice.
   if (d2_maps_form_group(grid) && build_from_orbits(grid, d)) return d;
   d.evaluated_cells = cells;
   d.B.resize(cells, modes);

@@ -34,10 +34,9 @@ struct DiscreteBasis {
 
 // Cell-averaged sampling of K_j, j < M, with the grid's cubature. Threads over cells; the result does not
 // depend on the number of threads.
-// On a grid with the D2 maps (core/grid_symmetry.hpp) whose cubature is exactly equivariant (each cell's
-// image under a map carries the mapped points in the same order with equal weights, and equal solid angle
-// within 1e-12 relative, as mesh/cubature_symmetry.hpp makes them; checked here, point by point), only one
-// cell per orbit is evaluated: the other rows are its row times the mode signs, and G = d2_average of the
+// On a grid with the D2 maps (core/grid_symmetry.hpp) whose cubature is equivariant (each cell's image
+// under a map carries the mapped points, in any order, with their weights and its solid angle, within
+// kMirroredCubatureRelTol: cubature_is_image, core/grid_symmetry.hpp), only one cell per orbit is evaluated: the other rows are its row times the mode signs, and G = d2_average of the
 // representatives' sum, whose blocks within the four symmetry classes are all that is computed (a quarter
 // of the cells, a quarter of the Gram work). Cells fixed by a map must then have zero average for the modes
 // it reverses (within 1e-12 of max|B|), else, as for any other grid, every cell is evaluated.

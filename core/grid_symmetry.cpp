@@ -39,6 +39,40 @@ std::vector<D2Representative> d2_representatives(const Grid& g) {
   return out;
 }
 
+namespace {
+
+bool near(double a, double b, double scale) { return std::abs(a - b) <= kMirroredCubatureRelTol * scale; }
+
+}  // namespace
+
+bool cubature_is_image(const Grid& g, const D2Map& s, int c, int t, bool centres) {
+  if (t < 0 || t >= g.cells() || !near(g.solid_angles[t], g.solid_angles[c], g.solid_angles[c])) return false;
+  if (centres)
+    return near(s.sx * g.directions(c, 0), g.directions(t, 0), 1.0) && near(s.sy * g.directions(c, 1), g.directions(t, 1), 1.0) &&
+           near(g.directions(c, 2), g.directions(t, 2), 1.0);
+  const auto b = g.cubature_offsets[static_cast<size_t>(c)], e = g.cubature_offsets[static_cast<size_t>(c) + 1];
+  const auto tb = g.cubature_offsets[static_cast<size_t>(t)], te = g.cubature_offsets[static_cast<size_t>(t) + 1];
+  if (e - b != te - tb) return false;
+  for (auto p = b; p < e; ++p) {
+    bool found = false;
+    for (auto q = tb; q < te && !found; ++q)
+      found = near(s.sx * g.cubature_points(p, 0), g.cubature_points(q, 0), 1.0) &&
+              near(s.sy * g.cubature_points(p, 1), g.cubature_points(q, 1), 1.0) &&
+              near(g.cubature_points(p, 2), g.cubature_points(q, 2), 1.0) &&
+              near(g.cubature_weights[p], g.cubature_weights[q], g.cubature_weights[p]);
+    if (!found) return false;
+  }
+  return true;
+}
+
+bool sampling_is_d2_symmetric(const Grid& g, bool centres) {
+  if (!has_d2_maps(g)) return false;
+  for (const auto& s : d2_maps(g))
+    for (int c = 0; c < g.cells(); ++c)
+      if (!cubature_is_image(g, s, c, (*s.cells)[c], centres)) return false;
+  return true;
+}
+
 bool rows_are_d2_equivariant(const Grid& g, const Eigen::MatrixXd& m, double tol) {
   if (!has_d2_maps(g) || m.rows() != g.cells()) return false;
   const double bound = tol * std::max(1e-300, m.cwiseAbs().maxCoeff());

@@ -39,6 +39,25 @@ struct D2Representative {
 };
 std::vector<D2Representative> d2_representatives(const Grid& grid);
 
+// Mirrored cubature: how far the sampling of a cell and of its image under a D2 map may differ, relative
+// (points are unit vectors, so for them relative is absolute). A rule built by mapping points
+// (mesh/cubature_symmetry.hpp) matches exactly; solid angles and rules computed cell by cell from mirrored
+// vertices agree to a few ulps of their construction; 1e-12 leaves room for that and rejects any grid that
+// is symmetric only up to its discretization (a point or weight off by 1e-9 already fails).
+inline constexpr double kMirroredCubatureRelTol = 1e-12;
+
+// The one rule for "cell t carries the image of cell c's sampling under map s": the same number of points;
+// c's points mapped by s are t's points as a set (any order), each with its weight, within
+// kMirroredCubatureRelTol; solid angles equal within the same tolerance. The sampling is the cubature, or,
+// with `centres`, one point per cell at its direction weighted by its solid angle (centre sampling). The
+// cell average of a function over a point set does not depend on the order of the points, so B_t (and a LUT
+// row of t) is then sign_s B_c up to rounding. False when t is not a cell of the grid.
+bool cubature_is_image(const Grid& grid, const D2Map& s, int c, int t, bool centres = false);
+
+// True when the grid has its D2 maps and every cell's image under every map carries the image of its
+// sampling (cubature_is_image).
+bool sampling_is_d2_symmetric(const Grid& grid, bool centres = false);
+
 // True when m(image(c), j) = sign_j m(c, j) within tol * max|m| for every map, cell and mode
 // (m is cells x modes in ANSI order, e.g. B or P).
 bool rows_are_d2_equivariant(const Grid& grid, const Eigen::MatrixXd& m, double tol);

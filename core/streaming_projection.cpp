@@ -13,45 +13,14 @@ namespace {
 
 // Incident cells per block: each thread holds block x cells doubles per channel (2.6 MB at level 5).
 constexpr int kBlockRows = 32;
-// Tolerances of the symmetry check (cubature points and weights mapped by the grid's symmetries; P
-// equivariant): a grid built symmetric matches to rounding, 1e-12 leaves room for a few ulps of the
-// mesh construction and of G^-1 while rejecting any grid that is symmetric only up to discretization.
+// Tolerance of the check that P is D2-equivariant (the sampling's own check is sampling_is_d2_symmetric,
+// core/grid_symmetry.hpp): a grid built symmetric matches to rounding, 1e-12 leaves room for a few ulps of
+// the mesh construction and of G^-1 while rejecting any grid that is symmetric only up to discretization.
 constexpr double kSymmetryTol = 1e-12;
 // Solid angles of the sampling grid against the projection grid's, relative to the largest: the two are
 // built from the same cells (build_fitting_grid with either cubature), so they agree to the rounding of
 // summing cubature weights; any real difference in cells is far larger.
 constexpr double kSameCellsRelTol = 1e-12;
-
-// True when every cell's sampling points (cubature, or the directions for centre sampling) and weights are
-// mapped by each symmetry onto those of the image cell.
-bool sampling_is_symmetric(const Grid& sg, LutSampling sampling) {
-  for (const auto& s : d2_maps(sg)) {
-    for (int c = 0; c < sg.cells(); ++c) {
-      const int m = (*s.cells)[c];
-      if (m < 0 || m >= sg.cells()) return false;
-      if (sampling == LutSampling::CellCentre) {
-        if (std::abs(s.sx * sg.directions(c, 0) - sg.directions(m, 0)) > kSymmetryTol ||
-            std::abs(s.sy * sg.directions(c, 1) - sg.directions(m, 1)) > kSymmetryTol ||
-            std::abs(sg.directions(c, 2) - sg.directions(m, 2)) > kSymmetryTol)
-          return false;
-        continue;
-      }
-      const auto b = sg.cubature_offsets[c], e = sg.cubature_offsets[c + 1];
-      const auto mb = sg.cubature_offsets[m], me = sg.cubature_offsets[m + 1];
-      if (e - b != me - mb) return false;
-      for (auto p = b; p < e; ++p) {
-        bool found = false;
-        for (auto q = mb; q < me && !found; ++q)
-          found = std::abs(s.sx * sg.cubature_points(p, 0) - sg.cubature_points(q, 0)) <= kSymmetryTol &&
-                  std::abs(s.sy * sg.cubature_points(p, 1) - sg.cubature_points(q, 1)) <= kSymmetryTol &&
-                  std::abs(sg.cubature_points(p, 2) - sg.cubature_points(q, 2)) <= kSymmetryTol &&
-                  std::abs(sg.cubature_weights[p] - sg.cubature_weights[q]) <= kSymmetryTol * sg.cubature_weights[p];
-        if (!found) return false;
-      }
-    }
-  }
-  return true;
-}
 
 // The incident cells sampled, ascending, with their weights: one per D2 orbit weighted 1 / |stabilizer|
 // (core/grid_symmetry.hpp) when `use_symmetry`, else every cell with weight 1.
@@ -227,7 +196,7 @@ std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const 
   // have the same signs under all of them and zeroes the rest (entries that vanish exactly by symmetry).
   // (core/grid_symmetry.hpp)
   const bool use_symmetry = model.is_isotropic() && has_d2_maps(g) && has_d2_maps(sg) && g.rotate_pi == sg.rotate_pi &&
-                            g.mirror_xz == sg.mirror_xz && g.mirror_yz == sg.mirror_yz && sampling_is_symmetric(sg, sampling) &&
+                            g.mirror_xz == sg.mirror_xz && g.mirror_yz == sg.mirror_yz && sampling_is_d2_symmetric(sg, sampling == LutSampling::CellCentre) &&
                             rows_are_d2_equivariant(g, proj.P, kSymmetryTol);
   // The symmetric sampling makes F itself D2-invariant; the orbits and the cell maps are those of sg, which
   // equal g's (checked above).
