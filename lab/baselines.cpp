@@ -140,7 +140,7 @@ std::string largest_order_table(const std::vector<GridRun>& runs, int max_order)
 
 // One cell of the "cells needed" table and its JSON record.
 std::string cells_needed_cell(const std::string& kind, const std::vector<const GridRun*>& family, int n, double tol, nlohmann::json& jneed) {
-  if (kind == "polar-gauss") {
+  if (kind == to_string(GridKind::PolarGauss)) {
     const PolarSearch ps = polar_gauss_search(n, tol);
     jneed.push_back({{"kind", kind}, {"tolerance", tol}, {"order", n}, {"cells", ps.cells}, {"rings", ps.rings},
                      {"azimuths", 2 * n + 1}, {"gram_error", ps.gram}, {"gram_error_one_ring_less", num(ps.gram_one_ring_less)},
