@@ -1,0 +1,576 @@
+#include "core/half_angle_factors.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <chrono>
+#include <random>
+#include <cmath>
+#include <sstream>
+
+#include "core/brdf_model.hpp"
+#include "core/direction.hpp"
+#include "core/error.hpp"
+#include "core/half_angle.hpp"
+
+namespace icobrdf {
+
+const char* half_angle_quantity_name(HalfAngleQuantity q) { return q == HalfAngleQuantity::F ? "f" : "cosine"; }
+
+HalfAngleQuantity half_angle_quantity_from_name(const std::string& name) {
+  if (name == "f") return HalfAngleQuantity::F;
+  if (name == "cosine") return HalfAngleQuantity::Cosine;
+  throw ArgumentError("half-angle quantity: expected \"f\" or \"cosine\", got \"" + printable_text(name) + "\"");
+}
+
+PairSampler model_pair_sampler(const BrdfModel& model) {
+  return [&model](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) {
+    model.eval(wi, wr, out);
+  };
+}
+
+void uniform_pairs(int n, std::uint64_t seed, RowMatrix3d& wi, RowMatrix3d& wr) {
+  std::mt19937_64 rng(seed);
+  wi.resize(n, 3);
+  wr.resize(n, 3);
+  for (int k = 0; k < n; ++k) {
+    wi.row(k) = uniform_direction(rng).transpose();
+    wr.row(k) = uniform_direction(rng).transpose();
+  }
+}
+
+std::size_t HalfAngleFactors::bytes() const {
+  std::size_t n = 0;
+  for (const auto& m : u) n += static_cast<std::size_t>(m.size());
+  for (const auto& m : v) n += static_cast<std::size_t>(m.size());
+  return 8 * n;
+}
+
+double HalfAngleFactors::theta_h_of_t(double t) const {
+  const double p = h_warp == 2.0 ? t * t : h_warp == 1.0 ? t : std::pow(t, h_warp);
+  return 0.5 * M_PI * p;
+}
+
+double HalfAngleFactors::t_of_theta_h(double theta_h) const {
+  const double x = std::clamp(theta_h / (0.5 * M_PI), 0.0, 1.0);
+  return h_warp == 2.0 ? std::sqrt(x) : h_warp == 1.0 ? x : std::pow(x, 1.0 / h_warp);
+}
+
+namespace {
+
+// Linear interpolation position on nodes 0..n-1 of x in [0, n-1] (clamped): lower node and fraction.
+inline void clamped_cell(double x, int n, int& k, double& f) {
+  x = std::clamp(x, 0.0, static_cast<double>(n - 1));
+  k = std::min(static_cast<int>(x), n - 2);
+  f = x - k;
+}
+// The same for a periodic coordinate x in [0, n] (n nodes): nodes k and k1 = k + 1 mod n.
+inline void periodic_cell(double x, int n, int& k, int& k1, double& f) {
+  if (x < 0.0) x += n;
+  k = static_cast<int>(x);
+  f = x - k;
+  if (k >= n) {
+    k -= n;
+    if (k >= n) k = 0, f = 0.0;
+  }
+  k1 = k + 1 == n ? 0 : k + 1;
+}
+
+// Interpolation corners of one pair: h rows with weights, d rows with weights.
+struct Corners {
+  int h[4];
+  double wh[4];
+  int d[4];
+  double wd[4];
+};
+
+template <bool Aniso>
+inline bool pair_corners(const HalfAngleFactors& F, const double* wi, const double* wr, Corners& c) {
+  if (wi[2] < -kHorizonSlack || wr[2] < -kHorizonSlack) return false;
+  const double sx = wi[0] + wr[0], sy = wi[1] + wr[1], sz = wi[2] + wr[2];
+  const double mx = wi[0] - wr[0], my = wi[1] - wr[1], mz = wi[2] - wr[2];
+  const HalfAngleFrame fr = half_angle_frame(sx, sy, sz);
+  const double xp = fr.c * mx + fr.sn * my, yp = -fr.sn * mx + fr.c * my;
+  double dx = fr.ct * xp - fr.st * mz, dy = yp;
+  if (Aniso) {  // the minimal-rotation frame: phi_d measured from the world's x axis (phi_d + phi_h)
+    const double rx = fr.c * dx - fr.sn * dy, ry = fr.sn * dx + fr.c * dy;
+    dx = rx, dy = ry;
+  }
+  // The swap negates (dx, dy) exactly: use the canonical one of the two (phi_d in [0, pi]).
+  if (dy < 0.0 || (dy == 0.0 && dx < 0.0)) dx = -dx, dy = -dy;
+  const double theta_h = std::atan2(fr.st, fr.ct);
+  const double theta_d = std::atan2(std::sqrt(dx * dx + dy * dy), fr.len);  // len = 2 d_z, (dx, dy) = 2 d_xy
+  const double phi_d = (dx == 0.0 && dy == 0.0) ? 0.0 : std::atan2(dy, dx);
+  int k, a, b0, b1;
+  double ft, fa, fb;
+  clamped_cell(F.t_of_theta_h(theta_h) * (F.n_t - 1), F.n_t, k, ft);
+  clamped_cell(theta_d * ((F.n_theta_d - 1) / (0.5 * M_PI)), F.n_theta_d, a, fa);
+  periodic_cell(phi_d * (F.n_phi_d / M_PI), F.n_phi_d, b0, b1, fb);
+  c.d[0] = a * F.n_phi_d + b0, c.d[1] = a * F.n_phi_d + b1;
+  c.d[2] = c.d[0] + F.n_phi_d, c.d[3] = c.d[1] + F.n_phi_d;
+  c.wd[0] = (1 - fa) * (1 - fb), c.wd[1] = (1 - fa) * fb, c.wd[2] = fa * (1 - fb), c.wd[3] = fa * fb;
+  if (Aniso) {
+    const double phi_h = fr.st > 0.0 ? std::atan2(fr.sn, fr.c) : 0.0;
+    int j0, j1;
+    double fj;
+    periodic_cell(phi_h * (F.n_phi_h / (2.0 * M_PI)), F.n_phi_h, j0, j1, fj);
+    c.h[0] = k * F.n_phi_h + j0, c.h[1] = k * F.n_phi_h + j1;
+    c.h[2] = c.h[0] + F.n_phi_h, c.h[3] = c.h[1] + F.n_phi_h;
+    c.wh[0] = (1 - ft) * (1 - fj), c.wh[1] = (1 - ft) * fj, c.wh[2] = ft * (1 - fj), c.wh[3] = ft * fj;
+  } else {
+    c.h[0] = k, c.h[1] = k + 1;
+    c.wh[0] = 1 - ft, c.wh[1] = ft;
+  }
+  return true;
+}
+
+template <bool Aniso>
+void eval_rows(const HalfAngleFactors& F, const RowMatrix3d& wi, const RowMatrix3d& wr, bool divide,
+               Eigen::Ref<Eigen::MatrixXd> out) {
+  const Eigen::Index rows = wi.rows();
+  const int R = F.rank, channels = F.channels();
+#pragma omp parallel for schedule(static) if (rows > 2048)
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    Corners c;
+    if (!pair_corners<Aniso>(F, wi.data() + 3 * i, wr.data() + 3 * i, c)) {
+      for (int ch = 0; ch < channels; ++ch) out(i, ch) = 0.0;
+      continue;
+    }
+    const double scale =
+        divide ? 1.0 / std::max(std::max(wi(i, 2), 0.0) * std::max(wr(i, 2), 0.0), kHalfAngleCosineFloor) : 1.0;
+    for (int ch = 0; ch < channels; ++ch) {
+      const double* U = F.u[ch].data();
+      const double* V = F.v[ch].data();
+      double q = 0.0;
+      for (int r = 0; r < R; ++r) {
+        double uh = c.wh[0] * U[c.h[0] * R + r] + c.wh[1] * U[c.h[1] * R + r];
+        if (Aniso) uh += c.wh[2] * U[c.h[2] * R + r] + c.wh[3] * U[c.h[3] * R + r];
+        const double vd = c.wd[0] * V[c.d[0] * R + r] + c.wd[1] * V[c.d[1] * R + r] + c.wd[2] * V[c.d[2] * R + r] +
+                          c.wd[3] * V[c.d[3] * R + r];
+        q += uh * vd;
+      }
+      out(i, ch) = q * scale;
+    }
+  }
+}
+
+void eval_impl(const HalfAngleFactors& F, const RowMatrix3d& wi, const RowMatrix3d& wr, bool divide,
+               Eigen::Ref<Eigen::MatrixXd> out) {
+  check_pair_shapes(wi, wr, out, F.channels());
+  if (F.isotropic)
+    eval_rows<false>(F, wi, wr, divide, out);
+  else
+    eval_rows<true>(F, wi, wr, divide, out);
+}
+
+}  // namespace
+
+void HalfAngleFactors::eval(const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const {
+  eval_impl(*this, wi, wr, quantity == HalfAngleQuantity::Cosine, out);
+}
+
+Eigen::MatrixXd HalfAngleFactors::eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const {
+  Eigen::MatrixXd out(wi.rows(), channels());
+  eval(wi, wr, out);
+  return out;
+}
+
+void HalfAngleFactors::eval_quantity(const RowMatrix3d& wi, const RowMatrix3d& wr,
+                                     Eigen::Ref<Eigen::MatrixXd> out) const {
+  eval_impl(*this, wi, wr, false, out);
+}
+
+void HalfAngleFactors::validate() const {
+  const auto fail = [](const std::string& what) { throw InputError("half-angle factors: " + what); };
+  const auto num = [](double x) {
+    std::ostringstream s;
+    s << x;
+    return s.str();
+  };
+  if (n_t < 2) fail("n_t = " + num(n_t) + ", expected >= 2");
+  if (n_theta_d < 2) fail("n_theta_d = " + num(n_theta_d) + ", expected >= 2");
+  if (n_phi_d < 1) fail("n_phi_d = " + num(n_phi_d) + ", expected >= 1");
+  if (isotropic && n_phi_h != 1) fail("n_phi_h = " + num(n_phi_h) + " for an isotropic representation, expected 1");
+  if (n_phi_h < 1) fail("n_phi_h = " + num(n_phi_h) + ", expected >= 1");
+  if (!(h_warp >= 0.25 && h_warp <= 8.0)) fail("h_warp = " + num(h_warp) + ", expected in [0.25, 8]");
+  if (rank < 0) fail("rank = " + num(rank) + ", expected >= 0");
+  if (u.empty()) fail("no channels");
+  if (u.size() != v.size()) fail(num(u.size()) + " u factors but " + num(v.size()) + " v factors");
+  for (std::size_t c = 0; c < u.size(); ++c) {
+    const std::string ch = " of channel " + num(c);
+    if (u[c].rows() != h_nodes() || u[c].cols() != rank)
+      fail("u" + ch + " is " + num(u[c].rows()) + " x " + num(u[c].cols()) + ", expected " + num(h_nodes()) + " x " +
+           num(rank));
+    if (v[c].rows() != d_nodes() || v[c].cols() != rank)
+      fail("v" + ch + " is " + num(v[c].rows()) + " x " + num(v[c].cols()) + ", expected " + num(d_nodes()) + " x " +
+           num(rank));
+    if (!u[c].allFinite()) fail("u" + ch + " has a non-finite value");
+    if (!v[c].allFinite()) fail("v" + ch + " has a non-finite value");
+  }
+}
+
+Eigen::VectorXd half_angle_h_weights(const HalfAngleFactors& g) {
+  // Dual cell [t_lo, t_hi] of t_k; integral of sin(theta) dtheta dphi = cos(th_lo) - cos(th_hi) per radian
+  // of phi, written as 2 sin(mean) sin(half difference) (no cancellation near the pole).
+  Eigen::VectorXd a(g.h_nodes());
+  const double dt = 1.0 / (g.n_t - 1), dphi = 2.0 * M_PI / g.n_phi_h;
+  for (int k = 0; k < g.n_t; ++k) {
+    const double lo = g.theta_h_of_t(std::max(0.0, (k - 0.5) * dt)), hi = g.theta_h_of_t(std::min(1.0, (k + 0.5) * dt));
+    const double w = dphi * 2.0 * std::sin(0.5 * (hi + lo)) * std::sin(0.5 * (hi - lo));
+    for (int j = 0; j < g.n_phi_h; ++j) a(k * g.n_phi_h + j) = w;
+  }
+  return a;
+}
+
+Eigen::VectorXd half_angle_d_weights(const HalfAngleFactors& g) {
+  // integral of 4 cos(t) sin(t) dt = 2 (sin^2 hi - sin^2 lo) = 2 sin(hi + lo) sin(hi - lo); phi_d in
+  // [0, pi) stands for both copies of [0, 2 pi): 2 x pi / n_phi_d.
+  Eigen::VectorXd b(g.d_nodes());
+  const double dth = 0.5 * M_PI / (g.n_theta_d - 1), dphi = 2.0 * M_PI / g.n_phi_d;
+  for (int a = 0; a < g.n_theta_d; ++a) {
+    const double lo = std::max(0.0, (a - 0.5) * dth), hi = std::min(0.5 * M_PI, (a + 0.5) * dth);
+    const double w = dphi * 2.0 * std::sin(hi + lo) * std::sin(hi - lo);
+    for (int j = 0; j < g.n_phi_d; ++j) b(a * g.n_phi_d + j) = w;
+  }
+  return b;
+}
+
+void half_angle_node_pair(const HalfAngleFactors& g, int h_row, int d_row, Eigen::Vector3d& wi,
+                          Eigen::Vector3d& wr) {
+  // Built from the node angles (not from h), so that the nodes at t = 0 keep their phi_h: they are the
+  // limits h -> n along that azimuth.
+  const int k = h_row / g.n_phi_h, j = h_row % g.n_phi_h;
+  const int a = d_row / g.n_phi_d, b = d_row % g.n_phi_d;
+  const double th = g.theta_h_of_t(static_cast<double>(k) / (g.n_t - 1)), ph = 2.0 * M_PI * j / g.n_phi_h;
+  // Anisotropic grids measure phi_d in the minimal-rotation frame (phi_d + phi_h): back to Rusinkiewicz's.
+  const double td = 0.5 * M_PI * a / (g.n_theta_d - 1), pd = M_PI * b / g.n_phi_d - (g.isotropic ? 0.0 : ph);
+  const double sd = std::sin(td);
+  const Eigen::Vector3d d(sd * std::cos(pd), sd * std::sin(pd), std::cos(td));
+  const double ct = std::cos(th), st = std::sin(th), c = std::cos(ph), s = std::sin(ph);
+  const auto back = [&](double x, double y, double z) {
+    const double X = ct * x + st * z, Z = -st * x + ct * z;
+    return Eigen::Vector3d(c * X - s * y, s * X + c * y, Z);
+  };
+  wi = back(d.x(), d.y(), d.z());
+  wr = back(-d.x(), -d.y(), d.z());
+}
+
+namespace {
+
+// Weighted ALS for one channel: minimizes sum W (Q - U V^T)^2 with W = 0 at missing nodes.
+struct AlsProblem {
+  const Eigen::MatrixXd& W;   // H x D, fitting weights (valid nodes and weighted extension)
+  const Eigen::MatrixXd& WQ;  // W .* Q
+  const Eigen::MatrixXd& Wv;  // weights of the valid nodes only (the error measure)
+  double norm2;               // sum Wv Q^2
+};
+
+// sum Wv (Q - U V^T)^2 (the error) and sum W (Q - U V^T)^2 (the objective).
+std::pair<double, double> weighted_error2(const AlsProblem& p, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& U,
+                                          const Eigen::MatrixXd& V) {
+  Eigen::MatrixXd E = Q;
+  if (U.cols() > 0) E.noalias() -= U * V.transpose();
+  E = E.array().square();
+  return {(p.Wv.array() * E.array()).sum(), (p.W.array() * E.array()).sum()};
+}
+
+// New rows X (n x R) minimizing sum_j Wt(i, j) (T(i, j) - X_i . Y_j)^2 for every i, given Y (m x R).
+// Wt is W or W^T, WT = Wt .* T.
+template <class WMat, class WQMat>
+Eigen::MatrixXd solve_side(const WMat& Wt, const WQMat& WT, const Eigen::MatrixXd& Y) {
+  const int R = static_cast<int>(Y.cols());
+  const int P = R * (R + 1) / 2;
+  Eigen::MatrixXd YY(Y.rows(), P);
+  for (int r = 0, p = 0; r < R; ++r)
+    for (int s = r; s < R; ++s, ++p) YY.col(p) = Y.col(r).cwiseProduct(Y.col(s));
+  const Eigen::MatrixXd A = Wt * YY;  // n x P
+  const Eigen::MatrixXd B = WT * Y;   // n x R
+  Eigen::MatrixXd X(A.rows(), R);
+  // Serial: each row is an R x R solve (~0.1-1 us); a parallel region here cost 25x the whole fit on a loaded
+  // 2-core machine (threads waiting at the barrier behind other processes), and the products above thread.
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxFitRank, kMaxFitRank>;
+  for (Eigen::Index i = 0; i < A.rows(); ++i) {
+    Small N(R, R);
+    for (int r = 0, p = 0; r < R; ++r)
+      for (int s = r; s < R; ++s, ++p) N(r, s) = N(s, r) = A(i, p);
+    const double tr = N.trace();
+    if (!(tr > 0.0)) {
+      X.row(i).setZero();
+      continue;
+    }
+    N.diagonal().array() += 1e-14 * tr;
+    X.row(i) = N.ldlt().solve(B.row(i).transpose()).transpose();
+  }
+  return X;
+}
+
+// Leading singular pair of the weighted residual sqrt(a_i b_j) M_ij (Q - U V^T)_ij by power iteration,
+// returned as sqrt(sigma) l and sqrt(sigma) r.
+void leading_residual_term(const AlsProblem& p, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& U,
+                           const Eigen::MatrixXd& V, Eigen::VectorXd& u, Eigen::VectorXd& v) {
+  Eigen::MatrixXd S = Q;
+  if (U.cols() > 0) S.noalias() -= U * V.transpose();
+  S.array() *= p.W.array().sqrt();
+  Eigen::VectorXd r = Eigen::VectorXd::Ones(S.cols()), l;
+  double sigma = 0.0;
+  for (int it = 0; it < 300; ++it) {
+    l = S * r;
+    const double ln = l.norm();
+    if (!(ln > 0.0)) break;
+    l /= ln;
+    r = S.transpose() * l;
+    const double s = r.norm();
+    if (!(s > 0.0)) break;
+    r /= s;
+    const bool done = std::abs(s - sigma) <= 1e-10 * s;
+    sigma = s;
+    if (done) break;
+  }
+  u = Eigen::VectorXd::Zero(S.rows());
+  v = Eigen::VectorXd::Zero(S.cols());
+  if (!(sigma > 0.0)) return;
+  // Still in weighted scale: the caller divides by sqrt(a) and sqrt(b).
+  u = std::sqrt(sigma) * l;
+  v = std::sqrt(sigma) * r;
+}
+
+struct ChannelFit {
+  Eigen::MatrixXd U, V;  // H x R, D x R
+  std::vector<double> error_by_rank;
+  std::vector<int> sweeps;
+  bool zero = false;
+};
+
+int als_sweeps(const AlsProblem& p, const Eigen::MatrixXd& Q, Eigen::MatrixXd& U, Eigen::MatrixXd& V,
+               const HalfAngleFitOptions& o, double& e2) {
+  double obj = weighted_error2(p, Q, U, V).second;
+  int sweep = 0;
+  for (; sweep < o.max_sweeps; ++sweep) {
+    U = solve_side(p.W, p.WQ, V);
+    V = solve_side(p.W.transpose(), p.WQ.transpose(), U);
+    const auto [err2, obj2] = weighted_error2(p, Q, U, V);
+    const bool stalled = obj - obj2 <= o.sweep_tolerance * obj;
+    obj = obj2;
+    e2 = err2;
+    if (stalled || obj <= 1e-30 * p.norm2) {
+      ++sweep;
+      break;
+    }
+  }
+  return sweep;
+}
+
+// Orders the terms by weighted energy: U V^T = (U') (V')^T with diag(sqrt a) U' and diag(sqrt b) V'
+// orthogonal columns scaled by sqrt(sigma); returns sigma.
+Eigen::VectorXd orthogonalize(Eigen::MatrixXd& U, Eigen::MatrixXd& V, const Eigen::VectorXd& a,
+                              const Eigen::VectorXd& b) {
+  const int R = static_cast<int>(U.cols());
+  if (R == 0) return {};
+  const Eigen::VectorXd sa = a.array().sqrt(), sb = b.array().sqrt();
+  const Eigen::MatrixXd Ua = sa.asDiagonal() * U, Vb = sb.asDiagonal() * V;
+  Eigen::HouseholderQR<Eigen::MatrixXd> qu(Ua), qv(Vb);
+  const Eigen::MatrixXd Q1 = qu.householderQ() * Eigen::MatrixXd::Identity(U.rows(), R);
+  const Eigen::MatrixXd Q2 = qv.householderQ() * Eigen::MatrixXd::Identity(V.rows(), R);
+  const Eigen::MatrixXd R1 = qu.matrixQR().topRows(R).triangularView<Eigen::Upper>();
+  const Eigen::MatrixXd R2 = qv.matrixQR().topRows(R).triangularView<Eigen::Upper>();
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(R1 * R2.transpose(), Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::VectorXd sig = svd.singularValues();
+  const Eigen::VectorXd root = sig.array().sqrt();
+  U = sa.cwiseInverse().asDiagonal() * (Q1 * svd.matrixU() * root.asDiagonal());
+  V = sb.cwiseInverse().asDiagonal() * (Q2 * svd.matrixV() * root.asDiagonal());
+  return sig;
+}
+
+}  // namespace
+
+// Eigen's products on one thread for the lifetime of the guard (restored after). The fit's products are
+// small (nodes x R): threading them gained nothing on an idle 2-core machine and cost 25x on a loaded one
+// (measured: GGX 0.2, 64 x 2048 nodes, rank 3: 0.21 s on one thread, 5.6 s on two beside other work).
+struct SerialEigen {
+  int previous = Eigen::nbThreads();
+  SerialEigen() { Eigen::setNbThreads(1); }
+  ~SerialEigen() { Eigen::setNbThreads(previous); }
+};
+
+HalfAngleFit fit_half_angle(const PairSampler& sampler, int channels, const HalfAngleFitOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const SerialEigen serial;
+  const auto bad = [](const std::string& what) { throw ArgumentError("fit_half_angle: " + what); };
+  if (channels < 1) bad("channels = " + std::to_string(channels) + ", expected >= 1");
+  if (o.n_t < 2 || o.n_theta_d < 2 || o.n_phi_d < 1 || (!o.isotropic && o.n_phi_h < 1))
+    bad("grid sizes n_t = " + std::to_string(o.n_t) + ", n_phi_h = " + std::to_string(o.n_phi_h) +
+        ", n_theta_d = " + std::to_string(o.n_theta_d) + ", n_phi_d = " + std::to_string(o.n_phi_d) +
+        ", expected n_t, n_theta_d >= 2 and n_phi_h, n_phi_d >= 1");
+  if (!(o.h_warp >= 0.25 && o.h_warp <= 8.0)) bad("h_warp outside [0.25, 8]");
+  if (!(o.target > 0.0)) bad("target must be > 0");
+  if (o.max_rank < 1 || o.fixed_rank < 0 || o.max_rank > kMaxFitRank || o.fixed_rank > kMaxFitRank)
+    bad("max_rank must be in [1, " + std::to_string(kMaxFitRank) + "] and fixed_rank in [0, " + std::to_string(kMaxFitRank) + "]");
+
+  HalfAngleFit fit;
+  HalfAngleFactors& F = fit.factors;
+  F.quantity = o.quantity;
+  F.isotropic = o.isotropic;
+  F.h_warp = o.h_warp;
+  F.n_t = o.n_t;
+  F.n_phi_h = o.isotropic ? 1 : o.n_phi_h;
+  F.n_theta_d = o.n_theta_d;
+  F.n_phi_d = o.n_phi_d;
+  const int H = F.h_nodes(), D = F.d_nodes();
+  const Eigen::VectorXd a = half_angle_h_weights(F), b = half_angle_d_weights(F);
+
+  // Sample q at the valid node pairs (weight a_h b_d), then at the missing nodes that share an
+  // interpolation cell with a valid one (weight extension_weight a_h b_d, extended values).
+  std::vector<Eigen::MatrixXd> Q(channels, Eigen::MatrixXd::Zero(H, D));
+  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(H, D), Wv = Eigen::MatrixXd::Zero(H, D);
+  Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> valid(H, D);
+  for (int i = 0; i < H; ++i)
+    for (int j = 0; j < D; ++j) {
+      Eigen::Vector3d x, y;
+      half_angle_node_pair(F, i, j, x, y);
+      valid(i, j) = x.z() >= -kHorizonSlack && y.z() >= -kHorizonSlack;
+    }
+  fit.report.valid_fraction = valid.cast<double>().mean();
+  const auto near_valid = [&](int i, int j) {
+    const int k = i / F.n_phi_h, jh = i % F.n_phi_h, ad = j / F.n_phi_d, bd = j % F.n_phi_d;
+    for (int dk = -1; dk <= 1; ++dk)
+      for (int dj = (F.n_phi_h > 1 ? -1 : 0); dj <= (F.n_phi_h > 1 ? 1 : 0); ++dj)
+        for (int da = -1; da <= 1; ++da)
+          for (int db = (F.n_phi_d > 1 ? -1 : 0); db <= (F.n_phi_d > 1 ? 1 : 0); ++db) {
+            const int k2 = k + dk, a2 = ad + da;
+            if (k2 < 0 || k2 >= F.n_t || a2 < 0 || a2 >= F.n_theta_d) continue;
+            const int j2 = (jh + dj + F.n_phi_h) % F.n_phi_h, b2 = (bd + db + F.n_phi_d) % F.n_phi_d;
+            if (valid(k2 * F.n_phi_h + j2, a2 * F.n_phi_d + b2)) return true;
+          }
+    return false;
+  };
+  // Extension across the horizon: f at the directions pushed onto the horizon (z -> 0, renormalized),
+  // times the signed cosines for the cosine quantity; q is then C^1 across the boundary where f is
+  // continuous, so that interpolation cells straddling it stay second-order accurate.
+  const auto to_horizon = [](Eigen::Vector3d& w) {
+    if (w.z() >= 0.0) return true;
+    const double r = std::hypot(w.x(), w.y());
+    if (!(r > 1e-3)) return false;
+    w = Eigen::Vector3d(w.x() / r, w.y() / r, 0.0);
+    return true;
+  };
+  const bool extend = o.extension_weight > 0.0;
+  const int block = std::max(1, (1 << 16) / D);
+  for (int h0 = 0; h0 < H; h0 += block) {
+    const int h1 = std::min(H, h0 + block);
+    std::vector<std::pair<int, int>> nodes;
+    std::vector<double> cosines;
+    RowMatrix3d wi((h1 - h0) * D, 3), wr((h1 - h0) * D, 3);
+    for (int i = h0; i < h1; ++i)
+      for (int j = 0; j < D; ++j) {
+        if (!valid(i, j) && !(extend && near_valid(i, j))) continue;
+        Eigen::Vector3d x, y;
+        half_angle_node_pair(F, i, j, x, y);
+        const double cc = x.z() * y.z();
+        if (valid(i, j)) {
+          x.z() = std::max(x.z(), 0.0);
+          y.z() = std::max(y.z(), 0.0);
+        } else if (!to_horizon(x) || !to_horizon(y)) {
+          continue;
+        }
+        wi.row(nodes.size()) = x.transpose();
+        wr.row(nodes.size()) = y.transpose();
+        nodes.emplace_back(i, j);
+        cosines.push_back(valid(i, j) ? std::max(x.z(), 0.0) * std::max(y.z(), 0.0) : cc);
+      }
+    const auto n = static_cast<Eigen::Index>(nodes.size());
+    if (n == 0) continue;
+    const RowMatrix3d wiv = wi.topRows(n), wrv = wr.topRows(n);
+    Eigen::MatrixXd f(n, channels);
+    sampler(wiv, wrv, f);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const auto [i, j] = nodes[k];
+      const double cc = o.quantity == HalfAngleQuantity::Cosine ? cosines[k] : 1.0;
+      for (int c = 0; c < channels; ++c) {
+        const double q = f(k, c) * cc;
+        if (!std::isfinite(q)) {
+          std::ostringstream s;
+          s << "the sampled f of channel " << c << " is not finite (" << f(k, c) << ") at w_i = (" << wiv.row(k)
+            << "), w_r = (" << wrv.row(k) << ")";
+          throw ArgumentError("fit_half_angle: " + s.str());
+        }
+        Q[c](i, j) = q;
+      }
+      W(i, j) = a(i) * b(j) * (valid(i, j) ? 1.0 : o.extension_weight);
+      if (valid(i, j)) Wv(i, j) = a(i) * b(j);
+    }
+  }
+
+  // Rank by rank, every channel that still misses the target gets one more term.
+  const int max_rank = o.fixed_rank > 0 ? o.fixed_rank : o.max_rank;
+  const double target2 = o.fixed_rank > 0 ? -1.0 : o.target * o.target;
+  std::vector<ChannelFit> cf(channels);
+  std::vector<Eigen::MatrixXd> WQ(channels);
+  std::vector<double> norm2(channels), e2(channels);
+  for (int c = 0; c < channels; ++c) {
+    WQ[c] = W.cwiseProduct(Q[c]);
+    norm2[c] = Wv.cwiseProduct(Q[c]).cwiseProduct(Q[c]).sum();
+    cf[c].U.resize(H, 0);
+    cf[c].V.resize(D, 0);
+    cf[c].zero = !(norm2[c] > 0.0);
+    e2[c] = cf[c].zero ? 0.0 : norm2[c];
+  }
+  const Eigen::VectorXd sa = a.array().sqrt(), sb = b.array().sqrt();
+  int rank = 0;
+  for (int r = 1; r <= max_rank; ++r) {
+    bool any = false;
+    int sweeps = 0;
+    for (int c = 0; c < channels; ++c) {
+      if (cf[c].zero || e2[c] <= target2 * norm2[c]) continue;
+      any = true;
+      const AlsProblem p{W, WQ[c], Wv, norm2[c]};
+      Eigen::VectorXd un, vn;
+      leading_residual_term(p, Q[c], cf[c].U, cf[c].V, un, vn);
+      // The residual was scaled by sqrt(W) = sqrt(a_i b_j) on valid nodes: unscale the singular vectors.
+      un = un.cwiseQuotient(sa);
+      vn = vn.cwiseQuotient(sb);
+      Eigen::MatrixXd U(H, r), V(D, r);
+      U << cf[c].U, un;
+      V << cf[c].V, vn;
+      const int s = als_sweeps(p, Q[c], U, V, o, e2[c]);
+      sweeps = std::max(sweeps, s);
+      cf[c].U = std::move(U);
+      cf[c].V = std::move(V);
+      cf[c].error_by_rank.push_back(std::sqrt(e2[c] / norm2[c]));
+    }
+    if (!any) break;
+    rank = r;
+    fit.report.sweeps_by_rank.push_back(sweeps);
+  }
+
+  F.rank = rank;
+  fit.report.rank = rank;
+  fit.report.error.resize(channels);
+  fit.report.error_by_rank.resize(channels);
+  fit.report.energies.resize(channels);
+  double worst = 0.0;
+  for (int c = 0; c < channels; ++c) {
+    Eigen::MatrixXd U = Eigen::MatrixXd::Zero(H, rank), V = Eigen::MatrixXd::Zero(D, rank);
+    U.leftCols(cf[c].U.cols()) = cf[c].U;
+    V.leftCols(cf[c].V.cols()) = cf[c].V;
+    const Eigen::VectorXd sig = orthogonalize(U, V, a, b);
+    const double e = cf[c].zero ? 0.0 : std::sqrt(e2[c] / norm2[c]);
+    fit.report.error[c] = e;
+    fit.report.error_by_rank[c] = cf[c].error_by_rank;
+    for (int k = 0; k < sig.size(); ++k)
+      fit.report.energies[c].push_back(cf[c].zero ? 0.0 : sig(k) / std::sqrt(norm2[c]));
+    worst = std::max(worst, e);
+    F.u.emplace_back(U);
+    F.v.emplace_back(V);
+  }
+  fit.report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (o.fixed_rank == 0 && worst > o.target) {
+    std::ostringstream s;
+    s << "fit_half_angle: rank " << o.max_rank << " reaches a weighted relative error of " << worst
+      << ", above the target " << o.target << " (grid n_t = " << F.n_t << ", n_phi_h = " << F.n_phi_h
+      << ", n_theta_d = " << F.n_theta_d << ", n_phi_d = " << F.n_phi_d << "); raise max_rank or the target";
+    throw UnsupportedError(s.str());
+  }
+  return fit;
+}
+
+}  // namespace icobrdf
