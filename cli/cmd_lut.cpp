@@ -7,6 +7,8 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
+#include <sys/stat.h>
+
 #include <iostream>
 #include <memory>
 
@@ -15,7 +17,9 @@
 #include "core/error.hpp"
 #include "core/reflection.hpp"
 #include "core/spectral_fit.hpp"
+#include "core/function_model.hpp"
 #include "core/model_spec.hpp"
+#include "io/brdf_source.hpp"
 #include "io/bank_file.hpp"
 #include "mesh/tessellation.hpp"
 
@@ -62,8 +66,26 @@ void write_lut_file(const std::string& out, const Grid& grid, MaterialRecord rec
   write_bank(out, b);
 }
 
+// The model a LUT samples: an analytic model (SOURCE with or without the "model:" prefix), or any other
+// SOURCE naming an existing file (a bank material of any representation, measured data) through its values.
+std::shared_ptr<const BrdfModel> lut_model(const std::string& text, std::string* label) {
+  struct stat st{};
+  const std::string path = split_material_ref(text).path;
+  if (!is_model_source(text) && ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode)) {
+    std::shared_ptr<const BrdfSource> src = open_source(text);
+    *label = src->spec();
+    return std::make_shared<FunctionModel>(
+        src->channels(), [src](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) { out = src->eval(wi, wr); },
+        src->spec(), false, false);
+  }
+  std::shared_ptr<const BrdfModel> model = parse_model_source(text.rfind("model:", 0) == 0 ? text : "model:" + text);
+  *label = "model:" + model->spec();
+  return model;
+}
+
 void run_lut(const LutArgs& a) {
-  const auto model = parse_model_source(a.source.rfind("model:", 0) == 0 ? a.source : "model:" + a.source);
+  std::string label;
+  const auto model = lut_model(a.source, &label);
   auto grid = std::make_shared<const Grid>(build_equal_area_grid(a.level));
   const LutSampling sampling = a.sampling == "centre" || a.sampling == "center" ? LutSampling::CellCentre : LutSampling::CellAverage;
   if (a.sampling != "average" && sampling != LutSampling::CellCentre)
@@ -76,11 +98,11 @@ void run_lut(const LutArgs& a) {
   o.order = a.order;
   o.cosine = cosine;
   const auto ctx = make_projection_context(grid, a.order);
-  auto rec = lut_record(a.name, lut, "model:" + model->spec(), ctx, o, a.float32);
+  auto rec = lut_record(a.name, lut, label, ctx, o, a.float32);
   const auto wf = white_furnace(lut.channels[0], cosine, *grid);
   write_lut_file(a.output, *grid, std::move(rec));
-  std::cout << fmt::format("{}: {} x {} LUT of model:{} ({}), max directional albedo {:.6g}\n", a.output, grid->cells(), grid->cells(),
-                           model->spec(), cosine ? "g = f cos(theta_i)" : "f", wf.max_albedo);
+  std::cout << fmt::format("{}: {} x {} LUT of {} ({}), max directional albedo {:.6g}\n", a.output, grid->cells(), grid->cells(),
+                           label, cosine ? "g = f cos(theta_i)" : "f", wf.max_albedo);
 }
 
 void run_smooth(const LutArgs& a) {
@@ -126,7 +148,7 @@ void run_albedo(const LutArgs& a) {
 void add_lut_commands(CLI::App& app) {
   auto a = std::make_shared<LutArgs>();
   auto* lut = app.add_subcommand("lut", "Sample a model into a cells x cells LUT on the equal-area grid (HDF5)");
-  lut->add_option("source", a->source, "model:NAME[:key=value,...]")->required();
+  lut->add_option("source", a->source, "SOURCE: model:NAME[:key=value,...], or a bank material FILE.h5#NAME of any representation, or measured data")->required();
   lut->add_option("--level,-l", a->level, "Tessellation level")->capture_default_str()->check(CLI::Range(0, 6));
   lut->add_option("--order,-n", a->order, "Order of the spectrum stored with the LUT")->capture_default_str()->check(CLI::Range(0, 128));
   lut->add_flag("--cosine", a->cosine, "Tabulate g = f cos(theta_i) (always for delta models)");

@@ -191,7 +191,9 @@ void write_bank(const std::string& path, const BankContents& c) {
     {
       h5::Group root = f.root();
       root.set_attr("format", bank_format::kName);
-      root.set_attr("format_version", bank_format::kVersion);
+      bool lobes = false;
+      for (const auto& m : c.materials) lobes = lobes || m.lobe.has_value();
+      root.set_attr("format_version", lobes ? bank_format::kVersion : bank_format::kVersionModesOnly);
       root.set_attr("creator", std::string("icobrdf ") + ICOBRDF_VERSION);
       root.set_attr("created", created);
       root.set_attr("conventions", bank_format::kConventions);
@@ -221,11 +223,11 @@ h5::ReadFile open_bank(const std::string& path) {
     root.fail("/", "attribute format_version: expected MAJOR.MINOR, found '" + version + "'");
   if (major > bank_format::kMajor)
     root.fail("/", "format_version " + version + " is newer than this reader: expected major version " +
-                       std::to_string(bank_format::kMajor) + " (reads " + std::to_string(bank_format::kMajor) +
-                       ".x); upgrade icobrdf to read it");
-  if (major < bank_format::kMajor)
+                       std::to_string(bank_format::kOldestMajor) + " to " + std::to_string(bank_format::kMajor) +
+                       "; upgrade icobrdf to read it");
+  if (major < bank_format::kOldestMajor)
     root.fail("/", "format_version " + version + " is older than this reader supports: expected major version " +
-                       std::to_string(bank_format::kMajor));
+                       std::to_string(bank_format::kOldestMajor) + " to " + std::to_string(bank_format::kMajor));
   if (!root.has_attr("complete"))
     root.fail("/", "expected attribute complete = 1, found none (the write did not finish)");
   if (!root.attr_bool("complete")) root.fail("/", "expected attribute complete = 1, found 0 (the write did not finish)");

@@ -2,14 +2,19 @@
 // Name and version of the icobrdf HDF5 bank schema (docs/file-format.md).
 //
 // Versioning: MAJOR.MINOR. A minor bump only adds optional objects or attributes, so a reader accepts any
-// minor of its own major; a reader refuses a file of a newer major. Older majors are refused too until a
-// reader for them exists (there is none: 1 is the first).
+// minor of the majors it knows; a reader refuses a file of a newer major.
+//   1.0  modes: spectra, IBSSS, LUTs, grid, operators.
+//   2.0  adds materials with a half-angle lobe (/materials/<name>/half_angle and the attribute
+//        representation). A 1.x reader would read such a material as its modes alone, silently wrong, so
+//        these files carry major 2; the writer writes 1.0 when no material has a lobe (those files are
+//        unchanged, and 1.x readers still read them).
 namespace icobrdf::bank_format {
 
 inline constexpr const char* kName = "icobrdf-bank";
-inline constexpr int kMajor = 1;
-inline constexpr int kMinor = 0;
-inline constexpr const char* kVersion = "1.0";
+inline constexpr int kMajor = 2;            // newest major this reader reads
+inline constexpr int kOldestMajor = 1;      // oldest major this reader reads
+inline constexpr const char* kVersion = "2.0";          // files with a half-angle lobe
+inline constexpr const char* kVersionModesOnly = "1.0";  // files without
 
 // Root attribute text describing conventions, written verbatim to every file.
 inline constexpr const char* kConventions =

@@ -2,12 +2,16 @@
 
 #include <sys/stat.h>
 
+#include <optional>
+
 #include "core/error.hpp"
+#include "core/function_model.hpp"
 #include "core/hemisphere_basis.hpp"
 #include "core/model_spec.hpp"
 #include "core/spectrum_ops.hpp"
 #include "io/measured_sources.hpp"
 #include "io/bank_file.hpp"
+#include "io/material_eval.hpp"
 #include "io/spectrum_file.hpp"
 
 namespace icobrdf {
@@ -42,22 +46,29 @@ class ModelSource final : public BrdfSource {
   std::unique_ptr<BrdfModel> model_;
 };
 
+// A stored material: modes, and for the representations "half-angle" and "hybrid" a half-angle lobe added
+// to them (io/spectrum_file.hpp).
 class SpectrumSource final : public BrdfSource {
  public:
-  SpectrumSource(Spectrum s, std::string text) : s_(std::move(s)), text_(std::move(text)) {}
+  SpectrumSource(Spectrum s, std::optional<HalfAngleFactors> lobe, std::string text)
+      : s_(std::move(s)), lobe_(std::move(lobe)), text_(std::move(text)) {}
   std::string spec() const override { return text_; }
   int channels() const override { return s_.channel_count(); }
   Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
-    Eigen::MatrixXd out(wi.rows(), channels());
-    for (int c = 0; c < channels(); ++c) {
-      out.col(c) = evaluate_coefficients(s_.channels[c], s_.order, wi, wr);
-      if (s_.cosine) out.col(c) = out.col(c).cwiseQuotient(wi.col(2));
-    }
-    return out;
+    return evaluate_material(s_, lobe_, wi, wr);
   }
-  // Re-expansion of a stored spectrum at another order is exact in the continuous basis: truncation to a
-  // lower order, zero padding to a higher one (no grid is involved).
+  // Re-expansion of stored modes at another order is exact in the continuous basis: truncation to a lower
+  // order, zero padding to a higher one (no grid is involved). A lobe is projected on the context's grid
+  // like a model (its values sampled as the LUT rows).
   Spectrum fit(const ProjectionContext& ctx, const FitOptions& o) const override {
+    if (lobe_) {
+      const FunctionModel model(
+          channels(), [this](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) { out = eval(wi, wr); },
+          text_, s_.isotropic && lobe_->isotropic, true);
+      Spectrum s = fit_model(model, ctx, o);
+      s.source = text_;
+      return s;
+    }
     Spectrum s = s_;
     const int m_new = hemisphere_basis_count(o.order), m_old = s_.modes(), k = std::min(m_new, m_old);
     for (auto& c : s.channels) {
@@ -77,6 +88,7 @@ class SpectrumSource final : public BrdfSource {
 
  private:
   Spectrum s_;
+  std::optional<HalfAngleFactors> lobe_;
   std::string text_;
 };
 
@@ -97,7 +109,7 @@ std::vector<std::string> channel_column_names(int channels) {
 
 std::unique_ptr<BrdfSource> spectrum_source(Spectrum spectrum) {
   const std::string text = spectrum.source;
-  return std::make_unique<SpectrumSource>(std::move(spectrum), text);
+  return std::make_unique<SpectrumSource>(std::move(spectrum), std::nullopt, text);
 }
 
 std::unique_ptr<BrdfSource> open_source(const std::string& text) {
@@ -106,7 +118,10 @@ std::unique_ptr<BrdfSource> open_source(const std::string& text) {
   const auto [path, name] = split_material_ref(text);
   if (path.size() > 3 && path.compare(path.size() - 3, 3, ".h5") == 0) {
     if (!is_regular_file(path)) throw InputError(path + ": no such file (SOURCE '" + text + "')");
-    return std::make_unique<SpectrumSource>(read_spectrum_file(path, name), text);
+    ReadOptions ro;
+    ro.read_luts = false;
+    MaterialRecord rec = read_bank_material(path, name, ro);
+    return std::make_unique<SpectrumSource>(std::move(rec.spectrum), std::move(rec.lobe), text);
   }
   throw ArgumentError("unknown SOURCE '" + text + "': expected model:NAME[:key=value,...] or FILE.h5[#MATERIAL]");
 }

@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "io/bank_file.hpp"
+#include "io/half_angle_file.hpp"
 
 namespace icobrdf {
 
@@ -66,6 +67,13 @@ static bool choice_key_ok(const std::string& k) {
   for (char c : k)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
   return true;
+}
+
+std::string representation_name(const MaterialRecord& rec) {
+  if (!rec.lobe) return "modes";
+  for (const auto& c : rec.spectrum.channels)
+    if (!c.isZero(0.0)) return "hybrid";
+  return "half-angle";
 }
 
 void write_material(h5::Group& materials, const MaterialRecord& rec) {
@@ -133,6 +141,11 @@ void write_material(h5::Group& materials, const MaterialRecord& rec) {
   g.set_attr("reciprocity_violation", s.reciprocity_violation);
   g.set_attr("anisotropy_fraction", s.anisotropy_fraction);
   g.set_attr("max_albedo", s.max_albedo);
+  // Written only with a lobe, so that files of modes alone stay as format 1.0 wrote them.
+  if (rec.lobe) {
+    g.set_attr("representation", representation_name(rec));
+    write_half_angle(g, *rec.lobe, ch, nm);
+  }
 
   std::vector<double> buf(static_cast<size_t>(ch * m * m));
   for (int c = 0; c < ch; ++c) RowMap(buf.data() + c * m * m, m, m) = s.channels[c];
@@ -228,6 +241,15 @@ MaterialRecord read_material(const h5::Group& materials, const std::string& name
     for (int c = 0; c < ch; ++c)
       s.channels[c] = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
           a.data.data() + static_cast<size_t>(c * m * m), m, m);
+  }
+
+  if (g.has(kHalfAngleGroup)) {
+    rec.lobe = read_half_angle(g, ch, lim);
+    const std::string want = representation_name(rec);
+    const std::string found = g.has_attr("representation") ? g.attr_string("representation") : std::string("(none)");
+    if (found != want) g.fail(g.path(), "attribute representation: expected '" + want + "' for its C and half_angle, found '" + found + "'");
+  } else if (g.has_attr("representation") && g.attr_string("representation") != "modes") {
+    g.fail(g.child_path(kHalfAngleGroup), "missing group (representation '" + g.attr_string("representation") + "' needs it)");
   }
 
   const bool hv = g.has("ibsss"), hi = g.has("ibsss_indices");

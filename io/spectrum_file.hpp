@@ -5,6 +5,9 @@
 //   ibsss          channels x K   isotropic (IBSSS) coefficients [1], with
 //   ibsss_indices  K x 3          (n, m, l) of each column, n >= m >= l >= 0, n - l and m - l even, n <= order
 //   lut            channels x (cells x cells)  the BRDF per (incident cell, remitted cell) [1/sr]
+//   lobe           a half-angle factorized lobe (core/half_angle_factors.hpp, io/half_angle_file.hpp) added to
+//                  the modes: f = sum_ab C_ab K_a(w_i) K_b(w_r) + lobe(w_i, w_r). Representation "half-angle"
+//                  when C is all zero (a lobe alone), "hybrid" otherwise; "modes" without a lobe.
 // The writer stores the LUT as float32 when lut_float32 is set, recording the largest
 // |float32(x) - x| as the material attribute lut_max_abs_rounding_error [1/sr] (relative rounding <= 2^-24).
 #include <limits>
@@ -14,6 +17,7 @@
 #include <vector>
 
 #include "core/grid.hpp"
+#include "core/half_angle_factors.hpp"
 #include "core/spectrum.hpp"
 #include "io/grid_file.hpp"
 #include "io/h5_file.hpp"
@@ -25,6 +29,7 @@ struct MaterialRecord {
   Spectrum spectrum;
   Eigen::MatrixXd ibsss;      // channels x K; empty when absent
   RowMatrix3i ibsss_indices;  // K x 3 (n, m, l)
+  std::optional<HalfAngleFactors> lobe;  // half-angle lobe added to the modes; absent for "modes"
   std::vector<Eigen::MatrixXd> lut;  // one cells x cells matrix per channel; empty when absent
   bool lut_float32 = false;          // write: store as float32; read: it was stored as float32
   // Largest |float32(x) - x| over the LUT [1/sr]; set by the writer (float32 only) and by the reader.
@@ -34,6 +39,9 @@ struct MaterialRecord {
   std::map<std::string, double> figures;
   std::map<std::string, std::string> labels;
 };
+
+// "modes", "half-angle" (a lobe and an all-zero C) or "hybrid" (a lobe and modes).
+std::string representation_name(const MaterialRecord& rec);
 
 // Longest material name accepted.
 inline constexpr std::size_t kMaxMaterialNameLength = 255;

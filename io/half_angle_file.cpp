@@ -1,0 +1,117 @@
+#include "io/half_angle_file.hpp"
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+
+namespace icobrdf {
+namespace {
+
+using h5::Shape;
+using h5::ShapePattern;
+
+// Largest node count along one axis and largest rank accepted from a file: sanity bounds against overflow of
+// the products below (the dataset size limit of the read applies first in practice).
+constexpr std::int64_t kMaxAxisNodes = 1 << 16;
+constexpr std::int64_t kMaxRank = 4096;
+
+const char* const kCoordinates =
+    "h = normalize(w_i + w_r) with angles (theta_h, phi_h); d = w_i in the frame where h is the pole, "
+    "d = Ry(-theta_h) Rz(-phi_h) w_i, angles (theta_d, phi_d) (Rusinkiewicz 1998; phi_h = 0 at h = +z). "
+    "h nodes: t_k = k/(n_t-1), theta_h = (pi/2) t^h_warp; phi_h_j = 2 pi j/n_phi_h (periodic; isotropic: "
+    "n_phi_h = 1, no phi_h dependence). d nodes: theta_d_a = (pi/2) a/(n_theta_d-1); phi_d_b = pi b/n_phi_d, "
+    "periodic with period pi (reciprocity); anisotropic lobes measure phi_d from the world's x axis, "
+    "phi_d + phi_h (the minimal rotation taking h to +z). Rows: u[k n_phi_h + j], v[a n_phi_d + b]. q = sum_r u v, linear "
+    "in t and phi_h, bilinear in theta_d and phi_d; f = q (quantity f) or q / max(cos_i cos_r, cosine_floor) "
+    "(quantity cosine); f = 0 below the horizon.";
+
+[[noreturn]] void bad_lobe(const std::string& name, const std::string& what) {
+  throw ArgumentError("cannot write material '" + name + "': half-angle lobe: " + what);
+}
+
+std::uint64_t u64(std::int64_t n) { return static_cast<std::uint64_t>(n); }
+
+void write_factor(h5::Group& g, const char* dataset, const std::vector<RowMatrixXd>& m, Eigen::Index rows, int rank,
+                  const char* unit, const std::string& description) {
+  const size_t per = static_cast<size_t>(rows) * static_cast<size_t>(rank);
+  std::vector<double> buf(per * m.size());
+  for (size_t c = 0; c < m.size(); ++c)
+    Eigen::Map<RowMatrixXd>(buf.data() + c * per, rows, rank) = m[c];
+  g.write(dataset, buf.data(), Shape{u64(static_cast<std::int64_t>(m.size())), u64(rows), u64(rank)}, unit, description);
+}
+
+std::vector<RowMatrixXd> read_factor(const h5::Group& g, const char* dataset, int channels, std::int64_t rows, int rank,
+                                     const h5::ReadLimits& lim) {
+  auto a = g.read<double>(dataset, ShapePattern{channels, rows, rank}, lim);
+  for (size_t i = 0; i < a.data.size(); ++i)
+    if (!std::isfinite(a.data[i]))
+      g.fail(g.child_path(dataset), "expected finite values, found " + std::to_string(a.data[i]) + " at flat index " +
+                                        std::to_string(i));
+  std::vector<RowMatrixXd> out(static_cast<size_t>(channels));
+  const size_t per = static_cast<size_t>(rows) * static_cast<size_t>(rank);
+  for (int c = 0; c < channels; ++c)
+    out[static_cast<size_t>(c)] = Eigen::Map<const RowMatrixXd>(a.data.data() + static_cast<size_t>(c) * per, rows, rank);
+  return out;
+}
+
+}  // namespace
+
+void write_half_angle(h5::Group& material, const HalfAngleFactors& lobe, int channels, const std::string& name) {
+  if (lobe.rank < 1) bad_lobe(name, "expected rank >= 1, found " + std::to_string(lobe.rank));
+  if (lobe.channels() != channels)
+    bad_lobe(name, "expected " + std::to_string(channels) + " channel(s) as the spectrum, found " + std::to_string(lobe.channels()));
+  try {
+    lobe.validate();
+  } catch (const InputError& e) {
+    bad_lobe(name, e.what());
+  }
+  h5::Group g = material.create_group(kHalfAngleGroup);
+  g.set_attr("quantity", half_angle_quantity_name(lobe.quantity));
+  g.set_attr("isotropic", lobe.isotropic);
+  g.set_attr("h_warp", lobe.h_warp);
+  g.set_attr("n_t", static_cast<std::int32_t>(lobe.n_t));
+  g.set_attr("n_phi_h", static_cast<std::int32_t>(lobe.n_phi_h));
+  g.set_attr("n_theta_d", static_cast<std::int32_t>(lobe.n_theta_d));
+  g.set_attr("n_phi_d", static_cast<std::int32_t>(lobe.n_phi_d));
+  g.set_attr("rank", static_cast<std::int32_t>(lobe.rank));
+  g.set_attr("cosine_floor", kHalfAngleCosineFloor);
+  g.set_attr("coordinates", kCoordinates);
+  const std::string q = lobe.quantity == HalfAngleQuantity::Cosine ? "q = f cos(theta_i) cos(theta_r)" : "q = f";
+  write_factor(g, "u", lobe.u, lobe.h_nodes(), lobe.rank, "1/sr", "u[c, h node, r]: h factor of term r of " + q);
+  write_factor(g, "v", lobe.v, lobe.d_nodes(), lobe.rank, "1", "v[c, d node, r]: d factor of term r of " + q);
+}
+
+HalfAngleFactors read_half_angle(const h5::Group& material, int channels, const h5::ReadLimits& lim) {
+  const h5::Group g = material.open_group(kHalfAngleGroup);
+  g.check_links();
+  HalfAngleFactors f;
+  const std::string quantity = g.attr_string("quantity");
+  try {
+    f.quantity = half_angle_quantity_from_name(quantity);
+  } catch (const ArgumentError&) {
+    g.fail(g.path(), "attribute quantity: expected 'f' or 'cosine', found '" + quantity + "'");
+  }
+  f.isotropic = g.attr_bool("isotropic");
+  f.h_warp = g.attr_double("h_warp");
+  f.n_t = static_cast<int>(g.attr_int("n_t", 2, kMaxAxisNodes));
+  f.n_phi_h = static_cast<int>(g.attr_int("n_phi_h", 1, kMaxAxisNodes));
+  f.n_theta_d = static_cast<int>(g.attr_int("n_theta_d", 2, kMaxAxisNodes));
+  f.n_phi_d = static_cast<int>(g.attr_int("n_phi_d", 1, kMaxAxisNodes));
+  f.rank = static_cast<int>(g.attr_int("rank", 1, kMaxRank));
+  const double floor = g.attr_double("cosine_floor");
+  if (floor != kHalfAngleCosineFloor)
+    g.fail(g.path(), "attribute cosine_floor: expected " + std::to_string(kHalfAngleCosineFloor) + ", found " + std::to_string(floor));
+  f.u = read_factor(g, "u", channels, std::int64_t{f.n_t} * f.n_phi_h, f.rank, lim);
+  f.v = read_factor(g, "v", channels, std::int64_t{f.n_theta_d} * f.n_phi_d, f.rank, lim);
+  try {
+    f.validate();
+  } catch (const InputError& e) {
+    g.fail(g.path(), e.what());
+  }
+  return f;
+}
+
+}  // namespace icobrdf

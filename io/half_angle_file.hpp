@@ -1,0 +1,27 @@
+#pragma once
+// The half-angle factorized lobe of a material (core/half_angle_factors.hpp) <-> the subgroup
+// /materials/<name>/half_angle of a bank (docs/file-format.md, format 2.0).
+//
+//   attributes  quantity ("f" | "cosine"), isotropic (uint8), h_warp (float64), n_t, n_phi_h, n_theta_d,
+//               n_phi_d, rank (int32), cosine_floor (float64), coordinates (text: the grids, the node
+//               order and the interpolation, enough to evaluate the lobe without icobrdf)
+//   u           channels x (n_t n_phi_h) x rank       float64  [1/sr]   h factors at the h nodes
+//   v           channels x (n_theta_d n_phi_d) x rank float64  [1]      d factors at the d nodes
+//
+// q(h, d) = sum_r u[c, h node, r] v[c, d node, r], interpolated linearly in (t, phi_h) and (theta_d, phi_d);
+// f = q (quantity f) or q / max(cos theta_i cos theta_r, cosine_floor) (quantity cosine).
+#include "core/half_angle_factors.hpp"
+#include "io/h5_file.hpp"
+
+namespace icobrdf {
+
+inline constexpr const char* kHalfAngleGroup = "half_angle";
+
+// Writes `lobe` as the subgroup half_angle of `material`. ArgumentError naming `material_name` when the lobe
+// is inconsistent (sizes, channels other than `channels`, non-finite values, rank < 1).
+void write_half_angle(h5::Group& material, const HalfAngleFactors& lobe, int channels, const std::string& material_name);
+
+// Reads and validates the subgroup half_angle of `material` (InputError "<file>: <object>: <what>").
+HalfAngleFactors read_half_angle(const h5::Group& material, int channels, const h5::ReadLimits& limits);
+
+}  // namespace icobrdf

@@ -1,0 +1,149 @@
+#!/usr/bin/python3
+"""Evaluate any material of an icobrdf bank at direction pairs with numpy + h5py alone.
+
+    /usr/bin/python3 tools/bank_eval_numpy.py BANK.h5 MATERIAL PAIRS.csv
+
+PAIRS.csv has the header theta_i,phi_i,theta_r,phi_r (degrees), as `icobrdf eval --at` reads it; the
+values of f [1/sr] are printed one line per pair (channels comma-separated), as `icobrdf eval` prints them.
+
+Every representation of docs/file-format.md is reconstructed here from its definition, independently of
+icobrdf's C++ code:
+  modes       f = sum_ab C_ab K_a(w_i) K_b(w_r)  (divided by cos(theta_i) when the spectrum is of g = f cos)
+  half-angle  f = lobe(w_i, w_r)                 (the /materials/<name>/half_angle group)
+  hybrid      f = max(0, modes + lobe)   (half-angle: max(0, lobe))
+K_n^l = sqrt((n+1)/pi) R_n^|l|(rho) az_l(phi), rho = sqrt(2) sin(theta/2), az_l = cos(l phi) (l > 0),
+1/sqrt(2) (l = 0), -sin(l phi) (l < 0); ANSI index j = (n(n+2)+l)/2.
+"""
+import math
+import sys
+
+import h5py
+import numpy as np
+
+HORIZON_SLACK = 1e-12  # z in [-slack, 0) is on the horizon, below it f = 0 (core/horizon conventions)
+
+
+def _text(x):
+    return x.decode() if isinstance(x, bytes) else str(x)
+
+
+def zernike_radial(n, m, rho):
+    """R_n^m(rho) by the explicit finite sum (exact in float64 for the orders banks use, n <= 30)."""
+    out = np.zeros_like(rho)
+    for s in range((n - m) // 2 + 1):
+        c = (-1) ** s * math.factorial(n - s) / (
+            math.factorial(s) * math.factorial((n + m) // 2 - s) * math.factorial((n - m) // 2 - s))
+        out += c * rho ** (n - 2 * s)
+    return out
+
+
+def hemisphere_basis(order, w):
+    """K_j(w) for j < (order+1)(order+2)/2, unit vectors w (pairs x 3): pairs x M."""
+    z = np.clip(w[:, 2], 0.0, 1.0)
+    rho = np.sqrt(np.clip(1.0 - z, 0.0, 1.0))  # rho^2 = 1 - cos(theta)
+    phi = np.arctan2(w[:, 1], w[:, 0])
+    cols = []
+    for n in range(order + 1):
+        for l in range(-n, n + 1, 2):
+            r = zernike_radial(n, abs(l), rho)
+            az = np.cos(l * phi) if l > 0 else (np.full_like(phi, 1 / math.sqrt(2)) if l == 0 else -np.sin(l * phi))
+            cols.append(math.sqrt((n + 1) / math.pi) * r * az)
+    return np.stack(cols, axis=1)
+
+
+def half_angle(wi, wr):
+    """(theta_h, phi_h, d): h = normalize(wi + wr), d = Ry(-theta_h) Rz(-phi_h) wi (Rusinkiewicz 1998)."""
+    h = wi + wr
+    norm = np.linalg.norm(h, axis=1)
+    h = np.where(norm[:, None] > 0, h / np.where(norm > 0, norm, 1)[:, None], np.array([0.0, 0.0, 1.0]))
+    theta_h = np.arctan2(np.hypot(h[:, 0], h[:, 1]), h[:, 2])
+    phi_h = np.where(np.hypot(h[:, 0], h[:, 1]) > 0, np.arctan2(h[:, 1], h[:, 0]), 0.0)
+    c, s = np.cos(phi_h), np.sin(phi_h)
+    x = wi[:, 0] * c + wi[:, 1] * s
+    y = -wi[:, 0] * s + wi[:, 1] * c
+    ct, st = np.cos(theta_h), np.sin(theta_h)
+    d = np.stack([x * ct - wi[:, 2] * st, y, x * st + wi[:, 2] * ct], axis=1)
+    return theta_h, phi_h, d
+
+
+def _linear(x, n, periodic):
+    """Node indices (i0, i1) and weight of i1 for coordinates x in node units (0 .. n-1, or periodic in n)."""
+    if periodic:
+        x = np.mod(x, n)
+        i0 = np.floor(x).astype(int) % n
+        return i0, (i0 + 1) % n, x - np.floor(x)
+    x = np.clip(x, 0.0, n - 1)
+    i0 = np.minimum(np.floor(x).astype(int), n - 2)
+    return i0, i0 + 1, x - i0
+
+
+def eval_lobe(g, channels, wi, wr):
+    """The half-angle lobe of group g at pairs: pairs x channels."""
+    a = {k: g.attrs[k] for k in g.attrs}
+    n_t, n_ph, n_td, n_pd = (int(a[k]) for k in ("n_t", "n_phi_h", "n_theta_d", "n_phi_d"))
+    warp, iso, quantity = float(a["h_warp"]), bool(a["isotropic"]), _text(a["quantity"])
+    u, v = g["u"][...], g["v"][...]  # channels x h nodes x R, channels x d nodes x R
+    theta_h, phi_h, d = half_angle(wi, wr)
+    t = (theta_h / (math.pi / 2)) ** (1.0 / warp)
+    t0, t1, wt = _linear(t * (n_t - 1), n_t, False)
+    theta_d = np.arctan2(np.hypot(d[:, 0], d[:, 1]), d[:, 2])
+    phi_d = np.arctan2(d[:, 1], d[:, 0])
+    if not iso:
+        phi_d = phi_d + phi_h  # anisotropic lobes: phi_d in the minimal-rotation frame (from the world's x axis)
+    a0, a1, wa = _linear(theta_d / (math.pi / 2) * (n_td - 1), n_td, False)
+    b0, b1, wb = _linear(phi_d / math.pi * n_pd, n_pd, True)
+    if iso:
+        hw = [(t0, 1 - wt), (t1, wt)]
+    else:
+        j0, j1, wj = _linear(phi_h / (2 * math.pi) * n_ph, n_ph, True)
+        hw = [(t0 * n_ph + j0, (1 - wt) * (1 - wj)), (t0 * n_ph + j1, (1 - wt) * wj),
+              (t1 * n_ph + j0, wt * (1 - wj)), (t1 * n_ph + j1, wt * wj)]
+    dw = [(a0 * n_pd + b0, (1 - wa) * (1 - wb)), (a0 * n_pd + b1, (1 - wa) * wb),
+          (a1 * n_pd + b0, wa * (1 - wb)), (a1 * n_pd + b1, wa * wb)]
+    out = np.zeros((wi.shape[0], channels))
+    for c in range(channels):
+        uh = sum(w[:, None] * u[c][idx] for idx, w in hw)  # pairs x R
+        vd = sum(w[:, None] * v[c][idx] for idx, w in dw)
+        out[:, c] = np.sum(uh * vd, axis=1)
+    if quantity == "cosine":
+        cc = np.clip(wi[:, 2], 0, None) * np.clip(wr[:, 2], 0, None)
+        out /= np.maximum(cc, float(a["cosine_floor"]))[:, None]
+    return out
+
+
+def eval_material(path, name, wi, wr):
+    """f [1/sr] of material `name` at unit-vector pairs wi, wr (pairs x 3): pairs x channels."""
+    with h5py.File(path, "r") as f:
+        m = f["materials"][name]
+        order = int(m.attrs["order"])
+        cosine = bool(m.attrs["cosine"])
+        C = m["C"][...]
+        channels = C.shape[0]
+        Ki, Kr = hemisphere_basis(order, wi), hemisphere_basis(order, wr)
+        out = np.stack([np.einsum("pa,ab,pb->p", Ki, C[c], Kr) for c in range(channels)], axis=1)
+        if cosine:
+            out /= wi[:, 2:3]
+        if "half_angle" in m:  # a material with a lobe is clamped at 0 (docs/file-format.md)
+            out = np.maximum(out + eval_lobe(m["half_angle"], channels, wi, wr), 0.0)
+    below = (wi[:, 2] < -HORIZON_SLACK) | (wr[:, 2] < -HORIZON_SLACK)
+    out[below] = 0.0
+    return out
+
+
+def direction(theta_deg, phi_deg):
+    t, p = np.radians(theta_deg), np.radians(phi_deg)
+    return np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], axis=1)
+
+
+def main(path, name, pairs_csv):
+    a = np.loadtxt(pairs_csv, delimiter=",", skiprows=1, ndmin=2)
+    values = eval_material(path, name, direction(a[:, 0], a[:, 1]), direction(a[:, 2], a[:, 3]))
+    for row in values:
+        print(",".join(f"{x:.17g}" for x in row))
+    return values
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 4:
+        raise SystemExit(__doc__)
+    main(*sys.argv[1:4])
