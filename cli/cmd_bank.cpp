@@ -46,7 +46,7 @@ int run_build(const BuildArgs& a) {
     if (!m.ok) {
       j["error"] = m.error;
     } else {
-      j.update({{"isotropic", m.isotropic}, {"level", m.level}, {"order", m.order}, {"target", m.target},
+      j.update({{"representation", m.representation}, {"isotropic", m.isotropic}, {"level", m.level}, {"order", m.order}, {"target", m.target},
                 {"error_measured", m.measured}, {"error_l2", m.measured ? nlohmann::json(m.error_l2) : nlohmann::json()},
                 {"error_max", m.measured ? nlohmann::json(m.error_max) : nlohmann::json()}, {"anisotropy", m.anisotropy},
                 {"kept_coefficients", m.kept}, {"total_coefficients", m.total}, {"bytes", m.bytes}, {"seconds", m.seconds}});
@@ -59,16 +59,17 @@ int run_build(const BuildArgs& a) {
                      .dump(2)
               << "\n";
   } else {
-    std::cout << fmt::format("{:<18} {:>4} {:>5} {:>5} {:>9} {:>9} {:>9} {:>11} {:>8} {:>7}\n", "material", "iso", "level", "order",
-                             "target", "rel L2", "rel max", "kept/total", "bytes", "seconds");
+    std::cout << fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9} {:>9} {:>9} {:>11} {:>8} {:>7}\n", "material", "repr", "iso",
+                             "level", "order", "target", "rel L2", "rel max", "kept/total", "bytes", "seconds");
     for (const auto& m : r.materials) {
       if (!m.ok) {
         std::cout << fmt::format("{:<18} FAILED: {}\n", m.name, m.error);
         continue;
       }
       const std::string l2 = m.measured ? fmt::format("{:.3g}", m.error_l2) : "n/a", mx = m.measured ? fmt::format("{:.3g}", m.error_max) : "n/a";
-      std::cout << fmt::format("{:<18} {:>4} {:>5} {:>5} {:>9.3g} {:>9} {:>9} {:>11} {:>8} {:>7.2f}{}\n", m.name, m.isotropic ? "yes" : "no",
-                               m.level, m.order, m.target, l2, mx, fmt::format("{}/{}", m.kept, m.total), m.bytes, m.seconds,
+      const auto dash = [](int v) { return v < 0 ? std::string("-") : std::to_string(v); };  // no modes: a lobe alone
+      std::cout << fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9.3g} {:>9} {:>9} {:>11} {:>8} {:>7.2f}{}\n", m.name,
+                               m.representation, m.isotropic ? "yes" : "no", dash(m.level), dash(m.order), m.target, l2, mx, fmt::format("{}/{}", m.kept, m.total), m.bytes, m.seconds,
                                m.resumed ? " (resumed)" : "");
     }
     if (r.written) std::cout << fmt::format("wrote {}\n", a.output);
@@ -91,7 +92,12 @@ void run_info(const std::string& path, bool json) {
   for (const auto& m : b.materials) {
     nlohmann::json j{{"name", m.name}, {"source", m.spectrum.source}, {"order", m.spectrum.order}, {"isotropic", m.spectrum.isotropic},
                      {"cosine", m.spectrum.cosine}, {"channels", m.spectrum.channel_count()}, {"level", m.spectrum.level},
-                     {"grid", m.spectrum.grid_kind}, {"has_lut", !m.lut.empty() || m.lut_float32}};
+                     {"grid", m.spectrum.grid_kind}, {"has_lut", !m.lut.empty() || m.lut_float32},
+                     {"representation", representation_name(m)}};
+    if (m.lobe)
+      j["half_angle"] = {{"quantity", half_angle_quantity_name(m.lobe->quantity)}, {"isotropic", m.lobe->isotropic},
+                         {"rank", m.lobe->rank}, {"n_t", m.lobe->n_t}, {"n_phi_h", m.lobe->n_phi_h}, {"n_theta_d", m.lobe->n_theta_d},
+                         {"n_phi_d", m.lobe->n_phi_d}, {"bytes", m.lobe->bytes()}};
     for (const auto& [k, v] : m.figures) j[k] = v;
     for (const auto& [k, v] : m.labels) j[k] = v;
     mats.push_back(j);
@@ -109,9 +115,14 @@ void run_info(const std::string& path, bool json) {
   std::cout << fmt::format("{}: icobrdf bank {} by {}, created {}\n", path, b.format_version, b.creator, b.created);
   if (b.grid) std::cout << fmt::format("  grid: {} level {} ({} cells)\n", to_string(b.grid->kind), b.grid->level, b.grid->cells());
   std::cout << fmt::format("  basis arrays: {}\n", b.basis.size());
-  for (const auto& m : b.materials)
+  for (const auto& m : b.materials) {
     std::cout << fmt::format("  {:<18} order {:>2} {:<11} {} channel(s)  {}\n", m.name, m.spectrum.order, m.spectrum.isotropic ? "isotropic" : "anisotropic",
                              m.spectrum.channel_count(), m.spectrum.source);
+    if (m.lobe)
+      std::cout << fmt::format("  {:<18} {}: half-angle lobe of rank {}, {} h x {} d nodes ({}), {} bytes\n", "", representation_name(m),
+                               m.lobe->rank, m.lobe->h_nodes(), m.lobe->d_nodes(), m.lobe->isotropic ? "isotropic" : "anisotropic",
+                               m.lobe->bytes());
+  }
 }
 
 void run_extract(const std::string& spec, const std::string& out) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <algorithm>
 #include <set>
 
 #include "core/error.hpp"
@@ -109,7 +110,8 @@ Scene read_scene(const std::string& path) {
   if (const auto* bank = root["bank"].as_table()) {
     const std::string w = "[bank]";
     for (const auto& [k, v] : *bank) {
-      static const std::set<std::string> known{"level", "levels", "order_max", "target", "metric", "sampling", "store_lut", "lut_float32", "holdout_pairs"};
+      static const std::set<std::string> known{"level", "levels", "order_max", "target", "metric", "sampling", "store_lut", "lut_float32", "holdout_pairs",
+                                               "representations"};
       if (!known.count(std::string(k.str()))) fail(s, w, "unknown key '" + std::string(k.str()) + "'");
       (void)v;
     }
@@ -128,6 +130,21 @@ Scene read_scene(const std::string& path) {
       for (const auto& e : *arr) {
         if (!e.value<int64_t>()) fail(s, w, "'levels' expected integers");
         s.levels.push_back(checked_int(s, w, "levels", *e.value<int64_t>()));
+      }
+    }
+    if (const auto* rv = bank->get("representations")) {
+      static const std::set<std::string> allowed{"modes", "half-angle", "hybrid"};
+      const auto* arr = rv->as_array();
+      if (!arr || arr->empty()) fail(s, w, "'representations' expected a non-empty array of \"modes\", \"half-angle\", \"hybrid\"");
+      s.representations.clear();
+      for (const auto& e : *arr) {
+        const auto name = e.value<std::string>();
+        if (!name || !allowed.count(*name))
+          fail(s, w, "'representations' entries expected \"modes\", \"half-angle\" or \"hybrid\", found " +
+                         (name ? "\"" + printable_text(*name) + "\"" : std::string("a non-string")));
+        if (std::find(s.representations.begin(), s.representations.end(), *name) != s.representations.end())
+          fail(s, w, "'representations' lists \"" + *name + "\" twice");
+        s.representations.push_back(*name);
       }
     }
     if (s.level < 0 || s.level > 8) fail(s, w, "'level' expected in [0, 8], found " + std::to_string(s.level));

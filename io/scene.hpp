@@ -65,6 +65,9 @@ struct Scene {
   bool store_lut = false;
   bool lut_float32 = true;
   int holdout_pairs = 4096;
+  // Representations the builder may choose from, per material the one with the fewest bytes meeting the
+  // target: "modes", "half-angle", "hybrid" (pipeline/material_candidate.hpp).
+  std::vector<std::string> representations{"modes", "half-angle", "hybrid"};
   std::vector<SceneMaterial> materials;
 };
 

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 
+#include "core/function_model.hpp"
 #include "core/hemisphere_basis.hpp"
 #include "core/lowpass_filter.hpp"
 #include "core/lut.hpp"
+#include "io/material_eval.hpp"
 #include "mesh/tessellation.hpp"
 
 namespace icobrdf {
@@ -56,7 +58,21 @@ MaterialRecord BankOperators::finish_record(MaterialCandidate candidate) {
   MaterialRecord rec = std::move(candidate.record);
   if (scene_.store_lut) {
     const auto& ctx = operators(rec.spectrum.order);
-    for (const auto& c : rec.spectrum.channels) rec.lut.push_back(reconstruct_lut(ctx.basis, c));
+    if (!rec.lobe) {
+      for (const auto& c : rec.spectrum.channels) rec.lut.push_back(reconstruct_lut(ctx.basis, c));
+    } else {
+      // The material's values (modes + lobe, io/material_eval.hpp) averaged over the cell pairs with the bank
+      // grid's cubature (f form unless the spectrum is of g, whose LUT is then of g as well).
+      const Spectrum& s = rec.spectrum;
+      const std::optional<HalfAngleFactors>& lobe = rec.lobe;
+      const FunctionModel model(
+          s.channel_count(),
+          [&s, &lobe](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) {
+            out = evaluate_material(s, lobe, wi, wr);
+          },
+          "stored material", s.isotropic && lobe->isotropic, true);
+      rec.lut = build_lut(model, grid(), s.cosine, LutSampling::CellAverage).channels;
+    }
     // The LUT lives on the bank grid; the fitting level stays in the figure fit_level.
     rec.spectrum.level = scene_.level;
     rec.spectrum.grid_kind = to_string(GridKind::EqualArea);

@@ -20,6 +20,7 @@ namespace {
 using Say = std::function<void(const std::string&)>;
 
 void report_candidate(const MaterialCandidate& c, MaterialReport& rep) {
+  rep.representation = c.representation;
   rep.isotropic = c.isotropic;
   rep.measured = c.measured;
   rep.level = c.level;

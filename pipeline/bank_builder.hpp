@@ -33,9 +33,10 @@ struct MaterialReport {
   bool ok = false;
   std::string error;           // why it failed (ok = false)
   bool resumed = false;        // taken from the resume file
+  std::string representation;  // "modes", "half-angle" or "hybrid" (pipeline/material_candidate.hpp)
   bool isotropic = false;
   bool measured = true;        // false for delta BRDFs
-  int level = -1, order = -1;
+  int level = -1, order = -1;  // fitting level and order of the modes; -1 for a lobe alone
   double target = 0.0;
   double error_l2 = 0.0;       // relative L2 over the held-out pairs
   double error_max = 0.0;      // max |f_fit - f| / max |f| over the held-out pairs

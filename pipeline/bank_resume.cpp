@@ -24,6 +24,8 @@ std::string material_key(const Scene& s, const SceneMaterial& m) {
   t += "|bank|" + std::to_string(s.level) + "|" + std::to_string(s.order_max) + "|" + to_string(s.sampling) + "|" +
        std::to_string(s.holdout_pairs) + "|" + (s.store_lut ? "lut" : "nolut") + (s.lut_float32 ? "32" : "64");
   for (int l : s.levels) t += "|" + std::to_string(l);
+  t += "|repr";
+  for (const auto& r : s.representations) t += "|" + r;
   return fnv1a_hex(t);
 }
 
@@ -41,13 +43,14 @@ void store_choice(MaterialRecord& rec, const MaterialReport& rep) {
   rec.figures = {{"target", rep.target},         {"error_l2", rep.error_l2},     {"error_max", rep.error_max},
                  {"kept_coefficients", rep.kept}, {"total_coefficients", rep.total}, {"bytes", static_cast<double>(rep.bytes)},
                  {"seconds", rep.seconds},        {"fit_level", rep.level}};
-  rec.labels = {{"key", rep.key}, {"error_measured", rep.measured ? "yes" : "no (delta BRDF)"}};
+  rec.labels = {{"key", rep.key}, {"error_measured", rep.measured ? "yes" : "no (delta BRDF)"}, {"representation", rep.representation}};
 }
 
 void report_from_record(const MaterialRecord& rec, MaterialReport& rep) {
   rep.resumed = true;
   rep.source = rec.spectrum.source;
-  rep.isotropic = rec.spectrum.isotropic;
+  rep.isotropic = rec.spectrum.isotropic && (!rec.lobe || rec.lobe->isotropic);
+  rep.representation = representation_name(rec);
   rep.order = rec.spectrum.order;
   auto fig = [&](const char* k) { return rec.figures.count(k) ? rec.figures.at(k) : std::nan(""); };
   rep.level = static_cast<int>(fig("fit_level"));

@@ -58,11 +58,22 @@ HeldOutErrors::HeldOutErrors(const HeldOutPairs& pairs, int max_order, ErrorMetr
 }
 
 HeldOutError HeldOutErrors::operator()(const std::vector<Eigen::MatrixXd>& c, int order) const {
+  return of_values(modes_values(c, order));
+}
+
+Eigen::MatrixXd HeldOutErrors::modes_values(const std::vector<Eigen::MatrixXd>& c, int order) const {
   const int m = hemisphere_basis_count(order);
+  Eigen::MatrixXd out(ki_.rows(), static_cast<Eigen::Index>(c.size()));
+  for (size_t ch = 0; ch < c.size(); ++ch)
+    out.col(static_cast<Eigen::Index>(ch)) =
+        ((ki_.leftCols(m) * c[ch].topLeftCorner(m, m)).array() * kr_.leftCols(m).array()).rowwise().sum();
+  return out;
+}
+
+HeldOutError HeldOutErrors::of_values(const Eigen::MatrixXd& fit) const {
   double sq = 0.0, mx = 0.0;
-  for (size_t ch = 0; ch < c.size(); ++ch) {
-    const Eigen::VectorXd fit = ((ki_.leftCols(m) * c[ch].topLeftCorner(m, m)).array() * kr_.leftCols(m).array()).rowwise().sum();
-    const Eigen::VectorXd d = w_.cwiseProduct(fit - pairs_->f.col(static_cast<Eigen::Index>(ch)));
+  for (Eigen::Index ch = 0; ch < fit.cols(); ++ch) {
+    const Eigen::VectorXd d = w_.cwiseProduct(fit.col(ch) - pairs_->f.col(ch));
     sq += d.squaredNorm();
     mx = std::max(mx, d.cwiseAbs().maxCoeff());
   }

@@ -42,6 +42,12 @@ class HeldOutErrors {
   HeldOutErrors(const HeldOutPairs& pairs, int max_order, ErrorMetric metric);
   // `channels`: one coefficient matrix per channel; only its leading block of `order` is used.
   HeldOutError operator()(const std::vector<Eigen::MatrixXd>& channels, int order) const;
+  // The values sum_ab C_ab K_a(w_i) K_b(w_r) of such a spectrum at the pairs: pairs x channels.
+  Eigen::MatrixXd modes_values(const std::vector<Eigen::MatrixXd>& channels, int order) const;
+  // The errors of fitted values f_fit (pairs x channels) of any representation.
+  HeldOutError of_values(const Eigen::MatrixXd& fit) const;
+  const HeldOutPairs& pairs() const { return *pairs_; }
+  const Eigen::VectorXd& weights() const { return w_; }  // the metric's w per pair
 
  private:
   Eigen::MatrixXd ki_, kr_;  // pairs x modes of max_order

@@ -3,9 +3,15 @@
 //
 // A representation fitter turns one material (its source, its held-out errors, the scene's settings) into a
 // MaterialCandidate that meets the material's target, or throws UnsupportedError saying why it cannot. The
-// builder asks every representation in representations() and keeps the candidate with the fewest bytes
-// (the first listed on a tie); when none meets the target, the first representation's error is the
-// material's. Today there is one representation, "modes" (pipeline/modes_representation.hpp).
+// builder asks the representations the scene allows (Scene::representations, in the order of
+// representations()) and keeps the candidate with the fewest bytes (the first listed on a tie); when none
+// meets the target, the first representation's error is the material's. The representations:
+//   "modes"       Helmholtz modes (pipeline/modes_representation.hpp)
+//   "half-angle"  a half-angle factorized lobe alone (pipeline/half_angle_representation.hpp)
+//   "hybrid"      a few isotropic modes plus a half-angle lobe (same header)
+// A fitter told the bytes of the best candidate so far (MaterialProblem::bytes_to_beat) may give up as soon
+// as it cannot beat them (UnsupportedError): that keeps materials the modes store in a few bytes as fast as
+// before.
 //
 // Adding a representation: its fit in core/, its record fields in io/ (MaterialRecord and the bank file),
 // and here one fitter appended to representations() (material_candidate.cpp).
@@ -21,6 +27,8 @@
 
 namespace icobrdf {
 
+struct MaterialCandidate;
+
 // Everything a representation fitter may use for one material.
 struct MaterialProblem {
   const Scene& scene;
@@ -29,10 +37,12 @@ struct MaterialProblem {
   const HeldOutErrors* errors;  // nullptr when the source has delta parts (no pointwise error)
   FitContexts& contexts;        // fitting grids and projection contexts shared across the build
   std::function<void(const std::string&)> say;  // one progress line (never empty)
+  long long bytes_to_beat = -1;                 // bytes of the best candidate so far; -1 when none
+  const std::vector<MaterialCandidate>* earlier = nullptr;  // the candidates made before this fitter's
 };
 
 struct MaterialCandidate {
-  std::string representation;  // "modes"
+  std::string representation;  // "modes", "half-angle" or "hybrid"
   MaterialRecord record;       // as the bank stores it; the builder adds the LUT, figures and labels
   long long bytes = 0;         // what the kept data costs (the choice minimizes it)
   bool measured = true;        // false for delta BRDFs: the errors are NaN

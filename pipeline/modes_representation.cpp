@@ -39,7 +39,9 @@ int coefficient_count(const Spectrum& s) {
   return s.isotropic ? isotropic_mode_count(s.order) : static_cast<int>(helmholtz_mode_count(s.order));
 }
 
-MaterialRecord record_of(const std::string& name, const Spectrum& spectrum) {
+}  // namespace
+
+MaterialRecord modes_record(const std::string& name, const Spectrum& spectrum) {
   MaterialRecord rec;
   rec.name = name;
   rec.spectrum = spectrum;
@@ -52,7 +54,9 @@ MaterialRecord record_of(const std::string& name, const Spectrum& spectrum) {
   return rec;
 }
 
-}  // namespace
+long long modes_bytes(const Spectrum& s, int kept) {
+  return static_cast<long long>(kept) * (8LL * s.channel_count() + (s.isotropic ? 12 : 16));
+}
 
 MaterialCandidate fit_modes_candidate(const MaterialProblem& p) {
   const SceneMaterial& m = p.material;
@@ -83,10 +87,10 @@ MaterialCandidate fit_modes_candidate(const MaterialProblem& p) {
   c.order = choice.order;
   c.error = choice.error;
   c.anisotropy = choice.spectrum.anisotropy_fraction;
-  c.record = record_of(m.name, choice.spectrum);
+  c.record = modes_record(m.name, choice.spectrum);
   if (c.total == 0) c.total = c.kept = coefficient_count(c.record.spectrum);
   const Spectrum& s = c.record.spectrum;
-  c.bytes = static_cast<long long>(c.kept) * (8LL * s.channel_count() + (s.isotropic ? 12 : 16));
+  c.bytes = modes_bytes(s, c.kept);
   return c;
 }
 

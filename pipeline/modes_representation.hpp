@@ -15,4 +15,10 @@ namespace icobrdf {
 
 MaterialCandidate fit_modes_candidate(const MaterialProblem& problem);
 
+// The record of a spectrum as the bank stores it: with its IBSSS vector and indices when isotropic.
+MaterialRecord modes_record(const std::string& name, const Spectrum& spectrum);
+
+// Bytes of `kept` coefficients of a spectrum: 8 per channel + the indices (3 x 4 bytes isotropic, 4 x 4 otherwise).
+long long modes_bytes(const Spectrum& spectrum, int kept);
+
 }  // namespace icobrdf

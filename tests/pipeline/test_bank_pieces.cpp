@@ -135,7 +135,7 @@ TEST(BankResume, MaterialKeyIsTheTextOfTheSceneWords) {
   m.isotropic = IsotropicChoice::Never;
   s.sampling = LutSampling::CellAverage;
   EXPECT_EQ(material_key(s, m), fnv1a_hex("icobrdf-bank-material-v1|model:lambert|0.5|false|-1|-1|cosine|0|90|prune|bank|4|4|average|64|"
-                                          "nolut32|1|2"));
+                                          "nolut32|1|2|repr|modes|half-angle|hybrid"));
   EXPECT_EQ(to_string(IsotropicChoice::Auto), "auto");
   EXPECT_EQ(to_string(IsotropicChoice::Always), "true");
   EXPECT_EQ(to_string(ErrorMetric::F), "f");

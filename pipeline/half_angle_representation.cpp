@@ -1,0 +1,314 @@
+#include "pipeline/half_angle_representation.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <random>
+
+#include "core/error.hpp"
+#include "core/function_model.hpp"
+#include "core/half_angle_factors.hpp"
+#include "core/isotropic_modes.hpp"
+#include "core/spectrum_ops.hpp"
+#include "io/material_eval.hpp"
+#include "pipeline/keys.hpp"
+#include "pipeline/modes_representation.hpp"
+
+namespace icobrdf {
+namespace {
+
+// Share of the target the isotropy defect may take before a lobe is fitted anisotropically: the isotropic
+// lobe then misses the azimuthal variation (about defect / sqrt 2), which leaves most of the target to the
+// factorization and the interpolation.
+constexpr double kIsotropyShare = 0.25;
+// Share of the target the weighted node error may take: the rest is left to the interpolation between nodes
+// (measured: the held-out error of a lobe is its node error plus an interpolation part of the same size on
+// the first grid fine enough).
+constexpr double kNodeShare = 0.5;
+// Largest rank tried at one grid.
+constexpr int kMaxRank = 8;
+// ALS sweeps per rank, and the relative decrease of the objective below which they stop: the node error only
+// has to reach kNodeShare of the target, and the held-out error decides; tighter settings cost 4-10x the
+// time for changes in the third digit of the error (measured on the glossy scene).
+constexpr int kMaxSweeps = 60;
+constexpr double kSweepTolerance = 1e-4;
+// Bytes counted for a lobe beyond its doubles: the 8 numbers describing its grids (n_t, n_phi_h, n_theta_d,
+// n_phi_d, rank as int32; h_warp, cosine floor as float64; the quantity as one byte).
+constexpr long long kLobeHeaderBytes = 5 * 4 + 2 * 8 + 1;
+// Body orders of a hybrid (isotropic modes: 5 and 14 coefficients at orders 2 and 4): a body is worth its
+// bytes when it takes terms off the lobe (Lambert is rank 2 in the cosine quantity), which low orders do.
+constexpr int kHybridOrders[] = {2, 4};
+// Rounds of the alternation body <-> lobe (each a lobe fit). The body step minimizes the plain L2 error of f on
+// the fitting grid, the lobe step the metric's error of q, so the rounds do not always improve; the best pair
+// is kept (measured on Lambert + GGX and Lambert + Blinn-Phong: the best is one of the first two rounds).
+constexpr int kHybridRounds = 2;
+
+struct LadderStep {
+  int n_t, n_phi_h, n_theta_d, n_phi_d;
+};
+// Grids in increasing size: isotropic (n_phi_h = 1) and anisotropic. theta_d starts fine: masking makes q
+// steep towards grazing, and 32 theta_d nodes leave held-out errors of 0.03-0.47 for GGX alpha 0.05-0.3
+// where 64 give 0.005-0.009 (measured, cosine metric); then resolution goes to theta_h (the lobe) and phi_d.
+constexpr LadderStep kIsotropicLadder[] = {{32, 1, 64, 16}, {64, 1, 64, 32}, {128, 1, 96, 32}, {256, 1, 128, 32},
+                                           {256, 1, 128, 64}};
+// Anisotropic lobes couple phi_h and phi_d through masking, so they need ranks of 5-8 (measured on GGX
+// alpha 0.1 x 0.3: 0.053 at rank 5, 0.042 at rank 8 on 48 x 32 h x 64 x 16 d nodes); their ladder is short
+// because each step costs 10-20 s.
+constexpr LadderStep kAnisotropicLadder[] = {{32, 16, 64, 16}, {48, 32, 64, 16}};
+
+// f of a source minus a term at pairs: what a representation must still fit.
+class ResidualSource final : public BrdfSource {
+ public:
+  using Term = std::function<Eigen::MatrixXd(const RowMatrix3d&, const RowMatrix3d&)>;
+  ResidualSource(const BrdfSource& source, Term term) : source_(source), term_(std::move(term)) {}
+  std::string spec() const override { return source_.spec() + " (residual)"; }
+  int channels() const override { return source_.channels(); }
+  Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
+    Eigen::MatrixXd f = source_.eval(wi, wr);
+    if (term_) f -= term_(wi, wr);
+    return f;
+  }
+  Spectrum fit(const ProjectionContext& ctx, const FitOptions& o) const override {
+    const FunctionModel model(
+        channels(), [this](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) { out = eval(wi, wr); },
+        spec(), o.isotropic, true);
+    return fit_model(model, ctx, o);
+  }
+
+ private:
+  const BrdfSource& source_;
+  Term term_;
+};
+
+bool lobe_is_isotropic(const MaterialProblem& p) {
+  if (p.material.isotropic == IsotropicChoice::Always) return true;
+  if (p.material.isotropic == IsotropicChoice::Never) return false;
+  const double defect = isotropy_defect(p.source, *p.errors);
+  const bool iso = defect <= kIsotropyShare * p.material.target;
+  p.say(p.material.name + ": isotropy defect " + exact_decimal(defect) + " -> " + (iso ? "isotropic" : "anisotropic") + " lobe");
+  return iso;
+}
+
+struct LobeFit {
+  HalfAngleFactors lobe;
+  HeldOutError error;
+};
+
+// The first grid of the ladder whose lobe, added to `body` at the held-out pairs, meets the target; nullopt
+// when none does (best error in *best).
+// Bytes of a lobe of rank 1 on a ladder step: no lobe on that step costs less.
+long long rank_one_bytes(const LadderStep& s, int channels) {
+  return 8LL * channels * (s.n_t * s.n_phi_h + s.n_theta_d * s.n_phi_d) + kLobeHeaderBytes;
+}
+
+// The lobe of `residual` on one grid, its rank from the target, and the held-out error of body + lobe
+// (body: values at the held-out pairs); nullopt when the grid cannot reach the node target.
+std::optional<LobeFit> fit_lobe_at(const MaterialProblem& p, const BrdfSource& residual, const Eigen::MatrixXd& body, bool isotropic,
+                                   const LadderStep& s, int fixed_rank = 0) {
+  const PairSampler sampler = [&residual](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) {
+    out = residual.eval(wi, wr);
+  };
+  HalfAngleFitOptions o;
+  o.quantity = p.material.metric == ErrorMetric::Cosine ? HalfAngleQuantity::Cosine : HalfAngleQuantity::F;
+  o.isotropic = isotropic;
+  o.target = kNodeShare * p.material.target;
+  o.max_rank = kMaxRank;
+  o.max_sweeps = kMaxSweeps;
+  o.sweep_tolerance = kSweepTolerance;
+  o.n_t = s.n_t;
+  o.n_phi_h = s.n_phi_h;
+  o.n_theta_d = s.n_theta_d;
+  o.n_phi_d = s.n_phi_d;
+  o.fixed_rank = fixed_rank;
+  HalfAngleFit fit;
+  try {
+    fit = fit_half_angle(sampler, residual.channels(), o);
+  } catch (const UnsupportedError&) {
+    return std::nullopt;
+  }
+  const auto& pairs = p.errors->pairs();
+  const HeldOutError e = p.errors->of_values(add_lobe(body, fit.factors, pairs.wi, pairs.wr));
+  p.say(p.material.name + ": half-angle " + std::to_string(s.n_t) + "x" + std::to_string(s.n_phi_h) + " h, " +
+        std::to_string(s.n_theta_d) + "x" + std::to_string(s.n_phi_d) + " d, rank " + std::to_string(fit.factors.rank) +
+        ": error " + exact_decimal(e.l2));
+  return LobeFit{std::move(fit.factors), e};
+}
+
+LadderStep step_of(const HalfAngleFactors& l) { return {l.n_t, l.n_phi_h, l.n_theta_d, l.n_phi_d}; }
+
+// The first grid of the ladder whose lobe, added to `body` at the held-out pairs, meets the target; nullopt
+// when none does (best error in *best). Steps whose rank-1 lobe plus `body_bytes` cannot beat
+// p.bytes_to_beat are not tried.
+std::optional<LobeFit> fit_lobe(const MaterialProblem& p, const BrdfSource& residual, const Eigen::MatrixXd& body, bool isotropic,
+                                double* best, long long body_bytes = 0) {
+  const LadderStep* begin = isotropic ? std::begin(kIsotropicLadder) : std::begin(kAnisotropicLadder);
+  const LadderStep* end = isotropic ? std::end(kIsotropicLadder) : std::end(kAnisotropicLadder);
+  for (const LadderStep* s = begin; s != end; ++s) {
+    if (p.bytes_to_beat >= 0 && body_bytes + rank_one_bytes(*s, residual.channels()) >= p.bytes_to_beat) break;
+    auto fit = fit_lobe_at(p, residual, body, isotropic, *s);
+    if (!fit) continue;  // this grid cannot reach the node target within kMaxRank; a finer one may
+    *best = std::min(*best, fit->error.l2);
+    if (fit->error.l2 <= p.material.target) return fit;
+  }
+  return std::nullopt;
+}
+
+// Numbers in messages: three significant digits (the progress lines keep every digit).
+std::string short_number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
+long long lobe_bytes(const HalfAngleFactors& lobe) { return static_cast<long long>(lobe.bytes()) + kLobeHeaderBytes; }
+
+void require_pointwise(const MaterialProblem& p, const char* what) {
+  if (!p.errors) throw UnsupportedError(std::string(what) + ": a delta BRDF has no pointwise values to factorize");
+}
+
+MaterialCandidate lobe_candidate(const MaterialProblem& p, const char* representation, Spectrum body, LobeFit fit, int level,
+                                 long long body_bytes, int body_kept) {
+  MaterialCandidate c;
+  c.representation = representation;
+  c.record = modes_record(p.material.name, body);
+  c.record.lobe = std::move(fit.lobe);
+  c.bytes = body_bytes + lobe_bytes(*c.record.lobe);
+  c.error = fit.error;
+  c.isotropic = body.isotropic && c.record.lobe->isotropic;
+  c.level = level;
+  c.order = level < 0 ? -1 : body.order;  // a lobe alone has no modes to speak of
+  c.anisotropy = body.anisotropy_fraction;
+  const int per_channel = c.record.lobe->rank * (c.record.lobe->h_nodes() + c.record.lobe->d_nodes());
+  c.kept = c.total = body_kept + per_channel;
+  return c;
+}
+
+// A zero spectrum of order 0: the modes part of a lobe alone.
+Spectrum zero_body(const MaterialProblem& p, bool isotropic) {
+  Spectrum s;
+  s.order = 0;
+  s.isotropic = isotropic;
+  s.channels.assign(static_cast<size_t>(p.source.channels()), Eigen::MatrixXd::Zero(1, 1));
+  s.source = p.source.spec();
+  return s;
+}
+
+// The body of a hybrid: isotropic modes of `order` fitted to the residual on the first scene level that
+// supports the order; nullopt when none does.
+std::optional<FitResult> fit_body(const MaterialProblem& p, const BrdfSource& residual, int order, int* level) {
+  for (int l : p.material.level >= 0 ? std::vector<int>{p.material.level} : p.scene.levels) {
+    FitRequest r;
+    r.level = l;
+    r.order = order;
+    r.sampling = p.scene.sampling;
+    r.isotropic = true;
+    if (p.contexts.supported_order(r) < order) continue;
+    *level = l;
+    return fit_source(residual, r, p.contexts);
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+double isotropy_defect(const BrdfSource& source, const HeldOutErrors& errors) {
+  const HeldOutPairs& h = errors.pairs();
+  std::mt19937_64 rng(0x5eed15070ULL);
+  std::uniform_real_distribution<double> angle(0.0, 2.0 * M_PI);
+  RowMatrix3d wi(h.wi.rows(), 3), wr(h.wr.rows(), 3);
+  for (Eigen::Index k = 0; k < h.wi.rows(); ++k) {
+    const double a = angle(rng), c = std::cos(a), s = std::sin(a);
+    wi.row(k) << c * h.wi(k, 0) - s * h.wi(k, 1), s * h.wi(k, 0) + c * h.wi(k, 1), h.wi(k, 2);
+    wr.row(k) << c * h.wr(k, 0) - s * h.wr(k, 1), s * h.wr(k, 0) + c * h.wr(k, 1), h.wr(k, 2);
+  }
+  const Eigen::MatrixXd rotated = source.eval(wi, wr);
+  const Eigen::VectorXd& w = errors.weights();
+  const double ref = (w.asDiagonal() * h.f).norm();
+  const double diff = (w.asDiagonal() * (rotated - h.f)).norm();
+  return ref > 0 ? diff / ref : diff;
+}
+
+// Refuses at once when even the smallest lobe (the first isotropic step, rank 1) cannot beat the bytes found.
+static void require_can_beat(const MaterialProblem& p, const char* what, long long body_bytes) {
+  if (p.bytes_to_beat >= 0 && body_bytes + rank_one_bytes(kIsotropicLadder[0], p.source.channels()) >= p.bytes_to_beat)
+    throw UnsupportedError(std::string(what) + ": no lobe is smaller than the " + std::to_string(p.bytes_to_beat) +
+                           " bytes already found");
+}
+
+MaterialCandidate fit_half_angle_candidate(const MaterialProblem& p) {
+  require_pointwise(p, "half-angle");
+  require_can_beat(p, "half-angle", 0);
+  const bool iso = lobe_is_isotropic(p);
+  const ResidualSource residual(p.source, nullptr);
+  const Eigen::MatrixXd none = Eigen::MatrixXd::Zero(p.errors->pairs().wi.rows(), p.source.channels());
+  double best = INFINITY;
+  auto fit = fit_lobe(p, residual, none, iso, &best);
+  if (!fit)
+    throw UnsupportedError("half-angle: target " + short_number(p.material.target) + " not met: best relative L2 error " +
+                           short_number(best) + " up to the largest grid and rank " + std::to_string(kMaxRank));
+  return lobe_candidate(p, "half-angle", zero_body(p, iso), std::move(*fit), -1, 0, 0);
+}
+
+MaterialCandidate fit_hybrid_candidate(const MaterialProblem& p) {
+  require_pointwise(p, "hybrid");
+  require_can_beat(p, "hybrid", 0);
+  // The grid and rank of the half-angle candidate (or of the same ladder search when there is none) bound
+  // the lobe: a hybrid pays for its body by a lobe of lower rank on that grid. For each body order and each
+  // lower rank, body and lobe alternate: body = modes of f - lobe, lobe = rank-R fit of f - body, from
+  // body = modes of f.
+  std::optional<HalfAngleFactors> first;
+  if (p.earlier)
+    for (const auto& c : *p.earlier)
+      if (c.representation == "half-angle" && c.record.lobe) first = c.record.lobe;
+  double best = INFINITY;
+  if (!first) {
+    const Eigen::MatrixXd none = Eigen::MatrixXd::Zero(p.errors->pairs().wi.rows(), p.source.channels());
+    auto fit = fit_lobe(p, ResidualSource(p.source, nullptr), none, lobe_is_isotropic(p), &best);
+    if (!fit) throw UnsupportedError("hybrid: no lobe meets target " + short_number(p.material.target) + " (best " + short_number(best) + ")");
+    first = std::move(fit->lobe);
+  }
+  if (first->rank < 2) throw UnsupportedError("hybrid: the lobe alone has rank 1, no body can lower it");
+  const LadderStep step = step_of(*first);
+  std::optional<MaterialCandidate> chosen;
+  for (int order : kHybridOrders) {
+    if (order > p.scene.order_max) break;
+    const int kept = isotropic_mode_count(order);
+    for (int rank = 1; rank < first->rank; ++rank) {
+      int level = -1;
+      std::optional<FitResult> body = fit_body(p, ResidualSource(p.source, nullptr), order, &level);
+      if (!body) break;
+      std::optional<LobeFit> lobe;      // the best pair over the rounds (the two steps minimize different
+      std::optional<FitResult> kept_body;  // norms, so a later round is not always better)
+      for (int round = 0; round < kHybridRounds && body; ++round) {
+        Spectrum s = body->spectrum;
+        const auto body_values = [s](const RowMatrix3d& wi, const RowMatrix3d& wr) {
+          Eigen::MatrixXd v(wi.rows(), s.channel_count());
+          for (int c = 0; c < s.channel_count(); ++c) v.col(c) = evaluate_coefficients(s.channels[c], s.order, wi, wr);
+          return v;
+        };
+        auto next = fit_lobe_at(p, ResidualSource(p.source, body_values), p.errors->modes_values(s.channels, s.order),
+                                first->isotropic, step, rank);
+        if (!next) break;
+        if (!lobe || next->error.l2 < lobe->error.l2) lobe = next, kept_body = body;
+        const HalfAngleFactors& l = next->lobe;
+        body = fit_body(p, ResidualSource(p.source, [&l](const RowMatrix3d& wi, const RowMatrix3d& wr) { return l.eval(wi, wr); }),
+                        order, &level);
+      }
+      if (!lobe) continue;
+      best = std::min(best, lobe->error.l2);
+      if (lobe->error.l2 > p.material.target) continue;
+      body = kept_body;
+      Spectrum s = body->spectrum;
+      s.source = p.source.spec();
+      MaterialCandidate c = lobe_candidate(p, "hybrid", s, std::move(*lobe), level, modes_bytes(s, kept), kept);
+      if (!chosen || c.bytes < chosen->bytes) chosen = std::move(c);
+      break;  // a higher rank at this order only costs more
+    }
+  }
+  if (!chosen)
+    throw UnsupportedError("hybrid: target " + short_number(p.material.target) + " not met below the lobe's rank " +
+                           std::to_string(first->rank) + ": best relative L2 error " + short_number(best));
+  return std::move(*chosen);
+}
+
+}  // namespace icobrdf
