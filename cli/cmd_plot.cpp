@@ -109,13 +109,17 @@ std::vector<plot::SphereMaterial> load_sphere_materials(const std::string& text,
   const std::vector<std::string> names = several_bank_materials(text);
   std::vector<plot::SphereMaterial> materials;
   if (!names.empty() && shading == Shading::Model) throw ArgumentError("--shading model: a bank holds spectra only");
-  for (const auto& n : names) materials.push_back({n, stored_bank_material(text, n).spectrum, {}, 1});
+  for (const auto& n : names) {
+    PictureMaterial m = stored_bank_material(text, n);  // a material with a lobe comes as its values
+    materials.push_back({n, std::move(m.spectrum), std::move(m.exact), m.exact_channels});
+  }
   if (!names.empty()) return materials;
   const bool use_model = shading != Shading::Spectrum && is_exact_model(text);
   if (shading == Shading::Model && !use_model)
     throw ArgumentError("--shading model: needs a model without delta parts, found '" + text + "'");
   PictureMaterial m = load_picture_material(text, order, level, use_model);
-  if (use_model) materials.push_back({text, std::nullopt, std::move(m.exact), m.exact_channels});
+  // A stored material with a half-angle lobe comes with its values too: shaded from them unless told not to.
+  if (use_model || (m.exact && shading != Shading::Spectrum)) materials.push_back({text, std::nullopt, std::move(m.exact), m.exact_channels});
   else materials.push_back({text, std::move(m.spectrum), {}, 1});
   return materials;
 }

@@ -8,6 +8,7 @@
 #include "core/model_spec.hpp"
 #include "io/bank_file.hpp"
 #include "io/brdf_source.hpp"
+#include "io/material_eval.hpp"
 #include "io/spectrum_file.hpp"
 #include "pipeline/fit_source.hpp"
 
@@ -31,6 +32,11 @@ Spectrum read_picture_spectrum(const std::string& text, const MaterialRef& ref) 
   return s;
 }
 
+// The stored material named by ref has a half-angle lobe.
+bool has_lobe(const MaterialRef& ref) {
+  return read_bank_material(ref.path, ref.name, ReadOptions{kBankReadLimitBytes, false}).lobe.has_value();
+}
+
 }  // namespace
 
 bool is_exact_model(const std::string& text) { return is_model_source(text) && !open_source(text)->has_delta(); }
@@ -41,10 +47,12 @@ PictureMaterial load_picture_material(const std::string& text, int order, int le
   const MaterialRef ref = split_material_ref(text);
   if (!is_model_source(text) && ends_with_h5(ref.path)) {
     m.spectrum = read_picture_spectrum(text, ref);
-    return m;
+    if (!has_lobe(ref)) return m;
   }
+  // Models, measured data, and stored materials with a half-angle lobe (whose modes alone are not the
+  // material): the values themselves are exact, the spectrum is their projection at `order`.
   std::shared_ptr<const BrdfSource> source = open_source(text);
-  const bool exact = is_model_source(text) && !source->has_delta();
+  const bool exact = (is_model_source(text) && !source->has_delta()) || m.spectrum.has_value();
   if (exact) {
     m.exact = [source](const RowMatrix3d& wi, const RowMatrix3d& wr) { return source->eval(wi, wr); };
     m.exact_channels = source->channels();
@@ -71,7 +79,15 @@ std::vector<std::string> several_bank_materials(const std::string& text) {
 PictureMaterial stored_bank_material(const std::string& bank, const std::string& name) {
   PictureMaterial m;
   m.name = name;
-  m.spectrum = read_bank_material(bank, name, ReadOptions{kBankReadLimitBytes, false}).spectrum;
+  MaterialRecord rec = read_bank_material(bank, name, ReadOptions{kBankReadLimitBytes, false});
+  if (!rec.lobe) {
+    m.spectrum = std::move(rec.spectrum);
+    return m;
+  }
+  // A material with a lobe is shaded from its values (its modes alone are not the material).
+  auto shared = std::make_shared<const MaterialRecord>(std::move(rec));
+  m.exact = [shared](const RowMatrix3d& wi, const RowMatrix3d& wr) { return evaluate_material(shared->spectrum, shared->lobe, wi, wr); };
+  m.exact_channels = shared->spectrum.channel_count();
   return m;
 }
 

@@ -27,15 +27,17 @@ struct PictureMaterial {
 // `text` names a model without delta parts (opens it: ArgumentError for a bad model).
 bool is_exact_model(const std::string& text);
 
-// A spectrum file (FILE.h5[#material]) as stored, InputError when it is missing; any other SOURCE fitted at
-// `order` on the equal-area grid of `level`. A model without delta parts also gets `exact`; with
+// A spectrum file (FILE.h5[#material]) as stored, InputError when it is missing; any other SOURCE, and a
+// stored material with a half-angle lobe (then also `exact`: its values), fitted at `order` on the
+// equal-area grid of `level`. A model without delta parts also gets `exact`; with
 // `model_only` such a model is not fitted at all.
 PictureMaterial load_picture_material(const std::string& text, int order, int level, bool model_only = false);
 
 // The material names of BANK.h5 when `text` names a bank file (no '#') holding more than one material,
 // InputError when that file is missing; empty for any other SOURCE.
 std::vector<std::string> several_bank_materials(const std::string& text);
-// Material `name` of BANK.h5 `bank`, its spectrum as stored.
+// Material `name` of BANK.h5 `bank`: its spectrum as stored, or for a material with a half-angle lobe its
+// values as `exact` (no spectrum).
 PictureMaterial stored_bank_material(const std::string& bank, const std::string& name);
 
 }  // namespace icobrdf
