@@ -46,6 +46,8 @@ std::size_t HalfAngleFactors::bytes() const {
   return 8 * n;
 }
 
+double HalfAngleFactors::cosine_floor() const { return std::sin(0.5 * M_PI / std::max(n_theta_d - 1, 1)); }
+
 double HalfAngleFactors::theta_h_of_t(double t) const {
   const double p = h_warp == 2.0 ? t * t : h_warp == 1.0 ? t : std::pow(t, h_warp);
   return 0.5 * M_PI * p;
@@ -127,6 +129,7 @@ inline bool pair_corners(const HalfAngleFactors& F, const double* wi, const doub
 template <bool Aniso>
 void eval_rows(const HalfAngleFactors& F, const RowMatrix3d& wi, const RowMatrix3d& wr, bool divide,
                Eigen::Ref<Eigen::MatrixXd> out) {
+  const double floor = F.cosine_floor();
   const Eigen::Index rows = wi.rows();
   const int R = F.rank, channels = F.channels();
 #pragma omp parallel for schedule(static) if (rows > 2048)
@@ -137,7 +140,7 @@ void eval_rows(const HalfAngleFactors& F, const RowMatrix3d& wi, const RowMatrix
       continue;
     }
     const double scale =
-        divide ? 1.0 / std::max(std::max(wi(i, 2), 0.0) * std::max(wr(i, 2), 0.0), kHalfAngleCosineFloor) : 1.0;
+        divide ? 1.0 / (std::max(wi(i, 2), floor) * std::max(wr(i, 2), floor)) : 1.0;
     for (int ch = 0; ch < channels; ++ch) {
       const double* U = F.u[ch].data();
       const double* V = F.v[ch].data();
@@ -392,9 +395,9 @@ struct SerialEigen {
   ~SerialEigen() { Eigen::setNbThreads(previous); }
 };
 
-HalfAngleFit fit_half_angle(const PairSampler& sampler, int channels, const HalfAngleFitOptions& o) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const SerialEigen serial;
+namespace {
+
+void check_fit_options(int channels, const HalfAngleFitOptions& o) {
   const auto bad = [](const std::string& what) { throw ArgumentError("fit_half_angle: " + what); };
   if (channels < 1) bad("channels = " + std::to_string(channels) + ", expected >= 1");
   if (o.n_t < 2 || o.n_theta_d < 2 || o.n_phi_d < 1 || (!o.isotropic && o.n_phi_h < 1))
@@ -405,23 +408,24 @@ HalfAngleFit fit_half_angle(const PairSampler& sampler, int channels, const Half
   if (!(o.target > 0.0)) bad("target must be > 0");
   if (o.max_rank < 1 || o.fixed_rank < 0 || o.max_rank > kMaxFitRank || o.fixed_rank > kMaxFitRank)
     bad("max_rank must be in [1, " + std::to_string(kMaxFitRank) + "] and fixed_rank in [0, " + std::to_string(kMaxFitRank) + "]");
+}
 
-  HalfAngleFit fit;
-  HalfAngleFactors& F = fit.factors;
-  F.quantity = o.quantity;
-  F.isotropic = o.isotropic;
-  F.h_warp = o.h_warp;
-  F.n_t = o.n_t;
-  F.n_phi_h = o.isotropic ? 1 : o.n_phi_h;
-  F.n_theta_d = o.n_theta_d;
-  F.n_phi_d = o.n_phi_d;
+// The node values q, the fitting weights W (valid nodes, and the extension at a small weight) and the error
+// weights Wv (valid nodes only) of a fit.
+struct SampledNodes {
+  std::vector<Eigen::MatrixXd> Q;  // per channel, H x D
+  Eigen::MatrixXd W, Wv;           // H x D
+};
+
+// Samples q at the valid node pairs (weight a_h b_d), then at the missing nodes that share an interpolation
+// cell with a valid one (weight extension_weight a_h b_d, extended values).
+SampledNodes sample_nodes(const PairSampler& sampler, int channels, const HalfAngleFitOptions& o, const HalfAngleFactors& F,
+                          const Eigen::VectorXd& a, const Eigen::VectorXd& b, double* valid_fraction) {
   const int H = F.h_nodes(), D = F.d_nodes();
-  const Eigen::VectorXd a = half_angle_h_weights(F), b = half_angle_d_weights(F);
-
-  // Sample q at the valid node pairs (weight a_h b_d), then at the missing nodes that share an
-  // interpolation cell with a valid one (weight extension_weight a_h b_d, extended values).
-  std::vector<Eigen::MatrixXd> Q(channels, Eigen::MatrixXd::Zero(H, D));
-  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(H, D), Wv = Eigen::MatrixXd::Zero(H, D);
+  SampledNodes out{std::vector<Eigen::MatrixXd>(channels, Eigen::MatrixXd::Zero(H, D)), Eigen::MatrixXd::Zero(H, D),
+                   Eigen::MatrixXd::Zero(H, D)};
+  std::vector<Eigen::MatrixXd>& Q = out.Q;
+  Eigen::MatrixXd &W = out.W, &Wv = out.Wv;
   Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> valid(H, D);
   for (int i = 0; i < H; ++i)
     for (int j = 0; j < D; ++j) {
@@ -429,7 +433,7 @@ HalfAngleFit fit_half_angle(const PairSampler& sampler, int channels, const Half
       half_angle_node_pair(F, i, j, x, y);
       valid(i, j) = x.z() >= -kHorizonSlack && y.z() >= -kHorizonSlack;
     }
-  fit.report.valid_fraction = valid.cast<double>().mean();
+  *valid_fraction = valid.cast<double>().mean();
   const auto near_valid = [&](int i, int j) {
     const int k = i / F.n_phi_h, jh = i % F.n_phi_h, ad = j / F.n_phi_d, bd = j % F.n_phi_d;
     for (int dk = -1; dk <= 1; ++dk)
@@ -500,12 +504,22 @@ HalfAngleFit fit_half_angle(const PairSampler& sampler, int channels, const Half
     }
   }
 
-  // Rank by rank, every channel that still misses the target gets one more term.
+  return out;
+}
+
+// Rank by rank, every channel that still misses the target gets one more term; returns the rank reached.
+int grow_ranks(const SampledNodes& n, const HalfAngleFitOptions& o, const Eigen::VectorXd& a, const Eigen::VectorXd& b,
+               std::vector<ChannelFit>& cf, std::vector<double>& norm2, std::vector<double>& e2, std::vector<int>& sweeps_by_rank) {
+  const int channels = static_cast<int>(n.Q.size());
+  const Eigen::Index H = n.W.rows(), D = n.W.cols();
+  const std::vector<Eigen::MatrixXd>& Q = n.Q;
+  const Eigen::MatrixXd &W = n.W, &Wv = n.Wv;
   const int max_rank = o.fixed_rank > 0 ? o.fixed_rank : o.max_rank;
   const double target2 = o.fixed_rank > 0 ? -1.0 : o.target * o.target;
-  std::vector<ChannelFit> cf(channels);
+  cf.assign(channels, ChannelFit{});
   std::vector<Eigen::MatrixXd> WQ(channels);
-  std::vector<double> norm2(channels), e2(channels);
+  norm2.assign(channels, 0.0);
+  e2.assign(channels, 0.0);
   for (int c = 0; c < channels; ++c) {
     WQ[c] = W.cwiseProduct(Q[c]);
     norm2[c] = Wv.cwiseProduct(Q[c]).cwiseProduct(Q[c]).sum();
@@ -539,8 +553,33 @@ HalfAngleFit fit_half_angle(const PairSampler& sampler, int channels, const Half
     }
     if (!any) break;
     rank = r;
-    fit.report.sweeps_by_rank.push_back(sweeps);
+    sweeps_by_rank.push_back(sweeps);
   }
+
+  return rank;
+}
+
+}  // namespace
+
+HalfAngleFit fit_half_angle(const PairSampler& sampler, int channels, const HalfAngleFitOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const SerialEigen serial;
+  check_fit_options(channels, o);
+  HalfAngleFit fit;
+  HalfAngleFactors& F = fit.factors;
+  F.quantity = o.quantity;
+  F.isotropic = o.isotropic;
+  F.h_warp = o.h_warp;
+  F.n_t = o.n_t;
+  F.n_phi_h = o.isotropic ? 1 : o.n_phi_h;
+  F.n_theta_d = o.n_theta_d;
+  F.n_phi_d = o.n_phi_d;
+  const int H = F.h_nodes(), D = F.d_nodes();
+  const Eigen::VectorXd a = half_angle_h_weights(F), b = half_angle_d_weights(F);
+  const SampledNodes nodes = sample_nodes(sampler, channels, o, F, a, b, &fit.report.valid_fraction);
+  std::vector<ChannelFit> cf;
+  std::vector<double> norm2, e2;
+  const int rank = grow_ranks(nodes, o, a, b, cf, norm2, e2, fit.report.sweeps_by_rank);
 
   F.rank = rank;
   fit.report.rank = rank;

@@ -4,7 +4,7 @@
 // where q = f (quantity F) or q = f cos(theta_i) cos(theta_r) (quantity Cosine). The cosine quantity is
 // the integrand of the cosine error metric, cancels the microfacet 1/(4 cos cos) denominator, and makes
 // Lambert exactly rank 2 (core/half_angle.hpp). Evaluating the cosine quantity returns
-// f = q / max(cos_i cos_r, kHalfAngleCosineFloor); near grazing f therefore carries the interpolation
+// f = q / (max(cos_i, c) max(cos_r, c)) with c = cosine_floor(); near grazing f therefore carries the interpolation
 // error of q amplified by 1/(cos_i cos_r).
 //
 // Grids (tensor products of node values; linear interpolation in each coordinate):
@@ -58,9 +58,7 @@ const char* half_angle_quantity_name(HalfAngleQuantity q);
 // ArgumentError for an unknown name.
 HalfAngleQuantity half_angle_quantity_from_name(const std::string& name);
 
-// Floor of cos_i cos_r when dividing the cosine quantity back to f: kGrazingCosFloor^2, i.e. both
-// directions at the floor cosine of the models (core/brdf_model.hpp).
-inline constexpr double kHalfAngleCosineFloor = 1e-12;
+
 // Largest rank fit_half_angle accepts (its per-node R x R solves use fixed-capacity matrices).
 inline constexpr int kMaxFitRank = 32;
 
@@ -78,6 +76,11 @@ struct HalfAngleFactors {
   // Stored doubles x 8.
   std::size_t bytes() const;
   double theta_h_of_t(double t) const;
+  // Floor of cos(theta_i) and of cos(theta_r) when the cosine quantity is divided back to f:
+  // sin((pi/2) / (n_theta_d - 1)), the cosine one theta_d step from the horizon. Closer to the horizon the
+  // grid does not resolve q, whose interpolation error divided by the cosines would grow without bound
+  // (1e9 1/sr at the rim with a floor of 1e-12 on the product); f there is q / floor^2 at most.
+  double cosine_floor() const;
   double t_of_theta_h(double theta_h) const;
   // f at pairs (rows x channels); 0 where a direction is below the horizon (z < -kHorizonSlack).
   // Threads over rows (OpenMP). ArgumentError on mismatched shapes.

@@ -25,7 +25,7 @@ const char* const kCoordinates =
     "n_phi_h = 1, no phi_h dependence). d nodes: theta_d_a = (pi/2) a/(n_theta_d-1); phi_d_b = pi b/n_phi_d, "
     "periodic with period pi (reciprocity); anisotropic lobes measure phi_d from the world's x axis, "
     "phi_d + phi_h (the minimal rotation taking h to +z). Rows: u[k n_phi_h + j], v[a n_phi_d + b]. q = sum_r u v, linear "
-    "in t and phi_h, bilinear in theta_d and phi_d; f = q (quantity f) or q / max(cos_i cos_r, cosine_floor) "
+    "in t and phi_h, bilinear in theta_d and phi_d; f = q (quantity f) or q / (max(cos_i, cosine_floor) max(cos_r, cosine_floor)) "
     "(quantity cosine); f = 0 below the horizon.";
 
 [[noreturn]] void bad_lobe(const std::string& name, const std::string& what) {
@@ -77,7 +77,7 @@ void write_half_angle(h5::Group& material, const HalfAngleFactors& lobe, int cha
   g.set_attr("n_theta_d", static_cast<std::int32_t>(lobe.n_theta_d));
   g.set_attr("n_phi_d", static_cast<std::int32_t>(lobe.n_phi_d));
   g.set_attr("rank", static_cast<std::int32_t>(lobe.rank));
-  g.set_attr("cosine_floor", kHalfAngleCosineFloor);
+  g.set_attr("cosine_floor", lobe.cosine_floor());
   g.set_attr("coordinates", kCoordinates);
   const std::string q = lobe.quantity == HalfAngleQuantity::Cosine ? "q = f cos(theta_i) cos(theta_r)" : "q = f";
   write_factor(g, "u", lobe.u, lobe.h_nodes(), lobe.rank, "1/sr", "u[c, h node, r]: h factor of term r of " + q);
@@ -102,8 +102,6 @@ HalfAngleFactors read_half_angle(const h5::Group& material, int channels, const 
   f.n_phi_d = static_cast<int>(g.attr_int("n_phi_d", 1, kMaxAxisNodes));
   f.rank = static_cast<int>(g.attr_int("rank", 1, kMaxRank));
   const double floor = g.attr_double("cosine_floor");
-  if (floor != kHalfAngleCosineFloor)
-    g.fail(g.path(), "attribute cosine_floor: expected " + std::to_string(kHalfAngleCosineFloor) + ", found " + std::to_string(floor));
   f.u = read_factor(g, "u", channels, std::int64_t{f.n_t} * f.n_phi_h, f.rank, lim);
   f.v = read_factor(g, "v", channels, std::int64_t{f.n_theta_d} * f.n_phi_d, f.rank, lim);
   try {
@@ -111,6 +109,11 @@ HalfAngleFactors read_half_angle(const h5::Group& material, int channels, const 
   } catch (const InputError& e) {
     g.fail(g.path(), e.what());
   }
+  // The floor follows from the grid (sin((pi/2) / (n_theta_d - 1))); a file that disagrees was not written
+  // by this definition.
+  if (std::abs(floor - f.cosine_floor()) > 1e-15)
+    g.fail(g.path(), "attribute cosine_floor: expected " + std::to_string(f.cosine_floor()) + " for n_theta_d = " +
+                         std::to_string(f.n_theta_d) + ", found " + std::to_string(floor));
   return f;
 }
 

@@ -9,7 +9,8 @@
 //   v           channels x (n_theta_d n_phi_d) x rank float64  [1]      d factors at the d nodes
 //
 // q(h, d) = sum_r u[c, h node, r] v[c, d node, r], interpolated linearly in (t, phi_h) and (theta_d, phi_d);
-// f = q (quantity f) or q / max(cos theta_i cos theta_r, cosine_floor) (quantity cosine).
+// f = q (quantity f) or q / (max(cos theta_i, cosine_floor) max(cos theta_r, cosine_floor)) (quantity cosine),
+// cosine_floor = sin((pi/2) / (n_theta_d - 1)).
 #include "core/half_angle_factors.hpp"
 #include "io/h5_file.hpp"
 

@@ -76,6 +76,56 @@ std::string representation_name(const MaterialRecord& rec) {
   return "half-angle";
 }
 
+// The LUT datasets of a checked record (float32 with its rounding error, or float64).
+static void write_lut(h5::Group& g, const MaterialRecord& rec, std::int64_t cells) {
+  const int ch = rec.spectrum.channel_count();
+  if (!rec.lut.empty()) {
+    const size_t per = static_cast<size_t>(cells * cells);
+    const std::string what = "LUT[c, i, r] = BRDF on incident cell i and remitted cell r";
+    if (rec.lut_float32) {
+      std::vector<float> f(per * ch);
+      double err = 0.0;
+      for (int c = 0; c < ch; ++c) {
+        RowMapF dst(f.data() + c * per, cells, cells);
+        dst = rec.lut[c].cast<float>();
+        err = std::max(err, (dst.cast<double>() - rec.lut[c]).cwiseAbs().maxCoeff());
+      }
+      // A record read from a float32 LUT (resumed builds, bank extract) holds already rounded values, which
+      // round again exactly: keep the rounding error recorded against the original values.
+      if (rec.lut_max_rounding_error >= 0) err = std::max(err, rec.lut_max_rounding_error);
+      g.write("lut", f.data(), Shape{u(ch), u(cells), u(cells)}, "1/sr", what + " (float32)");
+      // The rounding error is a material attribute (docs/file-format.md), next to the float32 dataset.
+      g.set_attr("lut_max_abs_rounding_error", err);
+    } else {
+      std::vector<double> d(per * ch);
+      for (int c = 0; c < ch; ++c) RowMap(d.data() + c * per, cells, cells) = rec.lut[c];
+      g.write("lut", d.data(), Shape{u(ch), u(cells), u(cells)}, "1/sr", what);
+    }
+  }
+}
+
+// The `choice` subgroup: the figures and labels of a bank build.
+static void write_choice(h5::Group& g, const MaterialRecord& rec) {
+  const std::string& nm = rec.name;
+  if (!rec.figures.empty() || !rec.labels.empty()) {
+    h5::Group choice = g.create_group("choice");
+    std::string figures, labels;
+    for (const auto& [k, v] : rec.figures) {
+      if (!choice_key_ok(k) || k == "figures" || k == "labels") bad_record(nm, "figure name '" + k + "' expected [A-Za-z0-9_]+, not figures or labels");
+      choice.set_attr(k, v);
+      figures += (figures.empty() ? "" : ",") + k;
+    }
+    for (const auto& [k, v] : rec.labels) {
+      if (!choice_key_ok(k) || rec.figures.count(k) || k == "figures" || k == "labels")
+        bad_record(nm, "label name '" + k + "' expected [A-Za-z0-9_]+, distinct from the figures, not figures or labels");
+      choice.set_attr(k, v);
+      labels += (labels.empty() ? "" : ",") + k;
+    }
+    choice.set_attr("figures", figures);
+    choice.set_attr("labels", labels);
+  }
+}
+
 void write_material(h5::Group& materials, const MaterialRecord& rec) {
   validate_material_name(rec.name);
   const Spectrum& s = rec.spectrum;
@@ -160,46 +210,8 @@ void write_material(h5::Group& materials, const MaterialRecord& rec) {
             Shape{u(rec.ibsss_indices.rows()), 3}, "index", "(n, m, l) of each ibsss column");
   }
 
-  if (!rec.lut.empty()) {
-    const size_t per = static_cast<size_t>(cells * cells);
-    const std::string what = "LUT[c, i, r] = BRDF on incident cell i and remitted cell r";
-    if (rec.lut_float32) {
-      std::vector<float> f(per * ch);
-      double err = 0.0;
-      for (int c = 0; c < ch; ++c) {
-        RowMapF dst(f.data() + c * per, cells, cells);
-        dst = rec.lut[c].cast<float>();
-        err = std::max(err, (dst.cast<double>() - rec.lut[c]).cwiseAbs().maxCoeff());
-      }
-      // A record read from a float32 LUT (resumed builds, bank extract) holds already rounded values, which
-      // round again exactly: keep the rounding error recorded against the original values.
-      if (rec.lut_max_rounding_error >= 0) err = std::max(err, rec.lut_max_rounding_error);
-      g.write("lut", f.data(), Shape{u(ch), u(cells), u(cells)}, "1/sr", what + " (float32)");
-      // The rounding error is a material attribute (docs/file-format.md), next to the float32 dataset.
-      g.set_attr("lut_max_abs_rounding_error", err);
-    } else {
-      std::vector<double> d(per * ch);
-      for (int c = 0; c < ch; ++c) RowMap(d.data() + c * per, cells, cells) = rec.lut[c];
-      g.write("lut", d.data(), Shape{u(ch), u(cells), u(cells)}, "1/sr", what);
-    }
-  }
-  if (!rec.figures.empty() || !rec.labels.empty()) {
-    h5::Group choice = g.create_group("choice");
-    std::string figures, labels;
-    for (const auto& [k, v] : rec.figures) {
-      if (!choice_key_ok(k) || k == "figures" || k == "labels") bad_record(nm, "figure name '" + k + "' expected [A-Za-z0-9_]+, not figures or labels");
-      choice.set_attr(k, v);
-      figures += (figures.empty() ? "" : ",") + k;
-    }
-    for (const auto& [k, v] : rec.labels) {
-      if (!choice_key_ok(k) || rec.figures.count(k) || k == "figures" || k == "labels")
-        bad_record(nm, "label name '" + k + "' expected [A-Za-z0-9_]+, distinct from the figures, not figures or labels");
-      choice.set_attr(k, v);
-      labels += (labels.empty() ? "" : ",") + k;
-    }
-    choice.set_attr("figures", figures);
-    choice.set_attr("labels", labels);
-  }
+  write_lut(g, rec, cells);
+  write_choice(g, rec);
 }
 
 MaterialRecord read_material(const h5::Group& materials, const std::string& name, const h5::ReadLimits& lim, bool read_lut,

@@ -106,8 +106,8 @@ def eval_lobe(g, channels, wi, wr):
         vd = sum(w[:, None] * v[c][idx] for idx, w in dw)
         out[:, c] = np.sum(uh * vd, axis=1)
     if quantity == "cosine":
-        cc = np.clip(wi[:, 2], 0, None) * np.clip(wr[:, 2], 0, None)
-        out /= np.maximum(cc, float(a["cosine_floor"]))[:, None]
+        c0 = float(a["cosine_floor"])  # per direction: sin((pi/2) / (n_theta_d - 1))
+        out /= (np.maximum(wi[:, 2], c0) * np.maximum(wr[:, 2], c0))[:, None]
     return out
 
 

