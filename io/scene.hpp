@@ -11,6 +11,8 @@
 //   store_lut = false                   store each material's reconstructed LUT on the bank grid
 //   lut_float32 = true                  ... as float32 (its rounding error is recorded)
 //   holdout_pairs = 4096                direction pairs used to measure errors (never used in fitting)
+//   representations = ["modes", "half-angle", "hybrid"]   what the builder may choose from, per material the
+//                                       fewest bytes meeting the target (docs/glossy.md); default all three
 //
 //   [[material]]                        one table per material
 //   name = "glossy"                     [A-Za-z0-9_-], unique
