@@ -142,10 +142,12 @@ source = "model:ggx:alpha={alpha},f0=0.04"
 def table(results, key):
     lines = ["| material | representation | rel L2 | bytes | seconds |", "|---|---|---|---|---|"]
     for m in results[key]["materials"]:
-        if m.get("ok") and m.get("error_l2") is not None:
-            lines.append(f"| {m['name']} | {m['representation']} | {m['error_l2']:.3g} | {m['bytes']} | {m['seconds']:.2f} |")
+        if m.get("ok"):
+            err = f"{m['error_l2']:.3g}" if m.get("error_l2") is not None else "n/a (delta)"
+            lines.append(f"| {m['name']} | {m['representation']} | {err} | {m['bytes']} | {m['seconds']:.2f} |")
         else:
-            lines.append(f"| {m['name']} | failed | | | |")
+            best = re.search(r"best relative L2 error ([0-9.e+-]+)", m.get("error", ""))
+            lines.append(f"| {m['name']} | failed (best {best.group(1) if best else '?'}) | | | |")
     return "\n".join(lines)
 
 
@@ -172,9 +174,13 @@ def main(icobrdf, out_dir=os.path.join(HERE, "glossy")):
     with tempfile.TemporaryDirectory() as tmp:
         results = run_scenes(icobrdf, tmp)
         alphas = smallest_alpha(icobrdf, tmp)
-    figure(results, os.path.join(out_dir, "glossy_error_bytes.png"))
     with open(os.path.join(out_dir, "results.json"), "w") as f:
         json.dump({"scenes": results, "alphas": alphas}, f, indent=1)
+    write_report(results, alphas, out_dir)
+
+
+def write_report(results, alphas, out_dir):
+    figure(results, os.path.join(out_dir, "glossy_error_bytes.png"))
     lines = ["# bench glossy", "", "`/usr/bin/python3 benchmarks/bench_glossy.py build/cli/icobrdf` (wall seconds of one run).", ""]
     for key, r in results.items():
         lines += [f"## {key}: {r['wall_seconds']:.2f} s, bank {'written' if r['written'] else 'NOT written'}", "", table(results, key), ""]
