@@ -12,6 +12,7 @@
 #include "cli/exit_codes.hpp"
 #include "core/error.hpp"
 #include "io/bank_file.hpp"
+#include "io/half_angle_file.hpp"
 #include "io/scene.hpp"
 #include "pipeline/bank_builder.hpp"
 
@@ -94,10 +95,7 @@ void run_info(const std::string& path, bool json) {
                      {"cosine", m.spectrum.cosine}, {"channels", m.spectrum.channel_count()}, {"level", m.spectrum.level},
                      {"grid", m.spectrum.grid_kind}, {"has_lut", !m.lut.empty() || m.lut_float32},
                      {"representation", representation_name(m)}};
-    if (m.lobe)
-      j["half_angle"] = {{"quantity", half_angle_quantity_name(m.lobe->quantity)}, {"isotropic", m.lobe->isotropic},
-                         {"rank", m.lobe->rank}, {"n_t", m.lobe->n_t}, {"n_phi_h", m.lobe->n_phi_h}, {"n_theta_d", m.lobe->n_theta_d},
-                         {"n_phi_d", m.lobe->n_phi_d}, {"bytes", m.lobe->bytes()}};
+    if (m.lobe) j["half_angle"] = half_angle_summary(*m.lobe);
     for (const auto& [k, v] : m.figures) j[k] = v;
     for (const auto& [k, v] : m.labels) j[k] = v;
     mats.push_back(j);
@@ -118,10 +116,7 @@ void run_info(const std::string& path, bool json) {
   for (const auto& m : b.materials) {
     std::cout << fmt::format("  {:<18} order {:>2} {:<11} {} channel(s)  {}\n", m.name, m.spectrum.order, m.spectrum.isotropic ? "isotropic" : "anisotropic",
                              m.spectrum.channel_count(), m.spectrum.source);
-    if (m.lobe)
-      std::cout << fmt::format("  {:<18} {}: half-angle lobe of rank {}, {} h x {} d nodes ({}), {} bytes\n", "", representation_name(m),
-                               m.lobe->rank, m.lobe->h_nodes(), m.lobe->d_nodes(), m.lobe->isotropic ? "isotropic" : "anisotropic",
-                               m.lobe->bytes());
+    if (m.lobe) std::cout << fmt::format("  {:<18} {}: {}\n", "", representation_name(m), half_angle_summary_line(*m.lobe));
   }
 }
 

@@ -7,8 +7,6 @@
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
-#include <sys/stat.h>
-
 #include <iostream>
 #include <memory>
 
@@ -17,9 +15,8 @@
 #include "core/error.hpp"
 #include "core/reflection.hpp"
 #include "core/spectral_fit.hpp"
-#include "core/function_model.hpp"
 #include "core/model_spec.hpp"
-#include "io/brdf_source.hpp"
+#include "pipeline/source_model.hpp"
 #include "io/bank_file.hpp"
 #include "mesh/tessellation.hpp"
 
@@ -66,26 +63,9 @@ void write_lut_file(const std::string& out, const Grid& grid, MaterialRecord rec
   write_bank(out, b);
 }
 
-// The model a LUT samples: an analytic model (SOURCE with or without the "model:" prefix), or any other
-// SOURCE naming an existing file (a bank material of any representation, measured data) through its values.
-std::shared_ptr<const BrdfModel> lut_model(const std::string& text, std::string* label) {
-  struct stat st{};
-  const std::string path = split_material_ref(text).path;
-  if (!is_model_source(text) && ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode)) {
-    std::shared_ptr<const BrdfSource> src = open_source(text);
-    *label = src->spec();
-    return std::make_shared<FunctionModel>(
-        src->channels(), [src](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) { out = src->eval(wi, wr); },
-        src->spec(), false, false);
-  }
-  std::shared_ptr<const BrdfModel> model = parse_model_source(text.rfind("model:", 0) == 0 ? text : "model:" + text);
-  *label = "model:" + model->spec();
-  return model;
-}
-
 void run_lut(const LutArgs& a) {
   std::string label;
-  const auto model = lut_model(a.source, &label);
+  const auto model = model_of_source(a.source, &label);
   auto grid = std::make_shared<const Grid>(build_equal_area_grid(a.level));
   const LutSampling sampling = a.sampling == "centre" || a.sampling == "center" ? LutSampling::CellCentre : LutSampling::CellAverage;
   if (a.sampling != "average" && sampling != LutSampling::CellCentre)

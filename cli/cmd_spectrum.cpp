@@ -12,6 +12,7 @@
 #include "core/isotropic_modes.hpp"
 #include "core/spectrum_ops.hpp"
 #include "io/bank_file.hpp"
+#include "io/half_angle_file.hpp"
 #include "io/spectrum_file.hpp"
 
 namespace icobrdf::cli {
@@ -28,25 +29,10 @@ struct SpectrumArgs {
 
 void run_spectrum(const SpectrumArgs& a) {
   const MaterialRef ref = split_material_ref(a.file);
-  ReadOptions ro;
-  ro.read_luts = false;
-  const MaterialRecord rec = read_bank_material(ref.path, ref.name, ro);
+  const MaterialRecord rec = read_bank_material(ref.path, ref.name, ReadOptions{h5::kDefaultMaxDatasetBytes, false});
   const Spectrum& s = rec.spectrum;
-  // A half-angle lobe (representations "half-angle" and "hybrid") is listed after the modes: its grids, rank
-  // and the weight of each term (the product of the norms of its factors, per channel).
-  nlohmann::json lobe;
-  if (rec.lobe) {
-    const HalfAngleFactors& l = *rec.lobe;
-    nlohmann::json terms = nlohmann::json::array();
-    for (int c = 0; c < l.channels(); ++c) {
-      std::vector<double> w;
-      for (int r = 0; r < l.rank; ++r) w.push_back(l.u[c].col(r).norm() * l.v[c].col(r).norm());
-      terms.push_back(w);
-    }
-    lobe = {{"quantity", half_angle_quantity_name(l.quantity)}, {"isotropic", l.isotropic}, {"rank", l.rank}, {"n_t", l.n_t},
-            {"n_phi_h", l.n_phi_h}, {"n_theta_d", l.n_theta_d}, {"n_phi_d", l.n_phi_d}, {"h_warp", l.h_warp},
-            {"bytes", l.bytes()}, {"term_norms", terms}};
-  }
+  // A half-angle lobe (representations "half-angle" and "hybrid") is listed after the modes.
+  const nlohmann::json lobe = rec.lobe ? half_angle_summary(*rec.lobe) : nlohmann::json();
   nlohmann::json indices = nlohmann::json::array(), coefficients = nlohmann::json::array();
   double asym = 0.0;
   for (const auto& c : s.channels) asym = std::max(asym, coefficient_asymmetry(c));
@@ -88,17 +74,7 @@ void run_spectrum(const SpectrumArgs& a) {
     std::cout << line << "\n";
   }
   if (zeros) std::cout << fmt::format("  ({} coefficients below {:.0e} not listed; --all lists them)\n", zeros, kPrintZero);
-  if (rec.lobe) {
-    const HalfAngleFactors& l = *rec.lobe;
-    std::cout << fmt::format("  {}: + half-angle lobe of {} ({}), rank {}, h nodes {} x {} (theta_h = (pi/2) t^{}), d nodes {} x {}, {} bytes\n",
-                             representation_name(rec), l.quantity == HalfAngleQuantity::Cosine ? "q = f cos_i cos_r" : "q = f",
-                             l.isotropic ? "isotropic" : "anisotropic", l.rank, l.n_t, l.n_phi_h, l.h_warp, l.n_theta_d, l.n_phi_d, l.bytes());
-    for (size_t c = 0; c < lobe["term_norms"].size(); ++c) {
-      std::string line = fmt::format("    channel {} term norms |u_r| |v_r|:", c);
-      for (const auto& w : lobe["term_norms"][c]) line += fmt::format(" {:.4g}", w.get<double>());
-      std::cout << line << "\n";
-    }
-  }
+  if (rec.lobe) std::cout << fmt::format("  {}: + {}\n", representation_name(rec), half_angle_summary_line(*rec.lobe, true));
 }
 
 void add_spectrum_command(CLI::App& app) {

@@ -1,6 +1,7 @@
 #include "io/half_angle_file.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
@@ -82,6 +83,34 @@ void write_half_angle(h5::Group& material, const HalfAngleFactors& lobe, int cha
   const std::string q = lobe.quantity == HalfAngleQuantity::Cosine ? "q = f cos(theta_i) cos(theta_r)" : "q = f";
   write_factor(g, "u", lobe.u, lobe.h_nodes(), lobe.rank, "1/sr", "u[c, h node, r]: h factor of term r of " + q);
   write_factor(g, "v", lobe.v, lobe.d_nodes(), lobe.rank, "1", "v[c, d node, r]: d factor of term r of " + q);
+}
+
+nlohmann::json half_angle_summary(const HalfAngleFactors& l) {
+  nlohmann::json terms = nlohmann::json::array();
+  for (int c = 0; c < l.channels(); ++c) {
+    std::vector<double> w;
+    for (int r = 0; r < l.rank; ++r) w.push_back(l.u[c].col(r).norm() * l.v[c].col(r).norm());
+    terms.push_back(w);
+  }
+  return {{"quantity", half_angle_quantity_name(l.quantity)}, {"isotropic", l.isotropic}, {"rank", l.rank}, {"n_t", l.n_t},
+          {"n_phi_h", l.n_phi_h}, {"n_theta_d", l.n_theta_d}, {"n_phi_d", l.n_phi_d}, {"h_warp", l.h_warp},
+          {"bytes", l.bytes()}, {"term_norms", terms}};
+}
+
+std::string half_angle_summary_line(const HalfAngleFactors& l, bool norms) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "half-angle lobe of %s (%s), rank %d, h nodes %d x %d (theta_h = (pi/2) t^%g), d nodes %d x %d, %zu bytes",
+                l.quantity == HalfAngleQuantity::Cosine ? "q = f cos_i cos_r" : "q = f", l.isotropic ? "isotropic" : "anisotropic",
+                l.rank, l.n_t, l.n_phi_h, l.h_warp, l.n_theta_d, l.n_phi_d, l.bytes());
+  std::string out = buf;
+  for (int c = 0; norms && c < l.channels(); ++c) {
+    out += "\n    channel " + std::to_string(c) + " term norms |u_r| |v_r|:";
+    for (int r = 0; r < l.rank; ++r) {
+      std::snprintf(buf, sizeof buf, " %.4g", l.u[c].col(r).norm() * l.v[c].col(r).norm());
+      out += buf;
+    }
+  }
+  return out;
 }
 
 HalfAngleFactors read_half_angle(const h5::Group& material, int channels, const h5::ReadLimits& lim) {

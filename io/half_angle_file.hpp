@@ -11,6 +11,10 @@
 // q(h, d) = sum_r u[c, h node, r] v[c, d node, r], interpolated linearly in (t, phi_h) and (theta_d, phi_d);
 // f = q (quantity f) or q / (max(cos theta_i, cosine_floor) max(cos theta_r, cosine_floor)) (quantity cosine),
 // cosine_floor = sin((pi/2) / (n_theta_d - 1)).
+#include <nlohmann/json.hpp>
+
+#include <string>
+
 #include "core/half_angle_factors.hpp"
 #include "io/h5_file.hpp"
 
@@ -24,5 +28,12 @@ void write_half_angle(h5::Group& material, const HalfAngleFactors& lobe, int cha
 
 // Reads and validates the subgroup half_angle of `material` (InputError "<file>: <object>: <what>").
 HalfAngleFactors read_half_angle(const h5::Group& material, int channels, const h5::ReadLimits& limits);
+
+// What `spectrum` and `bank info` show of a lobe: quantity, isotropy, rank, node counts, h warp, bytes, and per
+// channel the norm products |u_r| |v_r| of its terms (their weights; the fit orders them by weighted energy).
+nlohmann::json half_angle_summary(const HalfAngleFactors& lobe);
+// One line of text: "half-angle lobe of q = f cos_i cos_r (isotropic), rank 2, h nodes 64 x 1 (theta_h = (pi/2) t^2),
+// d nodes 64 x 32, 33792 bytes"; with `norms`, a line per channel with the norm products of its terms follows.
+std::string half_angle_summary_line(const HalfAngleFactors& lobe, bool norms = false);
 
 }  // namespace icobrdf

@@ -43,7 +43,9 @@ void store_choice(MaterialRecord& rec, const MaterialReport& rep) {
   rec.figures = {{"target", rep.target},         {"error_l2", rep.error_l2},     {"error_max", rep.error_max},
                  {"kept_coefficients", rep.kept}, {"total_coefficients", rep.total}, {"bytes", static_cast<double>(rep.bytes)},
                  {"seconds", rep.seconds},        {"fit_level", rep.level}};
-  rec.labels = {{"key", rep.key}, {"error_measured", rep.measured ? "yes" : "no (delta BRDF)"}, {"representation", rep.representation}};
+  rec.labels = {{"key", rep.key}, {"error_measured", rep.measured ? "yes" : "no (delta BRDF)"}};
+  // Named for a lobe only: a material of modes alone is stored as before (the material's group says the rest).
+  if (rep.representation != "modes") rec.labels["representation"] = rep.representation;
 }
 
 void report_from_record(const MaterialRecord& rec, MaterialReport& rep) {

@@ -1,0 +1,15 @@
+#pragma once
+// Any SOURCE as a BrdfModel, for what samples models (`icobrdf lut`): an analytic model (with or without the
+// "model:" prefix) as itself; any other SOURCE naming an existing file (a bank material of any
+// representation, measured data) through its values (core/function_model.hpp; not claimed reciprocal or
+// isotropic, so the LUT takes the full path). `label` receives the canonical SOURCE text.
+#include <memory>
+#include <string>
+
+#include "core/brdf_model.hpp"
+
+namespace icobrdf {
+
+std::shared_ptr<const BrdfModel> model_of_source(const std::string& text, std::string* label);
+
+}  // namespace icobrdf
