@@ -123,7 +123,7 @@ TEST(Tessellation, SolidAnglesSumToTwoPiAndGridsValidate) {
       EXPECT_NO_THROW(validate(g)) << kind << " " << level;
       EXPECT_NEAR(static_cast<double>(accurate_sum(g.solid_angles) - 2 * static_cast<long double>(M_PI)), 0.0, kSumTol)
           << kind << " " << level;
-      EXPECT_EQ(to_string(g.kind), kind);
+      EXPECT_STREQ(to_string(g.kind), kind);
       EXPECT_EQ(g.level, level);
     }
   }
