@@ -10,7 +10,6 @@
 #include "core/function_model.hpp"
 #include "core/half_angle_factors.hpp"
 #include "core/isotropic_modes.hpp"
-#include "core/spectrum_ops.hpp"
 #include "io/material_eval.hpp"
 #include "pipeline/keys.hpp"
 #include "pipeline/modes_representation.hpp"
@@ -299,10 +298,9 @@ MaterialCandidate fit_half_angle_candidate(const MaterialProblem& p) {
   require_pointwise(p, "half-angle");
   require_can_beat(p, "half-angle", 0);
   const bool iso = lobe_is_isotropic(p);
-  const ResidualSource residual(p.source, nullptr);
   const Eigen::MatrixXd none = Eigen::MatrixXd::Zero(p.errors->pairs().wi.rows(), p.source.channels());
   double best = INFINITY;
-  auto fit = fit_lobe(p, residual, none, iso, &best);
+  auto fit = fit_lobe(p, p.source, none, iso, &best);
   if (!fit)
     throw UnsupportedError("half-angle: target " + short_number(p.material.target) + " not met: best relative L2 error " +
                            short_number(best) + " up to the largest grid and rank " + std::to_string(kMaxRank));
@@ -323,7 +321,7 @@ MaterialCandidate fit_hybrid_candidate(const MaterialProblem& p) {
   double best = INFINITY;
   if (!first) {
     const Eigen::MatrixXd none = Eigen::MatrixXd::Zero(p.errors->pairs().wi.rows(), p.source.channels());
-    auto fit = fit_lobe(p, ResidualSource(p.source, nullptr), none, lobe_is_isotropic(p), &best);
+    auto fit = fit_lobe(p, p.source, none, lobe_is_isotropic(p), &best);
     if (!fit) throw UnsupportedError("hybrid: no lobe meets target " + short_number(p.material.target) + " (best " + short_number(best) + ")");
     first = std::move(fit->lobe);
   }
@@ -345,11 +343,7 @@ MaterialCandidate fit_hybrid_candidate(const MaterialProblem& p) {
       std::optional<FitResult> kept_body;  // norms, so a later round is not always better)
       for (int round = 0; round < kHybridRounds && body; ++round) {
         Spectrum s = body->spectrum;
-        const auto body_values = [s](const RowMatrix3d& wi, const RowMatrix3d& wr) {
-          Eigen::MatrixXd v(wi.rows(), s.channel_count());
-          for (int c = 0; c < s.channel_count(); ++c) v.col(c) = evaluate_coefficients(s.channels[c], s.order, wi, wr);
-          return v;
-        };
+        const auto body_values = [s](const RowMatrix3d& wi, const RowMatrix3d& wr) { return evaluate_material(s, std::nullopt, wi, wr); };
         auto next = fit_lobe_at(p, ResidualSource(p.source, body_values), p.errors->modes_values(s.channels, s.order),
                                 first->isotropic, step, rank);
         if (!next) break;

@@ -24,17 +24,12 @@ bool is_regular_file(const std::string& p) {
 
 bool ends_with_h5(const std::string& s) { return s.size() > 3 && s.compare(s.size() - 3, 3, ".h5") == 0; }
 
-// The spectrum of FILE.h5[#material] as stored (its source named by `text` when it names none).
-Spectrum read_picture_spectrum(const std::string& text, const MaterialRef& ref) {
+// The material FILE.h5[#material] as stored (its source named by `text` when it names none), read once.
+MaterialRecord read_picture_record(const std::string& text, const MaterialRef& ref) {
   if (!is_regular_file(ref.path)) throw InputError(ref.path + ": no such file (SOURCE '" + text + "')");
-  Spectrum s = read_spectrum_file(ref.path, ref.name);
-  if (s.source.empty()) s.source = text;
-  return s;
-}
-
-// The stored material named by ref has a half-angle lobe.
-bool has_lobe(const MaterialRef& ref) {
-  return read_bank_material(ref.path, ref.name, ReadOptions{kBankReadLimitBytes, false}).lobe.has_value();
+  MaterialRecord rec = read_bank_material(ref.path, ref.name, ReadOptions{h5::kDefaultMaxDatasetBytes, false});
+  if (rec.spectrum.source.empty()) rec.spectrum.source = text;
+  return rec;
 }
 
 }  // namespace
@@ -46,8 +41,9 @@ PictureMaterial load_picture_material(const std::string& text, int order, int le
   m.name = text;
   const MaterialRef ref = split_material_ref(text);
   if (!is_model_source(text) && ends_with_h5(ref.path)) {
-    m.spectrum = read_picture_spectrum(text, ref);
-    if (!has_lobe(ref)) return m;
+    MaterialRecord rec = read_picture_record(text, ref);
+    m.spectrum = std::move(rec.spectrum);
+    if (!rec.lobe) return m;
   }
   // Models, measured data, and stored materials with a half-angle lobe (whose modes alone are not the
   // material): the values themselves are exact, the spectrum is their projection at `order`.
