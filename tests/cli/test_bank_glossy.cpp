@@ -19,7 +19,8 @@ namespace {
 
 // The builder measures its error on its own 4096 held-out pairs; an independent draw of 20000 pairs estimates
 // the same integral with a sampling error of its own. For lobes a few degrees wide only ~1% of uniform pairs
-// fall in the peak, so the two estimates differ by up to ~25% (measured over seeds); the check allows 1.5x.
+// fall in the peak, so the two estimates differ (GGX 0.1: builder 0.0158, two independent draws 0.0148 and
+// 0.0184, i.e. up to 1.17x; a single near-grazing pair can carry 20-30% of the sum); the check allows 1.5x.
 constexpr double kIndependentEstimateSlack = 1.5;
 constexpr double kTarget = 0.02;
 // The anisotropic lobe's target here: looser than the glossy scene's 0.05 (docs/glossy.md) so that its fit
