@@ -11,16 +11,20 @@
 #include "core/brdf_model.hpp"
 #include "core/direction.hpp"
 #include "core/error.hpp"
+#include "core/gauss_legendre.hpp"
 #include "core/half_angle.hpp"
 
 namespace icobrdf {
 
-const char* half_angle_quantity_name(HalfAngleQuantity q) { return q == HalfAngleQuantity::F ? "f" : "cosine"; }
+const char* half_angle_quantity_name(HalfAngleQuantity q) {
+  return q == HalfAngleQuantity::F ? "f" : q == HalfAngleQuantity::Cosine ? "cosine" : "mean-cosine";
+}
 
 HalfAngleQuantity half_angle_quantity_from_name(const std::string& name) {
   if (name == "f") return HalfAngleQuantity::F;
   if (name == "cosine") return HalfAngleQuantity::Cosine;
-  throw ArgumentError("half-angle quantity: expected \"f\" or \"cosine\", got \"" + printable_text(name) + "\"");
+  if (name == "mean-cosine") return HalfAngleQuantity::MeanCosine;
+  throw ArgumentError("half-angle quantity: expected \"f\", \"cosine\" or \"mean-cosine\", got \"" + printable_text(name) + "\"");
 }
 
 PairSampler model_pair_sampler(const BrdfModel& model) {
@@ -58,7 +62,30 @@ double HalfAngleFactors::t_of_theta_h(double theta_h) const {
   return h_warp == 2.0 ? std::sqrt(x) : h_warp == 1.0 ? x : std::pow(x, 1.0 / h_warp);
 }
 
+const char* horizon_corners_name(HorizonCorners c) { return c == HorizonCorners::All ? "all" : "valid"; }
+
+HorizonCorners horizon_corners_from_name(const std::string& name) {
+  if (name == "all") return HorizonCorners::All;
+  if (name == "valid") return HorizonCorners::Valid;
+  throw ArgumentError("horizon corners: expected \"all\" or \"valid\", got \"" + printable_text(name) + "\"");
+}
+
+Eigen::Vector3d HalfAngleFactors::h_of_grid_angles(double theta_h, double phi_h) const {
+  const double st = std::sin(theta_h);
+  const double a1 = h_scale_1 * st * std::cos(phi_h), a2 = h_scale_2 * st * std::sin(phi_h);
+  const double c = std::cos(h_axis), s = std::sin(h_axis);
+  return {c * a1 - s * a2, s * a1 + c * a2, std::cos(theta_h)};
+}
+
 namespace {
+
+// The stretch of a grid, precomputed for evaluation: rotation and inverse scales.
+struct HStretch {
+  bool on = false;
+  double c = 1, s = 0, inv1 = 1, inv2 = 1;
+  explicit HStretch(const HalfAngleFactors& F)
+      : on(F.stretched()), c(std::cos(F.h_axis)), s(std::sin(F.h_axis)), inv1(1.0 / F.h_scale_1), inv2(1.0 / F.h_scale_2) {}
+};
 
 // Linear interpolation position on nodes 0..n-1 of x in [0, n-1] (clamped): lower node and fraction.
 inline void clamped_cell(double x, int n, int& k, double& f) {
@@ -87,7 +114,7 @@ struct Corners {
 };
 
 template <bool Aniso>
-inline bool pair_corners(const HalfAngleFactors& F, const double* wi, const double* wr, Corners& c) {
+inline bool pair_corners(const HalfAngleFactors& F, const HStretch& stretch, const double* wi, const double* wr, Corners& c) {
   if (wi[2] < -kHorizonSlack || wr[2] < -kHorizonSlack) return false;
   const double sx = wi[0] + wr[0], sy = wi[1] + wr[1], sz = wi[2] + wr[2];
   const double mx = wi[0] - wr[0], my = wi[1] - wr[1], mz = wi[2] - wr[2];
@@ -112,7 +139,12 @@ inline bool pair_corners(const HalfAngleFactors& F, const double* wi, const doub
   c.d[2] = c.d[0] + F.n_phi_d, c.d[3] = c.d[1] + F.n_phi_d;
   c.wd[0] = (1 - fa) * (1 - fb), c.wd[1] = (1 - fa) * fb, c.wd[2] = fa * (1 - fb), c.wd[3] = fa * fb;
   if (Aniso) {
-    const double phi_h = fr.st > 0.0 ? std::atan2(fr.sn, fr.c) : 0.0;
+    double phi_h = fr.st > 0.0 ? std::atan2(fr.sn, fr.c) : 0.0;
+    if (stretch.on) {  // the grid's angles are those of the stretched h' (s = w_i + w_r is a multiple of h)
+      const double a1 = (stretch.c * sx + stretch.s * sy) * stretch.inv1, a2 = (stretch.c * sy - stretch.s * sx) * stretch.inv2;
+      phi_h = (a1 == 0.0 && a2 == 0.0) ? 0.0 : std::atan2(a2, a1);
+      clamped_cell(F.t_of_theta_h(std::atan2(std::hypot(a1, a2), sz)) * (F.n_t - 1), F.n_t, k, ft);
+    }
     int j0, j1;
     double fj;
     periodic_cell(phi_h * (F.n_phi_h / (2.0 * M_PI)), F.n_phi_h, j0, j1, fj);
@@ -126,21 +158,62 @@ inline bool pair_corners(const HalfAngleFactors& F, const double* wi, const doub
   return true;
 }
 
+// q at one pair from the corners that are node pairs on or above the horizon, their weights renormalized
+// (HorizonCorners::Valid, for a pair whose cell straddles the horizon); 0 when no corner is valid.
 template <bool Aniso>
-void eval_rows(const HalfAngleFactors& F, const RowMatrix3d& wi, const RowMatrix3d& wr, bool divide,
+void valid_corner_sum(const HalfAngleFactors& F, const HalfAngleNodeTrig& ht, const HalfAngleNodeTrig& dt, const Corners& c,
+                      const bool (&ok)[4][4], Eigen::Index i, double scale, Eigen::Ref<Eigen::MatrixXd> out) {
+  const int R = F.rank, nh = Aniso ? 4 : 2;
+  double wsum = 0.0;
+  for (int x = 0; x < nh; ++x)
+    for (int y = 0; y < 4; ++y)
+      if (ok[x][y]) wsum += c.wh[x] * c.wd[y];
+  (void)ht, (void)dt;
+  for (int ch = 0; ch < F.channels(); ++ch) {
+    const double* U = F.u[ch].data();
+    const double* V = F.v[ch].data();
+    double q = 0.0;
+    for (int x = 0; x < nh; ++x)
+      for (int y = 0; y < 4; ++y) {
+        if (!ok[x][y] || c.wh[x] * c.wd[y] == 0.0) continue;
+        double uv = 0.0;
+        for (int r = 0; r < R; ++r) uv += U[c.h[x] * R + r] * V[c.d[y] * R + r];
+        q += c.wh[x] * c.wd[y] * uv;
+      }
+    out(i, ch) = wsum > 0.0 ? q / wsum * scale : 0.0;
+  }
+}
+
+template <bool Aniso>
+void eval_rows(const HalfAngleFactors& F, const RowMatrix3d& wi, const RowMatrix3d& wr, bool to_f,
                Eigen::Ref<Eigen::MatrixXd> out) {
+  const HalfAngleQuantity divide = to_f ? F.quantity : HalfAngleQuantity::F;
   const double floor = F.cosine_floor();
   const Eigen::Index rows = wi.rows();
   const int R = F.rank, channels = F.channels();
+  const HStretch stretch(F);
+  const bool drop = F.corners == HorizonCorners::Valid;
+  HalfAngleNodeTrig ht, dt;
+  if (drop) ht = half_angle_h_trig(F), dt = half_angle_d_trig(F);
 #pragma omp parallel for schedule(static) if (rows > 2048)
   for (Eigen::Index i = 0; i < rows; ++i) {
     Corners c;
-    if (!pair_corners<Aniso>(F, wi.data() + 3 * i, wr.data() + 3 * i, c)) {
+    if (!pair_corners<Aniso>(F, stretch, wi.data() + 3 * i, wr.data() + 3 * i, c)) {
       for (int ch = 0; ch < channels; ++ch) out(i, ch) = 0.0;
       continue;
     }
-    const double scale =
-        divide ? 1.0 / (std::max(wi(i, 2), floor) * std::max(wr(i, 2), floor)) : 1.0;
+    const double scale = divide == HalfAngleQuantity::Cosine ? 1.0 / (std::max(wi(i, 2), floor) * std::max(wr(i, 2), floor))
+                         : divide == HalfAngleQuantity::MeanCosine ? 1.0 / std::max(0.5 * (wi(i, 2) + wr(i, 2)), floor)
+                                                                   : 1.0;
+    if (drop) {
+      bool ok[4][4], all = true;
+      for (int x = 0; x < (Aniso ? 4 : 2); ++x)
+        for (int y = 0; y < 4; ++y) all &= ok[x][y] = node_pair_valid(ht, c.h[x], dt, c.d[y]);
+      if (!all) {
+        valid_corner_sum<Aniso>(F, ht, dt, c, ok, i, scale, out);
+        continue;
+      }
+    }
     for (int ch = 0; ch < channels; ++ch) {
       const double* U = F.u[ch].data();
       const double* V = F.v[ch].data();
@@ -157,19 +230,63 @@ void eval_rows(const HalfAngleFactors& F, const RowMatrix3d& wi, const RowMatrix
   }
 }
 
-void eval_impl(const HalfAngleFactors& F, const RowMatrix3d& wi, const RowMatrix3d& wr, bool divide,
+}  // namespace
+
+namespace {
+
+// True angles of h node `row` (those of the node's h, not of h' on a stretched grid; phi_h = 0 at h = n keeps
+// the node's own phi_h, where the rotation it enters is the identity).
+void h_node_angles(const HalfAngleFactors& g, int row, double& th, double& ph) {
+  const int k = row / g.n_phi_h, j = row % g.n_phi_h;
+  th = g.theta_h_of_t(static_cast<double>(k) / (g.n_t - 1));
+  ph = 2.0 * M_PI * j / g.n_phi_h;
+  if (!g.stretched()) return;
+  const Eigen::Vector3d h = g.h_of_grid_angles(th, ph);
+  th = std::atan2(std::hypot(h.x(), h.y()), h.z());
+  if (h.x() != 0.0 || h.y() != 0.0) ph = std::atan2(h.y(), h.x());
+}
+
+// sin and cos of the angles angle(row, theta, phi) gives for rows 0..n-1.
+template <class Angles>
+HalfAngleNodeTrig trig_table(int n, Angles angles) {
+  HalfAngleNodeTrig t;
+  t.s.resize(n), t.c.resize(n), t.cp.resize(n), t.sp.resize(n);
+  for (int i = 0; i < n; ++i) {
+    double th, ph;
+    angles(i, th, ph);
+    t.s(i) = std::sin(th), t.c(i) = std::cos(th), t.cp(i) = std::cos(ph), t.sp(i) = std::sin(ph);
+  }
+  return t;
+}
+
+}  // namespace
+
+HalfAngleNodeTrig half_angle_h_trig(const HalfAngleFactors& g) {
+  return trig_table(g.h_nodes(), [&g](int i, double& th, double& ph) { h_node_angles(g, i, th, ph); });
+}
+
+HalfAngleNodeTrig half_angle_d_trig(const HalfAngleFactors& g) {
+  return trig_table(g.d_nodes(), [&g](int j, double& th, double& ph) {
+    th = 0.5 * M_PI * (j / g.n_phi_d) / (g.n_theta_d - 1);
+    ph = M_PI * (j % g.n_phi_d) / g.n_phi_d;
+  });
+}
+
+namespace {
+
+void eval_impl(const HalfAngleFactors& F, const RowMatrix3d& wi, const RowMatrix3d& wr, bool to_f,
                Eigen::Ref<Eigen::MatrixXd> out) {
   check_pair_shapes(wi, wr, out, F.channels());
   if (F.isotropic)
-    eval_rows<false>(F, wi, wr, divide, out);
+    eval_rows<false>(F, wi, wr, to_f, out);
   else
-    eval_rows<true>(F, wi, wr, divide, out);
+    eval_rows<true>(F, wi, wr, to_f, out);
 }
 
 }  // namespace
 
 void HalfAngleFactors::eval(const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const {
-  eval_impl(*this, wi, wr, quantity == HalfAngleQuantity::Cosine, out);
+  eval_impl(*this, wi, wr, true, out);
 }
 
 Eigen::MatrixXd HalfAngleFactors::eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const {
@@ -196,6 +313,11 @@ void HalfAngleFactors::validate() const {
   if (isotropic && n_phi_h != 1) fail("n_phi_h = " + num(n_phi_h) + " for an isotropic representation, expected 1");
   if (n_phi_h < 1) fail("n_phi_h = " + num(n_phi_h) + ", expected >= 1");
   if (!(h_warp >= 0.25 && h_warp <= 8.0)) fail("h_warp = " + num(h_warp) + ", expected in [0.25, 8]");
+  if (isotropic && stretched()) fail("an isotropic representation with a stretched h grid, expected h_axis = 0, scales 1");
+  if (!(std::abs(h_axis) <= M_PI)) fail("h_axis = " + num(h_axis) + ", expected in [-pi, pi]");
+  for (double k : {h_scale_1, h_scale_2})
+    if (!(k >= kMinHScale && k <= kMaxHScale))
+      fail("h scale " + num(k) + ", expected in [" + num(kMinHScale) + ", " + num(kMaxHScale) + "]");
   if (rank < 0) fail("rank = " + num(rank) + ", expected >= 0");
   if (u.empty()) fail("no channels");
   if (u.size() != v.size()) fail(num(u.size()) + " u factors but " + num(v.size()) + " v factors");
@@ -221,6 +343,23 @@ Eigen::VectorXd half_angle_h_weights(const HalfAngleFactors& g) {
     const double lo = g.theta_h_of_t(std::max(0.0, (k - 0.5) * dt)), hi = g.theta_h_of_t(std::min(1.0, (k + 0.5) * dt));
     const double w = dphi * 2.0 * std::sin(0.5 * (hi + lo)) * std::sin(0.5 * (hi - lo));
     for (int j = 0; j < g.n_phi_h; ++j) a(k * g.n_phi_h + j) = w;
+    if (!g.stretched()) continue;
+    // dw_h = J dw_h' (see the header); Gauss-Legendre points over the cell of h'. Near the horizon J peaks
+    // in phi_h' (as (s1^2 cos^2 + s2^2 sin^2)^-3/2): 8 x 8 points integrate a 3:1 stretch on 8 phi cells to
+    // 3e-5 of 2 pi where 4 x 4 left 1e-2 (measured, 12 x 8 cells).
+    constexpr int kStretchRule = 8;
+    const QuadratureRule rt = gauss_legendre(kStretchRule, lo, hi);
+    for (int j = 0; j < g.n_phi_h; ++j) {
+      const double p0 = 2.0 * M_PI * j / g.n_phi_h;
+      const QuadratureRule rp = gauss_legendre(kStretchRule, p0 - 0.5 * dphi, p0 + 0.5 * dphi);
+      double sum = 0.0;
+      for (int x = 0; x < kStretchRule; ++x)
+        for (int y = 0; y < kStretchRule; ++y) {
+          const double n = g.h_of_grid_angles(rt.nodes[x], rp.nodes[y]).norm();
+          sum += rt.weights[x] * rp.weights[y] * std::sin(rt.nodes[x]) * g.h_scale_1 * g.h_scale_2 / (n * n * n);
+        }
+      a(k * g.n_phi_h + j) = sum;
+    }
   }
   return a;
 }
@@ -242,9 +381,9 @@ void half_angle_node_pair(const HalfAngleFactors& g, int h_row, int d_row, Eigen
                           Eigen::Vector3d& wr) {
   // Built from the node angles (not from h), so that the nodes at t = 0 keep their phi_h: they are the
   // limits h -> n along that azimuth.
-  const int k = h_row / g.n_phi_h, j = h_row % g.n_phi_h;
   const int a = d_row / g.n_phi_d, b = d_row % g.n_phi_d;
-  const double th = g.theta_h_of_t(static_cast<double>(k) / (g.n_t - 1)), ph = 2.0 * M_PI * j / g.n_phi_h;
+  double th, ph;
+  h_node_angles(g, h_row, th, ph);
   // Anisotropic grids measure phi_d in the minimal-rotation frame (phi_d + phi_h): back to Rusinkiewicz's.
   const double td = 0.5 * M_PI * a / (g.n_theta_d - 1), pd = M_PI * b / g.n_phi_d - (g.isotropic ? 0.0 : ph);
   const double sd = std::sin(td);
@@ -405,6 +544,9 @@ void check_fit_options(int channels, const HalfAngleFitOptions& o) {
         ", n_theta_d = " + std::to_string(o.n_theta_d) + ", n_phi_d = " + std::to_string(o.n_phi_d) +
         ", expected n_t, n_theta_d >= 2 and n_phi_h, n_phi_d >= 1");
   if (!(o.h_warp >= 0.25 && o.h_warp <= 8.0)) bad("h_warp outside [0.25, 8]");
+  if (!o.isotropic && !(std::abs(o.h_axis) <= M_PI && o.h_scale_1 >= kMinHScale && o.h_scale_1 <= kMaxHScale &&
+                        o.h_scale_2 >= kMinHScale && o.h_scale_2 <= kMaxHScale))
+    bad("h stretch outside h_axis in [-pi, pi], scales in [" + std::to_string(kMinHScale) + ", " + std::to_string(kMaxHScale) + "]");
   if (!(o.target > 0.0)) bad("target must be > 0");
   if (o.max_rank < 1 || o.fixed_rank < 0 || o.max_rank > kMaxFitRank || o.fixed_rank > kMaxFitRank)
     bad("max_rank must be in [1, " + std::to_string(kMaxFitRank) + "] and fixed_rank in [0, " + std::to_string(kMaxFitRank) + "]");
@@ -427,12 +569,9 @@ SampledNodes sample_nodes(const PairSampler& sampler, int channels, const HalfAn
   std::vector<Eigen::MatrixXd>& Q = out.Q;
   Eigen::MatrixXd &W = out.W, &Wv = out.Wv;
   Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> valid(H, D);
+  const HalfAngleNodeTrig ht = half_angle_h_trig(F), dt = half_angle_d_trig(F);
   for (int i = 0; i < H; ++i)
-    for (int j = 0; j < D; ++j) {
-      Eigen::Vector3d x, y;
-      half_angle_node_pair(F, i, j, x, y);
-      valid(i, j) = x.z() >= -kHorizonSlack && y.z() >= -kHorizonSlack;
-    }
+    for (int j = 0; j < D; ++j) valid(i, j) = node_pair_valid(ht, i, dt, j);
   *valid_fraction = valid.cast<double>().mean();
   const auto near_valid = [&](int i, int j) {
     const int k = i / F.n_phi_h, jh = i % F.n_phi_h, ad = j / F.n_phi_d, bd = j % F.n_phi_d;
@@ -462,14 +601,14 @@ SampledNodes sample_nodes(const PairSampler& sampler, int channels, const HalfAn
   for (int h0 = 0; h0 < H; h0 += block) {
     const int h1 = std::min(H, h0 + block);
     std::vector<std::pair<int, int>> nodes;
-    std::vector<double> cosines;
+    std::vector<double> cosines, metric_factor;
     RowMatrix3d wi((h1 - h0) * D, 3), wr((h1 - h0) * D, 3);
     for (int i = h0; i < h1; ++i)
       for (int j = 0; j < D; ++j) {
         if (!valid(i, j) && !(extend && near_valid(i, j))) continue;
         Eigen::Vector3d x, y;
         half_angle_node_pair(F, i, j, x, y);
-        const double cc = x.z() * y.z();
+        const double cc = o.quantity == HalfAngleQuantity::MeanCosine ? 0.5 * (x.z() + y.z()) : x.z() * y.z();
         if (valid(i, j)) {
           x.z() = std::max(x.z(), 0.0);
           y.z() = std::max(y.z(), 0.0);
@@ -479,7 +618,12 @@ SampledNodes sample_nodes(const PairSampler& sampler, int channels, const HalfAn
         wi.row(nodes.size()) = x.transpose();
         wr.row(nodes.size()) = y.transpose();
         nodes.emplace_back(i, j);
-        cosines.push_back(valid(i, j) ? std::max(x.z(), 0.0) * std::max(y.z(), 0.0) : cc);
+        const double ci = std::max(x.z(), 0.0), cr = std::max(y.z(), 0.0);
+        cosines.push_back(!valid(i, j) ? cc : o.quantity == HalfAngleQuantity::MeanCosine ? 0.5 * (ci + cr) : ci * cr);
+        // Mean-cosine: the metric's q = f ci cr is the stored p times H = 2 ci cr / (ci + cr).
+        metric_factor.push_back(o.quantity != HalfAngleQuantity::MeanCosine || !valid(i, j) ? 1.0
+                                : ci + cr > 0.0                                             ? 2.0 * ci * cr / (ci + cr)
+                                                                                            : 0.0);
       }
     const auto n = static_cast<Eigen::Index>(nodes.size());
     if (n == 0) continue;
@@ -488,7 +632,7 @@ SampledNodes sample_nodes(const PairSampler& sampler, int channels, const HalfAn
     sampler(wiv, wrv, f);
     for (Eigen::Index k = 0; k < n; ++k) {
       const auto [i, j] = nodes[k];
-      const double cc = o.quantity == HalfAngleQuantity::Cosine ? cosines[k] : 1.0;
+      const double cc = o.quantity != HalfAngleQuantity::F ? cosines[k] : 1.0;
       for (int c = 0; c < channels; ++c) {
         const double q = f(k, c) * cc;
         if (!std::isfinite(q)) {
@@ -499,8 +643,9 @@ SampledNodes sample_nodes(const PairSampler& sampler, int channels, const HalfAn
         }
         Q[c](i, j) = q;
       }
-      W(i, j) = a(i) * b(j) * (valid(i, j) ? 1.0 : o.extension_weight);
-      if (valid(i, j)) Wv(i, j) = a(i) * b(j);
+      const double m2 = metric_factor[k] * metric_factor[k];
+      W(i, j) = a(i) * b(j) * (valid(i, j) ? m2 : o.extension_weight);
+      if (valid(i, j)) Wv(i, j) = a(i) * b(j) * m2;
     }
   }
 
@@ -568,8 +713,10 @@ HalfAngleFit fit_half_angle(const PairSampler& sampler, int channels, const Half
   HalfAngleFit fit;
   HalfAngleFactors& F = fit.factors;
   F.quantity = o.quantity;
+  F.corners = o.corners;
   F.isotropic = o.isotropic;
   F.h_warp = o.h_warp;
+  if (!o.isotropic) F.h_axis = o.h_axis, F.h_scale_1 = o.h_scale_1, F.h_scale_2 = o.h_scale_2;
   F.n_t = o.n_t;
   F.n_phi_h = o.isotropic ? 1 : o.n_phi_h;
   F.n_theta_d = o.n_theta_d;

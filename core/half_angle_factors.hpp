@@ -11,6 +11,14 @@
 //  h: t in [0, 1] with theta_h = (pi/2) t^h_warp (default h_warp = 2: nodes crowd where lobes are, at
 //     h = n), nodes t_k = k / (n_t - 1). Isotropic: u depends on t only (n_phi_h = 1). Anisotropic: also
 //     on phi_h, nodes phi_h_j = 2 pi j / n_phi_h, periodic.
+//     Anisotropic grids may be stretched (h_axis, h_scale_1, h_scale_2; identity 0, 1, 1): (theta_h, phi_h)
+//     above are then the angles of the stretched half vector h', whose slopes are those of h rotated by
+//     -h_axis (into the lobe's principal axes) and divided by (h_scale_1, h_scale_2):
+//       s = (h_x, h_y) / h_z,  s_1 = cos(a) s_x + sin(a) s_y,  s_2 = -sin(a) s_x + cos(a) s_y,
+//       h' ~ (s_1 / h_scale_1, s_2 / h_scale_2, 1),  a = h_axis.
+//     An elliptical lobe (GGX or Beckmann with alpha_x != alpha_y: a function of the stretched slope) becomes
+//     circular, so the t^2 warp resolves both of its widths with few phi_h nodes (core/lobe_axes.hpp finds
+//     the axes). The d coordinates always use the true h.
 //  d: theta_d_a = (pi/2) a / (n_theta_d - 1); phi_d_b = pi b / n_phi_d, periodic with period pi.
 //     Anisotropic representations measure phi_d from the world's x axis (phi_d + phi_h: the frame of the
 //     minimal rotation taking h to +z, in which masking depends on d alone near h = n; Rusinkiewicz's frame
@@ -41,6 +49,7 @@
 // (options.extension_weight); the reported error counts the valid nodes only.
 #include <Eigen/Core>
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -48,16 +57,28 @@
 #include <vector>
 
 #include "core/grid.hpp"
+#include "core/horizon.hpp"
 
 namespace icobrdf {
 
 using RowMatrixXd = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-enum class HalfAngleQuantity { F, Cosine };  // names "f", "cosine"
+enum class HalfAngleQuantity { F, Cosine, MeanCosine };  // names "f", "cosine", "mean-cosine"
+// What interpolation does with the corners of a cell that are node pairs below the horizon:
+//  All:   they take part like any other (format 2.0 lobes, fitted with extended values there);
+//  Valid: they are dropped and the weights of the others renormalized, so values at such nodes are never
+//         used and the fit needs none (lobes written since format 3.0). Interpolation in a cell straddling
+//         the horizon is then first-order instead of second; q is small there (cosine quantity).
+enum class HorizonCorners { All, Valid };  // names "all", "valid"
+const char* horizon_corners_name(HorizonCorners c);
+HorizonCorners horizon_corners_from_name(const std::string& name);  // ArgumentError for an unknown name
 const char* half_angle_quantity_name(HalfAngleQuantity q);
 // ArgumentError for an unknown name.
 HalfAngleQuantity half_angle_quantity_from_name(const std::string& name);
 
+
+// Bounds of the h-grid scales (h_scale_1 / h_scale_2 ratios of up to 1e4: far beyond any measured lobe).
+inline constexpr double kMinHScale = 1e-2, kMaxHScale = 1e2;
 
 // Largest rank fit_half_angle accepts (its per-node R x R solves use fixed-capacity matrices).
 inline constexpr int kMaxFitRank = 32;
@@ -66,6 +87,9 @@ struct HalfAngleFactors {
   HalfAngleQuantity quantity = HalfAngleQuantity::Cosine;
   bool isotropic = true;
   double h_warp = 2.0;  // theta_h = (pi/2) t^h_warp
+  HorizonCorners corners = HorizonCorners::Valid;
+  // Stretch of the h grid (anisotropic only; see the header comment): axis angle [rad] and the two scales.
+  double h_axis = 0.0, h_scale_1 = 1.0, h_scale_2 = 1.0;
   int n_t = 0, n_phi_h = 1, n_theta_d = 0, n_phi_d = 0, rank = 0;
   std::vector<RowMatrixXd> u;  // per channel: (n_t * n_phi_h) x rank
   std::vector<RowMatrixXd> v;  // per channel: (n_theta_d * n_phi_d) x rank
@@ -76,6 +100,10 @@ struct HalfAngleFactors {
   // Stored doubles x 8.
   std::size_t bytes() const;
   double theta_h_of_t(double t) const;
+  bool stretched() const { return h_axis != 0.0 || h_scale_1 != 1.0 || h_scale_2 != 1.0; }
+  // The true half vector, not normalized, at grid angles (theta_h, phi_h) (those of h'):
+  // Rz(h_axis) (h_scale_1 sin(theta_h) cos(phi_h), h_scale_2 sin(theta_h) sin(phi_h), cos(theta_h)).
+  Eigen::Vector3d h_of_grid_angles(double theta_h, double phi_h) const;
   // Floor of cos(theta_i) and of cos(theta_r) when the cosine quantity is divided back to f:
   // sin((pi/2) / (n_theta_d - 1)), the cosine one theta_d step from the horizon. Closer to the horizon the
   // grid does not resolve q, whose interpolation error divided by the cosines would grow without bound
@@ -89,7 +117,8 @@ struct HalfAngleFactors {
   // q (the stored quantity) instead of f.
   void eval_quantity(const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const;
   // Checks loaded data: n_t >= 2, n_theta_d >= 2, n_phi_d >= 1, n_phi_h = 1 when isotropic and >= 1
-  // otherwise, h_warp in [0.25, 8], rank >= 0, >= 1 channel, u and v of the stated sizes, all finite.
+  // otherwise, h_warp in [0.25, 8], no stretch when isotropic, h_axis in [-pi, pi] and scales in
+  // [kMinHScale, kMaxHScale], rank >= 0, >= 1 channel, u and v of the stated sizes, all finite.
   // InputError naming the first violation.
   void validate() const;
 };
@@ -107,8 +136,10 @@ void uniform_pairs(int n, std::uint64_t seed, RowMatrix3d& wi, RowMatrix3d& wr);
 
 struct HalfAngleFitOptions {
   HalfAngleQuantity quantity = HalfAngleQuantity::Cosine;
+  HorizonCorners corners = HorizonCorners::Valid;
   bool isotropic = true;
   double h_warp = 2.0;
+  double h_axis = 0.0, h_scale_1 = 1.0, h_scale_2 = 1.0;  // stretch of the h grid (anisotropic only)
   int n_t = 64;
   int n_phi_h = 32;  // ignored (1) when isotropic
   int n_theta_d = 64;  // grazing masking makes q steep in theta_d: 32 -> 64 cut GGX 0.1's error 6x
@@ -119,8 +150,9 @@ struct HalfAngleFitOptions {
   double sweep_tolerance = 1e-6;   // stop when the objective decreases by less than this fraction of itself
   int fixed_rank = 0;              // > 0: fit exactly this rank (no target check, no refusal)
   // Weight (relative to a valid node's) of the extended values at missing nodes next to valid ones;
-  // 0 leaves them missing.
-  double extension_weight = 0.05;
+  // 0 leaves them missing. Only HorizonCorners::All uses such values (0.05 there; measured best on the
+  // glossy lobes); with Valid they would only pull the factors away from the valid nodes.
+  double extension_weight = 0.0;
 };
 
 struct HalfAngleFitReport {
@@ -141,9 +173,25 @@ struct HalfAngleFit {
 };
 
 // Node weights a_h (h_nodes) and b_d (d_nodes) of the options' grids (exact dual-cell integrals of dw_h
-// and 4 cos(theta_d) dw_d): sum a = 2 pi (upper hemisphere of h), sum b = 4 pi.
+// and 4 cos(theta_d) dw_d): sum a = 2 pi (upper hemisphere of h), sum b = 4 pi. On a stretched grid a_h is
+// the integral of dw_h = J dw_h' over the cell of h' (J = s1 s2 / |h_of_grid_angles|^3, the Jacobian of the
+// stretch of slopes times cos^3 theta_h / cos^3 theta_h'), by 8 x 8 Gauss-Legendre points per cell.
 Eigen::VectorXd half_angle_h_weights(const HalfAngleFactors& grid);
 Eigen::VectorXd half_angle_d_weights(const HalfAngleFactors& grid);
+// Per node: sin and cos of theta and of phi (h nodes: the true h, phi_h = 0 for isotropic grids; d nodes:
+// phi_d as stored). A node pair is on or above the horizon iff
+//   cos_h cos_d - sin_h sin_d |cos(phi_d - phi_h)| >= -kHorizonSlack
+// (w_i,z and w_r,z are cos_h cos_d -/+ sin_h sin_d cos(phi_d - phi_h)); the fit and the evaluation decide it
+// by this one expression.
+struct HalfAngleNodeTrig {
+  Eigen::ArrayXd s, c, cp, sp;
+};
+HalfAngleNodeTrig half_angle_h_trig(const HalfAngleFactors& grid);
+HalfAngleNodeTrig half_angle_d_trig(const HalfAngleFactors& grid);
+inline bool node_pair_valid(const HalfAngleNodeTrig& h, int i, const HalfAngleNodeTrig& d, int j) {
+  return h.c(i) * d.c(j) - h.s(i) * d.s(j) * std::abs(h.cp(i) * d.cp(j) + h.sp(i) * d.sp(j)) >= -kHorizonSlack;
+}
+
 // The pair of node (h row, d row) of a grid (isotropic grids: phi_h = 0).
 void half_angle_node_pair(const HalfAngleFactors& grid, int h_row, int d_row, Eigen::Vector3d& wi,
                           Eigen::Vector3d& wr);

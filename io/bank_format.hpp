@@ -8,12 +8,16 @@
 //        representation). A 1.x reader would read such a material as its modes alone, silently wrong, so
 //        these files carry major 2; the writer writes 1.0 when no material has a lobe (those files are
 //        unchanged, and 1.x readers still read them).
+//   3.0  lobes gain the quantity mean-cosine, the attribute corners ("valid": corner node pairs below the
+//        horizon are dropped from the interpolation) and the stretch of anisotropic h grids (h_axis,
+//        h_scale_1, h_scale_2). A 2.x reader would evaluate such lobes on the wrong interpolation, so files
+//        with lobes carry major 3; 2.x files are still read (their lobes: corners "all", no stretch).
 namespace icobrdf::bank_format {
 
 inline constexpr const char* kName = "icobrdf-bank";
-inline constexpr int kMajor = 2;            // newest major this reader reads
+inline constexpr int kMajor = 3;            // newest major this reader reads
 inline constexpr int kOldestMajor = 1;      // oldest major this reader reads
-inline constexpr const char* kVersion = "2.0";          // files with a half-angle lobe
+inline constexpr const char* kVersion = "3.0";          // files with a half-angle lobe
 inline constexpr const char* kVersionModesOnly = "1.0";  // files without
 
 // Root attribute text describing conventions, written verbatim to every file.

@@ -10,6 +10,7 @@
 #include "core/function_model.hpp"
 #include "core/half_angle_factors.hpp"
 #include "core/isotropic_modes.hpp"
+#include "core/lobe_axes.hpp"
 #include "io/material_eval.hpp"
 #include "pipeline/keys.hpp"
 #include "pipeline/modes_representation.hpp"
@@ -31,6 +32,9 @@ constexpr int kPeakPairs = 20000;
 // 0.005-0.02 on the glossy scene's lobes (measured), so no grid meets a target below 1e-3, and trying all of
 // them at rank 8 costs seconds (minutes under the sanitizers); such targets are refused at once.
 constexpr double kSmallestLobeTarget = 1e-3;
+// Smallest ratio of a lobe's widths (core/lobe_axes.hpp) for which the h grid of an anisotropic lobe is
+// stretched: below it a stretch changes the interpolation error by less than the estimate's own spread.
+constexpr double kStretchRatio = 1.1;
 // Largest rank tried at one grid.
 constexpr int kMaxRank = 8;
 // ALS sweeps per rank, and the relative decrease of the objective below which they stop: the node error only
@@ -60,10 +64,10 @@ struct LadderStep {
 // where 64 give 0.005-0.009 (measured, cosine metric); then resolution goes to theta_h (the lobe) and phi_d.
 constexpr LadderStep kIsotropicLadder[] = {{32, 1, 64, 16},  {64, 1, 64, 32},   {128, 1, 96, 32},
                                            {256, 1, 128, 32}, {256, 1, 128, 64}, {512, 1, 128, 64}};
-// Anisotropic lobes couple phi_h and phi_d through masking, so they need ranks of 5-8 (measured on GGX
-// alpha 0.1 x 0.3: 0.053 at rank 5, 0.042 at rank 8 on 48 x 32 h x 64 x 16 d nodes); their ladder is short
-// because each step costs 10-20 s.
-constexpr LadderStep kAnisotropicLadder[] = {{32, 16, 64, 16}, {48, 32, 64, 16}};
+// Anisotropic lobes: on an h grid stretched along the lobe's axes (core/lobe_axes.hpp) an elliptical lobe
+// needs few phi_h nodes (GGX alpha 0.1 x 0.3, held-out errors at ranks 4-6: 0.025 on 32 x 8 h nodes, 0.010 on
+// 48 x 16, against 0.035 at rank 8 on an unstretched 48 x 32; measured, mean-cosine quantity).
+constexpr LadderStep kAnisotropicLadder[] = {{32, 8, 64, 16}, {48, 16, 64, 16}, {64, 32, 64, 16}, {96, 32, 96, 32}};
 
 // f of a source minus a term at pairs: what a representation must still fit.
 class ResidualSource final : public BrdfSource {
@@ -163,7 +167,10 @@ std::optional<LobeFit> fit_lobe_at(const MaterialProblem& p, const BrdfSource& r
     out = residual.eval(wi, wr);
   };
   HalfAngleFitOptions o;
-  o.quantity = p.material.metric == ErrorMetric::Cosine ? HalfAngleQuantity::Cosine : HalfAngleQuantity::F;
+  // Cosine metric: p = f (cos_i + cos_r) / 2, weighted so that the node error is the metric's (see
+  // core/half_angle_factors.hpp): smooth across the horizon and at grazing specular, where q = f cos_i cos_r
+  // (the metric's own quantity) drops to 0 within a node or two and the grazing Fresnel peak sits.
+  o.quantity = p.material.metric == ErrorMetric::Cosine ? HalfAngleQuantity::MeanCosine : HalfAngleQuantity::F;
   o.isotropic = isotropic;
   o.target = kNodeShare * p.material.target;
   o.max_rank = kMaxRank;
@@ -174,6 +181,10 @@ std::optional<LobeFit> fit_lobe_at(const MaterialProblem& p, const BrdfSource& r
   o.n_theta_d = s.n_theta_d;
   o.n_phi_d = s.n_phi_d;
   o.fixed_rank = fixed_rank;
+  if (!isotropic) {
+    const LobeAxes axes = estimate_lobe_axes(sampler, residual.channels());
+    if (axes.found && axes.ratio() >= kStretchRatio) o.h_axis = axes.axis, o.h_scale_1 = std::min(axes.ratio(), kMaxHScale);
+  }
   HalfAngleFit fit;
   try {
     fit = fit_half_angle(sampler, residual.channels(), o);
@@ -318,13 +329,14 @@ MaterialCandidate fit_hybrid_candidate(const MaterialProblem& p) {
   if (p.earlier)
     for (const auto& c : *p.earlier)
       if (c.representation == "half-angle" && c.record.lobe) first = c.record.lobe;
-  double best = INFINITY;
   if (!first) {
+    double alone = INFINITY;
     const Eigen::MatrixXd none = Eigen::MatrixXd::Zero(p.errors->pairs().wi.rows(), p.source.channels());
-    auto fit = fit_lobe(p, p.source, none, lobe_is_isotropic(p), &best);
-    if (!fit) throw UnsupportedError("hybrid: no lobe meets target " + short_number(p.material.target) + " (best " + short_number(best) + ")");
+    auto fit = fit_lobe(p, p.source, none, lobe_is_isotropic(p), &alone);
+    if (!fit) throw UnsupportedError("hybrid: no lobe meets target " + short_number(p.material.target) + " (best " + short_number(alone) + ")");
     first = std::move(fit->lobe);
   }
+  double best = INFINITY;  // of the hybrids tried
   if (first->rank < 2) throw UnsupportedError("hybrid: the lobe alone has rank 1, no body can lower it");
   // An isotropic body cannot take a term off an anisotropic lobe, whose extra terms carry the azimuthal
   // coupling of masking (measured: every body order and rank missed the target on GGX 0.1 x 0.3, at 40 s).

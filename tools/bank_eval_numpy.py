@@ -77,14 +77,41 @@ def _linear(x, n, periodic):
     return i0, i0 + 1, x - i0
 
 
+def _node_angles(a, n_t, n_ph, n_td, n_pd, warp, iso, stretch):
+    """True (theta, phi) of every h node and (theta_d, phi_d) of every d node (docs/file-format.md)."""
+    k, j = np.divmod(np.arange(n_t * n_ph), n_ph)
+    th = math.pi / 2 * (k / (n_t - 1)) ** warp
+    ph = np.zeros_like(th) if iso else 2 * math.pi * j / n_ph
+    if stretch is not None:
+        axis, k1, k2 = stretch
+        x1, x2 = k1 * np.sin(th) * np.cos(ph), k2 * np.sin(th) * np.sin(ph)
+        hx, hy = math.cos(axis) * x1 - math.sin(axis) * x2, math.sin(axis) * x1 + math.cos(axis) * x2
+        th = np.arctan2(np.hypot(hx, hy), np.cos(th))
+        ph = np.where(np.hypot(hx, hy) > 0, np.arctan2(hy, hx), ph)
+    a_, b_ = np.divmod(np.arange(n_td * n_pd), n_pd)
+    return th, ph, math.pi / 2 * a_ / (n_td - 1), math.pi * b_ / n_pd
+
+
 def eval_lobe(g, channels, wi, wr):
     """The half-angle lobe of group g at pairs: pairs x channels."""
     a = {k: g.attrs[k] for k in g.attrs}
     n_t, n_ph, n_td, n_pd = (int(a[k]) for k in ("n_t", "n_phi_h", "n_theta_d", "n_phi_d"))
     warp, iso, quantity = float(a["h_warp"]), bool(a["isotropic"]), _text(a["quantity"])
+    corners = _text(a["corners"]) if "corners" in a else "all"  # format 2.x lobes: every corner
+    stretch = (float(a["h_axis"]), float(a["h_scale_1"]), float(a["h_scale_2"])) if "h_axis" in a else None
+    if stretch == (0.0, 1.0, 1.0):
+        stretch = None
     u, v = g["u"][...], g["v"][...]  # channels x h nodes x R, channels x d nodes x R
     theta_h, phi_h, d = half_angle(wi, wr)
-    t = (theta_h / (math.pi / 2)) ** (1.0 / warp)
+    theta_g, phi_g = theta_h, phi_h  # the angles the h grid is laid out in
+    if stretch is not None:
+        axis, k1, k2 = stretch
+        s = wi + wr  # a positive multiple of h: only the ratios matter
+        x1 = (math.cos(axis) * s[:, 0] + math.sin(axis) * s[:, 1]) / k1
+        x2 = (-math.sin(axis) * s[:, 0] + math.cos(axis) * s[:, 1]) / k2
+        theta_g = np.arctan2(np.hypot(x1, x2), s[:, 2])
+        phi_g = np.where(np.hypot(x1, x2) > 0, np.arctan2(x2, x1), 0.0)
+    t = (theta_g / (math.pi / 2)) ** (1.0 / warp)
     t0, t1, wt = _linear(t * (n_t - 1), n_t, False)
     theta_d = np.arctan2(np.hypot(d[:, 0], d[:, 1]), d[:, 2])
     phi_d = np.arctan2(d[:, 1], d[:, 0])
@@ -95,19 +122,31 @@ def eval_lobe(g, channels, wi, wr):
     if iso:
         hw = [(t0, 1 - wt), (t1, wt)]
     else:
-        j0, j1, wj = _linear(phi_h / (2 * math.pi) * n_ph, n_ph, True)
+        j0, j1, wj = _linear(phi_g / (2 * math.pi) * n_ph, n_ph, True)
         hw = [(t0 * n_ph + j0, (1 - wt) * (1 - wj)), (t0 * n_ph + j1, (1 - wt) * wj),
               (t1 * n_ph + j0, wt * (1 - wj)), (t1 * n_ph + j1, wt * wj)]
     dw = [(a0 * n_pd + b0, (1 - wa) * (1 - wb)), (a0 * n_pd + b1, (1 - wa) * wb),
           (a1 * n_pd + b0, wa * (1 - wb)), (a1 * n_pd + b1, wa * wb)]
+    # Corner node pairs below the horizon take no part when corners = "valid" (weights renormalized).
+    nth, nph, ntd, npd = _node_angles(a, n_t, n_ph, n_td, n_pd, warp, iso, stretch)
     out = np.zeros((wi.shape[0], channels))
-    for c in range(channels):
-        uh = sum(w[:, None] * u[c][idx] for idx, w in hw)  # pairs x R
-        vd = sum(w[:, None] * v[c][idx] for idx, w in dw)
-        out[:, c] = np.sum(uh * vd, axis=1)
+    wsum = np.zeros(wi.shape[0])
+    for hi, hwt in hw:
+        for di, dwt in dw:
+            w = hwt * dwt
+            if corners == "valid":
+                ok = (np.cos(nth[hi]) * np.cos(ntd[di]) -
+                      np.sin(nth[hi]) * np.sin(ntd[di]) * np.abs(np.cos(npd[di] - nph[hi]))) >= -HORIZON_SLACK
+                w = np.where(ok, w, 0.0)
+            wsum += w
+            for c in range(channels):
+                out[:, c] += w * np.sum(u[c][hi] * v[c][di], axis=1)
+    out /= np.where(wsum > 0, wsum, 1.0)[:, None]
+    c0 = float(a["cosine_floor"])  # sin((pi/2) / (n_theta_d - 1))
     if quantity == "cosine":
-        c0 = float(a["cosine_floor"])  # per direction: sin((pi/2) / (n_theta_d - 1))
         out /= (np.maximum(wi[:, 2], c0) * np.maximum(wr[:, 2], c0))[:, None]
+    elif quantity == "mean-cosine":
+        out /= np.maximum(0.5 * (wi[:, 2] + wr[:, 2]), c0)[:, None]
     return out
 
 

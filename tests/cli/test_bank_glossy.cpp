@@ -210,8 +210,8 @@ void GlossyBank::check_reciprocity() {
 void GlossyBank::check_readers() {
   auto r = run_cli({"bank", "info", bank_});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("icobrdf bank 2.0"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("half-angle lobe of q = f cos_i cos_r (isotropic), rank"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("icobrdf bank 3.0"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("half-angle lobe of q = f (cos_i + cos_r)/2 (isotropic), rank"), std::string::npos) << r.out;
   r = run_cli({"spectrum", bank_ + "#ggx"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("+ half-angle lobe"), std::string::npos) << r.out;

@@ -37,12 +37,14 @@ name = "m"
 source = "{source}"
 """
 
+# (representation, metric, source). The hybrid's body is Minnaert's (not low-rank in half-angle coordinates,
+# where Lambert + GGX is a rank-2 lobe and needs no body).
 CASES = [
     ("modes", "f", "model:minnaert:k=2"),
     ("half-angle", "cosine", "model:ggx:alpha=0.2,f0=0.04"),
     ("half-angle", "f", "model:blinn-phong:n=50"),
     ("half-angle", "cosine", "model:ggx-aniso:alpha_x=0.2,alpha_y=0.4"),
-    ("hybrid", "cosine", "model:0.8*lambert:albedo=0.5+0.2*ggx:alpha=0.2"),
+    ("hybrid", "cosine", "model:minnaert:k=2+0.2*ggx:alpha=0.2"),
 ]
 
 
