@@ -118,6 +118,10 @@ std::string half_angle_summary_line(const HalfAngleFactors& l, bool norms) {
                 quantity_text(l.quantity, false).c_str(), l.isotropic ? "isotropic" : "anisotropic",
                 l.rank, l.n_t, l.n_phi_h, l.h_warp, l.n_theta_d, l.n_phi_d, l.bytes());
   std::string out = buf;
+  if (l.stretched()) {
+    std::snprintf(buf, sizeof buf, ", h grid stretched %.3g x %.3g along %.1f deg", l.h_scale_1, l.h_scale_2, l.h_axis * 180 / M_PI);
+    out += buf;
+  }
   for (int c = 0; norms && c < l.channels(); ++c) {
     out += "\n    channel " + std::to_string(c) + " term norms |u_r| |v_r|:";
     for (int r = 0; r < l.rank; ++r) {
