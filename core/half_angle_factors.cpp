@@ -127,27 +127,30 @@ inline bool pair_corners(const HalfAngleFactors& F, const HStretch& stretch, con
   }
   // The swap negates (dx, dy) exactly: use the canonical one of the two (phi_d in [0, pi]).
   if (dy < 0.0 || (dy == 0.0 && dx < 0.0)) dx = -dx, dy = -dy;
-  const double theta_h = std::atan2(fr.st, fr.ct);
   const double theta_d = std::atan2(std::sqrt(dx * dx + dy * dy), fr.len);  // len = 2 d_z, (dx, dy) = 2 d_xy
   const double phi_d = (dx == 0.0 && dy == 0.0) ? 0.0 : std::atan2(dy, dx);
+  // The angles the h grid is laid out in: those of h, or of the stretched h' (s = w_i + w_r is a multiple of h).
+  double theta_g, phi_g = 0.0;
+  if (Aniso && stretch.on) {
+    const double a1 = (stretch.c * sx + stretch.s * sy) * stretch.inv1, a2 = (stretch.c * sy - stretch.s * sx) * stretch.inv2;
+    theta_g = std::atan2(std::sqrt(a1 * a1 + a2 * a2), sz);
+    phi_g = (a1 == 0.0 && a2 == 0.0) ? 0.0 : std::atan2(a2, a1);
+  } else {
+    theta_g = std::atan2(fr.st, fr.ct);
+    if (Aniso && fr.st > 0.0) phi_g = std::atan2(fr.sn, fr.c);
+  }
   int k, a, b0, b1;
   double ft, fa, fb;
-  clamped_cell(F.t_of_theta_h(theta_h) * (F.n_t - 1), F.n_t, k, ft);
+  clamped_cell(F.t_of_theta_h(theta_g) * (F.n_t - 1), F.n_t, k, ft);
   clamped_cell(theta_d * ((F.n_theta_d - 1) / (0.5 * M_PI)), F.n_theta_d, a, fa);
   periodic_cell(phi_d * (F.n_phi_d / M_PI), F.n_phi_d, b0, b1, fb);
   c.d[0] = a * F.n_phi_d + b0, c.d[1] = a * F.n_phi_d + b1;
   c.d[2] = c.d[0] + F.n_phi_d, c.d[3] = c.d[1] + F.n_phi_d;
   c.wd[0] = (1 - fa) * (1 - fb), c.wd[1] = (1 - fa) * fb, c.wd[2] = fa * (1 - fb), c.wd[3] = fa * fb;
   if (Aniso) {
-    double phi_h = fr.st > 0.0 ? std::atan2(fr.sn, fr.c) : 0.0;
-    if (stretch.on) {  // the grid's angles are those of the stretched h' (s = w_i + w_r is a multiple of h)
-      const double a1 = (stretch.c * sx + stretch.s * sy) * stretch.inv1, a2 = (stretch.c * sy - stretch.s * sx) * stretch.inv2;
-      phi_h = (a1 == 0.0 && a2 == 0.0) ? 0.0 : std::atan2(a2, a1);
-      clamped_cell(F.t_of_theta_h(std::atan2(std::hypot(a1, a2), sz)) * (F.n_t - 1), F.n_t, k, ft);
-    }
     int j0, j1;
     double fj;
-    periodic_cell(phi_h * (F.n_phi_h / (2.0 * M_PI)), F.n_phi_h, j0, j1, fj);
+    periodic_cell(phi_g * (F.n_phi_h / (2.0 * M_PI)), F.n_phi_h, j0, j1, fj);
     c.h[0] = k * F.n_phi_h + j0, c.h[1] = k * F.n_phi_h + j1;
     c.h[2] = c.h[0] + F.n_phi_h, c.h[3] = c.h[1] + F.n_phi_h;
     c.wh[0] = (1 - ft) * (1 - fj), c.wh[1] = (1 - ft) * fj, c.wh[2] = ft * (1 - fj), c.wh[3] = ft * fj;
@@ -160,15 +163,27 @@ inline bool pair_corners(const HalfAngleFactors& F, const HStretch& stretch, con
 
 // q at one pair from the corners that are node pairs on or above the horizon, their weights renormalized
 // (HorizonCorners::Valid, for a pair whose cell straddles the horizon); 0 when no corner is valid.
+// Sufficient for every corner pair of a cell to be valid: the largest theta_h of its h corners plus the
+// largest theta_d of its d corners (rows a + 1) is at most pi/2, i.e. cos of the sum >= -slack (validity
+// needs cos_h cos_d - sin_h sin_d |cos(dphi)| >= -slack, and |cos(dphi)| <= 1).
 template <bool Aniso>
-void valid_corner_sum(const HalfAngleFactors& F, const HalfAngleNodeTrig& ht, const HalfAngleNodeTrig& dt, const Corners& c,
-                      const bool (&ok)[4][4], Eigen::Index i, double scale, Eigen::Ref<Eigen::MatrixXd> out) {
+inline bool all_corners_valid(const HalfAngleNodeTrig& ht, const HalfAngleNodeTrig& dt, const Corners& c) {
+  int hmax = c.h[Aniso ? 2 : 1];
+  if (Aniso)
+    for (int x : {0, 1, 3})
+      if (ht.c(c.h[x]) < ht.c(hmax)) hmax = c.h[x];
+  const int dmax = c.d[2];
+  return ht.c(hmax) * dt.c(dmax) - ht.s(hmax) * dt.s(dmax) >= -kHorizonSlack;
+}
+
+template <bool Aniso>
+void valid_corner_sum(const HalfAngleFactors& F, const Corners& c, const bool (&ok)[4][4], Eigen::Index i, double scale,
+                      Eigen::Ref<Eigen::MatrixXd> out) {
   const int R = F.rank, nh = Aniso ? 4 : 2;
   double wsum = 0.0;
   for (int x = 0; x < nh; ++x)
     for (int y = 0; y < 4; ++y)
       if (ok[x][y]) wsum += c.wh[x] * c.wd[y];
-  (void)ht, (void)dt;
   for (int ch = 0; ch < F.channels(); ++ch) {
     const double* U = F.u[ch].data();
     const double* V = F.v[ch].data();
@@ -205,12 +220,12 @@ void eval_rows(const HalfAngleFactors& F, const RowMatrix3d& wi, const RowMatrix
     const double scale = divide == HalfAngleQuantity::Cosine ? 1.0 / (std::max(wi(i, 2), floor) * std::max(wr(i, 2), floor))
                          : divide == HalfAngleQuantity::MeanCosine ? 1.0 / std::max(0.5 * (wi(i, 2) + wr(i, 2)), floor)
                                                                    : 1.0;
-    if (drop) {
+    if (drop && !all_corners_valid<Aniso>(ht, dt, c)) {
       bool ok[4][4], all = true;
       for (int x = 0; x < (Aniso ? 4 : 2); ++x)
         for (int y = 0; y < 4; ++y) all &= ok[x][y] = node_pair_valid(ht, c.h[x], dt, c.d[y]);
       if (!all) {
-        valid_corner_sum<Aniso>(F, ht, dt, c, ok, i, scale, out);
+        valid_corner_sum<Aniso>(F, c, ok, i, scale, out);
         continue;
       }
     }
@@ -250,11 +265,11 @@ void h_node_angles(const HalfAngleFactors& g, int row, double& th, double& ph) {
 template <class Angles>
 HalfAngleNodeTrig trig_table(int n, Angles angles) {
   HalfAngleNodeTrig t;
-  t.s.resize(n), t.c.resize(n), t.cp.resize(n), t.sp.resize(n);
+  t.m.resize(n, 4);
   for (int i = 0; i < n; ++i) {
     double th, ph;
     angles(i, th, ph);
-    t.s(i) = std::sin(th), t.c(i) = std::cos(th), t.cp(i) = std::cos(ph), t.sp(i) = std::sin(ph);
+    t.m.row(i) << std::sin(th), std::cos(th), std::cos(ph), std::sin(ph);
   }
   return t;
 }

@@ -184,12 +184,19 @@ Eigen::VectorXd half_angle_d_weights(const HalfAngleFactors& grid);
 // (w_i,z and w_r,z are cos_h cos_d -/+ sin_h sin_d cos(phi_d - phi_h)); the fit and the evaluation decide it
 // by this one expression.
 struct HalfAngleNodeTrig {
-  Eigen::ArrayXd s, c, cp, sp;
+  // Row i: sin(theta), cos(theta), cos(phi), sin(phi) of node i (one row per node: one cache line per lookup).
+  Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> m;
+  double s(int i) const { return m(i, 0); }
+  double c(int i) const { return m(i, 1); }
+  double cp(int i) const { return m(i, 2); }
+  double sp(int i) const { return m(i, 3); }
 };
 HalfAngleNodeTrig half_angle_h_trig(const HalfAngleFactors& grid);
 HalfAngleNodeTrig half_angle_d_trig(const HalfAngleFactors& grid);
 inline bool node_pair_valid(const HalfAngleNodeTrig& h, int i, const HalfAngleNodeTrig& d, int j) {
-  return h.c(i) * d.c(j) - h.s(i) * d.s(j) * std::abs(h.cp(i) * d.cp(j) + h.sp(i) * d.sp(j)) >= -kHorizonSlack;
+  const double* a = h.m.data() + 4 * i;
+  const double* b = d.m.data() + 4 * j;
+  return a[1] * b[1] - a[0] * b[0] * std::abs(a[2] * b[2] + a[3] * b[3]) >= -kHorizonSlack;
 }
 
 // The pair of node (h row, d row) of a grid (isotropic grids: phi_h = 0).
