@@ -50,7 +50,33 @@ std::size_t HalfAngleFactors::bytes() const {
   return 8 * n;
 }
 
-double HalfAngleFactors::cosine_floor() const { return std::sin(0.5 * M_PI / std::max(n_theta_d - 1, 1)); }
+double HalfAngleFactors::cosine_floor() const {
+  return std::sin(0.5 * M_PI / (centred ? std::max(n_theta_d, 1) : std::max(n_theta_d - 1, 1)));
+}
+
+double HalfAngleFactors::node_t(int k) const { return centred ? (k + 0.5) / n_t : static_cast<double>(k) / (n_t - 1); }
+double HalfAngleFactors::node_theta_d(int a) const {
+  return 0.5 * M_PI * (centred ? (a + 0.5) / n_theta_d : static_cast<double>(a) / (n_theta_d - 1));
+}
+double HalfAngleFactors::node_phi_d(int b) const { return M_PI * (b + (centred ? 0.5 : 0.0)) / n_phi_d; }
+
+void HalfAngleFactors::t_cell(int k, double& lo, double& hi) const {
+  if (centred) {
+    lo = static_cast<double>(k) / n_t, hi = (k + 1.0) / n_t;
+    return;
+  }
+  const double dt = 1.0 / (n_t - 1);
+  lo = std::max(0.0, (k - 0.5) * dt), hi = std::min(1.0, (k + 0.5) * dt);
+}
+
+void HalfAngleFactors::theta_d_cell(int a, double& lo, double& hi) const {
+  if (centred) {
+    lo = 0.5 * M_PI * a / n_theta_d, hi = 0.5 * M_PI * (a + 1.0) / n_theta_d;
+    return;
+  }
+  const double dth = 0.5 * M_PI / (n_theta_d - 1);
+  lo = std::max(0.0, (a - 0.5) * dth), hi = std::min(0.5 * M_PI, (a + 0.5) * dth);
+}
 
 double HalfAngleFactors::theta_h_of_t(double t) const {
   const double p = h_warp == 2.0 ? t * t : h_warp == 1.0 ? t : std::pow(t, h_warp);
@@ -141,9 +167,10 @@ inline bool pair_corners(const HalfAngleFactors& F, const HStretch& stretch, con
   }
   int k, a, b0, b1;
   double ft, fa, fb;
-  clamped_cell(F.t_of_theta_h(theta_g) * (F.n_t - 1), F.n_t, k, ft);
-  clamped_cell(theta_d * ((F.n_theta_d - 1) / (0.5 * M_PI)), F.n_theta_d, a, fa);
-  periodic_cell(phi_d * (F.n_phi_d / M_PI), F.n_phi_d, b0, b1, fb);
+  const double off = F.centred ? 0.5 : 0.0;  // node k sits at (k + off) bin widths
+  clamped_cell(F.t_of_theta_h(theta_g) * (F.n_t - 1 + 2 * off) - off, F.n_t, k, ft);
+  clamped_cell(theta_d * ((F.n_theta_d - 1 + 2 * off) / (0.5 * M_PI)) - off, F.n_theta_d, a, fa);
+  periodic_cell(phi_d * (F.n_phi_d / M_PI) - off, F.n_phi_d, b0, b1, fb);
   c.d[0] = a * F.n_phi_d + b0, c.d[1] = a * F.n_phi_d + b1;
   c.d[2] = c.d[0] + F.n_phi_d, c.d[3] = c.d[1] + F.n_phi_d;
   c.wd[0] = (1 - fa) * (1 - fb), c.wd[1] = (1 - fa) * fb, c.wd[2] = fa * (1 - fb), c.wd[3] = fa * fb;
@@ -253,7 +280,7 @@ namespace {
 // the node's own phi_h, where the rotation it enters is the identity).
 void h_node_angles(const HalfAngleFactors& g, int row, double& th, double& ph) {
   const int k = row / g.n_phi_h, j = row % g.n_phi_h;
-  th = g.theta_h_of_t(static_cast<double>(k) / (g.n_t - 1));
+  th = g.theta_h_of_t(g.node_t(k));
   ph = 2.0 * M_PI * j / g.n_phi_h;
   if (!g.stretched()) return;
   const Eigen::Vector3d h = g.h_of_grid_angles(th, ph);
@@ -282,8 +309,8 @@ HalfAngleNodeTrig half_angle_h_trig(const HalfAngleFactors& g) {
 
 HalfAngleNodeTrig half_angle_d_trig(const HalfAngleFactors& g) {
   return trig_table(g.d_nodes(), [&g](int j, double& th, double& ph) {
-    th = 0.5 * M_PI * (j / g.n_phi_d) / (g.n_theta_d - 1);
-    ph = M_PI * (j % g.n_phi_d) / g.n_phi_d;
+    th = g.node_theta_d(j / g.n_phi_d);
+    ph = g.node_phi_d(j % g.n_phi_d);
   });
 }
 
@@ -353,9 +380,11 @@ Eigen::VectorXd half_angle_h_weights(const HalfAngleFactors& g) {
   // Dual cell [t_lo, t_hi] of t_k; integral of sin(theta) dtheta dphi = cos(th_lo) - cos(th_hi) per radian
   // of phi, written as 2 sin(mean) sin(half difference) (no cancellation near the pole).
   Eigen::VectorXd a(g.h_nodes());
-  const double dt = 1.0 / (g.n_t - 1), dphi = 2.0 * M_PI / g.n_phi_h;
+  const double dphi = 2.0 * M_PI / g.n_phi_h;
   for (int k = 0; k < g.n_t; ++k) {
-    const double lo = g.theta_h_of_t(std::max(0.0, (k - 0.5) * dt)), hi = g.theta_h_of_t(std::min(1.0, (k + 0.5) * dt));
+    double tlo, thi;
+    g.t_cell(k, tlo, thi);
+    const double lo = g.theta_h_of_t(tlo), hi = g.theta_h_of_t(thi);
     const double w = dphi * 2.0 * std::sin(0.5 * (hi + lo)) * std::sin(0.5 * (hi - lo));
     for (int j = 0; j < g.n_phi_h; ++j) a(k * g.n_phi_h + j) = w;
     if (!g.stretched()) continue;
@@ -383,9 +412,10 @@ Eigen::VectorXd half_angle_d_weights(const HalfAngleFactors& g) {
   // integral of 4 cos(t) sin(t) dt = 2 (sin^2 hi - sin^2 lo) = 2 sin(hi + lo) sin(hi - lo); phi_d in
   // [0, pi) stands for both copies of [0, 2 pi): 2 x pi / n_phi_d.
   Eigen::VectorXd b(g.d_nodes());
-  const double dth = 0.5 * M_PI / (g.n_theta_d - 1), dphi = 2.0 * M_PI / g.n_phi_d;
+  const double dphi = 2.0 * M_PI / g.n_phi_d;
   for (int a = 0; a < g.n_theta_d; ++a) {
-    const double lo = std::max(0.0, (a - 0.5) * dth), hi = std::min(0.5 * M_PI, (a + 0.5) * dth);
+    double lo, hi;
+    g.theta_d_cell(a, lo, hi);
     const double w = dphi * 2.0 * std::sin(hi + lo) * std::sin(hi - lo);
     for (int j = 0; j < g.n_phi_d; ++j) b(a * g.n_phi_d + j) = w;
   }
@@ -400,7 +430,7 @@ void half_angle_node_pair(const HalfAngleFactors& g, int h_row, int d_row, Eigen
   double th, ph;
   h_node_angles(g, h_row, th, ph);
   // Anisotropic grids measure phi_d in the minimal-rotation frame (phi_d + phi_h): back to Rusinkiewicz's.
-  const double td = 0.5 * M_PI * a / (g.n_theta_d - 1), pd = M_PI * b / g.n_phi_d - (g.isotropic ? 0.0 : ph);
+  const double td = g.node_theta_d(a), pd = g.node_phi_d(b) - (g.isotropic ? 0.0 : ph);
   const double sd = std::sin(td);
   const Eigen::Vector3d d(sd * std::cos(pd), sd * std::sin(pd), std::cos(td));
   const double ct = std::cos(th), st = std::sin(th), c = std::cos(ph), s = std::sin(ph);
@@ -572,6 +602,7 @@ void check_fit_options(int channels, const HalfAngleFitOptions& o) {
 struct SampledNodes {
   std::vector<Eigen::MatrixXd> Q;  // per channel, H x D
   Eigen::MatrixXd W, Wv;           // H x D
+  long long missing = 0;           // valid node pairs left out as missing data
 };
 
 // Samples q at the valid node pairs (weight a_h b_d), then at the missing nodes that share an interpolation
@@ -648,6 +679,10 @@ SampledNodes sample_nodes(const PairSampler& sampler, int channels, const HalfAn
     for (Eigen::Index k = 0; k < n; ++k) {
       const auto [i, j] = nodes[k];
       const double cc = o.quantity != HalfAngleQuantity::F ? cosines[k] : 1.0;
+      if (o.skip_missing && !(f.row(k).array() * cc).allFinite()) {  // missing data: a gap, like the horizon
+        out.missing += valid(i, j) ? 1 : 0;
+        continue;
+      }
       for (int c = 0; c < channels; ++c) {
         const double q = f(k, c) * cc;
         if (!std::isfinite(q)) {
@@ -729,6 +764,7 @@ HalfAngleFit fit_half_angle(const PairSampler& sampler, int channels, const Half
   HalfAngleFactors& F = fit.factors;
   F.quantity = o.quantity;
   F.corners = o.corners;
+  F.centred = o.centred;
   F.isotropic = o.isotropic;
   F.h_warp = o.h_warp;
   if (!o.isotropic) F.h_axis = o.h_axis, F.h_scale_1 = o.h_scale_1, F.h_scale_2 = o.h_scale_2;
@@ -739,6 +775,7 @@ HalfAngleFit fit_half_angle(const PairSampler& sampler, int channels, const Half
   const int H = F.h_nodes(), D = F.d_nodes();
   const Eigen::VectorXd a = half_angle_h_weights(F), b = half_angle_d_weights(F);
   const SampledNodes nodes = sample_nodes(sampler, channels, o, F, a, b, &fit.report.valid_fraction);
+  fit.report.missing_nodes = nodes.missing;
   std::vector<ChannelFit> cf;
   std::vector<double> norm2, e2;
   const int rank = grow_ranks(nodes, o, a, b, cf, norm2, e2, fit.report.sweeps_by_rank);

@@ -88,6 +88,18 @@ struct HalfAngleFactors {
   bool isotropic = true;
   double h_warp = 2.0;  // theta_h = (pi/2) t^h_warp
   HorizonCorners corners = HorizonCorners::Valid;
+  // Node placement of t, theta_d and phi_d (phi_h nodes always start at 0). Ends (default): t_k = k/(n_t-1),
+  // theta_d_a = (pi/2) a/(n_theta_d-1), phi_d_b = pi b/n_phi_d. Centred: the centres of equal bins,
+  // t_k = (k+1/2)/n_t, theta_d_a = (pi/2)(a+1/2)/n_theta_d, phi_d_b = pi (b+1/2)/n_phi_d -- the nodes of the
+  // MERL table (io/merl.hpp), so that a lobe can be fitted to its values as they are. Interpolation is
+  // linear between nodes and constant beyond the first and last centres.
+  bool centred = false;
+  double node_t(int k) const;
+  double node_theta_d(int a) const;
+  double node_phi_d(int b) const;
+  // Dual cells (the weights' integration ranges): [lo, hi] in t and in theta_d.
+  void t_cell(int k, double& lo, double& hi) const;
+  void theta_d_cell(int a, double& lo, double& hi) const;
   // Stretch of the h grid (anisotropic only; see the header comment): axis angle [rad] and the two scales.
   double h_axis = 0.0, h_scale_1 = 1.0, h_scale_2 = 1.0;
   int n_t = 0, n_phi_h = 1, n_theta_d = 0, n_phi_d = 0, rank = 0;
@@ -105,7 +117,8 @@ struct HalfAngleFactors {
   // Rz(h_axis) (h_scale_1 sin(theta_h) cos(phi_h), h_scale_2 sin(theta_h) sin(phi_h), cos(theta_h)).
   Eigen::Vector3d h_of_grid_angles(double theta_h, double phi_h) const;
   // Floor of cos(theta_i) and of cos(theta_r) when the cosine quantity is divided back to f:
-  // sin((pi/2) / (n_theta_d - 1)), the cosine one theta_d step from the horizon. Closer to the horizon the
+  // sin(one theta_d step) = sin((pi/2) / (n_theta_d - 1)) (ends) or sin((pi/2) / n_theta_d) (centred), the
+  // cosine one theta_d step from the horizon. Closer to the horizon the
   // grid does not resolve q, whose interpolation error divided by the cosines would grow without bound
   // (1e9 1/sr at the rim with a floor of 1e-12 on the product); f there is q / floor^2 at most.
   double cosine_floor() const;
@@ -140,6 +153,10 @@ struct HalfAngleFitOptions {
   bool isotropic = true;
   double h_warp = 2.0;
   double h_axis = 0.0, h_scale_1 = 1.0, h_scale_2 = 1.0;  // stretch of the h grid (anisotropic only)
+  bool centred = false;                                     // node placement (HalfAngleFactors::centred)
+  // Non-finite sampled values (missing data, e.g. a MERL table's -1 entries) are left out of the fit like
+  // nodes below the horizon (counted in the report); false: they are an ArgumentError.
+  bool skip_missing = false;
   int n_t = 64;
   int n_phi_h = 32;  // ignored (1) when isotropic
   int n_theta_d = 64;  // grazing masking makes q steep in theta_d: 32 -> 64 cut GGX 0.1's error 6x
@@ -164,6 +181,7 @@ struct HalfAngleFitReport {
   std::vector<std::vector<double>> energies;
   std::vector<int> sweeps_by_rank;  // ALS sweeps used at each rank (maximum over channels)
   double valid_fraction = 0;        // share of node pairs on or above the horizon
+  long long missing_nodes = 0;      // node pairs above the horizon left out as missing (skip_missing)
   double seconds = 0;               // sampling + fitting
 };
 

@@ -22,7 +22,7 @@ constexpr std::int64_t kMaxRank = 4096;
 const char* const kCoordinates =
     "h = normalize(w_i + w_r) with angles (theta_h, phi_h); d = w_i in the frame where h is the pole, "
     "d = Ry(-theta_h) Rz(-phi_h) w_i, angles (theta_d, phi_d) (Rusinkiewicz 1998; phi_h = 0 at h = +z). "
-    "h nodes: t_k = k/(n_t-1), theta_h = (pi/2) t^h_warp; phi_h_j = 2 pi j/n_phi_h (periodic; isotropic: "
+    "h nodes: t_k = k/(n_t-1) (nodes = centres: (k+1/2)/n_t, and likewise for theta_d and phi_d), theta_h = (pi/2) t^h_warp; phi_h_j = 2 pi j/n_phi_h (periodic; isotropic: "
     "n_phi_h = 1, no phi_h dependence). Anisotropic grids with a stretch (h_axis, h_scale_1, h_scale_2) take "
     "(theta_h, phi_h) of h' ~ (s_1/h_scale_1, s_2/h_scale_2, 1), s_1 = cos(a) s_x + sin(a) s_y, "
     "s_2 = -sin(a) s_x + cos(a) s_y, (s_x, s_y) = (h_x, h_y)/h_z, a = h_axis. d nodes: theta_d_a = (pi/2) a/(n_theta_d-1); phi_d_b = pi b/n_phi_d, "
@@ -84,6 +84,7 @@ void write_half_angle(h5::Group& material, const HalfAngleFactors& lobe, int cha
   g.set_attr("isotropic", lobe.isotropic);
   g.set_attr("h_warp", lobe.h_warp);
   g.set_attr("corners", horizon_corners_name(lobe.corners));
+  g.set_attr("nodes", lobe.centred ? "centres" : "ends");
   g.set_attr("h_axis", lobe.h_axis);
   g.set_attr("h_scale_1", lobe.h_scale_1);
   g.set_attr("h_scale_2", lobe.h_scale_2);
@@ -108,7 +109,7 @@ nlohmann::json half_angle_summary(const HalfAngleFactors& l) {
   }
   return {{"quantity", half_angle_quantity_name(l.quantity)}, {"isotropic", l.isotropic}, {"rank", l.rank}, {"n_t", l.n_t},
           {"n_phi_h", l.n_phi_h}, {"n_theta_d", l.n_theta_d}, {"n_phi_d", l.n_phi_d}, {"h_warp", l.h_warp},
-          {"corners", horizon_corners_name(l.corners)}, {"h_axis", l.h_axis}, {"h_scale_1", l.h_scale_1}, {"h_scale_2", l.h_scale_2},
+          {"corners", horizon_corners_name(l.corners)}, {"nodes", l.centred ? "centres" : "ends"}, {"h_axis", l.h_axis}, {"h_scale_1", l.h_scale_1}, {"h_scale_2", l.h_scale_2},
           {"bytes", l.bytes()}, {"term_norms", terms}};
 }
 
@@ -118,6 +119,7 @@ std::string half_angle_summary_line(const HalfAngleFactors& l, bool norms) {
                 quantity_text(l.quantity, false).c_str(), l.isotropic ? "isotropic" : "anisotropic",
                 l.rank, l.n_t, l.n_phi_h, l.h_warp, l.n_theta_d, l.n_phi_d, l.bytes());
   std::string out = buf;
+  if (l.centred) out += ", nodes at bin centres";
   if (l.stretched()) {
     std::snprintf(buf, sizeof buf, ", h grid stretched %.3g x %.3g along %.1f deg", l.h_scale_1, l.h_scale_2, l.h_axis * 180 / M_PI);
     out += buf;
@@ -153,6 +155,11 @@ HalfAngleFactors read_half_angle(const h5::Group& material, int channels, const 
     } catch (const ArgumentError&) {
       g.fail(g.path(), "attribute corners: expected 'all' or 'valid', found '" + corners + "'");
     }
+  }
+  if (g.has_attr("nodes")) {
+    const std::string nodes = g.attr_string("nodes");
+    if (nodes != "ends" && nodes != "centres") g.fail(g.path(), "attribute nodes: expected 'ends' or 'centres', found '" + nodes + "'");
+    f.centred = nodes == "centres";
   }
   if (g.has_attr("h_axis")) f.h_axis = g.attr_double("h_axis");
   if (g.has_attr("h_scale_1")) f.h_scale_1 = g.attr_double("h_scale_1");

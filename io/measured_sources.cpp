@@ -134,6 +134,7 @@ class MerlSource final : public BrdfSource, public SampleFitHolder {
     return s;
   }
   std::int64_t missing() const { return model_.table().missing_total(); }
+  const MerlTable& table() const { return model_.table(); }
 
  private:
   MerlModel model_;
@@ -249,6 +250,11 @@ std::unique_ptr<BrdfSource> open_measured_source(const std::string& text) {
 
 const SampleFitResult* last_sample_fit(const BrdfSource& source) {
   if (const auto* h = dynamic_cast<const SampleFitHolder*>(&source)) return h->last();
+  return nullptr;
+}
+
+const MerlTable* merl_table_of(const BrdfSource& source) {
+  if (const auto* m = dynamic_cast<const MerlSource*>(&source)) return &m->table();
   return nullptr;
 }
 

@@ -28,6 +28,7 @@
 
 #include "core/sample_fit.hpp"
 #include "io/brdf_source.hpp"
+#include "io/merl.hpp"
 
 namespace icobrdf {
 
@@ -41,5 +42,7 @@ const SampleFitResult* last_sample_fit(const BrdfSource& source);
 
 // Missing samples (all channels) of a MERL source's table; -1 for other sources.
 std::int64_t merl_missing_samples(const BrdfSource& source);
+// The table of a MERL SOURCE; nullptr for any other source.
+const MerlTable* merl_table_of(const BrdfSource& source);
 
 }  // namespace icobrdf

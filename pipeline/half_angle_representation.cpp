@@ -12,6 +12,7 @@
 #include "core/isotropic_modes.hpp"
 #include "core/lobe_axes.hpp"
 #include "io/material_eval.hpp"
+#include "io/measured_sources.hpp"
 #include "pipeline/keys.hpp"
 #include "pipeline/modes_representation.hpp"
 
@@ -58,6 +59,7 @@ constexpr int kHybridRankDrop = 2;
 
 struct LadderStep {
   int n_t, n_phi_h, n_theta_d, n_phi_d;
+  bool centred = false;  // nodes at bin centres (HalfAngleFactors::centred)
 };
 // Grids in increasing size: isotropic (n_phi_h = 1) and anisotropic. theta_d starts fine: masking makes q
 // steep towards grazing, and 32 theta_d nodes leave held-out errors of 0.03-0.47 for GGX alpha 0.05-0.3
@@ -68,6 +70,10 @@ constexpr LadderStep kIsotropicLadder[] = {{32, 1, 64, 16},  {64, 1, 64, 32},   
 // needs few phi_h nodes (GGX alpha 0.1 x 0.3, held-out errors at ranks 4-6: 0.025 on 32 x 8 h nodes, 0.010 on
 // 48 x 16, against 0.035 at rank 8 on an unstretched 48 x 32; measured, mean-cosine quantity).
 constexpr LadderStep kAnisotropicLadder[] = {{32, 8, 64, 16}, {48, 16, 64, 16}, {64, 32, 64, 16}, {96, 32, 96, 32}};
+// A MERL table (io/merl.hpp) is fitted on its own nodes: theta_h = (pi/2) ((k+1/2)/90)^2 is the t^2 warp with
+// centred nodes, theta_d and phi_d are centred too; the fit samples the table's values as they are (a lookup
+// at a node returns that node's value), with no resampling, and missing samples (-1) are left out.
+constexpr LadderStep kMerlLadder[] = {{kMerlThetaHalfRes, 1, kMerlThetaDiffRes, kMerlPhiDiffRes, true}};
 
 // f of a source minus a term at pairs: what a representation must still fit.
 class ResidualSource final : public BrdfSource {
@@ -120,10 +126,12 @@ long long rank_one_bytes(const LadderStep& s, int channels) {
 // at the pole are sampled); each pair weighted by 1 / (mixture pdf of w_r). Uniform pairs see a lobe of
 // width alpha with probability ~alpha^2: for GGX alpha <= 0.05 the held-out pairs put the error at 0.01-0.02
 // where this estimate (and an independent one sampling GGX itself) gives 0.05-0.09 (measured). nullopt when
-// the scene gives lights x cameras (its pairs are then all there is).
+// the scene gives lights x cameras (its pairs are then all there is) and for a MERL table (judged at its own
+// samples, pipeline/held_out.hpp: its lookup between them is a step function).
 std::optional<HeldOutError> peak_error(const MaterialProblem& p, const BrdfSource& residual, const HalfAngleFactors& lobe) {
   const SceneMaterial& m = p.material;
   if (!m.lights.empty()) return std::nullopt;
+  if (merl_table_of(p.source)) return std::nullopt;  // a table is judged at its samples (pipeline/held_out.hpp)
   std::mt19937_64 rng(std::stoull(fnv1a_hex("peak|" + m.name).substr(0, 15), nullptr, 16));
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   const double zlo = std::cos(m.incidence_max * M_PI / 180), zhi = std::cos(m.incidence_min * M_PI / 180);
@@ -180,6 +188,8 @@ std::optional<LobeFit> fit_lobe_at(const MaterialProblem& p, const BrdfSource& r
   o.n_phi_h = s.n_phi_h;
   o.n_theta_d = s.n_theta_d;
   o.n_phi_d = s.n_phi_d;
+  o.centred = s.centred;
+  o.skip_missing = s.centred;  // only the MERL ladder samples measured data
   o.fixed_rank = fixed_rank;
   if (!isotropic) {
     const LobeAxes axes = estimate_lobe_axes(sampler, residual.channels());
@@ -201,15 +211,16 @@ std::optional<LobeFit> fit_lobe_at(const MaterialProblem& p, const BrdfSource& r
   return LobeFit{std::move(fit.factors), e};
 }
 
-LadderStep step_of(const HalfAngleFactors& l) { return {l.n_t, l.n_phi_h, l.n_theta_d, l.n_phi_d}; }
+LadderStep step_of(const HalfAngleFactors& l) { return {l.n_t, l.n_phi_h, l.n_theta_d, l.n_phi_d, l.centred}; }
 
 // The first grid of the ladder whose lobe, added to `body` at the held-out pairs, meets the target; nullopt
 // when none does (best error in *best). Steps whose rank-1 lobe plus `body_bytes` cannot beat
 // p.bytes_to_beat are not tried.
 std::optional<LobeFit> fit_lobe(const MaterialProblem& p, const BrdfSource& residual, const Eigen::MatrixXd& body, bool isotropic,
                                 double* best, long long body_bytes = 0) {
-  const LadderStep* begin = isotropic ? std::begin(kIsotropicLadder) : std::begin(kAnisotropicLadder);
-  const LadderStep* end = isotropic ? std::end(kIsotropicLadder) : std::end(kAnisotropicLadder);
+  const bool merl = merl_table_of(p.source) != nullptr;
+  const LadderStep* begin = merl ? std::begin(kMerlLadder) : isotropic ? std::begin(kIsotropicLadder) : std::begin(kAnisotropicLadder);
+  const LadderStep* end = merl ? std::end(kMerlLadder) : isotropic ? std::end(kIsotropicLadder) : std::end(kAnisotropicLadder);
   for (const LadderStep* s = begin; s != end; ++s) {
     if (p.bytes_to_beat >= 0 && body_bytes + rank_one_bytes(*s, residual.channels()) >= p.bytes_to_beat) break;
     auto fit = fit_lobe_at(p, residual, body, isotropic, *s);

@@ -4,7 +4,9 @@
 // Held-out pairs are never used in fitting: every light x camera pair when the scene gives both, else
 // `holdout_pairs` pairs uniform in solid angle (incident directions within the material's incidence range),
 // seeded by the material's name so that a build is reproducible. The reference values f come from the
-// source itself.
+// source itself. A MERL table is the exception: its pairs are its own samples, drawn by their measure
+// (held_out.cpp), since its lookup between samples is a step function; these pairs were fitted, so for such a
+// source the figure is the error at the data, not a held-out one.
 //
 // Errors are measured on w f with w = 1 (metric "f") or w = cos(theta_i) cos(theta_r) (metric "cosine": the
 // projected solid angle, i.e. the reflected radiance per unit irradiance as a renderer integrates it, which

@@ -52,17 +52,21 @@ def hemisphere_basis(order, w):
 
 
 def half_angle(wi, wr):
-    """(theta_h, phi_h, d): h = normalize(wi + wr), d = Ry(-theta_h) Rz(-phi_h) wi (Rusinkiewicz 1998)."""
-    h = wi + wr
-    norm = np.linalg.norm(h, axis=1)
-    h = np.where(norm[:, None] > 0, h / np.where(norm > 0, norm, 1)[:, None], np.array([0.0, 0.0, 1.0]))
-    theta_h = np.arctan2(np.hypot(h[:, 0], h[:, 1]), h[:, 2])
-    phi_h = np.where(np.hypot(h[:, 0], h[:, 1]) > 0, np.arctan2(h[:, 1], h[:, 0]), 0.0)
-    c, s = np.cos(phi_h), np.sin(phi_h)
-    x = wi[:, 0] * c + wi[:, 1] * s
-    y = -wi[:, 0] * s + wi[:, 1] * c
+    """(theta_h, phi_h, d): h = normalize(wi + wr), d = Ry(-theta_h) Rz(-phi_h) wi (Rusinkiewicz 1998).
+
+    With R that rotation, R (wi + wr) = |wi + wr| z and R (wi - wr) is horizontal (|wi| = |wr|), so
+    d = R wi = (|wi + wr| z + R (wi - wr)) / 2: computed so, d_xy is exactly 0 when wi = wr (phi_d = 0 there).
+    """
+    s, m = wi + wr, wi - wr
+    norm = np.linalg.norm(s, axis=1)
+    rho = np.hypot(s[:, 0], s[:, 1])
+    theta_h = np.where(norm > 0, np.arctan2(rho, s[:, 2]), 0.0)
+    phi_h = np.where(rho > 0, np.arctan2(s[:, 1], s[:, 0]), 0.0)
+    c, sn = np.cos(phi_h), np.sin(phi_h)
     ct, st = np.cos(theta_h), np.sin(theta_h)
-    d = np.stack([x * ct - wi[:, 2] * st, y, x * st + wi[:, 2] * ct], axis=1)
+    x = c * m[:, 0] + sn * m[:, 1]
+    y = -sn * m[:, 0] + c * m[:, 1]
+    d = np.stack([0.5 * (ct * x - st * m[:, 2]), 0.5 * y, 0.5 * norm], axis=1)
     return theta_h, phi_h, d
 
 
@@ -77,10 +81,20 @@ def _linear(x, n, periodic):
     return i0, i0 + 1, x - i0
 
 
-def _node_angles(a, n_t, n_ph, n_td, n_pd, warp, iso, stretch):
+def _node(k, n, centred):
+    """Node k of n in [0, 1]: k/(n-1), or (k+1/2)/n when the nodes are bin centres."""
+    return (k + 0.5) / n if centred else k / (n - 1)
+
+
+def _index(x, n, centred):
+    """Position in node units of x in [0, 1] (the inverse of _node)."""
+    return x * n - 0.5 if centred else x * (n - 1)
+
+
+def _node_angles(a, n_t, n_ph, n_td, n_pd, warp, iso, stretch, centred):
     """True (theta, phi) of every h node and (theta_d, phi_d) of every d node (docs/file-format.md)."""
     k, j = np.divmod(np.arange(n_t * n_ph), n_ph)
-    th = math.pi / 2 * (k / (n_t - 1)) ** warp
+    th = math.pi / 2 * _node(k, n_t, centred) ** warp
     ph = np.zeros_like(th) if iso else 2 * math.pi * j / n_ph
     if stretch is not None:
         axis, k1, k2 = stretch
@@ -89,7 +103,7 @@ def _node_angles(a, n_t, n_ph, n_td, n_pd, warp, iso, stretch):
         th = np.arctan2(np.hypot(hx, hy), np.cos(th))
         ph = np.where(np.hypot(hx, hy) > 0, np.arctan2(hy, hx), ph)
     a_, b_ = np.divmod(np.arange(n_td * n_pd), n_pd)
-    return th, ph, math.pi / 2 * a_ / (n_td - 1), math.pi * b_ / n_pd
+    return th, ph, math.pi / 2 * _node(a_, n_td, centred), math.pi * (b_ + (0.5 if centred else 0.0)) / n_pd
 
 
 def eval_lobe(g, channels, wi, wr):
@@ -98,6 +112,7 @@ def eval_lobe(g, channels, wi, wr):
     n_t, n_ph, n_td, n_pd = (int(a[k]) for k in ("n_t", "n_phi_h", "n_theta_d", "n_phi_d"))
     warp, iso, quantity = float(a["h_warp"]), bool(a["isotropic"]), _text(a["quantity"])
     corners = _text(a["corners"]) if "corners" in a else "all"  # format 2.x lobes: every corner
+    centred = "nodes" in a and _text(a["nodes"]) == "centres"
     stretch = (float(a["h_axis"]), float(a["h_scale_1"]), float(a["h_scale_2"])) if "h_axis" in a else None
     if stretch == (0.0, 1.0, 1.0):
         stretch = None
@@ -112,13 +127,13 @@ def eval_lobe(g, channels, wi, wr):
         theta_g = np.arctan2(np.hypot(x1, x2), s[:, 2])
         phi_g = np.where(np.hypot(x1, x2) > 0, np.arctan2(x2, x1), 0.0)
     t = (theta_g / (math.pi / 2)) ** (1.0 / warp)
-    t0, t1, wt = _linear(t * (n_t - 1), n_t, False)
+    t0, t1, wt = _linear(_index(t, n_t, centred), n_t, False)
     theta_d = np.arctan2(np.hypot(d[:, 0], d[:, 1]), d[:, 2])
     phi_d = np.arctan2(d[:, 1], d[:, 0])
     if not iso:
         phi_d = phi_d + phi_h  # anisotropic lobes: phi_d in the minimal-rotation frame (from the world's x axis)
-    a0, a1, wa = _linear(theta_d / (math.pi / 2) * (n_td - 1), n_td, False)
-    b0, b1, wb = _linear(phi_d / math.pi * n_pd, n_pd, True)
+    a0, a1, wa = _linear(_index(theta_d / (math.pi / 2), n_td, centred), n_td, False)
+    b0, b1, wb = _linear(phi_d / math.pi * n_pd - (0.5 if centred else 0.0), n_pd, True)
     if iso:
         hw = [(t0, 1 - wt), (t1, wt)]
     else:
@@ -128,7 +143,7 @@ def eval_lobe(g, channels, wi, wr):
     dw = [(a0 * n_pd + b0, (1 - wa) * (1 - wb)), (a0 * n_pd + b1, (1 - wa) * wb),
           (a1 * n_pd + b0, wa * (1 - wb)), (a1 * n_pd + b1, wa * wb)]
     # Corner node pairs below the horizon take no part when corners = "valid" (weights renormalized).
-    nth, nph, ntd, npd = _node_angles(a, n_t, n_ph, n_td, n_pd, warp, iso, stretch)
+    nth, nph, ntd, npd = _node_angles(a, n_t, n_ph, n_td, n_pd, warp, iso, stretch, centred)
     out = np.zeros((wi.shape[0], channels))
     wsum = np.zeros(wi.shape[0])
     for hi, hwt in hw:

@@ -52,6 +52,20 @@ inline CliResult run_cli(const std::vector<std::string>& args) {
   return r;
 }
 
+// The first value column of `icobrdf eval SOURCE --at PAIRS_CSV` (one value per pair); empty on failure.
+inline std::vector<double> eval_first_column(const std::string& source, const std::string& pairs_csv) {
+  const CliResult r = run_cli({"eval", source, "--at", pairs_csv});
+  std::vector<double> v;
+  if (r.exit_code != 0) return v;
+  size_t pos = r.out.find('\n');  // header
+  while (pos != std::string::npos && pos + 1 < r.out.size()) {
+    const size_t next = r.out.find('\n', pos + 1);
+    v.push_back(std::stod(r.out.substr(pos + 1, r.out.find(',', pos + 1) - pos - 1)));
+    pos = next;
+  }
+  return v;
+}
+
 // A fresh temporary directory, removed with its content on destruction.
 struct TempDir {
   std::string path;

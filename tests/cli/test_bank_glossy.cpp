@@ -88,13 +88,8 @@ std::string write_pairs(const TempDir& d, const std::string& name, const Pairs& 
 }
 
 std::vector<double> eval_column(const std::string& source, const std::string& pairs) {
-  const auto r = run_cli({"eval", source, "--at", pairs});
-  EXPECT_EQ(r.exit_code, 0) << source << ": " << r.err;
-  std::istringstream in(r.out);
-  std::string line;
-  std::getline(in, line);  // header
-  std::vector<double> v;
-  while (std::getline(in, line)) v.push_back(std::stod(line.substr(0, line.find(','))));
+  const auto v = icobrdf::test::eval_first_column(source, pairs);
+  EXPECT_FALSE(v.empty()) << "icobrdf eval " << source << " failed";
   return v;
 }
 

@@ -5,6 +5,7 @@ against `icobrdf eval` of the same stored material.
 Run as: /usr/bin/python3 tests/python/test_bank_eval_numpy.py <path to icobrdf>
 Prints 'N passed, M failed' and exits non-zero on failure.
 """
+import math
 import os
 import subprocess
 import sys
@@ -45,7 +46,23 @@ CASES = [
     ("half-angle", "f", "model:blinn-phong:n=50"),
     ("half-angle", "cosine", "model:ggx-aniso:alpha_x=0.2,alpha_y=0.4"),
     ("hybrid", "cosine", "model:minnaert:k=2+0.2*ggx:alpha=0.2"),
+    ("half-angle", "cosine", "merl:{merl}"),  # a lobe on the table's own (centred) nodes
 ]
+
+
+def write_merl(path):
+    """A MERL table (io/merl.hpp layout) of a smooth lobe over a constant, with a few missing (-1) entries."""
+    i = np.arange(90)
+    th = math.pi / 2 * ((i + 0.5) / 90) ** 2
+    td = math.pi / 2 * (i + 0.5) / 90
+    pd = math.pi * (np.arange(180) + 0.5) / 180
+    TH, TD, PD = np.meshgrid(th, td, pd, indexing="ij")  # (i_h, i_d, i_p): flat index i_p + 180 (i_d + 90 i_h)
+    f = 0.1 + 2.0 * np.exp(-(TH / 0.15) ** 2) * (1 + 0.2 * np.cos(2 * PD)) + 0.5 * TD ** 2
+    values = np.stack([f / s for s in (1 / 1500, 1.15 / 1500, 1.66 / 1500)]).reshape(3, -1)
+    values[:, 1000:1010] = -1.0
+    with open(path, "wb") as out:
+        np.array([90, 90, 180], dtype="<i4").tofile(out)
+        values.astype("<f8").tofile(out)
 
 
 def random_pairs(n, seed):
@@ -66,6 +83,10 @@ def run(icobrdf):
         np.savetxt(csv, pairs, delimiter=",", header="theta_i,phi_i,theta_r,phi_r", comments="", fmt="%.17g")
         for k, (representation, metric, source) in enumerate(CASES):
             scene, bank = os.path.join(d, f"s{k}.toml"), os.path.join(d, f"b{k}.h5")
+            if "{merl}" in source:
+                merl = os.path.join(d, "table.binary")
+                write_merl(merl)
+                source = source.format(merl=merl)
             with open(scene, "w") as f:
                 f.write(SCENE.format(metric=metric, representation=representation, source=source))
             subprocess.run([icobrdf, "bank", "build", scene, "-o", bank, "--quiet"], check=True, stdout=subprocess.DEVNULL)
