@@ -11,6 +11,7 @@
 #include "core/brdf_model.hpp"
 #include "core/direction.hpp"
 #include "core/error.hpp"
+#include "core/fast_atan2.hpp"
 #include "core/gauss_legendre.hpp"
 #include "core/half_angle.hpp"
 
@@ -153,17 +154,17 @@ inline bool pair_corners(const HalfAngleFactors& F, const HStretch& stretch, con
   }
   // The swap negates (dx, dy) exactly: use the canonical one of the two (phi_d in [0, pi]).
   if (dy < 0.0 || (dy == 0.0 && dx < 0.0)) dx = -dx, dy = -dy;
-  const double theta_d = std::atan2(std::sqrt(dx * dx + dy * dy), fr.len);  // len = 2 d_z, (dx, dy) = 2 d_xy
-  const double phi_d = (dx == 0.0 && dy == 0.0) ? 0.0 : std::atan2(dy, dx);
+  const double theta_d = fast_atan2(std::sqrt(dx * dx + dy * dy), fr.len);  // len = 2 d_z, (dx, dy) = 2 d_xy
+  const double phi_d = (dx == 0.0 && dy == 0.0) ? 0.0 : fast_atan2(dy, dx);
   // The angles the h grid is laid out in: those of h, or of the stretched h' (s = w_i + w_r is a multiple of h).
   double theta_g, phi_g = 0.0;
   if (Aniso && stretch.on) {
     const double a1 = (stretch.c * sx + stretch.s * sy) * stretch.inv1, a2 = (stretch.c * sy - stretch.s * sx) * stretch.inv2;
-    theta_g = std::atan2(std::sqrt(a1 * a1 + a2 * a2), sz);
-    phi_g = (a1 == 0.0 && a2 == 0.0) ? 0.0 : std::atan2(a2, a1);
+    theta_g = fast_atan2(std::sqrt(a1 * a1 + a2 * a2), sz);
+    phi_g = (a1 == 0.0 && a2 == 0.0) ? 0.0 : fast_atan2(a2, a1);
   } else {
-    theta_g = std::atan2(fr.st, fr.ct);
-    if (Aniso && fr.st > 0.0) phi_g = std::atan2(fr.sn, fr.c);
+    theta_g = fast_atan2(fr.st, fr.ct);
+    if (Aniso && fr.st > 0.0) phi_g = fast_atan2(fr.sn, fr.c);
   }
   int k, a, b0, b1;
   double ft, fa, fb;
