@@ -120,15 +120,6 @@ void run_info(const std::string& path, bool json) {
   }
 }
 
-void run_extract(const std::string& spec, const std::string& out) {
-  const MaterialRef ref = split_material_ref(spec);
-  if (spec.find('#') == std::string::npos) throw ArgumentError("bank extract: expected BANK.h5#MATERIAL, found '" + spec + "'");
-  const MaterialRecord rec = read_bank_material(ref.path, ref.name);
-  BankContents b;
-  b.materials.push_back(rec);
-  write_bank(out, b);
-}
-
 void add_bank_command(CLI::App& app) {
   auto* bank = app.add_subcommand("bank", "Build, inspect and extract LUT banks (HDF5)");
   bank->require_subcommand(1);
@@ -153,7 +144,7 @@ void add_bank_command(CLI::App& app) {
   auto* ex = bank->add_subcommand("extract", "Copy one material of a bank into a file of its own");
   ex->add_option("material", *ex_spec, "BANK.h5#MATERIAL")->required();
   ex->add_option("-o,--output", *ex_out, "Output file (.h5)")->required();
-  ex->callback([ex_spec, ex_out] { run_extract(*ex_spec, *ex_out); });
+  ex->callback([ex_spec, ex_out] { extract_bank_material(*ex_spec, *ex_out); });
 }
 
 const CommandRegistrar kRegistrar("bank", add_bank_command);

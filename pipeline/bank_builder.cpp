@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "io/bank_file.hpp"
 #include "io/brdf_source.hpp"
+#include "io/output_path.hpp"
 #include "pipeline/bank_assembly.hpp"
 #include "pipeline/bank_resume.hpp"
 #include "pipeline/held_out.hpp"
@@ -76,6 +77,10 @@ BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& opt) {
     if (opt.progress) opt.progress(line);
   };
   const std::string partial_path = opt.output + ".partial";
+  std::vector<std::string> inputs{scene.path};
+  for (const auto& m : scene.materials) inputs.push_back(m.source);
+  check_output_path(opt.output, inputs);  // before any work, the resume file read included
+  check_output_path(partial_path, inputs);
   std::map<std::string, MaterialRecord> previous;  // key -> record
   if (opt.resume) {
     if (auto found = read_resume_file(partial_path)) {

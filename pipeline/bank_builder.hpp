@@ -17,9 +17,13 @@
 // A material whose target cannot be met, or whose source fails, is reported with its reason; the build then
 // fails as a whole (no bank is written) while the finished materials stay in the resume file.
 //
+// Both output paths, the bank and its resume file OUTPUT.partial, are checked before any work
+// (io/output_path.hpp): a folder, FIFO, device or link there, a missing or unwritable folder, or an output
+// that is one of the build's inputs (the scene, a material's source file) fails at once.
 // The bank is written atomically at the end and the resume file OUTPUT.partial (pipeline/bank_resume.hpp)
 // removed.
 #include <atomic>
+#include <cstddef>
 #include <functional>
 #include <string>
 #include <vector>
