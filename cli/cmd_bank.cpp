@@ -56,7 +56,7 @@ int run_build(const BuildArgs& a) {
   }
   if (a.json) {
     std::cout << nlohmann::json{{"scene", a.scene}, {"output", a.output}, {"written", r.written}, {"interrupted", r.interrupted},
-                                {"materials", mats}}
+                                {"resume_file", r.resume_file}, {"materials", mats}}
                      .dump(2)
               << "\n";
   } else {
@@ -76,13 +76,13 @@ int run_build(const BuildArgs& a) {
     if (r.written) std::cout << fmt::format("wrote {}\n", a.output);
   }
   if (r.interrupted) {
-    std::cerr << fmt::format("icobrdf: interrupted; finished materials kept in {}.partial (use --resume)\n", a.output);
+    std::cerr << fmt::format("icobrdf: interrupted; {}\n", kept_for_resume(r));
     return g_stop_signal.load() == SIGTERM ? kExitTerminated : kExitInterrupted;
   }
   if (!r.written) {
     size_t failed = 0;
     for (const auto& m : r.materials) failed += !m.ok;
-    throw UnsupportedError(fmt::format("bank not written: {} material(s) failed (see above); finished ones kept in {}.partial", failed, a.output));
+    throw UnsupportedError(fmt::format("bank not written: {} material(s) failed (see above); {}", failed, kept_for_resume(r)));
   }
   return kExitOk;
 }

@@ -118,12 +118,19 @@ BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& opt) {
   }
   if (failed || result.interrupted) {
     checkpoint.maybe_write(done, true);  // every finished material is kept for --resume
+    result.resume_materials = checkpoint.saved();
+    if (result.resume_materials > 0) result.resume_file = partial_path;
     return result;
   }
   write_bank(opt.output, assemble_bank(bank, std::move(done.materials)));
   ::unlink(partial_path.c_str());
   result.written = true;
   return result;
+}
+
+std::string kept_for_resume(const BankBuildResult& r) {
+  if (r.resume_file.empty()) return "no material finished, nothing kept for --resume";
+  return std::to_string(r.resume_materials) + " finished material(s) kept in " + r.resume_file + " (use --resume)";
 }
 
 }  // namespace icobrdf

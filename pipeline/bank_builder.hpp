@@ -61,8 +61,17 @@ struct BankBuildResult {
   std::vector<MaterialReport> materials;
   bool written = false;      // the bank was written
   bool interrupted = false;  // stopped by *stop before all materials were done
+  // The resume file this build wrote its finished materials to, and how many it holds; "" and 0 when it
+  // wrote none (no material finished) or removed it (the bank was written).
+  std::string resume_file;
+  std::size_t resume_materials = 0;
 };
 
 BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& options);
+
+// What a failed or interrupted build kept for --resume, for its message: "N finished material(s) kept in
+// OUTPUT.partial (use --resume)", naming the file only when this build wrote it, else "no material
+// finished, nothing kept for --resume".
+std::string kept_for_resume(const BankBuildResult& result);
 
 }  // namespace icobrdf
