@@ -11,13 +11,13 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "core/error.hpp"
+#include "io/atomic_write.hpp"
 #include "lab/report_section.hpp"
 
 namespace icobrdf::cli::section {
@@ -107,13 +107,8 @@ inline void add_section_subcommand(CLI::App& bench, const std::string& name, con
     const nlohmann::json j{{"section", name}, {"title", s.title}, {"figures", s.figures}, {"data", s.data}};
     const std::string md = "# " + s.title + "\n\n" + s.markdown;
     if (!o.report_dir.empty()) {
-      const auto write = [&](const std::filesystem::path& path, const std::string& text) {
-        std::ofstream out(path);
-        out << text;
-        if (!out.flush()) throw IoError("bench " + name + ": cannot write '" + path.string() + "'");
-      };
-      write(o.report_dir / (name + ".md"), md);
-      write(o.report_dir / (name + ".json"), j.dump(2) + "\n");
+      atomic_write_text(o.report_dir / (name + ".md"), md);
+      atomic_write_text(o.report_dir / (name + ".json"), j.dump(2) + "\n");
     }
     if (a->json)
       std::cout << j.dump(2) << "\n";

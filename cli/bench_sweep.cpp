@@ -27,6 +27,7 @@
 #include "cli/bench_section_command.hpp"
 #include "core/error.hpp"
 #include "core/model_spec.hpp"
+#include "io/output_path.hpp"
 #include "lab/invocation.hpp"
 #include "lab/staged_folder.hpp"
 #include "lab/sweep_measure.hpp"
@@ -78,9 +79,7 @@ fs::path folder_of(const fs::path& p) { return p.has_parent_path() ? p.parent_pa
 
 void check_output_paths(const std::string& output, const std::string& report) {
   std::error_code ec;
-  if (output.empty()) throw ArgumentError("-o: an output file name (RESULTS.h5) is required");
-  if (fs::is_directory(output, ec)) throw IoError("-o " + output + ": is a folder, expected an HDF5 file name");
-  if (!writable_dir(folder_of(output))) throw IoError("-o " + output + ": folder '" + folder_of(output).string() + "' is missing or not writable");
+  check_output_path(output);
   if (report.empty()) throw ArgumentError("--report: a report folder is required");
   const fs::path dir = fs::path(report).lexically_normal();
   if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) throw IoError("--report " + report + ": exists and is not a folder");

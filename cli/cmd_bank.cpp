@@ -56,7 +56,7 @@ int run_build(const BuildArgs& a) {
   }
   if (a.json) {
     std::cout << nlohmann::json{{"scene", a.scene}, {"output", a.output}, {"written", r.written}, {"interrupted", r.interrupted},
-                                {"materials", mats}}
+                                {"resume_file", r.resume_file}, {"materials", mats}}
                      .dump(2)
               << "\n";
   } else {
@@ -76,13 +76,13 @@ int run_build(const BuildArgs& a) {
     if (r.written) std::cout << fmt::format("wrote {}\n", a.output);
   }
   if (r.interrupted) {
-    std::cerr << fmt::format("icobrdf: interrupted; finished materials kept in {}.partial (use --resume)\n", a.output);
+    std::cerr << fmt::format("icobrdf: interrupted; {}\n", kept_for_resume(r));
     return g_stop_signal.load() == SIGTERM ? kExitTerminated : kExitInterrupted;
   }
   if (!r.written) {
     size_t failed = 0;
     for (const auto& m : r.materials) failed += !m.ok;
-    throw UnsupportedError(fmt::format("bank not written: {} material(s) failed (see above); finished ones kept in {}.partial", failed, a.output));
+    throw UnsupportedError(fmt::format("bank not written: {} material(s) failed (see above); {}", failed, kept_for_resume(r)));
   }
   return kExitOk;
 }
@@ -120,15 +120,6 @@ void run_info(const std::string& path, bool json) {
   }
 }
 
-void run_extract(const std::string& spec, const std::string& out) {
-  const MaterialRef ref = split_material_ref(spec);
-  if (spec.find('#') == std::string::npos) throw ArgumentError("bank extract: expected BANK.h5#MATERIAL, found '" + spec + "'");
-  const MaterialRecord rec = read_bank_material(ref.path, ref.name);
-  BankContents b;
-  b.materials.push_back(rec);
-  write_bank(out, b);
-}
-
 void add_bank_command(CLI::App& app) {
   auto* bank = app.add_subcommand("bank", "Build, inspect and extract LUT banks (HDF5)");
   bank->require_subcommand(1);
@@ -153,7 +144,7 @@ void add_bank_command(CLI::App& app) {
   auto* ex = bank->add_subcommand("extract", "Copy one material of a bank into a file of its own");
   ex->add_option("material", *ex_spec, "BANK.h5#MATERIAL")->required();
   ex->add_option("-o,--output", *ex_out, "Output file (.h5)")->required();
-  ex->callback([ex_spec, ex_out] { run_extract(*ex_spec, *ex_out); });
+  ex->callback([ex_spec, ex_out] { extract_bank_material(*ex_spec, *ex_out); });
 }
 
 const CommandRegistrar kRegistrar("bank", add_bank_command);

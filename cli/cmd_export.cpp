@@ -17,6 +17,7 @@
 #include "core/error.hpp"
 #include "io/scatmech_coefficients.hpp"
 #include "io/bank_file.hpp"
+#include "io/output_path.hpp"
 #include "io/spectrum_file.hpp"
 
 namespace icobrdf::cli {
@@ -30,6 +31,7 @@ struct ExportArgs {
 
 void run_export(const ExportArgs& a) {
   if (a.format != "scatmech") throw ArgumentError("--format: expected 'scatmech', found '" + a.format + "'");
+  check_output_path(a.output, {a.input});
   const MaterialRef ref = split_material_ref(a.input);
   const Spectrum s = read_spectrum_file(ref.path, ref.name);
   int channel = a.channel;

@@ -11,6 +11,7 @@
 #include "cli/commands.hpp"
 #include "io/brdf_source.hpp"
 #include "io/measured_sources.hpp"
+#include "io/output_path.hpp"
 #include "core/error.hpp"
 #include "io/spectrum_file.hpp"
 #include "pipeline/fit_source.hpp"
@@ -43,6 +44,7 @@ void run_fit(const FitArgs& a) {
   const auto sampling = lut_sampling_named(a.sampling);
   if (!sampling) throw ArgumentError("--sampling: expected 'average' or 'centre', found '" + a.sampling + "'");
   r.sampling = *sampling;
+  check_output_path(a.output, {a.source});
   const auto source = open_source(a.source);  // validates the source before any work
   r.grid_kind = fitting_grid_kind(a.grid);
   const FitResult fit = fit_source(*source, r);

@@ -10,7 +10,7 @@
 
 #include "cli/commands.hpp"
 #include "core/error.hpp"
-#include "mesh/grid_obj.hpp"
+#include "io/grid_obj_file.hpp"
 #include "mesh/tessellation.hpp"
 
 namespace icobrdf::cli {
@@ -54,7 +54,7 @@ void run_grid(const GridOptions& o) {
   j["vertices"] = g.vertices.rows();
   j["seconds"] = seconds;
   if (!o.obj.empty()) {
-    write_grid_obj(g, o.obj);
+    write_grid_obj_file(g, o.obj);
     j["obj"] = o.obj;
   }
   if (o.json) {

@@ -18,6 +18,7 @@
 #include "core/model_spec.hpp"
 #include "pipeline/source_model.hpp"
 #include "io/bank_file.hpp"
+#include "io/output_path.hpp"
 #include "mesh/tessellation.hpp"
 
 namespace icobrdf::cli {
@@ -64,6 +65,7 @@ void write_lut_file(const std::string& out, const Grid& grid, MaterialRecord rec
 }
 
 void run_lut(const LutArgs& a) {
+  check_output_path(a.output, {a.source});
   std::string label;
   const auto model = model_of_source(a.source, &label);
   auto grid = std::make_shared<const Grid>(build_equal_area_grid(a.level));
@@ -86,6 +88,7 @@ void run_lut(const LutArgs& a) {
 }
 
 void run_smooth(const LutArgs& a) {
+  check_output_path(a.output, {a.input});
   auto [grid, rec] = read_lut_file(a.input);
   FitOptions o;
   o.order = a.order;

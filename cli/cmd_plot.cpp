@@ -17,6 +17,7 @@
 #include "core/error.hpp"
 #include "core/lowpass_filter.hpp"
 #include "io/bank_file.hpp"
+#include "io/output_path.hpp"
 #include "io/spectrum_file.hpp"
 #include "pipeline/picture_source.hpp"
 #include "plot/plots.hpp"
@@ -58,11 +59,6 @@ bool is_directory(const std::string& p) {
   return ::stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
 }
 
-void check_output_file(const std::string& path) {
-  if (path.empty()) throw ArgumentError("-o: an output file name is required");
-  if (is_directory(path)) throw ArgumentError("-o " + path + ": is a directory, expected a PNG file name");
-}
-
 void check_basis_args(const PlotArgs& a) {
   if (a.order < 0 || a.order > kMaxBasisOrder) throw ArgumentError(fmt::format("--order {}: expected 0..{}", a.order, kMaxBasisOrder));
   if (!is_directory(a.output)) throw ArgumentError("-o " + a.output + ": not an existing directory");
@@ -71,7 +67,7 @@ void check_basis_args(const PlotArgs& a) {
 }
 
 void check_slice_args(const PlotArgs& a) {
-  check_output_file(a.output);
+  check_output_path(a.output, {a.source});
   if (a.orders.empty()) throw ArgumentError("--order: at least one truncation order is required");
   for (int n : a.orders)
     if (n < 0 || n > kMaxPlotOrder) throw ArgumentError(fmt::format("--order {}: expected 0..{}", n, kMaxPlotOrder));
@@ -181,7 +177,7 @@ void add_spectrum_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
     if (ref.path.size() < 4 || ref.path.compare(ref.path.size() - 3, 3, ".h5") != 0)
       throw ArgumentError("plot spectrum '" + a->source + "': expected SPECTRUM.h5[#material]");
     const Spectrum s = read_spectrum_file(ref.path, ref.name);
-    check_output_file(a->output);
+    check_output_path(a->output, {a->source});
     const auto f = plot::plot_spectrum(s, a->source, a->output);
     report(*a, {{"output", a->output}, {"width", f.width}, {"height", f.height}, {"order", s.order}, {"matrix", f.matrix_drawn}});
   });
@@ -212,7 +208,7 @@ void add_sphere_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
     constexpr int kDefaultSphereOrder = 8;
     const int order = sphere->count("--order") ? a->orders.front() : kDefaultSphereOrder;
     if (order < 0 || order > kMaxPlotOrder) throw ArgumentError(fmt::format("--order {}: expected 0..{}", order, kMaxPlotOrder));
-    check_output_file(a->output);
+    check_output_path(a->output, {a->source});
     q.shading = parse_shading(a->shading);
     check_sphere_request(q);
     const auto materials = load_sphere_materials(a->source, q.shading, order, a->level);

@@ -1,15 +1,16 @@
 #include "io/atomic_write.hpp"
 
 #include <fcntl.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 
 #include "core/error.hpp"
+#include "io/output_path.hpp"
 
 namespace icobrdf {
 
@@ -18,11 +19,6 @@ namespace {
 std::function<void(const std::string&)>& fault_hook() {
   static std::function<void(const std::string&)> hook;
   return hook;
-}
-
-std::string base_name(const std::string& path) {
-  const auto slash = path.find_last_of('/');
-  return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
 [[noreturn]] void fail(const std::string& path, const std::string& what, int err) {
@@ -43,6 +39,11 @@ int sync_path(const std::string& p, bool folder) {
 
 }  // namespace
 
+std::string file_name(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
 std::string parent_folder(const std::string& path) {
   const auto slash = path.find_last_of('/');
   if (slash == std::string::npos) return ".";
@@ -57,15 +58,8 @@ void write_fault_point(const std::string& point) {
 }
 
 void atomic_write(const std::string& path, const std::function<void(const std::string& temp_path)>& produce) {
-  if (path.empty()) throw IoError("cannot write: empty output path");
-  const std::string name = base_name(path);
-  if (name.empty() || name == "." || name == "..") throw IoError(path + ": cannot write: the path names a folder, expected a file name");
-  struct stat st;
-  if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
-    throw IoError(path + ": cannot write: the path is a folder, expected a file");
-  const std::string folder = parent_folder(path);
-  if (::stat(folder.c_str(), &st) != 0) fail(path, "folder " + folder, errno);
-  if (!S_ISDIR(st.st_mode)) fail(path, "folder " + folder, ENOTDIR);
+  check_output_target(path);  // a regular file or a new name in an existing folder
+  const std::string name = file_name(path), folder = parent_folder(path);
 
   static std::atomic<unsigned> counter{0};
   std::string temp;
@@ -83,6 +77,7 @@ void atomic_write(const std::string& path, const std::function<void(const std::s
     write_fault_point("atomic_write:produced");
     if (const int err = sync_path(temp, false)) fail(path, "fsync of the temporary " + temp, err);
     write_fault_point("atomic_write:synced");
+    check_output_target(path);  // again: the path may have changed while produce ran
     if (::rename(temp.c_str(), path.c_str()) != 0) fail(path, "rename of the temporary " + temp, errno);
   } catch (...) {
     ::unlink(temp.c_str());
@@ -90,6 +85,15 @@ void atomic_write(const std::string& path, const std::function<void(const std::s
   }
   if (const int err = sync_path(folder, true))
     throw IoError(path + ": written, but the fsync of its folder " + folder + " failed: " + std::strerror(err));
+}
+
+void atomic_write_text(const std::string& path, const std::string& text) {
+  atomic_write(path, [&](const std::string& temp) {
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    out.flush();
+    if (!out) throw IoError(path + ": cannot write: write to the temporary " + temp + " failed");
+  });
 }
 
 }  // namespace icobrdf

@@ -2,7 +2,9 @@
 // Atomic file replacement: readers of `path` only ever see the previous file or the complete new one.
 //
 // atomic_write(path, produce):
-//   1. refuses (IoError) a path that is a directory or whose folder is missing / not a folder;
+//   1. refuses (IoError) what check_output_target (io/output_path.hpp) refuses: a path that exists and is
+//      not a regular file (folder, FIFO, device, socket, symbolic link), or whose folder is missing / not a
+//      folder; it checks again just before the rename, so no writer ever replaces a device or a link;
 //   2. creates a new temporary "<folder>/.<name>.tmp-<pid>-<n>" with O_CREAT | O_EXCL (mode 0666 & ~umask),
 //      in the same folder so the final rename stays on one file system;
 //   3. calls produce(temp_path), which writes the whole content there;
@@ -18,8 +20,12 @@ namespace icobrdf {
 
 void atomic_write(const std::string& path, const std::function<void(const std::string& temp_path)>& produce);
 
-// The folder holding `path` ("." for a bare name).
+// atomic_write of a text (or any bytes) as the whole file.
+void atomic_write_text(const std::string& path, const std::string& text);
+
+// The folder holding `path` ("." for a bare name), and the name in it (after the last '/').
 std::string parent_folder(const std::string& path);
+std::string file_name(const std::string& path);
 
 // Test hook for fault injection: when set, atomic_write and the file writers call it at named points
 // ("atomic_write:produced" after produce returns, "atomic_write:synced" just before the rename, and the

@@ -8,6 +8,7 @@
 #include "core/error.hpp"
 #include "io/atomic_write.hpp"
 #include "io/bank_format.hpp"
+#include "io/output_path.hpp"
 
 namespace icobrdf {
 
@@ -269,6 +270,15 @@ MaterialRecord read_bank_material(const std::string& path, const std::string& na
     mats.fail(mats.child_path(which), "no such material");
   }
   return read_material(mats, which, limits_of(o), o.read_luts, grid_summary(root));
+}
+
+void extract_bank_material(const std::string& ref, const std::string& output) {
+  if (ref.find('#') == std::string::npos) throw ArgumentError("bank extract: expected BANK.h5#MATERIAL, found '" + ref + "'");
+  check_output_path(output, {ref});
+  const auto [path, name] = split_material_ref(ref);
+  BankContents b;
+  b.materials.push_back(read_bank_material(path, name));
+  write_bank(output, b);
 }
 
 std::vector<std::string> bank_material_names(const std::string& path) {

@@ -59,6 +59,11 @@ BankContents read_bank(const std::string& path, const ReadOptions& options = {})
 // One material (and no other arrays); `name` empty = the first material in name order.
 MaterialRecord read_bank_material(const std::string& path, const std::string& name, const ReadOptions& options = {});
 
+// `bank extract`: the material of "BANK.h5#MATERIAL" into a bank of its own at `output`. The output path is
+// checked before anything is read (io/output_path.hpp): an output that is the bank itself is refused
+// (ArgumentError), as is a reference without '#MATERIAL'.
+void extract_bank_material(const std::string& ref, const std::string& output);
+
 // Names of the materials, in name order (validates the root only).
 std::vector<std::string> bank_material_names(const std::string& path);
 

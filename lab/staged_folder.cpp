@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "io/output_path.hpp"
 
 namespace icobrdf::lab {
 
@@ -12,9 +13,13 @@ namespace fs = std::filesystem;
 void check_staged_commit(const fs::path& stage, const fs::path& dir, const std::string& label) {
   std::error_code ec;
   if (!fs::exists(dir, ec)) return;
-  for (const auto& e : fs::directory_iterator(stage))
-    if (fs::is_directory(dir / e.path().filename(), ec))
-      throw IoError(label + ": '" + e.path().filename().string() + "' there is a folder, expected a file or nothing");
+  for (const auto& e : fs::directory_iterator(stage)) {
+    try {
+      check_output_target(dir / e.path().filename());  // the rename below would replace a FIFO, device or link
+    } catch (const IoError& err) {
+      throw IoError(label + ": " + err.what());
+    }
+  }
 }
 
 void commit_staged(const fs::path& stage, const fs::path& dir, const std::string& label) {

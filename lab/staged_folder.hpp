@@ -7,7 +7,8 @@
 
 namespace icobrdf::lab {
 
-// Refuses (IoError, before anything is replaced) a destination where a staged file's name is taken by a folder.
+// Refuses (IoError, before anything is replaced) a destination where a staged file's name is taken by
+// anything but a regular file: a folder, FIFO, device, socket or symbolic link (io/output_path.hpp).
 void check_staged_commit(const std::filesystem::path& stage, const std::filesystem::path& dir, const std::string& label);
 
 // Moves the staged files into `dir`: a rename of the whole folder when `dir` does not exist, else file by

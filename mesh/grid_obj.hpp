@@ -1,15 +1,17 @@
 #pragma once
-// Wavefront OBJ export of a tessellation Grid (vertices and triangular cells) for viewing in any mesh
-// viewer. Vertex normals equal the (unit) vertex positions. Faces are counter-clockwise seen from outside.
-#include <string>
+// Wavefront OBJ text of a tessellation Grid (vertices and triangular cells) for viewing in any mesh viewer.
+// Vertex normals equal the (unit) vertex positions. Faces are counter-clockwise seen from outside.
+// The file itself is written atomically by io/grid_obj_file.hpp.
+#include <cstdio>
 
 #include "core/grid.hpp"
 
 namespace icobrdf {
 
-// Writes to a temporary file in the target's directory and renames it onto `path`, so the target is
-// either complete or untouched. Throws IoError (one line: path and reason) if the grid has no triangle
-// mesh or the file system refuses; no file is left behind then.
-void write_grid_obj(const Grid& grid, const std::string& path);
+// Whether the grid has a triangle mesh to export (vertices and faces).
+bool has_triangle_mesh(const Grid& grid);
+
+// Writes the OBJ text of a grid with a triangle mesh to `out`; false when a write failed (errno tells why).
+bool write_grid_obj(const Grid& grid, std::FILE* out);
 
 }  // namespace icobrdf

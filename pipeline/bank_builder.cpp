@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "io/bank_file.hpp"
 #include "io/brdf_source.hpp"
+#include "io/output_path.hpp"
 #include "pipeline/bank_assembly.hpp"
 #include "pipeline/bank_resume.hpp"
 #include "pipeline/held_out.hpp"
@@ -76,6 +77,10 @@ BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& opt) {
     if (opt.progress) opt.progress(line);
   };
   const std::string partial_path = opt.output + ".partial";
+  std::vector<std::string> inputs{scene.path};
+  for (const auto& m : scene.materials) inputs.push_back(m.source);
+  check_output_path(opt.output, inputs);  // before any work, the resume file read included
+  check_output_path(partial_path, inputs);
   std::map<std::string, MaterialRecord> previous;  // key -> record
   if (opt.resume) {
     if (auto found = read_resume_file(partial_path)) {
@@ -113,12 +118,19 @@ BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& opt) {
   }
   if (failed || result.interrupted) {
     checkpoint.maybe_write(done, true);  // every finished material is kept for --resume
+    result.resume_materials = checkpoint.saved();
+    if (result.resume_materials > 0) result.resume_file = partial_path;
     return result;
   }
   write_bank(opt.output, assemble_bank(bank, std::move(done.materials)));
   ::unlink(partial_path.c_str());
   result.written = true;
   return result;
+}
+
+std::string kept_for_resume(const BankBuildResult& r) {
+  if (r.resume_file.empty()) return "no material finished, nothing kept for --resume";
+  return std::to_string(r.resume_materials) + " finished material(s) kept in " + r.resume_file + " (use --resume)";
 }
 
 }  // namespace icobrdf

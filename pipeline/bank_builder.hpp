@@ -17,9 +17,13 @@
 // A material whose target cannot be met, or whose source fails, is reported with its reason; the build then
 // fails as a whole (no bank is written) while the finished materials stay in the resume file.
 //
+// Both output paths, the bank and its resume file OUTPUT.partial, are checked before any work
+// (io/output_path.hpp): a folder, FIFO, device or link there, a missing or unwritable folder, or an output
+// that is one of the build's inputs (the scene, a material's source file) fails at once.
 // The bank is written atomically at the end and the resume file OUTPUT.partial (pipeline/bank_resume.hpp)
 // removed.
 #include <atomic>
+#include <cstddef>
 #include <functional>
 #include <string>
 #include <vector>
@@ -57,8 +61,17 @@ struct BankBuildResult {
   std::vector<MaterialReport> materials;
   bool written = false;      // the bank was written
   bool interrupted = false;  // stopped by *stop before all materials were done
+  // The resume file this build wrote its finished materials to, and how many it holds; "" and 0 when it
+  // wrote none (no material finished) or removed it (the bank was written).
+  std::string resume_file;
+  std::size_t resume_materials = 0;
 };
 
 BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& options);
+
+// What a failed or interrupted build kept for --resume, for its message: "N finished material(s) kept in
+// OUTPUT.partial (use --resume)", naming the file only when this build wrote it, else "no material
+// finished, nothing kept for --resume".
+std::string kept_for_resume(const BankBuildResult& result);
 
 }  // namespace icobrdf

@@ -33,6 +33,8 @@ class Checkpointer {
   explicit Checkpointer(std::string partial_path) : path_(std::move(partial_path)) {}
   // `force`: write now whatever the time since the last write (if any material is new).
   void maybe_write(const BankContents& done, bool force);
+  // Materials in the resume file as this build last wrote it (0: not written by this build).
+  std::size_t saved() const { return saved_; }
 
  private:
   std::string path_;

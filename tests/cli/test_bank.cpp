@@ -124,6 +124,11 @@ TEST(CliBank, FailingMaterialFailsTheBuildKeepsTheOthersAndResumeReusesThem) {
   EXPECT_FALSE(exists(bank)) << "no bank is written when a material fails";
   EXPECT_TRUE(exists(bank + ".partial"));
   auto j = json::parse(r.out);
+  // The message and the report name the resume file, which holds the four finished materials.
+  EXPECT_NE(r.err.find("1 material(s) failed (see above); 4 finished material(s) kept in " + bank + ".partial (use --resume)"),
+            std::string::npos) << r.err;
+  EXPECT_EQ(j["resume_file"], bank + ".partial");
+  EXPECT_EQ(json::parse(run_cli({"bank", "info", bank + ".partial", "--json"}).out)["materials"].size(), 4u);
   EXPECT_FALSE(material(j, "broken")["ok"].get<bool>());
   EXPECT_NE(material(j, "broken")["error"].get<std::string>().find("nosuchmodel"), std::string::npos);
   // Fix the scene; --resume takes the four finished materials from the resume file.
@@ -135,6 +140,28 @@ TEST(CliBank, FailingMaterialFailsTheBuildKeepsTheOthersAndResumeReusesThem) {
   for (const char* name : {"matte", "opik", "aniso", "stone"}) EXPECT_TRUE(material(j, name)["resumed"].get<bool>()) << name;
   EXPECT_FALSE(material(j, "broken")["resumed"].get<bool>());
   EXPECT_TRUE(exists(bank));
+}
+
+// A build whose every material fails keeps nothing: its message must not name a resume file (it used to
+// say "finished ones kept in BANK.h5.partial" with no such file). A resume file left by an earlier build
+// is neither named nor touched.
+TEST(CliBank, FailedBuildNamesAResumeFileOnlyWhenItWroteOne) {
+  TempDir d;
+  const auto scene = write(d, "scene.toml", "[[material]]\nname = \"broken\"\nsource = \"model:nosuchmodel\"\n");
+  const auto bank = d.file("bank.h5");
+  for (const bool stale : {false, true}) {
+    SCOPED_TRACE(stale ? "with an earlier resume file" : "without a resume file");
+    if (stale) write(d, "bank.h5.partial", "an earlier build's");
+    const auto r = run_cli({"bank", "build", scene, "-o", bank, "--json", "--quiet"});
+    EXPECT_EQ(r.exit_code, 4) << r.err;
+    EXPECT_EQ(r.err, "icobrdf: error: bank not written: 1 material(s) failed (see above); no material finished, nothing kept for --resume\n");
+    EXPECT_EQ(json::parse(r.out)["resume_file"], "");
+    EXPECT_FALSE(exists(bank));
+    EXPECT_EQ(exists(bank + ".partial"), stale);
+    if (stale) {
+      EXPECT_EQ(icobrdf::test::slurp(bank + ".partial"), "an earlier build's");
+    }
+  }
 }
 
 TEST(CliBank, UnreachableTargetIsReportedWithTheBestAchieved) {

@@ -1,11 +1,13 @@
 // Atomic bank writes: refusals leave no file and no temporary; a failure at any point of an overwrite
 // (injected through the write fault hook, or a full disk simulated with RLIMIT_FSIZE) leaves the previous
-// bank byte for byte intact.
+// bank byte for byte intact; a target that is not a regular file (FIFO, link, device) is never replaced.
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <stdexcept>
@@ -188,4 +190,58 @@ TEST(AtomicWrite, DiskFullKeepsTheOldBank) {
   // Without the limit the same bank is written.
   EXPECT_NO_THROW(icobrdf::write_bank(path, large_bank()));
   EXPECT_GT(icobrdf::test::read_bytes(path).size(), 512u * 1024u);
+}
+
+// Defence in depth: atomic_write itself refuses a target that is not a regular file or a new name (the
+// commands check it up front too, io/output_path.hpp), before producing anything, and leaves it alone.
+TEST(AtomicWrite, NonRegularTargetsAreRefusedBeforeProducing) {
+  ScratchDir dir;
+  icobrdf::test::write_bytes(dir / "plain", "keep me");
+  ASSERT_EQ(::mkfifo((dir / "fifo").c_str(), 0644), 0);
+  ASSERT_EQ(::symlink("plain", (dir / "link").c_str()), 0);
+  const int fd = ::open((dir / "plain").c_str(), O_RDONLY);
+  ASSERT_GE(fd, 0);
+  for (const std::string& path : {dir / "fifo", dir / "link", "/proc/self/fd/" + std::to_string(fd), std::string("/dev/null")}) {
+    SCOPED_TRACE(path);
+    bool produced = false;
+    EXPECT_THROW(icobrdf::atomic_write(path, [&](const std::string&) { produced = true; }), icobrdf::IoError);
+    EXPECT_FALSE(produced);
+    EXPECT_THROW(icobrdf::write_bank(path, small_bank("a")), icobrdf::IoError);
+    EXPECT_THROW(icobrdf::atomic_write_text(path, "text"), icobrdf::IoError);
+  }
+  ::close(fd);
+  struct stat st;
+  ASSERT_EQ(::lstat((dir / "fifo").c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode));
+  ASSERT_EQ(::lstat((dir / "link").c_str(), &st), 0);
+  EXPECT_TRUE(S_ISLNK(st.st_mode));
+  EXPECT_EQ(icobrdf::test::read_bytes(dir / "plain"), "keep me");
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"fifo", "link", "plain"}));  // no temporary left
+}
+
+// The target is checked again just before the rename: a FIFO made at the path while the content was being
+// produced is not replaced.
+TEST(AtomicWrite, TargetThatBecameAFifoDuringTheWriteIsNotReplaced) {
+  ScratchDir dir;
+  const std::string path = dir / "out.txt";
+  icobrdf::test::write_bytes(path, "old");
+  HookGuard guard;
+  icobrdf::set_write_fault_hook([&](const std::string& p) {
+    if (p != "atomic_write:synced") return;
+    ::unlink(path.c_str());
+    ASSERT_EQ(::mkfifo(path.c_str(), 0644), 0);
+  });
+  EXPECT_THROW(icobrdf::atomic_write_text(path, "new"), icobrdf::IoError);
+  struct stat st;
+  ASSERT_EQ(::lstat(path.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode));
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"out.txt"});  // temporary removed
+}
+
+TEST(AtomicWrite, TextIsWrittenWhole) {
+  ScratchDir dir;
+  icobrdf::atomic_write_text(dir / "a.md", "first");
+  icobrdf::atomic_write_text(dir / "a.md", std::string("sec\0ond", 7));
+  EXPECT_EQ(icobrdf::test::read_bytes(dir / "a.md"), std::string("sec\0ond", 7));
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"a.md"});
 }

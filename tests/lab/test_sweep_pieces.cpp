@@ -1,6 +1,7 @@
 // Pieces of the measurement lab that the CLI tests reach only through whole runs: the model list of
 // `bench sweep`, the Pareto front of a sweep, the staged report commit and the report number formats.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -52,11 +53,19 @@ struct TempDir {
 
 void touch(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
 
-TEST(LabStagedFolder, CommitMovesStagedFilesAndKeepsOthers) {
+// A staging folder and an existing report folder, side by side in a fresh temporary folder.
+struct StagedFolders {
   TempDir t;
-  const fs::path stage = t.path / "stage", dir = t.path / "report";
-  fs::create_directories(stage);
-  fs::create_directories(dir);
+  fs::path stage = t.path / "stage", dir = t.path / "report";
+  StagedFolders() {
+    fs::create_directories(stage);
+    fs::create_directories(dir);
+  }
+};
+
+TEST(LabStagedFolder, CommitMovesStagedFilesAndKeepsOthers) {
+  const StagedFolders f;
+  const fs::path &stage = f.stage, &dir = f.dir;
   touch(stage / "report.md", "new");
   touch(stage / "a.png", "png");
   touch(dir / "report.md", "old");
@@ -72,19 +81,35 @@ TEST(LabStagedFolder, CommitMovesStagedFilesAndKeepsOthers) {
   EXPECT_TRUE(fs::exists(dir / "notes.txt"));
 }
 
-TEST(LabStagedFolder, AFolderInTheWayIsRefusedBeforeAnythingMoves) {
-  TempDir t;
-  const fs::path stage = t.path / "stage", dir = t.path / "report";
-  fs::create_directories(stage);
-  fs::create_directories(dir / "a.png");
-  touch(stage / "a.png", "png");
-  try {
-    check_staged_commit(stage, dir, "LABEL");
-    FAIL() << "expected IoError";
-  } catch (const IoError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("LABEL: 'a.png'", 0), 0u) << e.what();
+// A folder, a FIFO or a symbolic link where a staged file goes: the rename would replace it (a FIFO or link
+// silently), so it is refused before anything moves, and left as it was.
+TEST(LabStagedFolder, AnythingButAFileInTheWayIsRefusedBeforeAnythingMoves) {
+  struct Case {
+    std::string made, fragment;
+  } cases[] = {{"folder", "is a folder"}, {"fifo", "is a FIFO"}, {"link", "is a symbolic link"}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.made);
+    const StagedFolders f;
+    const fs::path &stage = f.stage, &dir = f.dir;
+    touch(stage / "a.png", "png");
+    touch(dir / "mine.png", "mine");
+    if (c.made == "folder") fs::create_directories(dir / "a.png");
+    if (c.made == "fifo") {
+      ASSERT_EQ(::mkfifo((dir / "a.png").c_str(), 0644), 0);
+    }
+    if (c.made == "link") fs::create_symlink("mine.png", dir / "a.png");
+    const auto type = fs::symlink_status(dir / "a.png").type();
+    try {
+      check_staged_commit(stage, dir, "LABEL");
+      ADD_FAILURE() << "expected IoError";
+    } catch (const IoError& e) {
+      const std::string m = e.what();
+      EXPECT_EQ(m.rfind("LABEL: " + (dir / "a.png").string(), 0), 0u) << m;
+      EXPECT_NE(m.find(c.fragment), std::string::npos) << m;
+    }
+    EXPECT_TRUE(fs::exists(stage / "a.png"));
+    EXPECT_EQ(fs::symlink_status(dir / "a.png").type(), type);
   }
-  EXPECT_TRUE(fs::exists(stage / "a.png"));
 }
 
 TEST(LabReportFormat, NumbersAndTables) {
