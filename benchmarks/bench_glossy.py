@@ -8,7 +8,7 @@ the bank once per representation set -- modes alone, half-angle alone, hybrid al
 among all three -- with `icobrdf bank build --json`, and records per material the representation, the
 held-out relative L2 error, the bytes and the seconds. Then, for GGX (Schlick f0 = 0.04) of decreasing
 alpha, the smallest alpha whose material still meets 0.02 within 1 MiB. Writes OUT_DIR/report.md (the
-tables), OUT_DIR/glossy_error_bytes.png (error against bytes) and OUT_DIR/results.json; default OUT_DIR is
+tables), OUT_DIR/glossy_error_bytes.png (error against bytes and against build time) and OUT_DIR/results.json; default OUT_DIR is
 benchmarks/glossy. Timings are wall-clock seconds of this machine; run it on an idle machine.
 """
 import json
@@ -152,19 +152,28 @@ def table(results, key):
 
 
 def figure(results, path):
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    """Error against bytes (left) and against fitting seconds (right) per material, for each representation
+    alone; filled marks: glossy scene, open marks: default scene. Materials a representation cannot fit to
+    the target have no stored bytes and are not drawn (the report's tables list their best errors)."""
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
     marks = {"modes": "o", "half-angle": "s", "hybrid": "^"}
-    for name in ("modes", "half-angle", "hybrid"):
-        pts = [(m["bytes"], m["error_l2"]) for m in results[f"glossy-scene/{name}"]["materials"] if m.get("ok")]
-        if pts:
-            ax.scatter(*zip(*pts), marker=marks[name], label=f"{name} alone", alpha=0.8)
-    ax.axhline(0.02, color="grey", linestyle="--", linewidth=0.8, label="target 0.02")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("bytes per material")
-    ax.set_ylabel("held-out relative L2 error (cosine metric)")
-    ax.set_title("Glossy scene: error against bytes per representation")
-    ax.legend(fontsize=8)
+    colours = {"modes": "tab:blue", "half-angle": "tab:orange", "hybrid": "tab:green"}
+    for ax, key, label in ((axes[0], "bytes", "bytes per material"), (axes[1], "seconds", "fitting seconds per material")):
+        for scene, filled in (("glossy-scene", True), ("default-scene", False)):
+            for name in ("modes", "half-angle", "hybrid"):
+                pts = [(max(m[key], 1e-3), max(m["error_l2"], 1e-6)) for m in results[f"{scene}/{name}"]["materials"]
+                       if m.get("ok") and m.get("error_l2") is not None]
+                if pts:
+                    ax.scatter(*zip(*pts), marker=marks[name], alpha=0.8, label=f"{name} ({scene.split('-')[0]})",
+                               facecolors=colours[name] if filled else "none", edgecolors=colours[name])
+        ax.axhline(0.02, color="grey", linestyle="--", linewidth=0.8, label="glossy target 0.02")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel(label)
+        ax.set_ylabel("relative L2 error (scene's metric)")
+    axes[0].set_title("error against bytes")
+    axes[1].set_title("error against build time")
+    axes[1].legend(fontsize=7, loc="lower right")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
 
