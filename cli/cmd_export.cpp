@@ -41,7 +41,7 @@ void run_export(const ExportArgs& a) {
                                       s.channel_count(), s.channel_count() - 1));
     channel = 0;
   }
-  const ScatmechExport e = write_scatmech_coefficients(a.output, s, channel, a.isotropic);
+  const ScatmechExport e = write_scatmech_coefficients(a.output, s, channel, a.isotropic, a.input);
   const nlohmann::json j{{"input", a.input},
                          {"output", a.output},
                          {"format", a.format},

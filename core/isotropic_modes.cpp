@@ -133,9 +133,12 @@ Eigen::MatrixXd isotropic_projection(const Eigen::MatrixXd& c) {
 }
 
 double anisotropic_energy_fraction(const Eigen::MatrixXd& c) {
-  const double total = c.squaredNorm();
-  if (total == 0.0) return 0.0;
-  return (c - isotropic_projection(c)).squaredNorm() / total;
+  // The fraction does not depend on the scale of C: divided by max|C| first, so that the squares of finite
+  // coefficients near 1e308 cannot overflow (Inf / Inf would give NaN).
+  const double largest = c.size() ? c.cwiseAbs().maxCoeff() : 0.0;
+  if (largest == 0.0) return 0.0;
+  const Eigen::MatrixXd u = c / largest;
+  return (u - isotropic_projection(u)).squaredNorm() / u.squaredNorm();
 }
 
 Eigen::MatrixXd isotropic_modes_eval(int order, const RowMatrix3d& wi, const RowMatrix3d& wr) {

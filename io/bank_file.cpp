@@ -6,6 +6,7 @@
 #include <set>
 
 #include "core/error.hpp"
+#include "core/finite_values.hpp"
 #include "io/atomic_write.hpp"
 #include "io/bank_format.hpp"
 #include "io/output_path.hpp"
@@ -40,10 +41,11 @@ std::string now_iso8601() {
   return iso8601_utc(static_cast<long long>(std::time(nullptr)));
 }
 
-void check_contents(const BankContents& c) {
+void check_contents(const std::string& path, const BankContents& c) {
   std::set<std::string> names;
   for (const auto& m : c.materials) {
     validate_material_name(m.name);
+    require_finite_material(path, m);
     if (!names.insert(m.name).second) throw ArgumentError("cannot write bank: material name '" + m.name + "' appears twice");
   }
   std::set<std::string> paths;
@@ -65,8 +67,8 @@ void check_contents(const BankContents& c) {
       throw ArgumentError("cannot write bank: basis array '" + b.path + "': expected exactly one of values / indices with " +
                           std::to_string(n) + " entries (shape " + h5::shape_text(b.shape) + "), found " +
                           std::to_string(b.values.size()) + " / " + std::to_string(b.indices.size()));
-    for (double x : b.values)
-      if (!std::isfinite(x)) throw ArgumentError("cannot write bank: basis array '" + b.path + "' has NaN or infinite entries");
+    require_finite(Eigen::Map<const Eigen::VectorXd>(b.values.data(), static_cast<Eigen::Index>(b.values.size())),
+                   path + ": basis array '" + b.path + "'", "the operator");
     if (!paths.insert(b.path).second) throw ArgumentError("cannot write bank: basis array '" + b.path + "' appears twice");
   }
   for (const auto& p : paths)
@@ -178,7 +180,7 @@ std::string iso8601_utc(long long seconds) {
 
 void write_bank(const std::string& path, const BankContents& c) {
   h5::init();
-  check_contents(c);
+  check_contents(path, c);
   if (c.grid) {
     try {
       validate(*c.grid);

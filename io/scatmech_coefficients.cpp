@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/finite_values.hpp"
 #include "core/isotropic_modes.hpp"
 #include "io/atomic_write.hpp"
 
@@ -215,6 +216,7 @@ ScatmechExport format_scatmech_coefficients(const Spectrum& s, int channel, bool
                            " exceeds " + g17(kScatmechIsotropyTolerance) +
                            " (SCATMECH's unpolarized element is isotropic); use --isotropic to export the isotropic projection");
   const Eigen::VectorXd b = ibsss_from_coefficients(c);
+  out.coefficients = b;
   const auto modes = isotropic_modes(s.order);
   std::ostringstream os;
   os << "; SCATMECH ZernikeExpansion_BRDF_Model coefficients written by icobrdf\n"
@@ -231,8 +233,12 @@ ScatmechExport format_scatmech_coefficients(const Spectrum& s, int channel, bool
   return out;
 }
 
-ScatmechExport write_scatmech_coefficients(const std::string& path, const Spectrum& s, int channel, bool project_isotropic) {
+ScatmechExport write_scatmech_coefficients(const std::string& path, const Spectrum& s, int channel, bool project_isotropic,
+                                           const std::string& material) {
   ScatmechExport e = format_scatmech_coefficients(s, channel, project_isotropic);
+  const std::string where = path + ": SCATMECH export of material '" + material + "' channel " + std::to_string(channel);
+  require_finite(e.anisotropic_fraction, where, "the anisotropic energy fraction of C");
+  require_finite(e.coefficients, where, "the conversion of C to SCATMECH coefficients a");
   atomic_write(path, [&](const std::string& tmp) {
     std::ofstream o(tmp, std::ios::binary | std::ios::trunc);
     o << e.text;

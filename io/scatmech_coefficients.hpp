@@ -68,6 +68,7 @@ struct ScatmechExport {
   std::string text;                 // the file content
   long long rows = 0;               // coefficient rows written
   double anisotropic_fraction = 0;  // energy of C outside the isotropic modes (dropped when projecting)
+  Eigen::VectorXd coefficients;     // the values of column a, in row order
 };
 
 // Rows "1,1,N,M,L,L,0,a" (N >= M >= L, one per isotropic mode, Table 2 order) preceded by ';' comment lines,
@@ -79,8 +80,10 @@ ScatmechExport format_scatmech_coefficients(const Spectrum& spectrum, int channe
 // Relative anisotropic energy treated as rounding: C built from isotropic modes has ~1e-32.
 inline constexpr double kScatmechIsotropyTolerance = 1e-20;
 
-// format_scatmech_coefficients written atomically to `path`.
+// format_scatmech_coefficients written atomically to `path`, after require_finite (core/finite_values.hpp) of
+// the coefficients and the anisotropic energy fraction: a spectrum whose conversion overflows (coefficients
+// near 1e308) is refused with an UnsupportedError naming `path`, `material` and the step; nothing is written.
 ScatmechExport write_scatmech_coefficients(const std::string& path, const Spectrum& spectrum, int channel,
-                                           bool project_isotropic);
+                                           bool project_isotropic, const std::string& material = "");
 
 }  // namespace icobrdf

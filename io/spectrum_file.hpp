@@ -56,13 +56,19 @@ std::string material_name_problem(const std::string& name);
 void validate_material_name(const std::string& name);
 
 // Writes `rec` as the new group `materials/<rec.name>`. ArgumentError when the record is inconsistent
-// (C not M x M for the order, channels not 1 or 3, NaN in C or the LUT, LUT not square, IBSSS tables
-// disagreeing, a float32 LUT value beyond float32 range); IoError on write failure.
+// (C not M x M for the order, channels not 1 or 3, LUT not square, IBSSS tables disagreeing, a float32 LUT
+// value beyond float32 range); IoError on write failure. Finiteness is checked before the file is opened
+// (require_finite_material, called by write_bank for every material).
 void write_material(h5::Group& materials, const MaterialRecord& rec);
 
 // Reads `materials/<name>` with every check of docs/file-format.md. When `grid` is given (the bank's
 // /grid attributes) and the material's level and grid kind match it, the LUT must have its cell count.
 // `read_lut` false skips the LUT (its metadata is still validated).
+// UnsupportedError (core/finite_values.hpp) naming `file`, the material and the dataset or attribute when C,
+// ibsss, the LUT or the lobe factors hold Inf or NaN, or a figure (gram_error, ..., max_albedo) is infinite
+// (NaN there means "not measured"). Every bank writer runs it before anything is written.
+void require_finite_material(const std::string& file, const MaterialRecord& rec);
+
 MaterialRecord read_material(const h5::Group& materials, const std::string& name, const h5::ReadLimits& limits,
                              bool read_lut = true, const std::optional<GridSummary>& grid = std::nullopt);
 
