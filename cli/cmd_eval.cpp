@@ -7,7 +7,8 @@
 // unless --radians (io/direction_csv.hpp). Output: CSV with a header of one column per channel ("f" or
 // "f_r,f_g,f_b"), one line per input row, f in 1/sr, shortest round-trip decimals. Delta parts (mirror,
 // retroreflector) have no pointwise value: the regular part is printed and a note goes to stderr.
-// Nothing is printed to stdout unless every row was evaluated.
+// Nothing is printed to stdout unless every row was evaluated and every value is finite (an overflow is an
+// error, exit 4); negative f is reported as non-physical (pipeline/reflectance_check.hpp; error with --strict).
 #include <fmt/core.h>
 
 #include <iostream>
@@ -17,6 +18,7 @@
 #include "cli/commands.hpp"
 #include "io/brdf_source.hpp"
 #include "io/direction_csv.hpp"
+#include "pipeline/reflectance_check.hpp"
 
 namespace icobrdf::cli {
 
@@ -25,13 +27,14 @@ namespace {
 struct EvalOptions {
   std::string source;
   std::string at;
-  bool radians = false;
+  bool radians = false, strict = false;
 };
 
 void run_eval(const EvalOptions& o) {
   const auto source = open_source(o.source);
   const DirectionPairs pairs = read_direction_pairs_csv(o.at, o.radians);
   const Eigen::MatrixXd values = source->eval(pairs.wi, pairs.wr);
+  check_reflectance(values, "eval " + source->spec(), "the evaluation at the pairs of " + o.at, "f", {o.strict, &std::cerr});
   for (const auto& note : source->notes()) std::cerr << "icobrdf: note: " << source->spec() << ": " << note << "\n";
   const std::vector<std::string> columns = channel_column_names(source->channels());
   std::string text;
@@ -50,6 +53,7 @@ void add_eval_command(CLI::App& app) {
   cmd->add_option("source", opts->source, "model:NAME[:key=value,...], e.g. model:ggx:alpha=0.2,f0=0.04")->required();
   cmd->add_option("--at", opts->at, "CSV with header theta_i,phi_i,theta_r,phi_r (degrees)")->required();
   cmd->add_flag("--radians", opts->radians, "Angles in PAIRS.csv are in radians");
+  cmd->add_flag("--strict", opts->strict, "Negative f (non-physical) is an error, not a warning");
   cmd->callback([opts] { run_eval(*opts); });
 }
 

@@ -15,6 +15,7 @@
 #include "core/error.hpp"
 #include "io/spectrum_file.hpp"
 #include "pipeline/fit_source.hpp"
+#include "pipeline/reflectance_check.hpp"
 
 namespace icobrdf::cli {
 namespace {
@@ -22,7 +23,7 @@ namespace {
 struct FitArgs {
   std::string source, output, filter = "none", grid = "equal-area", sampling = "average", name;
   int order = 8, level = 4;
-  bool isotropic = false, cosine = false, json = false;
+  bool isotropic = false, cosine = false, json = false, strict = false;
   double gram_tol = kDefaultGramTolerance;
 };
 
@@ -50,6 +51,7 @@ void run_fit(const FitArgs& a) {
   const FitResult fit = fit_source(*source, r);
   const Spectrum& s = fit.spectrum;
   const ProjectionContext& ctx = *fit.context;
+  check_fitted_albedo(s, *ctx.grid, "fit " + s.source, {a.strict, &std::cerr});
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   write_spectrum_file(a.output, s, nullptr, a.name.empty() ? "material" : a.name);
   nlohmann::json j{{"source", s.source},
@@ -125,6 +127,7 @@ void add_fit_command(CLI::App& app) {
   cmd->add_option("--name", a->name, "Material name inside the file (default: material)");
   cmd->add_option("-o,--output", a->output, "Output spectrum file (.h5)")->required();
   cmd->add_flag("--json", a->json, "Print the figures as JSON");
+  cmd->add_flag("--strict", a->strict, "A negative directional albedo (non-physical) is an error, not a warning");
   cmd->callback([a] { run_fit(*a); });
 }
 

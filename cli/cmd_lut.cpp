@@ -1,7 +1,8 @@
 // LUT commands:
 //   icobrdf lut SOURCE --level L [--cosine] [--sampling average|centre] [--float32] [--order N] -o LUT.h5
 //   icobrdf smooth LUT.h5[#MATERIAL] --order N [--filter NAME] [--float32] -o OUT.h5     (S F S^T)
-//   icobrdf albedo LUT.h5[#MATERIAL] [--json]                                           (white furnace)
+//   icobrdf albedo LUT.h5[#MATERIAL] [--json] [--strict]                                (white furnace)
+// lut and albedo refuse Inf / NaN and report negative f or albedo (pipeline/reflectance_check.hpp).
 // A LUT file is a bank holding the grid and one material with its LUT (cells x cells per channel) and the
 // LUT's spectrum at the given order.
 #include <fmt/core.h>
@@ -16,6 +17,7 @@
 #include "core/reflection.hpp"
 #include "core/spectral_fit.hpp"
 #include "core/model_spec.hpp"
+#include "pipeline/reflectance_check.hpp"
 #include "pipeline/source_model.hpp"
 #include "io/bank_file.hpp"
 #include "io/output_path.hpp"
@@ -27,7 +29,7 @@ namespace {
 struct LutArgs {
   std::string source, input, output, filter = "none", sampling = "average", name = "lut";
   int level = 4, order = 8;
-  bool cosine = false, float32 = false, json = false;
+  bool cosine = false, float32 = false, json = false, strict = false;
 };
 
 // Reads a LUT file: its grid and one material that has a LUT.
@@ -76,6 +78,7 @@ void run_lut(const LutArgs& a) {
   // Cell averages with a degree-2 rule on the same cells: the LUT's own sampling, independent of B's rule.
   const Grid sampling_grid = sampling == LutSampling::CellAverage ? build_equal_area_grid(a.level, kLutSamplingDegree) : *grid;
   const Lut lut = build_lut(*model, sampling_grid, cosine, sampling);
+  check_lut(lut.channels, cosine, *grid, a.output + ": LUT of " + label, {a.strict, &std::cerr});
   FitOptions o;
   o.order = a.order;
   o.cosine = cosine;
@@ -106,6 +109,7 @@ void run_smooth(const LutArgs& a) {
 
 void run_albedo(const LutArgs& a) {
   auto [grid, rec] = read_lut_file(a.input);
+  check_lut(rec.lut, rec.spectrum.cosine, *grid, a.input + " material '" + rec.name + "'", {a.strict, &std::cerr});
   nlohmann::json ch = nlohmann::json::array();
   for (const auto& f : rec.lut) {
     const auto wf = white_furnace(f, rec.spectrum.cosine, *grid);
@@ -125,7 +129,8 @@ void run_albedo(const LutArgs& a) {
     std::cout << fmt::format("  channel {}: directional albedo max {:.6g} (at theta {:.1f} deg, phi {:.1f} deg), min {:.6g}, mean {:.6g}: {}\n", c,
                              ch[c]["max_albedo"].get<double>(), ch[c]["worst_theta_deg"].get<double>(), ch[c]["worst_phi_deg"].get<double>(),
                              ch[c]["min_albedo"].get<double>(), ch[c]["mean_albedo"].get<double>(),
-                             ch[c]["energy_conserving"].get<bool>() ? "passes the white furnace" : "FAILS the white furnace (albedo > 1)");
+                             ch[c]["min_albedo"].get<double>() < 0 ? "NON-PHYSICAL (negative albedo)"
+                             : ch[c]["energy_conserving"].get<bool>() ? "passes the white furnace" : "FAILS the white furnace (albedo > 1)");
 }
 
 void add_lut_commands(CLI::App& app) {
@@ -139,6 +144,7 @@ void add_lut_commands(CLI::App& app) {
   lut->add_flag("--float32", a->float32, "Store the LUT as float32 (the rounding error is recorded)");
   lut->add_option("--name", a->name, "Material name in the file")->capture_default_str();
   lut->add_option("-o,--output", a->output, "Output file (.h5)")->required();
+  lut->add_flag("--strict", a->strict, "Negative f or albedo (non-physical) is an error, not a warning");
   lut->callback([a] { run_lut(*a); });
 
   auto s = std::make_shared<LutArgs>();
@@ -154,6 +160,7 @@ void add_lut_commands(CLI::App& app) {
   auto* albedo = app.add_subcommand("albedo", "Directional albedo of a LUT and the white-furnace check");
   albedo->add_option("lut", b->input, "LUT.h5[#MATERIAL]")->required();
   albedo->add_flag("--json", b->json, "JSON output");
+  albedo->add_flag("--strict", b->strict, "A negative albedo (non-physical) is an error, not a warning");
   albedo->callback([b] { run_albedo(*b); });
 }
 

@@ -10,11 +10,6 @@
 namespace icobrdf {
 namespace {
 
-// The white furnace of a g spectrum divides a(w) by cos(theta_i): cells whose representative direction has
-// cos(theta) below this (within 0.06 degrees of the horizon) would amplify a's truncation error over 1000
-// times, so they are left out of max_albedo.
-constexpr double kGrazingCellCos = 1e-3;
-
 double anisotropy(const Eigen::MatrixXd& c, const Eigen::MatrixXd& iso) {
   const double total = c.squaredNorm();
   return total == 0.0 ? 0.0 : (c - iso).squaredNorm() / total;

@@ -25,6 +25,11 @@
 
 namespace icobrdf {
 
+// The white furnace of a g spectrum divides a(w) by cos(theta_i): cells whose representative direction has
+// cos(theta) below this (within 0.06 degrees of the horizon) would amplify a's truncation error over 1000
+// times, so they are left out of max_albedo (and of the albedo check of pipeline/reflectance_check.hpp).
+inline constexpr double kGrazingCellCos = 1e-3;
+
 struct FitOptions {
   int order = 8;
   bool isotropic = false;

@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "core/error.hpp"
+#include "core/finite_values.hpp"
 #include "core/hemisphere_basis.hpp"
 #include "core/isotropic_modes.hpp"
 #include "core/lambert_map.hpp"
@@ -247,7 +248,9 @@ SliceFigure plot_slice(const SliceSource& src, const SliceRequest& q, const std:
   const DiskSamples ds = disk_samples(panel);
   const Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(kPolarSamples, -M_PI / 2, M_PI / 2);
   const std::vector<SliceColumn> cols = slice_columns(src, q, wi, ds, plane_of_incidence_directions(q.phi_i, t));
+  for (const auto& col : cols) require_finite(col.polar, path + ": plot slice of " + src.label, "the values in the plane of incidence");
   const double scale = slice_scale(cols);
+  require_finite(scale, path + ": plot slice of " + src.label, "the largest |value| (colour bar range)");
   const bool g_form = s.cosine;
 
   const int ncol = static_cast<int>(cols.size());
@@ -299,6 +302,8 @@ SpectrumFigure plot_spectrum(const Spectrum& s, const std::string& label, const 
   const int N = s.order;
   const auto modes = isotropic_modes(N);
   const Eigen::VectorXd a = ibsss_from_coefficients(c);
+  require_finite(c, path + ": plot spectrum of " + label, "the channel mean of C");
+  require_finite(a, path + ": plot spectrum of " + label, "the conversion of C to isotropic (IBSSS) coefficients");
   // Columns: for each n, one per l = n mod 2, ..., n step 2 (l <= m <= n).
   std::vector<int> col_start(N + 2, 0);
   for (int n = 0; n <= N; ++n) col_start[n + 1] = col_start[n] + n / 2 + 1;
