@@ -47,7 +47,7 @@ void run_fit(const FitArgs& a) {
   if (!sampling) throw ArgumentError("--sampling: expected 'average' or 'centre', found '" + a.sampling + "'");
   r.sampling = *sampling;
   check_output_path(a.output, {a.source});
-  if (const std::string p = source_text_problem(a.source); !p.empty()) throw ArgumentError(p);  // before any work
+  require_storable_source(a.source);
   const auto source = open_source(a.source);  // validates the source before any work
   r.grid_kind = fitting_grid_kind(a.grid);
   const FitResult fit = fit_source(*source, r);

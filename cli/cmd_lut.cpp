@@ -19,6 +19,7 @@
 #include "pipeline/reflectance_check.hpp"
 #include "pipeline/source_model.hpp"
 #include "io/lut_file.hpp"
+#include "io/spectrum_file.hpp"
 #include "io/output_path.hpp"
 #include "mesh/tessellation.hpp"
 
@@ -43,6 +44,7 @@ MaterialRecord lut_record(const std::string& name, const Lut& lut, const std::st
 
 void run_lut(const LutArgs& a) {
   check_output_path(a.output, {a.source});
+  require_storable_source(a.source);
   std::string label;
   const auto model = model_of_source(a.source, &label);
   auto grid = std::make_shared<const Grid>(build_equal_area_grid(a.level));

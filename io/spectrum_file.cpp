@@ -68,6 +68,10 @@ std::string source_text_problem(const std::string& source) {
          " a bank stores (one HDF5 attribute); shorten it, e.g. fewer model terms";
 }
 
+void require_storable_source(const std::string& source) {
+  if (const std::string p = source_text_problem(source); !p.empty()) throw ArgumentError(p);
+}
+
 // Names of the `choice` attributes.
 static bool choice_key_ok(const std::string& k) {
   if (k.empty() || k.size() > 64) return false;

@@ -60,6 +60,8 @@ std::string material_name_problem(const std::string& name);
 void validate_material_name(const std::string& name);
 // Reason the SOURCE text cannot be stored with a material (longer than kMaxSourceLength), or "".
 std::string source_text_problem(const std::string& source);
+// Throws ArgumentError with that reason: commands that store their SOURCE call it before any work.
+void require_storable_source(const std::string& source);
 
 // Writes `rec` as the new group `materials/<rec.name>`. ArgumentError when the record is inconsistent
 // (C not M x M for the order, channels not 1 or 3, LUT not square, IBSSS tables disagreeing, a float32 LUT

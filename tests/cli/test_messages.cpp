@@ -53,6 +53,7 @@ TEST(CliMessages, SourceTooLongToStoreIsRefusedUpFront) {
   EXPECT_EQ(r.err.find("[1/2]"), std::string::npos) << r.err;  // nothing was fitted
   EXPECT_FALSE(std::ifstream(d.file("b.h5")).good());
   expect_one_short_line(run_cli({"fit", spec, "--order", "2", "--level", "1", "-o", d.file("f.h5")}), 2, "60000", "fit");
+  expect_one_short_line(run_cli({"lut", spec, "--order", "2", "--level", "1", "-o", d.file("f.h5")}), 2, "60000", "lut");
   EXPECT_FALSE(std::ifstream(d.file("f.h5")).good());
 }
 
