@@ -11,11 +11,14 @@
 #include <memory>
 
 #include "cli/bench_commands.hpp"
+#include "cli/option_checks.hpp"
 #include "lab/machine.hpp"
 #include "lab/projection_benchmark.hpp"
 
 namespace icobrdf::cli {
 namespace {
+
+constexpr double kMaxPeakGflops = 1e9;  // an exaflop: beyond any single machine this benchmark runs on
 
 struct BenchArgs {
   int level = 5, order = 8, threads = 0, repeat = 5;
@@ -54,9 +57,10 @@ void add_project(CLI::App& bench) {
   auto* project = bench.add_subcommand("project", "Time one projection C = P^T F P of a dense LUT");
   project->add_option("--level,-l", a->level, "Tessellation level")->capture_default_str()->check(CLI::Range(0, 6));
   project->add_option("--order,-n", a->order, "Expansion order")->capture_default_str()->check(CLI::Range(0, 64));
-  project->add_option("--threads,-t", a->threads, "Threads (default: all cores)")->check(CLI::Range(0, 1024));
+  project->add_option("--threads,-t", a->threads, "Threads (default: all cores)")->check(thread_count());
   project->add_option("--repeat", a->repeat, "Timed repetitions (the best is reported)")->capture_default_str()->check(CLI::Range(1, 1000));
-  project->add_option("--peak-gflops", a->peak_gflops, "FP64 peak of the machine, when /proc/cpuinfo's clock is not right");
+  project->add_option("--peak-gflops", a->peak_gflops, "FP64 peak of the machine, when /proc/cpuinfo's clock is not right")
+      ->check(finite_in(0.0, kMaxPeakGflops, true));
   project->add_flag("--json", a->json, "JSON: seconds, gflops, peak_gflops, peak_ratio, blas_seconds, blas_ratio, ...");
   project->callback([a] { run_project(*a); });
 }

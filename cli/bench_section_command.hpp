@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/option_checks.hpp"
 #include "core/error.hpp"
 #include "io/atomic_write.hpp"
 #include "lab/report_section.hpp"
@@ -85,7 +86,7 @@ inline void add_section_subcommand(CLI::App& bench, const std::string& name, con
   cmd->add_flag("--quick", a->quick, "Small sizes (seconds): smoke runs and tests");
   cmd->add_flag("--json", a->json, "Print the section's data as JSON instead of markdown");
   cmd->add_option("--report", a->report, "Folder for the section's markdown, JSON and PNG figures (created if missing)");
-  cmd->add_option("--threads,-t", a->threads, "Threads (default: all cores)")->check(CLI::Range(0, 1024));
+  cmd->add_option("--threads,-t", a->threads, "Threads (default: all cores)")->check(thread_count());
   cmd->callback([a, name, defaults, run] {
     SectionOptions o;
     o.quick = a->quick;

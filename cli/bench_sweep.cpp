@@ -59,12 +59,12 @@ std::pair<std::vector<std::string>, std::vector<std::string>> parse_models(const
   const std::vector<std::string> items = text.empty() ? sweep::default_models() : sweep::split_model_list(text);
   std::vector<std::string> specs;
   for (const auto& item : items) {
-    if (item.empty()) throw ArgumentError("--models '" + text + "': empty model in the list, expected SPEC,SPEC,...");
+    if (item.empty()) throw ArgumentError("--models '" + quoted_text(text) + "': empty model in the list, expected SPEC,SPEC,...");
     const auto model = parse_model(item);  // ArgumentError naming the problem
     if (!model->delta_parts().empty())
       throw ArgumentError("--models: '" + item + "' has delta parts, which have no pointwise error; expected models without delta parts");
     const std::string spec = model->spec();
-    if (std::find(specs.begin(), specs.end(), spec) != specs.end()) throw ArgumentError("--models: '" + spec + "' is listed twice");
+    if (std::find(specs.begin(), specs.end(), spec) != specs.end()) throw ArgumentError("--models: '" + quoted_text(spec) + "' is listed twice");
     specs.push_back(spec);
   }
   return {specs, items};
@@ -99,7 +99,6 @@ void run_sweep(const SweepArgs& a) {
   const auto sampling = lut_sampling_named(a.sampling);
   if (!sampling) throw ArgumentError("--sampling: expected 'centre' or 'average', found '" + a.sampling + "'");
   cfg.sampling = *sampling;
-  if (!(a.gram_tol > 0.0 && a.gram_tol < 1.0)) throw ArgumentError(fmt::format("--gram-tol {}: expected a value in (0, 1)", a.gram_tol));
   cfg.gram_tolerance = a.gram_tol;
   cfg.held_out = a.held_out > 0 ? a.held_out : (a.quick ? kQuickHeldOutPairs : kDefaultHeldOutPairs);
   cfg.threads = a.threads > 0 ? a.threads : omp_get_num_procs();
@@ -166,12 +165,13 @@ void add_sweep(CLI::App& bench) {
   cmd->add_option("--orders", a->orders, fmt::format("Orders, 'a..b' or 'a,b,c' in [0, {}] (default {}, quick {})", sweep::kMaxSweepOrder,
                                                      kDefaultOrders, kQuickOrders));
   cmd->add_option("--models", a->models, "Model specs separated by ',' or ';' (default: lambert to ggx alpha 0.05, see `icobrdf models`)");
-  cmd->add_option("--threads,-t", a->threads, "Threads (default: all cores)")->check(CLI::Range(0, 1024));
+  cmd->add_option("--threads,-t", a->threads, "Threads (default: all cores)")->check(thread_count());
   cmd->add_option("--held-out", a->held_out, fmt::format("Held-out direction pairs (default {}, quick {})", sweep::kDefaultHeldOutPairs,
                                                          sweep::kQuickHeldOutPairs))
       ->check(CLI::Range(1, kMaxHeldOutPairs));
   cmd->add_option("--sampling", a->sampling, "LUT sampling during fits: centre (as bank build) or average (as fit)")->capture_default_str();
-  cmd->add_option("--gram-tol", a->gram_tol, "Largest Gram error max|G - I| a supported (level, order) may have")->capture_default_str();
+  cmd->add_option("--gram-tol", a->gram_tol, "Largest Gram error max|G - I| a supported (level, order) may have")
+      ->capture_default_str()->check(gram_tolerance());
   cmd->add_flag("--quick", a->quick, "Small defaults (levels 1..2, orders 0..4, 200 pairs, quick sections): smoke runs and tests");
   cmd->add_flag("--json", a->json, "Print the results as JSON");
   cmd->add_flag("--quiet,-q", a->quiet, "No progress lines on stderr");

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "cli/commands.hpp"
+#include "core/error.hpp"
 #include "io/brdf_source.hpp"
 #include "io/direction_csv.hpp"
 #include "pipeline/reflectance_check.hpp"
@@ -34,7 +35,7 @@ void run_eval(const EvalOptions& o) {
   const auto source = open_source(o.source);
   const DirectionPairs pairs = read_direction_pairs_csv(o.at, o.radians);
   const Eigen::MatrixXd values = source->eval(pairs.wi, pairs.wr);
-  check_reflectance(values, "eval " + source->spec(), "the evaluation at the pairs of " + o.at, "f", {o.strict, &std::cerr});
+  check_reflectance(values, "eval " + quoted_text(source->spec()), "the evaluation at the pairs of " + o.at, "f", {o.strict, &std::cerr});
   for (const auto& note : source->notes()) std::cerr << "icobrdf: note: " << source->spec() << ": " << note << "\n";
   const std::vector<std::string> columns = channel_column_names(source->channels());
   std::string text;

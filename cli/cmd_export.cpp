@@ -65,7 +65,7 @@ void add_export_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("export", "Write a spectrum in another program's format (SCATMECH coefficient CSV)");
   cmd->add_option("spectrum", a->input, "SPECTRUM.h5[#MATERIAL]")->required();
   cmd->add_option("--format", a->format, "Output format: scatmech")->required();
-  cmd->add_option("--channel", a->channel, "Channel of a 3-channel spectrum (0, 1, 2)");
+  cmd->add_option("--channel", a->channel, "Channel of a 3-channel spectrum (0, 1, 2)")->check(CLI::Range(0, 2));
   cmd->add_flag("--isotropic", a->isotropic, "Export the isotropic projection of an anisotropic spectrum");
   cmd->add_option("-o,--output", a->output, "Output file")->required();
   cmd->add_flag("--json", a->json, "Print the figures as JSON");

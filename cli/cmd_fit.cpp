@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "cli/commands.hpp"
+#include "cli/option_checks.hpp"
 #include "io/brdf_source.hpp"
 #include "io/measured_sources.hpp"
 #include "io/output_path.hpp"
@@ -30,7 +31,7 @@ struct FitArgs {
 GridKind fitting_grid_kind(const std::string& text) {
   if (text == to_string(GridKind::EqualArea)) return GridKind::EqualArea;
   if (text == to_string(GridKind::Geodesic)) return GridKind::Geodesic;
-  throw ArgumentError("--grid: expected 'equal-area' or 'geodesic', found '" + text + "'");
+  throw ArgumentError("--grid: expected 'equal-area' or 'geodesic', found '" + quoted_text(text) + "'");
 }
 
 void run_fit(const FitArgs& a) {
@@ -46,12 +47,13 @@ void run_fit(const FitArgs& a) {
   if (!sampling) throw ArgumentError("--sampling: expected 'average' or 'centre', found '" + a.sampling + "'");
   r.sampling = *sampling;
   check_output_path(a.output, {a.source});
+  require_storable_source(a.source);
   const auto source = open_source(a.source);  // validates the source before any work
   r.grid_kind = fitting_grid_kind(a.grid);
   const FitResult fit = fit_source(*source, r);
   const Spectrum& s = fit.spectrum;
   const ProjectionContext& ctx = *fit.context;
-  check_fitted_albedo(s, *ctx.grid, "fit " + s.source, {a.strict, &std::cerr});
+  check_fitted_albedo(s, *ctx.grid, "fit " + quoted_text(s.source), {a.strict, &std::cerr});
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   write_spectrum_file(a.output, s, nullptr, a.name.empty() ? "material" : a.name);
   nlohmann::json j{{"source", s.source},
@@ -123,7 +125,7 @@ void add_fit_command(CLI::App& app) {
   cmd->add_option("--filter", a->filter, "Low-pass filter: none, fejer, lanczos, hann, gaussian[:width=W]")->capture_default_str();
   cmd->add_option("--grid", a->grid, "Tessellation: equal-area or geodesic")->capture_default_str();
   cmd->add_option("--sampling", a->sampling, "LUT sampling: average (cell cubature) or centre")->capture_default_str();
-  cmd->add_option("--gram-tol", a->gram_tol, "Largest Gram error max|G - I| accepted")->capture_default_str();
+  cmd->add_option("--gram-tol", a->gram_tol, "Largest Gram error max|G - I| accepted")->capture_default_str()->check(gram_tolerance());
   cmd->add_option("--name", a->name, "Material name inside the file (default: material)");
   cmd->add_option("-o,--output", a->output, "Output spectrum file (.h5)")->required();
   cmd->add_flag("--json", a->json, "Print the figures as JSON");

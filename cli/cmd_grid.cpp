@@ -75,7 +75,7 @@ void run_grid(const GridOptions& o) {
 void add_grid_command(CLI::App& app) {
   auto opts = std::make_shared<GridOptions>();
   auto* cmd = app.add_subcommand("grid", "Build the hemi-icosahedral tessellation and report its cells");
-  cmd->add_option("--level", opts->level, "Subdivision level L (0..8): 10*4^L + 2^(L+1) cells")->required();
+  cmd->add_option("--level", opts->level, "Subdivision level L (0..8): 10*4^L + 2^(L+1) cells")->required()->check(CLI::Range(0, 8));
   cmd->add_flag("--geodesic", opts->geodesic, "Geodesic (gnomonic) baseline instead of the equal-area grid");
   cmd->add_flag("--json", opts->json, "Machine-readable output");
   cmd->add_option("--export-obj", opts->obj, "Write the mesh as Wavefront OBJ to this file");

@@ -3,8 +3,7 @@
 //   icobrdf smooth LUT.h5[#MATERIAL] --order N [--filter NAME] [--float32] -o OUT.h5     (S F S^T)
 //   icobrdf albedo LUT.h5[#MATERIAL] [--json] [--strict]                                (white furnace)
 // lut and albedo refuse Inf / NaN and report negative f or albedo (pipeline/reflectance_check.hpp).
-// A LUT file is a bank holding the grid and one material with its LUT (cells x cells per channel) and the
-// LUT's spectrum at the given order.
+// LUT files: io/lut_file.hpp.
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
@@ -19,7 +18,8 @@
 #include "core/model_spec.hpp"
 #include "pipeline/reflectance_check.hpp"
 #include "pipeline/source_model.hpp"
-#include "io/bank_file.hpp"
+#include "io/lut_file.hpp"
+#include "io/spectrum_file.hpp"
 #include "io/output_path.hpp"
 #include "mesh/tessellation.hpp"
 
@@ -32,23 +32,6 @@ struct LutArgs {
   bool cosine = false, float32 = false, json = false, strict = false;
 };
 
-// Reads a LUT file: its grid and one material that has a LUT.
-std::pair<std::shared_ptr<const Grid>, MaterialRecord> read_lut_file(const std::string& spec) {
-  const auto [path, name] = split_material_ref(spec);
-  BankContents b = read_bank(path);
-  if (!b.grid) throw InputError(path + ": no /grid group; a LUT file needs the grid its LUT lives on");
-  const MaterialRecord* rec = nullptr;
-  for (const auto& m : b.materials)
-    if ((name.empty() && !m.lut.empty()) || m.name == name) {
-      rec = &m;
-      break;
-    }
-  if (!rec) throw InputError(path + ": " + (name.empty() ? std::string("no material with a LUT") : "no material '" + name + "'"));
-  if (rec->lut.empty()) throw InputError(path + ": material '" + rec->name + "' has no LUT");
-  auto grid = std::make_shared<const Grid>(*b.grid);
-  return {grid, *rec};
-}
-
 MaterialRecord lut_record(const std::string& name, const Lut& lut, const std::string& source, const ProjectionContext& ctx,
                           const FitOptions& o, bool float32) {
   MaterialRecord rec;
@@ -59,21 +42,15 @@ MaterialRecord lut_record(const std::string& name, const Lut& lut, const std::st
   return rec;
 }
 
-void write_lut_file(const std::string& out, const Grid& grid, MaterialRecord rec) {
-  BankContents b;
-  b.grid = grid;
-  b.materials.push_back(std::move(rec));
-  write_bank(out, b);
-}
-
 void run_lut(const LutArgs& a) {
   check_output_path(a.output, {a.source});
+  require_storable_source(a.source);
   std::string label;
   const auto model = model_of_source(a.source, &label);
   auto grid = std::make_shared<const Grid>(build_equal_area_grid(a.level));
-  const LutSampling sampling = a.sampling == "centre" || a.sampling == "center" ? LutSampling::CellCentre : LutSampling::CellAverage;
-  if (a.sampling != "average" && sampling != LutSampling::CellCentre)
-    throw ArgumentError("--sampling: expected 'average' or 'centre', found '" + a.sampling + "'");
+  const auto named = lut_sampling_named(a.sampling);
+  if (!named) throw ArgumentError("--sampling: expected 'average' or 'centre', found '" + quoted_text(a.sampling) + "'");
+  const LutSampling sampling = *named;
   const bool cosine = a.cosine || !model->delta_parts().empty();
   // Cell averages with a degree-2 rule on the same cells: the LUT's own sampling, independent of B's rule.
   const Grid sampling_grid = sampling == LutSampling::CellAverage ? build_equal_area_grid(a.level, kLutSamplingDegree) : *grid;

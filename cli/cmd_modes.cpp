@@ -110,7 +110,7 @@ void add_modes_command(CLI::App& app) {
   auto opts = std::make_shared<ModesOptions>();
   auto* cmd = app.add_subcommand(
       "modes", "Values of every mode up to a total order at direction pairs (or of K_j at directions)");
-  cmd->add_option("--order", opts->order, "Total order N, 0..128")->required();
+  cmd->add_option("--order", opts->order, "Total order N, 0..128")->required()->check(CLI::Range(0, 128));
   auto* iso = cmd->add_flag("--isotropic", opts->isotropic, "Isotropic modes I_nm^l (Table 2 order)");
   auto* hemi = cmd->add_flag("--hemisphere", opts->hemisphere,
                              "Hemisphere basis K_n^l at directions theta,phi (ANSI order)");

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "cli/commands.hpp"
+#include "cli/option_checks.hpp"
 #include "core/error.hpp"
 #include "core/lowpass_filter.hpp"
 #include "io/bank_file.hpp"
@@ -26,7 +27,6 @@ namespace icobrdf::cli {
 namespace {
 
 constexpr double kRadPerDeg = M_PI / 180.0;
-constexpr double kDegPerRad = 180.0 / M_PI;
 constexpr int kMaxPlotOrder = 32;           // largest truncation order a slice or sphere fit is drawn at
 constexpr std::size_t kMaxSliceColumns = 9;  // orders side by side in one slice picture
 constexpr int kMaxBasisOrder = 16, kMinBasisPanel = 32, kMaxBasisPanel = 800;
@@ -49,8 +49,8 @@ std::pair<double, double> parse_light(const std::string& s) {
   std::istringstream in(s);
   double t = NAN, p = NAN;
   char comma = 0;
-  if (!(in >> t >> comma >> p) || comma != ',' || !(in >> std::ws).eof() || !std::isfinite(t) || !std::isfinite(p))
-    throw ArgumentError("--light '" + s + "': expected THETA,PHI in degrees, e.g. 45,135");
+  if (!(in >> t >> comma >> p) || comma != ',' || !(in >> std::ws).eof() || !(t >= 0 && t <= 180) || !std::isfinite(p))
+    throw ArgumentError("--light '" + quoted_text(s) + "': expected THETA,PHI in degrees, 0 <= THETA <= 180, e.g. 45,135");
   return {t, p};
 }
 
@@ -60,19 +60,12 @@ bool is_directory(const std::string& p) {
 }
 
 void check_basis_args(const PlotArgs& a) {
-  if (a.order < 0 || a.order > kMaxBasisOrder) throw ArgumentError(fmt::format("--order {}: expected 0..{}", a.order, kMaxBasisOrder));
   if (!is_directory(a.output)) throw ArgumentError("-o " + a.output + ": not an existing directory");
-  if (a.basis_panel != 0 && (a.basis_panel < kMinBasisPanel || a.basis_panel > kMaxBasisPanel))
-    throw ArgumentError(fmt::format("--panel {}: expected {}..{} pixels", a.basis_panel, kMinBasisPanel, kMaxBasisPanel));
 }
 
 void check_slice_args(const PlotArgs& a) {
   check_output_path(a.output, {a.source});
   if (a.orders.empty()) throw ArgumentError("--order: at least one truncation order is required");
-  for (int n : a.orders)
-    if (n < 0 || n > kMaxPlotOrder) throw ArgumentError(fmt::format("--order {}: expected 0..{}", n, kMaxPlotOrder));
-  if (!(a.theta_i * kRadPerDeg >= 0.0 && a.theta_i * kRadPerDeg < M_PI / 2))
-    throw ArgumentError(fmt::format("--theta-i {}: expected 0 <= theta_i < 90 degrees", a.theta_i * kRadPerDeg * kDegPerRad));
   if (a.orders.size() > kMaxSliceColumns)
     throw ArgumentError(fmt::format("--order: at most {} orders side by side, found {}", kMaxSliceColumns, a.orders.size()));
 }
@@ -82,15 +75,6 @@ plot::SphereRequest::Shading parse_shading(const std::string& s) {
   if (s == "model") return plot::SphereRequest::Shading::Model;
   if (s == "spectrum") return plot::SphereRequest::Shading::Spectrum;
   throw ArgumentError("--shading: expected auto, model or spectrum, found '" + s + "'");
-}
-
-void check_sphere_request(const plot::SphereRequest& q) {
-  if (!(q.light_theta >= 0.0 && q.light_theta <= M_PI))
-    throw ArgumentError(fmt::format("--light theta {}: expected 0..180 degrees", q.light_theta * kDegPerRad));
-  if (!(q.exposure > 0.0) || !std::isfinite(q.exposure)) throw ArgumentError(fmt::format("--exposure {}: expected > 0", q.exposure));
-  if (!(q.sky >= 0.0) || !std::isfinite(q.sky)) throw ArgumentError(fmt::format("--sky-radiance {}: expected >= 0", q.sky));
-  if (q.size < kMinSphereSize || q.size > kMaxSphereSize)
-    throw ArgumentError(fmt::format("--size {}: expected {}..{} pixels", q.size, kMinSphereSize, kMaxSphereSize));
 }
 
 plot::SliceSource slice_source(PictureMaterial m) {
@@ -112,7 +96,7 @@ std::vector<plot::SphereMaterial> load_sphere_materials(const std::string& text,
   if (!names.empty()) return materials;
   const bool use_model = shading != Shading::Spectrum && is_exact_model(text);
   if (shading == Shading::Model && !use_model)
-    throw ArgumentError("--shading model: needs a model without delta parts, found '" + text + "'");
+    throw ArgumentError("--shading model: needs a model without delta parts, found '" + quoted_text(text) + "'");
   PictureMaterial m = load_picture_material(text, order, level, use_model);
   // A stored material with a half-angle lobe comes with its values too: shaded from them unless told not to.
   if (use_model || (m.exact && shading != Shading::Spectrum)) materials.push_back({text, std::nullopt, std::move(m.exact), m.exact_channels});
@@ -123,7 +107,8 @@ std::vector<plot::SphereMaterial> load_sphere_materials(const std::string& text,
 void add_basis_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   auto* basis = plot->add_subcommand("basis", "Every K_n^l up to --order on the Lambert disk (density + contours)");
   basis->add_option("--order,-n", a->order, "Largest order n")->capture_default_str()->check(CLI::Range(0, kMaxBasisOrder));
-  basis->add_option("--panel", a->basis_panel, "Disk diameter in pixels (default: from the order)");
+  basis->add_option("--panel", a->basis_panel, "Disk diameter in pixels (default: from the order)")
+      ->check(CLI::Range(kMinBasisPanel, kMaxBasisPanel));
   basis->add_flag("--separate", a->separate, "Also write one PNG per function, K_<n>_<l>.png");
   basis->add_option("-o,--output", a->output, "Output directory (must exist)")->required();
   basis->add_flag("--json", a->json, "Print the files written as JSON");
@@ -138,9 +123,10 @@ void add_basis_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
 void add_slice_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   auto* slice = plot->add_subcommand("slice", "Remitted distribution for one incident direction, several truncation orders");
   slice->add_option("source", a->source, "SOURCE: model:NAME[:key=value,...] or FILE.h5[#material]")->required();
-  slice->add_option("--theta-i", a->theta_i, "Polar angle of incidence [deg], 0 <= theta_i < 90")->capture_default_str();
-  slice->add_option("--phi-i", a->phi_i, "Azimuth of incidence [deg]")->capture_default_str();
-  slice->add_option("--order,-n", a->orders, "Truncation orders shown side by side (at most 9)")->capture_default_str()->expected(1, 9);
+  slice->add_option("--theta-i", a->theta_i, "Polar angle of incidence [deg], 0 <= theta_i < 90")->capture_default_str()->check(finite_in(0, 90, false, true));
+  slice->add_option("--phi-i", a->phi_i, "Azimuth of incidence [deg]")->capture_default_str()->check(finite_in(-360, 360));
+  slice->add_option("--order,-n", a->orders, "Truncation orders shown side by side (at most 9)")->capture_default_str()->expected(1, 9)
+      ->check(CLI::Range(0, kMaxPlotOrder));
   slice->add_option("--filter", a->filter, "Low-pass filter per order: none, fejer, lanczos, hann, gaussian[:width=W]")->capture_default_str();
   slice->add_option("--level,-l", a->level, "Grid level of the fit of a model")->capture_default_str()->check(CLI::Range(0, 8));
   slice->add_option("--panel", a->panel, "Disk diameter in pixels")->capture_default_str()->check(CLI::Range(64, 800));
@@ -175,7 +161,7 @@ void add_spectrum_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   spec->callback([a] {
     const MaterialRef ref = split_material_ref(a->source);
     if (ref.path.size() < 4 || ref.path.compare(ref.path.size() - 3, 3, ".h5") != 0)
-      throw ArgumentError("plot spectrum '" + a->source + "': expected SPECTRUM.h5[#material]");
+      throw ArgumentError("plot spectrum '" + quoted_text(a->source) + "': expected SPECTRUM.h5[#material]");
     const Spectrum s = read_spectrum_file(ref.path, ref.name);
     check_output_path(a->output, {a->source});
     const auto f = plot::plot_spectrum(s, a->source, a->output);
@@ -189,10 +175,10 @@ void add_sphere_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   sphere->add_option("--light", a->light, "Light direction THETA,PHI [deg] in the camera frame (theta from the viewing axis)")
       ->capture_default_str();
   sphere->add_flag("--sky", a->sky, "Add a uniform sky (radiance --sky-radiance)");
-  sphere->add_option("--sky-radiance", a->sky_radiance, "Sky radiance with --sky")->capture_default_str();
-  sphere->add_option("--exposure", a->exposure, "Radiance shown as white")->capture_default_str();
-  sphere->add_option("--size", a->size, "Sphere diameter in pixels")->capture_default_str();
-  sphere->add_option("--order,-n", a->orders, "Order of the fit when shading from a spectrum (one value)")->expected(1);
+  sphere->add_option("--sky-radiance", a->sky_radiance, "Sky radiance with --sky")->capture_default_str()->check(finite_in(0, kAnyFinite));
+  sphere->add_option("--exposure", a->exposure, "Radiance shown as white")->capture_default_str()->check(finite_in(0, kAnyFinite, true));
+  sphere->add_option("--size", a->size, "Sphere diameter in pixels")->capture_default_str()->check(CLI::Range(kMinSphereSize, kMaxSphereSize));
+  sphere->add_option("--order,-n", a->orders, "Order of the fit when shading from a spectrum (one value)")->expected(1)->check(CLI::Range(0, kMaxPlotOrder));
   sphere->add_option("--level,-l", a->level, "Grid level of that fit")->capture_default_str()->check(CLI::Range(0, 8));
   sphere->add_option("--shading", a->shading, "auto (model when it has no delta part), model, or spectrum")->capture_default_str();
   sphere->add_option("-o,--output", a->output, "Output PNG")->required();
@@ -207,10 +193,8 @@ void add_sphere_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
     q.size = a->size;
     constexpr int kDefaultSphereOrder = 8;
     const int order = sphere->count("--order") ? a->orders.front() : kDefaultSphereOrder;
-    if (order < 0 || order > kMaxPlotOrder) throw ArgumentError(fmt::format("--order {}: expected 0..{}", order, kMaxPlotOrder));
     check_output_path(a->output, {a->source});
     q.shading = parse_shading(a->shading);
-    check_sphere_request(q);
     const auto materials = load_sphere_materials(a->source, q.shading, order, a->level);
     const auto f = plot::plot_sphere(a->source, materials, q, a->output);
     report(*a, {{"output", a->output}, {"width", f.width}, {"height", f.height}, {"spheres", f.names}});

@@ -12,6 +12,11 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("icobrdf ") + ICOBRDF_VERSION);
   for (auto& [name, adder] : command_registry()) adder(app);
+  app.failure_message([](const CLI::App*, const CLI::Error& e) { return icobrdf::message_line(e.what()) + "\n"; });
+  const auto fail = [](const std::exception& e, int code, const char* kind = "error") {
+    std::cerr << "icobrdf: " << kind << ": " << icobrdf::message_line(e.what()) << "\n";  // one short line
+    return code;
+  };
   try {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& e) {
@@ -20,20 +25,15 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);
     return code == 0 ? kExitOk : kExitUsage;
   } catch (const icobrdf::ArgumentError& e) {
-    std::cerr << "icobrdf: error: " << icobrdf::printable_text(e.what()) << "\n";
-    return kExitUsage;
+    return fail(e, kExitUsage);
   } catch (const icobrdf::InputError& e) {
-    std::cerr << "icobrdf: error: " << icobrdf::printable_text(e.what()) << "\n";
-    return kExitInput;
+    return fail(e, kExitInput);
   } catch (const icobrdf::UnsupportedError& e) {
-    std::cerr << "icobrdf: error: " << icobrdf::printable_text(e.what()) << "\n";
-    return kExitUnsupported;
+    return fail(e, kExitUnsupported);
   } catch (const icobrdf::IoError& e) {
-    std::cerr << "icobrdf: error: " << icobrdf::printable_text(e.what()) << "\n";
-    return kExitIo;
+    return fail(e, kExitIo);
   } catch (const std::exception& e) {
-    std::cerr << "icobrdf: internal error: " << icobrdf::printable_text(e.what()) << "\n";
-    return kExitInternal;
+    return fail(e, kExitInternal, "internal error");
   }
   return kExitOk;
 }

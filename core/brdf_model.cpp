@@ -56,7 +56,7 @@ SumModel::SumModel(std::vector<Term> terms) {
   for (auto& t : terms) {
     if (!t.model) throw ArgumentError("model sum: a term has no model");
     if (!std::isfinite(t.weight) || t.weight < 0.0)
-      throw ArgumentError("model sum: weight of '" + t.model->spec() + "' must be finite and >= 0, got " +
+      throw ArgumentError("model sum: weight of '" + quoted_text(t.model->spec()) + "' must be finite and >= 0, got " +
                           format_parameter(t.weight));
     if (const auto* s = dynamic_cast<const SumModel*>(t.model.get())) {
       for (const auto& inner : s->terms()) terms_.push_back({t.weight * inner.weight, inner.model});
@@ -69,7 +69,7 @@ SumModel::SumModel(std::vector<Term> terms) {
     const int c = t.model->channels();
     if (c == 1) continue;
     if (channels_ != 1 && channels_ != c)
-      throw ArgumentError("model sum '" + spec() + "': terms have " + std::to_string(channels_) + " and " +
+      throw ArgumentError("model sum '" + quoted_text(spec()) + "': terms have " + std::to_string(channels_) + " and " +
                           std::to_string(c) + " channels; expected equal counts or 1");
     channels_ = c;
   }

@@ -17,7 +17,7 @@ constexpr Eigen::Index kBlockPoints = 32;
 std::vector<Eigen::MatrixXd> direct_projection(const BrdfModel& model, const Grid& grid, int order, bool cosine,
                                                DirectModes modes) {
   if (!model.delta_parts().empty())
-    throw ArgumentError("direct quadrature of '" + model.spec() + "': delta parts have no pointwise values");
+    throw ArgumentError("direct quadrature of '" + quoted_text(model.spec()) + "': delta parts have no pointwise values");
   const int m = hemisphere_basis_count(order);  // validates the order
   const int ch = model.channels();
   const Eigen::Index q_total = grid.cubature_points.rows();

@@ -1,6 +1,7 @@
 #pragma once
 // Error kinds raised by icobrdf. Every message is one line: what went wrong, where, expected vs actual.
 // The CLI maps each kind to its own exit code (cli/exit_codes.hpp).
+#include <cstddef>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
@@ -41,6 +42,33 @@ inline std::string printable_text(const std::string& s) {
     }
   }
   return out;
+}
+
+// Most characters of user text or file content a message quotes: enough to recognise the text and
+// spot a typo, few enough that a 7,000-term spec or a 50 MB CSV field still gives one short line.
+inline constexpr std::size_t kQuoteLimit = 200;
+
+// `s` ready to quote in a message: printable (above) and, when longer than kQuoteLimit, cut there
+// (at a UTF-8 character boundary) with "..." and its full length. Every message quoting input uses it.
+inline std::string quoted_text(const std::string& s) {
+  if (s.size() <= kQuoteLimit) return printable_text(s);
+  std::size_t cut = kQuoteLimit;
+  while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xC0) == 0x80) --cut;  // not inside a character
+  return printable_text(s.substr(0, cut)) + "... (" + std::to_string(s.size()) + " characters)";
+}
+
+// Longest message the CLI prints: a backstop for a message that quotes input without quoted_text;
+// a few quoted pieces plus paths fit, a runaway message does not.
+inline constexpr std::size_t kMessageLimit = 600;
+
+// `what` as one printable line of at most about kMessageLimit characters: head and tail kept (the
+// tail usually says what was expected), the middle replaced by the number of characters left out.
+inline std::string message_line(const std::string& what) {
+  const std::string s = printable_text(what);
+  if (s.size() <= kMessageLimit) return s;
+  const std::size_t head = kMessageLimit / 2, tail = kMessageLimit / 4;
+  return s.substr(0, head) + " ... [" + std::to_string(s.size() - head - tail) + " characters left out] ... " +
+         s.substr(s.size() - tail);
 }
 
 }  // namespace icobrdf

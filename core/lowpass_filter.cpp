@@ -58,10 +58,10 @@ LowPassFilter parse_lowpass_filter(const std::string& text) {
     const std::string v = text.substr(prefix.size());
     f.width = std::strtod(v.c_str(), &end);
     if (v.empty() || *end != '\0' || !(f.width > 0.0) || !std::isfinite(f.width))
-      throw ArgumentError("filter '" + text + "': width expected a positive number, found '" + v + "'");
+      throw ArgumentError("filter '" + quoted_text(text) + "': width expected a positive number, found '" + quoted_text(v) + "'");
     return f;
   }
-  throw ArgumentError("unknown filter '" + text + "', expected one of none, fejer, lanczos, hann, gaussian[:width=W]");
+  throw ArgumentError("unknown filter '" + quoted_text(text) + "', expected one of none, fejer, lanczos, hann, gaussian[:width=W]");
 }
 
 Eigen::VectorXd mode_weights(const LowPassFilter& filter, int order) {

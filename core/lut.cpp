@@ -112,7 +112,7 @@ void add_delta_lut(const DeltaPart& part, const Grid& g, Eigen::MatrixXd& lut) {
 Lut build_lut(const BrdfModel& model, const Grid& g, bool cosine, LutSampling sampling) {
   const auto deltas = model.delta_parts();
   if (!deltas.empty() && !cosine)
-    throw ArgumentError("LUT of '" + model.spec() + "': a delta BRDF has no finite f; use the cosine-weighted form g = f cos theta_i");
+    throw ArgumentError("LUT of '" + quoted_text(model.spec()) + "': a delta BRDF has no finite f; use the cosine-weighted form g = f cos theta_i");
   const int cells = g.cells(), ch = model.channels();
   Lut lut;
   lut.cosine = cosine;

@@ -184,8 +184,12 @@ std::string range_text(const ModelParameter& p) {
   return "[" + format_parameter(p.min) + ", " + format_parameter(p.max) + "]";
 }
 
-std::unique_ptr<BrdfModel> parse_term(const std::string& spec, const std::string& term_text, double& weight) {
-  const std::string where = "model spec '" + spec + "'";
+std::unique_ptr<BrdfModel> parse_term(const std::string& spec, const std::string& term_text, std::size_t index,
+                                      std::size_t count, double& weight) {
+  // A sum names the failing term (quoted) and its place, not the whole spec: one short line at any size.
+  const std::string where = count > 1 ? "model spec term " + std::to_string(index + 1) + " of " + std::to_string(count) + " '" +
+                                            quoted_text(trim(term_text)) + "'"
+                                      : "model spec '" + quoted_text(spec) + "'";
   std::string term = trim(term_text);
   if (term.empty()) throw ArgumentError(where + ": empty term; expected [weight*]name[:key=value,...]");
   weight = 1.0;
@@ -193,15 +197,15 @@ std::unique_ptr<BrdfModel> parse_term(const std::string& spec, const std::string
   if (star != std::string::npos) {
     const std::string w = trim(term.substr(0, star));
     if (!parse_double(w, weight) || weight < 0.0)
-      throw ArgumentError(where + ": weight '" + w + "' is not a finite number >= 0");
+      throw ArgumentError(where + ": weight '" + quoted_text(w) + "' is not a finite number >= 0");
     term = trim(term.substr(star + 1));
   }
   const auto colon = term.find(':');
-  const std::string name = trim(term.substr(0, colon));
+  const std::string name = trim(term.substr(0, colon)), qname = quoted_text(name);
   const Entry* entry = nullptr;
   for (const auto& e : entries())
     if (e.info.name == name) entry = &e;
-  if (!entry) throw ArgumentError(where + ": unknown model '" + name + "'; expected one of " + known_names());
+  if (!entry) throw ArgumentError(where + ": unknown model '" + qname + "'; expected one of " + known_names());
   const auto& params = entry->info.parameters;
   Values values(params.size());
   std::vector<bool> given(params.size(), false);
@@ -214,35 +218,35 @@ std::unique_ptr<BrdfModel> parse_term(const std::string& spec, const std::string
       const std::string item = trim(list.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
       const auto eq = item.find('=');
       if (eq == std::string::npos)
-        throw ArgumentError(where + ": parameter '" + item + "' of '" + name + "' is not key=value");
-      const std::string key = trim(item.substr(0, eq)), text = trim(item.substr(eq + 1));
+        throw ArgumentError(where + ": parameter '" + quoted_text(item) + "' of '" + qname + "' is not key=value");
+      const std::string key = trim(item.substr(0, eq)), text = trim(item.substr(eq + 1)), qkey = quoted_text(key);
       std::size_t idx = params.size();
       for (std::size_t k = 0; k < params.size(); ++k)
         if (params[k].name == key) idx = k;
       if (idx == params.size()) {
         std::string names;
         for (const auto& p : params) names += (names.empty() ? "" : ", ") + p.name;
-        throw ArgumentError(where + ": unknown parameter '" + key + "' for model '" + name + "'; expected " +
+        throw ArgumentError(where + ": unknown parameter '" + qkey + "' for model '" + qname + "'; expected " +
                             (names.empty() ? std::string("no parameters") : "one of " + names));
       }
       const auto& p = params[idx];
-      if (given[idx]) throw ArgumentError(where + ": parameter '" + key + "' of '" + name + "' given twice");
+      if (given[idx]) throw ArgumentError(where + ": parameter '" + qkey + "' of '" + qname + "' given twice");
       given[idx] = true;
       if (!p.choices.empty()) {
         std::size_t c = 0;
         while (c < p.choices.size() && p.choices[c] != text) ++c;
         if (c == p.choices.size())
-          throw ArgumentError(where + ": parameter '" + key + "' of '" + name + "' must be one of " + range_text(p) +
-                              ", got '" + text + "'");
+          throw ArgumentError(where + ": parameter '" + qkey + "' of '" + qname + "' must be one of " + range_text(p) +
+                              ", got '" + quoted_text(text) + "'");
         values[idx] = static_cast<double>(c);
       } else {
         double v = 0.0;
         if (!parse_double(text, v))
-          throw ArgumentError(where + ": parameter '" + key + "' of '" + name + "' must be a finite number in " +
-                              range_text(p) + ", got '" + text + "'");
+          throw ArgumentError(where + ": parameter '" + qkey + "' of '" + qname + "' must be a finite number in " +
+                              range_text(p) + ", got '" + quoted_text(text) + "'");
         if (v < p.min || v > p.max)
-          throw ArgumentError(where + ": parameter '" + key + "' of '" + name + "' must be in " + range_text(p) +
-                              ", got " + text);
+          throw ArgumentError(where + ": parameter '" + qkey + "' of '" + qname + "' must be in " + range_text(p) +
+                              ", got " + quoted_text(text));
         values[idx] = v;
       }
       if (comma == std::string::npos) break;
@@ -274,9 +278,9 @@ namespace {
 std::unique_ptr<BrdfModel> parse_spec(const std::string& spec) {
   const auto texts = split_terms(spec);
   std::vector<std::pair<double, std::unique_ptr<BrdfModel>>> parsed;
-  for (const auto& t : texts) {
+  for (std::size_t k = 0; k < texts.size(); ++k) {
     double w = 1.0;
-    auto m = parse_term(spec, t, w);
+    auto m = parse_term(spec, texts[k], k, texts.size(), w);
     parsed.emplace_back(w, std::move(m));
   }
   if (parsed.size() == 1 && parsed[0].first == 1.0) return std::move(parsed[0].second);
@@ -300,7 +304,7 @@ bool is_model_source(const std::string& source) { return source.rfind(kModelSour
 
 std::unique_ptr<BrdfModel> parse_model_source(const std::string& source) {
   if (!is_model_source(source))
-    throw ArgumentError(printable_text("SOURCE '" + source + "': expected model:NAME[:key=value,...]"));
+    throw ArgumentError("SOURCE '" + quoted_text(source) + "': expected model:NAME[:key=value,...]");
   return parse_model(source.substr(std::string(kModelSourcePrefix).size()));
 }
 

@@ -184,7 +184,7 @@ std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const 
                         " vs " + std::to_string(g.cells()) + " cells)");
   const auto deltas = model.delta_parts();
   if (!deltas.empty() && !cosine)
-    throw ArgumentError("projection of '" + model.spec() + "': a delta BRDF has no finite f; use the cosine-weighted form g");
+    throw ArgumentError("projection of '" + quoted_text(model.spec()) + "': a delta BRDF has no finite f; use the cosine-weighted form g");
   if (proj.P.rows() != g.cells())
     throw ArgumentError("projection: operator has " + std::to_string(proj.P.rows()) + " rows, grid has " + std::to_string(g.cells()) + " cells");
   const int ch = model.channels();

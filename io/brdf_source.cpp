@@ -117,13 +117,13 @@ std::unique_ptr<BrdfSource> open_source(const std::string& text) {
   if (auto measured = open_measured_source(text)) return measured;  // MERL, CSV samples, SCATMECH (io/measured_sources.hpp)
   const auto [path, name] = split_material_ref(text);
   if (path.size() > 3 && path.compare(path.size() - 3, 3, ".h5") == 0) {
-    if (!is_regular_file(path)) throw InputError(path + ": no such file (SOURCE '" + text + "')");
+    if (!is_regular_file(path)) throw InputError(path + ": no such file (SOURCE '" + quoted_text(text) + "')");
     ReadOptions ro;
     ro.read_luts = false;
     MaterialRecord rec = read_bank_material(path, name, ro);
     return std::make_unique<SpectrumSource>(std::move(rec.spectrum), std::move(rec.lobe), text);
   }
-  throw ArgumentError("unknown SOURCE '" + text + "': expected model:NAME[:key=value,...] or FILE.h5[#MATERIAL]");
+  throw ArgumentError("unknown SOURCE '" + quoted_text(text) + "': expected model:NAME[:key=value,...] or FILE.h5[#MATERIAL]");
 }
 
 }  // namespace icobrdf

@@ -65,9 +65,11 @@ CsvTable read_numeric_csv(const std::string& path) {
       errno = 0;
       const double v = f.empty() ? 0.0 : std::strtod(f.c_str(), &end);
       if (f.empty() || end != f.c_str() + f.size() || errno == ERANGE)
-        throw InputError(where(path, lineno) + ": column '" + t.header[k] + "' expected a number, found '" + f + "'");
+        throw InputError(where(path, lineno) + ": column '" + quoted_text(t.header[k]) +
+                         "' expected a number, found '" + quoted_text(f) + "'");
       if (!std::isfinite(v))
-        throw InputError(where(path, lineno) + ": column '" + t.header[k] + "' expected a finite number, found '" + f + "'");
+        throw InputError(where(path, lineno) + ": column '" + quoted_text(t.header[k]) +
+                         "' expected a finite number, found '" + quoted_text(f) + "'");
       row[k] = v;
     }
     t.rows.push_back(std::move(row));
@@ -83,7 +85,7 @@ void require_columns(const CsvTable& t, const std::vector<std::string>& names) {
   for (size_t k = 0; k < t.header.size(); ++k) actual += (k ? "," : "") + t.header[k];
   bool ok = t.header.size() >= names.size();
   for (size_t k = 0; ok && k < names.size(); ++k) ok = t.header[k] == names[k];
-  if (!ok) throw InputError(t.path + ":1: expected header starting '" + expected + "', found '" + actual + "'");
+  if (!ok) throw InputError(t.path + ":1: expected header starting '" + expected + "', found '" + quoted_text(actual) + "'");
 }
 
 }  // namespace icobrdf

@@ -14,7 +14,7 @@ Eigen::Vector3d to_direction(const CsvTable& t, size_t row, size_t col, bool rad
   const double unit = radians ? 1.0 : M_PI / 180.0;
   const double theta = t.rows[row][col] * unit, phi = t.rows[row][col + 1] * unit;
   if (theta < 0.0 || theta > M_PI / 2)
-    throw InputError(t.path + ":" + std::to_string(t.line_numbers[row]) + ": column '" + t.header[col] +
+    throw InputError(t.path + ":" + std::to_string(t.line_numbers[row]) + ": column '" + quoted_text(t.header[col]) +
                      "' expected a polar angle in [0, " + (radians ? std::string("pi/2") : std::string("90")) +
                      "], found " + std::to_string(t.rows[row][col]));
   return direction_from_angles(theta, phi);

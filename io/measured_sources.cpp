@@ -51,13 +51,13 @@ double number_option(const std::string& text, const std::string& key, const std:
   char* end = nullptr;
   const double x = std::strtod(value.c_str(), &end);
   if (value.empty() || *end != '\0' || !std::isfinite(x))
-    throw ArgumentError("SOURCE '" + text + "': option " + key + " expected a finite number, found '" + value + "'");
+    throw ArgumentError("SOURCE '" + quoted_text(text) + "': option " + key + " expected a finite number, found '" + quoted_text(value) + "'");
   return x;
 }
 
 void require_file(const std::string& path, const std::string& text) {
   struct stat st{};
-  if (::stat(path.c_str(), &st) != 0) throw InputError(path + ": no such file (SOURCE '" + text + "')");
+  if (::stat(path.c_str(), &st) != 0) throw InputError(path + ": no such file (SOURCE '" + quoted_text(text) + "')");
 }
 
 void check_fit_options(const FitOptions& o, const std::string& what) {
@@ -209,11 +209,11 @@ std::unique_ptr<BrdfSource> open_samples(const std::string& text, const std::str
     else if (k == "power") fo.tikhonov_power = number_option(text, k, v);
     else if (k == "rank-tol") fo.rank_tolerance = number_option(text, k, v);
     else
-      throw ArgumentError("SOURCE '" + text + "': unknown samples option '" + k + (v.empty() ? "" : "=" + v) +
+      throw ArgumentError("SOURCE '" + quoted_text(text) + "': unknown samples option '" + k + (v.empty() ? "" : "=" + v) +
                           "', expected radians, strict, tikhonov=LAMBDA, power=P or rank-tol=T");
   }
   if (fo.tikhonov < 0 || fo.tikhonov_power < 0)
-    throw ArgumentError("SOURCE '" + text + "': tikhonov and power must be >= 0");
+    throw ArgumentError("SOURCE '" + quoted_text(text) + "': tikhonov and power must be >= 0");
   return std::make_unique<SampleCsvSource>(read_sample_csv(op.path, co), fo, text);
 }
 
@@ -225,10 +225,10 @@ std::unique_ptr<BrdfSource> open_scatmech(const std::string& text, const std::st
     if (k == "lambda") io.wavelength_um = number_option(text, k, v);
     else if (k == "scale") io.scale = number_option(text, k, v);
     else
-      throw ArgumentError("SOURCE '" + text + "': unknown SCATMECH option '" + k + "', expected lambda=UM or scale=R");
+      throw ArgumentError("SOURCE '" + quoted_text(text) + "': unknown SCATMECH option '" + quoted_text(k) + "', expected lambda=UM or scale=R");
   }
   if (io.wavelength_um != -1.0 && !(io.wavelength_um > 0))
-    throw ArgumentError("SOURCE '" + text + "': lambda must be > 0 (micrometres)");
+    throw ArgumentError("SOURCE '" + quoted_text(text) + "': lambda must be > 0 (micrometres)");
   return std::make_unique<ScatmechSource>(scatmech_to_spectrum(read_scatmech_coefficients(op.path), io), text);
 }
 

@@ -64,11 +64,11 @@ BrdfSamples read_sample_csv(const std::string& path, const SampleCsvOptions& opt
     const auto& row = t.rows[r];
     for (int k : {0, 2})
       if (!(row[k] >= 0 && row[k] <= quarter))
-        throw InputError(where(t, r) + ": column '" + t.header[k] + "' expected a polar angle in [0, " + qtext +
+        throw InputError(where(t, r) + ": column '" + quoted_text(t.header[k]) + "' expected a polar angle in [0, " + qtext +
                          "], found " + num(row[k]));
     for (int k : {1, 3})
       if (!(std::abs(row[k]) <= full))
-        throw InputError(where(t, r) + ": column '" + t.header[k] + "' expected an azimuth in [-" + ftext + ", " +
+        throw InputError(where(t, r) + ": column '" + quoted_text(t.header[k]) + "' expected an azimuth in [-" + ftext + ", " +
                          ftext + "], found " + num(row[k]));
     Key key{row[0], row[1], row[2], row[3]};
     normalize(key[0], key[1], full);

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "core/error.hpp"
+#include "io/spectrum_file.hpp"
 
 namespace icobrdf {
 namespace {
@@ -71,7 +72,7 @@ ErrorMetric metric_or(const Scene& s, const toml::table& t, const std::string& w
   const std::string metric = get_or(s, t, where, "metric", to_string(fallback));
   if (metric == "f") return ErrorMetric::F;
   if (metric == "cosine") return ErrorMetric::Cosine;
-  fail(s, where, "'metric' expected \"f\" or \"cosine\", found \"" + metric + "\"");
+  fail(s, where, "'metric' expected \"f\" or \"cosine\", found \"" + quoted_text(metric) + "\"");
 }
 
 bool valid_name(const std::string& n) {
@@ -112,7 +113,7 @@ Scene read_scene(const std::string& path) {
     for (const auto& [k, v] : *bank) {
       static const std::set<std::string> known{"level", "levels", "order_max", "target", "metric", "sampling", "store_lut", "lut_float32", "holdout_pairs",
                                                "representations"};
-      if (!known.count(std::string(k.str()))) fail(s, w, "unknown key '" + std::string(k.str()) + "'");
+      if (!known.count(std::string(k.str()))) fail(s, w, "unknown key '" + quoted_text(std::string(k.str())) + "'");
       (void)v;
     }
     s.level = get_or(s, *bank, w, "level", s.level);
@@ -141,23 +142,27 @@ Scene read_scene(const std::string& path) {
         const auto name = e.value<std::string>();
         if (!name || !allowed.count(*name))
           fail(s, w, "'representations' entries expected \"modes\", \"half-angle\" or \"hybrid\", found " +
-                         (name ? "\"" + printable_text(*name) + "\"" : std::string("a non-string")));
+                         (name ? "\"" + quoted_text(*name) + "\"" : std::string("a non-string")));
         if (std::find(s.representations.begin(), s.representations.end(), *name) != s.representations.end())
-          fail(s, w, "'representations' lists \"" + *name + "\" twice");
+          fail(s, w, "'representations' lists \"" + quoted_text(*name) + "\" twice");
         s.representations.push_back(*name);
       }
     }
     if (s.level < 0 || s.level > 8) fail(s, w, "'level' expected in [0, 8], found " + std::to_string(s.level));
     for (int l : s.levels)
       if (l < 0 || l > 8) fail(s, w, "'levels' entries expected in [0, 8], found " + std::to_string(l));
+    for (std::size_t k = 1; k < s.levels.size(); ++k)  // tried in order, the last is "the finest tried"
+      if (s.levels[k] <= s.levels[k - 1])
+        fail(s, w, "'levels' expected strictly increasing levels, found " + std::to_string(s.levels[k - 1]) + " before " +
+                       std::to_string(s.levels[k]));
     if (s.order_max < 0 || s.order_max > 128) fail(s, w, "'order_max' expected in [0, 128], found " + std::to_string(s.order_max));
     if (!(s.target > 0)) fail(s, w, "'target' expected > 0");
-    if (sampling != "centre" && sampling != "average") fail(s, w, "'sampling' expected \"centre\" or \"average\", found \"" + sampling + "\"");
+    if (sampling != "centre" && sampling != "average") fail(s, w, "'sampling' expected \"centre\" or \"average\", found \"" + quoted_text(sampling) + "\"");
     s.sampling = sampling == "average" ? LutSampling::CellAverage : LutSampling::CellCentre;
     if (s.holdout_pairs < 16 || s.holdout_pairs > 1000000) fail(s, w, "'holdout_pairs' expected in [16, 1000000]");
   }
   for (const auto& [k, v] : root) {
-    if (k.str() != "bank" && k.str() != "material") fail(s, "top level", "unknown table '" + std::string(k.str()) + "'");
+    if (k.str() != "bank" && k.str() != "material") fail(s, "top level", "unknown table '" + quoted_text(std::string(k.str())) + "'");
     (void)v;
   }
   const auto* mats = root["material"].as_array();
@@ -169,16 +174,17 @@ Scene read_scene(const std::string& path) {
     if (!t) fail(s, w, "expected a table");
     static const std::set<std::string> known{"name", "source", "target", "metric", "isotropic", "order", "level", "incidence", "lights", "cameras", "prune"};
     for (const auto& [k, v] : *t) {
-      if (!known.count(std::string(k.str()))) fail(s, w, "unknown key '" + std::string(k.str()) + "'");
+      if (!known.count(std::string(k.str()))) fail(s, w, "unknown key '" + quoted_text(std::string(k.str())) + "'");
       (void)v;
     }
     SceneMaterial m;
     m.name = get_or<std::string>(s, *t, w, "name", "");
-    if (!valid_name(m.name)) fail(s, w, "'name' expected 1-64 characters of [A-Za-z0-9_-], found \"" + m.name + "\"");
+    if (!valid_name(m.name)) fail(s, w, "'name' expected 1-64 characters of [A-Za-z0-9_-], found \"" + quoted_text(m.name) + "\"");
     w = "material '" + m.name + "'";
     if (!names.insert(m.name).second) fail(s, w, "duplicate name");
     m.source = get_or<std::string>(s, *t, w, "source", "");
     if (m.source.empty()) fail(s, w, "'source' is required");
+    if (const std::string p = source_text_problem(m.source); !p.empty()) fail(s, w, "'source': " + p);
     m.target = get_or(s, *t, w, "target", s.target);
     if (!(m.target > 0)) fail(s, w, "'target' expected > 0");
     m.metric = metric_or(s, *t, w, s.metric);

@@ -62,6 +62,16 @@ void validate_material_name(const std::string& name) {
   if (!p.empty()) throw ArgumentError("invalid material name '" + name + "': " + p);
 }
 
+std::string source_text_problem(const std::string& source) {
+  if (source.size() <= kMaxSourceLength) return "";
+  return "SOURCE of " + std::to_string(source.size()) + " bytes is longer than the " + std::to_string(kMaxSourceLength) +
+         " a bank stores (one HDF5 attribute); shorten it, e.g. fewer model terms";
+}
+
+void require_storable_source(const std::string& source) {
+  if (const std::string p = source_text_problem(source); !p.empty()) throw ArgumentError(p);
+}
+
 // Names of the `choice` attributes.
 static bool choice_key_ok(const std::string& k) {
   if (k.empty() || k.size() > 64) return false;
@@ -153,6 +163,7 @@ void write_material(h5::Group& materials, const MaterialRecord& rec) {
   validate_material_name(rec.name);
   const Spectrum& s = rec.spectrum;
   const std::string& nm = rec.name;
+  if (const std::string p = source_text_problem(s.source); !p.empty()) bad_record(nm, p);
   if (s.order < 0 || s.order > kMaxFileOrder)
     bad_record(nm, "expected order in [0, " + std::to_string(kMaxFileOrder) + "], found " + std::to_string(s.order));
   const int ch = s.channel_count();

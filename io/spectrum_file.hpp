@@ -45,6 +45,10 @@ std::string representation_name(const MaterialRecord& rec);
 
 // Longest material name accepted.
 inline constexpr std::size_t kMaxMaterialNameLength = 255;
+// Longest SOURCE text stored with a material. It is the HDF5 attribute "source", and an attribute lives
+// in one object-header message of at most 65,535 bytes with its name, datatype and dataspace; 60,000
+// leaves room for those. Longer texts are refused up front (scene, fit) and by the writer.
+inline constexpr std::size_t kMaxSourceLength = 60000;
 // Largest order accepted in a file (M = 501501 basis functions): a sanity bound against overflow; the
 // dataset size limit of the read applies first in practice.
 inline constexpr int kMaxFileOrder = 1000;
@@ -54,6 +58,10 @@ inline constexpr int kMaxFileOrder = 1000;
 std::string material_name_problem(const std::string& name);
 // Throws ArgumentError when the name is invalid.
 void validate_material_name(const std::string& name);
+// Reason the SOURCE text cannot be stored with a material (longer than kMaxSourceLength), or "".
+std::string source_text_problem(const std::string& source);
+// Throws ArgumentError with that reason: commands that store their SOURCE call it before any work.
+void require_storable_source(const std::string& source);
 
 // Writes `rec` as the new group `materials/<rec.name>`. ArgumentError when the record is inconsistent
 // (C not M x M for the order, channels not 1 or 3, LUT not square, IBSSS tables disagreeing, a float32 LUT

@@ -57,7 +57,7 @@ const char* compiled_isa() {
 #endif
 }
 
-double fp64_peak_gflops(int threads) { return threads * flops_per_cycle_per_core() * cpu_mhz() / 1e3; }
+double fp64_peak_gflops(int threads) { return std::min(threads, omp_get_num_procs()) * flops_per_cycle_per_core() * cpu_mhz() / 1e3; }
 
 std::string load_average() {
   std::ifstream in("/proc/loadavg");

@@ -16,7 +16,7 @@ double cpu_mhz();               // MHz; 0 when /proc/cpuinfo has no clock
 std::string cpu_model();        // "unknown" when absent
 int flops_per_cycle_per_core(); // FP64, of the instruction set compiled for
 const char* compiled_isa();     // "AVX-512", "AVX2 + FMA", "AVX" or "SSE2"
-double fp64_peak_gflops(int threads);
+double fp64_peak_gflops(int threads);  // of min(threads, processors) cores: extra threads add no peak
 // "0.52 0.61 0.70 (1, 5, 15 min)" or "unknown".
 std::string load_average();
 

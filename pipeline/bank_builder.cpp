@@ -103,7 +103,7 @@ BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& opt) {
     MaterialReport rep;
     rep.name = m.name;
     rep.key = material_key(scene, m);
-    say("[" + std::to_string(i + 1) + "/" + std::to_string(scene.materials.size()) + "] " + m.name + " (" + m.source + ")");
+    say("[" + std::to_string(i + 1) + "/" + std::to_string(scene.materials.size()) + "] " + m.name + " (" + quoted_text(m.source) + ")");
     try {
       done.materials.push_back(material_record(scene, m, previous, contexts, bank, rep, say));
       rep.ok = true;

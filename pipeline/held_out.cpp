@@ -76,7 +76,7 @@ HeldOutPairs held_out_pairs(const Scene& s, const SceneMaterial& m, const BrdfSo
   }
   h.f = src.eval(h.wi, h.wr);
   for (Eigen::Index k = 0; k < h.f.size(); ++k)
-    if (!std::isfinite(h.f.data()[k])) throw InputError("source '" + src.spec() + "' gives a non-finite value at a held-out pair");
+    if (!std::isfinite(h.f.data()[k])) throw InputError("source '" + quoted_text(src.spec()) + "' gives a non-finite value at a held-out pair");
   return h;
 }
 

@@ -26,7 +26,7 @@ bool ends_with_h5(const std::string& s) { return s.size() > 3 && s.compare(s.siz
 
 // The material FILE.h5[#material] as stored (its source named by `text` when it names none), read once.
 MaterialRecord read_picture_record(const std::string& text, const MaterialRef& ref) {
-  if (!is_regular_file(ref.path)) throw InputError(ref.path + ": no such file (SOURCE '" + text + "')");
+  if (!is_regular_file(ref.path)) throw InputError(ref.path + ": no such file (SOURCE '" + quoted_text(text) + "')");
   MaterialRecord rec = read_bank_material(ref.path, ref.name, ReadOptions{h5::kDefaultMaxDatasetBytes, false});
   if (rec.spectrum.source.empty()) rec.spectrum.source = text;
   return rec;
@@ -66,7 +66,7 @@ PictureMaterial load_picture_material(const std::string& text, int order, int le
 
 std::vector<std::string> several_bank_materials(const std::string& text) {
   if (is_model_source(text) || text.find('#') != std::string::npos || !ends_with_h5(text)) return {};
-  if (!is_regular_file(text)) throw InputError(text + ": no such file (SOURCE '" + text + "')");
+  if (!is_regular_file(text)) throw InputError(text + ": no such file (SOURCE '" + quoted_text(text) + "')");
   auto names = bank_material_names(text);
   if (names.size() < 2) names.clear();
   return names;

@@ -9,7 +9,7 @@
 namespace icobrdf::plot {
 
 Eigen::MatrixXd channel_mean(const Spectrum& s) {
-  if (s.channels.empty()) throw ArgumentError("spectrum of '" + s.source + "' has no channels");
+  if (s.channels.empty()) throw ArgumentError("spectrum of '" + quoted_text(s.source) + "' has no channels");
   Eigen::MatrixXd c = Eigen::MatrixXd::Zero(s.channels[0].rows(), s.channels[0].cols());
   for (const auto& ch : s.channels) c += ch;
   return c / static_cast<double>(s.channels.size());

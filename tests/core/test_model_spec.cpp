@@ -202,3 +202,21 @@ TEST(ModelSpec, ModelSourcePrefix) {
             "ggx:alpha=0.2,fresnel=schlick,f0=0.04,ior=1.5,masking=correlated");
   EXPECT_THROW(parse_model_source("lambert"), ArgumentError);
 }
+
+// Issue #19: a 7,000-term spec with one typo gave a 119 KB message (the whole spec, quoted). The message
+// names the failing term and its place, and quotes at most kQuoteLimit characters of anything.
+TEST(ModelSpec, TypoInAHugeSpecGivesOneShortLine) {
+  constexpr std::size_t kShortLine = 300;  // "one short line": the issue's bound for this message
+  std::string spec;
+  for (int k = 0; k < 7000; ++k) spec += (k ? "+" : "") + std::string(k == 4321 ? "0.001*lambrt" : "0.001*lambert:albedo=0.5");
+  const std::string msg = error_of(spec);
+  ASSERT_FALSE(msg.empty());
+  EXPECT_LT(msg.size(), kShortLine) << msg.size();
+  EXPECT_NE(msg.find("term 4322 of 7000"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("'lambrt'"), std::string::npos) << msg;
+  // A single huge term (a 1 MB parameter value) is quoted cut, with its length.
+  const std::string value(1000000, '9');
+  const std::string one = error_of("lambert:albedo=" + value);
+  EXPECT_LT(one.size(), 3 * kQuoteLimit + kShortLine) << one.size();  // spec and value, each cut
+  EXPECT_NE(one.find("(1000000 characters)"), std::string::npos) << one.substr(0, 400);
+}

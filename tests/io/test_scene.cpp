@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "io/scene.hpp"
+#include "io/spectrum_file.hpp"
 #include "tests/io/io_test_support.hpp"
 
 namespace icobrdf {
@@ -39,6 +40,31 @@ TEST(Scene, QuotedControlBytesStayOnOneLine) {
     EXPECT_EQ(msg.find('\t'), std::string::npos) << msg;
     EXPECT_NE(msg.find(c.quoted), std::string::npos) << msg;
   }
+}
+
+}  // namespace
+}  // namespace icobrdf
+
+namespace icobrdf {
+namespace {
+
+// Issue #19: `levels = [5, 2]` was accepted (the search tries levels in order and reports the last as the
+// finest tried); a source too long to store failed in HDF5 after the fits. Both are refused when read.
+TEST(Scene, UnorderedLevelsAndOverlongSourceAreRefused) {
+  test::ScratchDir d;
+  const std::string mat = "[[material]]\nname = \"a\"\nsource = \"model:lambert\"\n";
+  for (const char* levels : {"[5, 2]", "[3, 3]", "[1, 4, 2]"}) {
+    test::write_bytes(d / "s.toml", std::string("[bank]\nlevels = ") + levels + "\n" + mat);
+    EXPECT_NE(error_of(d / "s.toml").find("strictly increasing"), std::string::npos) << levels;
+  }
+  test::write_bytes(d / "s.toml", "[bank]\nlevels = [2, 3, 5]\n" + mat);
+  EXPECT_EQ(error_of(d / "s.toml"), "");
+  std::string spec = "model:lambert";
+  while (spec.size() <= kMaxSourceLength) spec += "+lambert";
+  test::write_bytes(d / "s.toml", "[[material]]\nname = \"a\"\nsource = \"" + spec + "\"\n");
+  const std::string msg = error_of(d / "s.toml");
+  EXPECT_NE(msg.find(std::to_string(kMaxSourceLength)), std::string::npos) << msg;
+  EXPECT_LT(msg.size(), 400u) << msg.size();  // the source is not quoted whole
 }
 
 }  // namespace

@@ -324,3 +324,21 @@ TEST(SpectrumFile, OverwritesAnyExistingFile) {
   icobrdf::write_spectrum_file(dir / "s.h5", icobrdf::test::synthetic_spectrum(1, 1));
   EXPECT_EQ(icobrdf::read_spectrum_file(dir / "s.h5").order, 1);
 }
+
+// Issue #19: a 40,000-term SOURCE failed deep in HDF5 ("object header message is too large"). The writer
+// stores up to kMaxSourceLength bytes and refuses a longer source before creating the file.
+TEST(SpectrumFile, SourceUpToTheLimitIsStoredAndLongerIsRefused) {
+  icobrdf::test::ScratchDir dir;
+  Spectrum s = icobrdf::test::synthetic_spectrum(2, 1);
+  s.source = std::string(icobrdf::kMaxSourceLength, 's');
+  icobrdf::write_spectrum_file(dir / "at.h5", s);
+  EXPECT_EQ(icobrdf::read_spectrum_file(dir / "at.h5").source, s.source);
+  s.source += "s";
+  try {
+    icobrdf::write_spectrum_file(dir / "over.h5", s);
+    ADD_FAILURE() << "a source of kMaxSourceLength + 1 bytes was written";
+  } catch (const icobrdf::ArgumentError& e) {
+    EXPECT_NE(std::string(e.what()).find(std::to_string(icobrdf::kMaxSourceLength)), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"at.h5"});
+}
