@@ -133,7 +133,6 @@ class MerlSource final : public BrdfSource, public SampleFitHolder {
     finish(s, o, ctx);
     return s;
   }
-  std::int64_t missing() const { return model_.table().missing_total(); }
   const MerlTable& table() const { return model_.table(); }
 
  private:
@@ -259,8 +258,8 @@ const MerlTable* merl_table_of(const BrdfSource& source) {
 }
 
 std::int64_t merl_missing_samples(const BrdfSource& source) {
-  if (const auto* m = dynamic_cast<const MerlSource*>(&source)) return m->missing();
-  return -1;
+  const MerlTable* table = merl_table_of(source);
+  return table ? table->missing_total() : -1;
 }
 
 }  // namespace icobrdf

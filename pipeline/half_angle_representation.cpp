@@ -67,6 +67,7 @@ constexpr int kHybridRankDrop = 2;
 struct LadderStep {
   int n_t, n_phi_h, n_theta_d, n_phi_d;
   bool centred = false;  // nodes at bin centres (HalfAngleFactors::centred)
+  double h_axis = 0.0, h_scale_1 = 1.0;  // stretch of an anisotropic h grid (set per material, fit_lobe)
 };
 // Grids in increasing size: isotropic (n_phi_h = 1) and anisotropic. theta_d starts fine: masking makes q
 // steep towards grazing, and 32 theta_d nodes leave held-out errors of 0.03-0.47 for GGX alpha 0.05-0.3
@@ -196,12 +197,9 @@ std::optional<LobeFit> fit_lobe_at(const MaterialProblem& p, const BrdfSource& r
   o.n_theta_d = s.n_theta_d;
   o.n_phi_d = s.n_phi_d;
   o.centred = s.centred;
-  o.skip_missing = s.centred;  // only the MERL ladder samples measured data
+  o.skip_missing = merl_table_of(p.source) != nullptr;  // measured data may have missing samples
+  o.h_axis = s.h_axis, o.h_scale_1 = s.h_scale_1;
   o.fixed_rank = fixed_rank;
-  if (!isotropic) {
-    const LobeAxes axes = estimate_lobe_axes(sampler, residual.channels());
-    if (axes.found && axes.ratio() >= kStretchRatio) o.h_axis = axes.axis, o.h_scale_1 = std::min(axes.ratio(), kMaxHScale);
-  }
   HalfAngleFit fit;
   try {
     fit = fit_half_angle(sampler, residual.channels(), o);
@@ -218,7 +216,9 @@ std::optional<LobeFit> fit_lobe_at(const MaterialProblem& p, const BrdfSource& r
   return LobeFit{std::move(fit.factors), e};
 }
 
-LadderStep step_of(const HalfAngleFactors& l) { return {l.n_t, l.n_phi_h, l.n_theta_d, l.n_phi_d, l.centred}; }
+LadderStep step_of(const HalfAngleFactors& l) {
+  return {l.n_t, l.n_phi_h, l.n_theta_d, l.n_phi_d, l.centred, l.h_axis, l.h_scale_1};
+}
 
 // The first grid of the ladder whose lobe, added to `body` at the held-out pairs, meets the target; nullopt
 // when none does (best error in *best). Steps whose rank-1 lobe plus `body_bytes` cannot beat
@@ -228,9 +228,18 @@ std::optional<LobeFit> fit_lobe(const MaterialProblem& p, const BrdfSource& resi
   const bool merl = merl_table_of(p.source) != nullptr;
   const LadderStep* begin = merl ? std::begin(kMerlLadder) : isotropic ? std::begin(kIsotropicLadder) : std::begin(kAnisotropicLadder);
   const LadderStep* end = merl ? std::end(kMerlLadder) : isotropic ? std::end(kIsotropicLadder) : std::end(kAnisotropicLadder);
+  // An anisotropic lobe's axes, once for every grid of the ladder.
+  LobeAxes axes;
+  if (!isotropic)
+    axes = estimate_lobe_axes([&residual](const RowMatrix3d& wi, const RowMatrix3d& wr,
+                                          Eigen::Ref<Eigen::MatrixXd> out) { out = residual.eval(wi, wr); },
+                              residual.channels());
+  const bool stretch = axes.found && axes.ratio() >= kStretchRatio;
   for (const LadderStep* s = begin; s != end; ++s) {
     if (p.bytes_to_beat >= 0 && body_bytes + rank_one_bytes(*s, residual.channels()) >= p.bytes_to_beat) break;
-    auto fit = fit_lobe_at(p, residual, body, isotropic, *s);
+    LadderStep step = *s;
+    if (stretch) step.h_axis = axes.axis, step.h_scale_1 = std::min(axes.ratio(), kMaxHScale);
+    auto fit = fit_lobe_at(p, residual, body, isotropic, step);
     if (!fit) continue;  // this grid cannot reach the node target within kMaxRank; a finer one may
     *best = std::min(*best, fit->error.l2);
     if (fit->error.l2 <= p.material.target) return fit;

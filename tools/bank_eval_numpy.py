@@ -91,7 +91,7 @@ def _index(x, n, centred):
     return x * n - 0.5 if centred else x * (n - 1)
 
 
-def _node_angles(a, n_t, n_ph, n_td, n_pd, warp, iso, stretch, centred):
+def _node_angles(n_t, n_ph, n_td, n_pd, warp, iso, stretch, centred):
     """True (theta, phi) of every h node and (theta_d, phi_d) of every d node (docs/file-format.md)."""
     k, j = np.divmod(np.arange(n_t * n_ph), n_ph)
     th = math.pi / 2 * _node(k, n_t, centred) ** warp
@@ -143,7 +143,7 @@ def eval_lobe(g, channels, wi, wr):
     dw = [(a0 * n_pd + b0, (1 - wa) * (1 - wb)), (a0 * n_pd + b1, (1 - wa) * wb),
           (a1 * n_pd + b0, wa * (1 - wb)), (a1 * n_pd + b1, wa * wb)]
     # Corner node pairs below the horizon take no part when corners = "valid" (weights renormalized).
-    nth, nph, ntd, npd = _node_angles(a, n_t, n_ph, n_td, n_pd, warp, iso, stretch, centred)
+    nth, nph, ntd, npd = _node_angles(n_t, n_ph, n_td, n_pd, warp, iso, stretch, centred)
     out = np.zeros((wi.shape[0], channels))
     wsum = np.zeros(wi.shape[0])
     for hi, hwt in hw:
