@@ -105,14 +105,26 @@ void expect_refused(const ChildResult& r, const std::string& path, const std::ve
   EXPECT_EQ(r.err, "") << "stderr not empty";
 }
 
-class CorruptBank : public ::testing::Test {
+// A fresh valid file in a scratch folder for every test, written by `write`.
+class CorruptFile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    path_ = dir_ / "bank.h5";
-    write_valid_bank(path_);
+  CorruptFile(void (*write)(const std::string&), const char* file) : write_(write), file_(file) {}
+  void SetUp() override { rewrite(); }
+  void rewrite() {
+    path_ = dir_ / file_;
+    write_(path_);
   }
   ScratchDir dir_;
   std::string path_;
+
+ private:
+  void (*write_)(const std::string&);
+  const char* file_;
+};
+
+class CorruptBank : public CorruptFile {
+ protected:
+  CorruptBank() : CorruptFile(write_valid_bank, "bank.h5") {}
 };
 
 }  // namespace
@@ -364,4 +376,73 @@ TEST_F(CorruptBank, IbsssWithoutIndices) {
   std::vector<double> v(3 * 5, 0.5);
   mutate(path_, [&](hid_t f) { replace_dataset(f, "/materials/m/ibsss", H5T_IEEE_F64LE, {3, 5}, v.data()); });
   expect_refused(read_in_child(path_), path_, {"/materials/m/ibsss_indices", "missing dataset"});
+}
+
+namespace {
+
+// A bank whose material "lobe" is a half-angle lobe alone (all-zero C) on a stretched anisotropic grid, so
+// that every format 3.0 attribute of /materials/lobe/half_angle is present.
+void write_lobe_bank(const std::string& path) {
+  icobrdf::MaterialRecord m;
+  m.name = "lobe";
+  m.spectrum = icobrdf::test::synthetic_spectrum(0, 1);
+  m.spectrum.channels[0].setZero();
+  icobrdf::HalfAngleFactors f;
+  f.quantity = icobrdf::HalfAngleQuantity::MeanCosine;
+  f.isotropic = false;
+  f.h_axis = 0.5, f.h_scale_1 = 2.0;
+  f.n_t = 4, f.n_phi_h = 4, f.n_theta_d = 4, f.n_phi_d = 2, f.rank = 1;
+  f.u.emplace_back(icobrdf::RowMatrixXd::Constant(16, 1, 0.5));
+  f.v.emplace_back(icobrdf::RowMatrixXd::Constant(8, 1, 2.0));
+  m.lobe = f;
+  icobrdf::BankContents b;
+  b.materials = {m};
+  icobrdf::write_bank(path, b);
+}
+
+class CorruptLobe : public CorruptFile {
+ protected:
+  CorruptLobe() : CorruptFile(write_lobe_bank, "lobe.h5") {}
+  // Set a string or a float64 attribute of the lobe group and expect the read refused naming it.
+  void expect_string_refused(const char* name, const std::string& value, const std::vector<std::string>& parts) {
+    mutate(path_, [&](hid_t file) {
+      const hid_t g = H5Gopen2(file, "/materials/lobe/half_angle", H5P_DEFAULT);
+      set_string_attr(g, name, value);
+      H5Gclose(g);
+    });
+    expect_refused(read_in_child(path_), path_, parts);
+  }
+  void expect_double_refused(const char* name, double value, const std::vector<std::string>& parts) {
+    mutate(path_, [&](hid_t file) {
+      const hid_t g = H5Gopen2(file, "/materials/lobe/half_angle", H5P_DEFAULT);
+      const hid_t a = H5Aopen(g, name, H5P_DEFAULT);
+      H5Awrite(a, H5T_NATIVE_DOUBLE, &value);
+      H5Aclose(a);
+      H5Gclose(g);
+    });
+    expect_refused(read_in_child(path_), path_, parts);
+  }
+};
+
+}  // namespace
+
+TEST_F(CorruptLobe, ValidLobeBankReadsInChild) {
+  const auto r = read_in_child(path_);
+  EXPECT_EQ(r.kind, "ok") << r.message;
+}
+
+TEST_F(CorruptLobe, UnknownQuantityCornersOrNodesAreRefused) {
+  expect_string_refused("quantity", "median-cosine", {"half_angle", "attribute quantity", "median-cosine"});
+  rewrite();
+  expect_string_refused("corners", "some", {"half_angle", "attribute corners", "'valid'", "some"});
+  rewrite();
+  expect_string_refused("nodes", "middles", {"half_angle", "attribute nodes", "'centres'", "middles"});
+}
+
+TEST_F(CorruptLobe, StretchOutOfRangeIsRefused) {
+  expect_double_refused("h_scale_1", 0.0, {"half_angle", "h scale 0"});
+  rewrite();
+  expect_double_refused("h_scale_2", 1e9, {"half_angle", "h scale 1e+09"});
+  rewrite();
+  expect_double_refused("h_axis", 4.0, {"half_angle", "h_axis = 4"});
 }
