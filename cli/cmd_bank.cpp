@@ -11,6 +11,7 @@
 #include "cli/commands.hpp"
 #include "cli/exit_codes.hpp"
 #include "core/error.hpp"
+#include "core/progress.hpp"
 #include "io/bank_file.hpp"
 #include "io/half_angle_file.hpp"
 #include "io/scene.hpp"
@@ -24,7 +25,7 @@ extern "C" void on_stop_signal(int sig) { g_stop_signal.store(sig); }
 
 struct BuildArgs {
   std::string scene, output;
-  bool resume = false, json = false, quiet = false;
+  bool resume = false, json = false, quiet = false, strict = false;
 };
 
 // Exit code of a build that ended without error: 0, or the signal's conventional code.
@@ -39,7 +40,10 @@ int run_build(const BuildArgs& a) {
   o.output = a.output;
   o.resume = a.resume;
   o.stop = &g_stop_signal;
+  o.strict = a.strict;
+  o.warnings = &std::cerr;
   if (!a.quiet) o.progress = [](const std::string& line) { std::cerr << line << std::endl; };
+  if (a.quiet) set_progress_stream(nullptr);  // no lines from long projections either (core/progress.hpp)
   const auto r = build_bank(scene, o);
   nlohmann::json mats = nlohmann::json::array();
   for (const auto& m : r.materials) {
@@ -128,6 +132,7 @@ void add_bank_command(CLI::App& app) {
   build->add_option("scene", a->scene, "SCENE.toml (see examples/default-scene.toml)")->required()->check(CLI::ExistingFile);
   build->add_option("-o,--output", a->output, "Output bank (.h5)")->required();
   build->add_flag("--resume", a->resume, "Keep the materials finished by an interrupted build");
+  build->add_flag("--strict", a->strict, "A material with negative reflectance fails (default: a warning)");
   build->add_flag("--json", a->json, "Print the per-material choices as JSON");
   build->add_flag("--quiet,-q", a->quiet, "No progress lines on stderr");
   build->callback([a] {

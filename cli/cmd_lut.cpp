@@ -17,6 +17,7 @@
 #include "core/spectral_fit.hpp"
 #include "core/model_spec.hpp"
 #include "pipeline/reflectance_check.hpp"
+#include "pipeline/resource_estimate.hpp"
 #include "pipeline/source_model.hpp"
 #include "io/lut_file.hpp"
 #include "io/spectrum_file.hpp"
@@ -32,12 +33,13 @@ struct LutArgs {
   bool cosine = false, float32 = false, json = false, strict = false;
 };
 
-MaterialRecord lut_record(const std::string& name, const Lut& lut, const std::string& source, const ProjectionContext& ctx,
+// Takes the LUT's channels (moved, not copied: a level-5 LUT is 850 MB per channel).
+MaterialRecord lut_record(const std::string& name, Lut&& lut, const std::string& source, const ProjectionContext& ctx,
                           const FitOptions& o, bool float32) {
   MaterialRecord rec;
   rec.name = name;
   rec.spectrum = fit_lut(lut, source, ctx, o);
-  rec.lut = lut.channels;
+  rec.lut = std::move(lut.channels);
   rec.lut_float32 = float32;
   return rec;
 }
@@ -52,16 +54,19 @@ void run_lut(const LutArgs& a) {
   if (!named) throw ArgumentError("--sampling: expected 'average' or 'centre', found '" + quoted_text(a.sampling) + "'");
   const LutSampling sampling = *named;
   const bool cosine = a.cosine || !model->delta_parts().empty();
+  const std::int64_t cells = equal_area_cells(a.level);
+  require_storable_lut(cells, model->channels(), a.float32, a.output);
+  require_lut_memory(a.level, a.order, model->channels(), a.float32, "lut of " + label);
   // Cell averages with a degree-2 rule on the same cells: the LUT's own sampling, independent of B's rule.
   const Grid sampling_grid = sampling == LutSampling::CellAverage ? build_equal_area_grid(a.level, kLutSamplingDegree) : *grid;
-  const Lut lut = build_lut(*model, sampling_grid, cosine, sampling);
+  Lut lut = build_lut(*model, sampling_grid, cosine, sampling);
   check_lut(lut.channels, cosine, *grid, a.output + ": LUT of " + label, {a.strict, &std::cerr});
   FitOptions o;
   o.order = a.order;
   o.cosine = cosine;
   const auto ctx = make_projection_context(grid, a.order);
-  auto rec = lut_record(a.name, lut, label, ctx, o, a.float32);
   const auto wf = white_furnace(lut.channels[0], cosine, *grid);
+  auto rec = lut_record(a.name, std::move(lut), label, ctx, o, a.float32);
   write_lut_file(a.output, *grid, std::move(rec));
   std::cout << fmt::format("{}: {} x {} LUT of {} ({}), max directional albedo {:.6g}\n", a.output, grid->cells(), grid->cells(),
                            label, cosine ? "g = f cos(theta_i)" : "f", wf.max_albedo);
@@ -78,7 +83,7 @@ void run_smooth(const LutArgs& a) {
   smoothed.cosine = rec.spectrum.cosine;
   for (const auto& f : rec.lut) smoothed.channels.push_back(smooth_lut(ctx.basis, ctx.projection, f, o.filter));
   o.cosine = smoothed.cosine;
-  auto out = lut_record(rec.name, smoothed, rec.spectrum.source, ctx, o, a.float32);
+  auto out = lut_record(rec.name, std::move(smoothed), rec.spectrum.source, ctx, o, a.float32);
   out.spectrum.filter = o.filter.name();
   write_lut_file(a.output, *grid, std::move(out));
   std::cout << fmt::format("{}: LUT '{}' smoothed to order {} with filter {}\n", a.output, rec.name, a.order, o.filter.name());

@@ -6,6 +6,7 @@ inline constexpr int kExitUsage = 2;        // bad command line (CLI11 parse err
 inline constexpr int kExitInput = 3;        // malformed input file (InputError)
 inline constexpr int kExitUnsupported = 4;  // request beyond what the numerics support (UnsupportedError)
 inline constexpr int kExitIo = 5;           // file system error (IoError)
+inline constexpr int kExitResources = 6;   // more memory than the machine offers (ResourceError, bad_alloc)
 inline constexpr int kExitInternal = 70;    // anything else: a bug
 inline constexpr int kExitInterrupted = 130;  // SIGINT
 inline constexpr int kExitTerminated = 143;   // SIGTERM

@@ -1,16 +1,71 @@
 // icobrdf: command-line entry point. Subcommands register in cli/commands.hpp.
+#include <unistd.h>
+
+#include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <iostream>
+#include <new>
 
 #include "cli/commands.hpp"
 #include "cli/exit_codes.hpp"
 #include "core/error.hpp"
+#include "core/memory_budget.hpp"
+#include "core/progress.hpp"
+#include "io/atomic_write.hpp"
+
+namespace {
+
+// An exception that leaves a worker thread (an OpenMP region cannot pass it on) ends the program through
+// std::terminate. Say what it was in one line, remove the temporaries of unfinished atomic writes (so no
+// partial output is left) and exit with the code of its kind, instead of the default abort (exit 134).
+[[noreturn]] void on_terminate() {
+  using namespace icobrdf::cli;
+  // Nothing here may allocate before the kind is known: memory may be exhausted.
+  static const char kOutOfMemory[] =
+      "icobrdf: error: out of memory: an allocation failed while the work ran; a lower level or order needs less\n";
+  static const char kUnknown[] = "icobrdf: internal error: the program stopped without an error message\n";
+  int code = kExitInternal;
+  const char* fixed = kUnknown;
+  std::string line;
+  if (const auto e = std::current_exception()) {
+    try {
+      std::rethrow_exception(e);
+    } catch (const std::bad_alloc&) {
+      code = kExitResources;
+      fixed = kOutOfMemory;
+    } catch (const std::exception& x) {
+      try {
+        line = "icobrdf: internal error: " + icobrdf::message_line(x.what()) + "\n";
+      } catch (...) {
+      }
+    } catch (...) {
+    }
+  }
+  icobrdf::remove_unfinished_temporaries();
+  const char* text = line.empty() ? fixed : line.c_str();
+  (void)!::write(STDERR_FILENO, text, std::strlen(text));
+  std::_Exit(code);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace icobrdf::cli;
   CLI::App app{"icobrdf: BRDFs as exact linear algebra on an equal-area icosahedral hemisphere tessellation"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("icobrdf ") + ICOBRDF_VERSION);
+  std::set_terminate(on_terminate);
+  // Options of every command (before or after its name): the memory limit its up-front estimates are
+  // checked against, and the progress lines of long work.
+  app.fallthrough();
+  app.add_option_function<std::string>(
+         "--memory-budget", [](const std::string& v) { icobrdf::set_memory_budget(icobrdf::parse_byte_size(v)); },
+         "Memory the work may use (e.g. 8G, 512MB), instead of what the machine reports as available")
+      ->envname("ICOBRDF_MEMORY_BUDGET");
+  bool quiet = false;
+  app.add_flag("--no-progress", quiet, "No progress lines on stderr for long work");
+  app.parse_complete_callback([&quiet] { icobrdf::set_progress_stream(quiet ? nullptr : &std::cerr); });
   for (auto& [name, adder] : command_registry()) adder(app);
   app.failure_message([](const CLI::App*, const CLI::Error& e) { return icobrdf::message_line(e.what()) + "\n"; });
   const auto fail = [](const std::exception& e, int code, const char* kind = "error") {
@@ -32,6 +87,14 @@ int main(int argc, char** argv) {
     return fail(e, kExitUnsupported);
   } catch (const icobrdf::IoError& e) {
     return fail(e, kExitIo);
+  } catch (const icobrdf::ResourceError& e) {
+    return fail(std::runtime_error(std::string(e.what()) + "; --memory-budget overrides the limit"), kExitResources);
+  } catch (const std::bad_alloc&) {
+    // Exit at once: after an allocation failed, libraries' exit handlers (OpenBLAS joining its threads) can hang.
+    std::cout.flush();
+    static const char kLine[] = "icobrdf: error: out of memory: an allocation failed; a lower level or order needs less\n";
+    (void)!::write(STDERR_FILENO, kLine, sizeof kLine - 1);
+    std::_Exit(kExitResources);
   } catch (const std::exception& e) {
     return fail(e, kExitInternal, "internal error");
   }

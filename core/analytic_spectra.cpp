@@ -50,7 +50,7 @@ Eigen::MatrixXd retroreflector_g_coefficients(int order) {
 }
 
 Eigen::VectorXd cosine_power_projection(int order, int q) {
-  if (q < 0) throw ArgumentError("cosine_power_projection: exponent must be >= 0, got " + std::to_string(q));
+  if (q < 0) throw ArgumentError("cosine power: exponent must be >= 0, got " + std::to_string(q));
   const int m = hemisphere_basis_count(order);
   Eigen::VectorXd c = Eigen::VectorXd::Zero(m);
   double moment = 1.0 / (q + 1);  // integral_0^1 s^q P_p(2s-1) ds at p = 0
@@ -64,7 +64,7 @@ Eigen::VectorXd cosine_power_projection(int order, int q) {
 
 Eigen::MatrixXd minnaert_coefficients(int order, int k) {
   if (k < 1)
-    throw ArgumentError("minnaert_coefficients: the exponent k must be an integer >= 1 (finite spectrum), got " +
+    throw ArgumentError("Minnaert: the exponent k must be an integer >= 1 (finite spectrum), got " +
                         std::to_string(k));
   const Eigen::VectorXd c = cosine_power_projection(order, k - 1);
   return (k + 1) / (2.0 * M_PI) * c * c.transpose();

@@ -26,6 +26,12 @@ struct IoError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The request needs more than the machine offers (memory, by the estimate made before the work starts,
+// or an allocation that failed); the message says what it needs, what there is and what would fit.
+struct ResourceError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 // Control bytes (newlines, NUL, ...) of user text or file content as \xHH, so that a message quoting
 // them stays one line.
 inline std::string printable_text(const std::string& s) {

@@ -603,7 +603,7 @@ struct SerialEigen {
 namespace {
 
 void check_fit_options(int channels, const HalfAngleFitOptions& o) {
-  const auto bad = [](const std::string& what) { throw ArgumentError("fit_half_angle: " + what); };
+  const auto bad = [](const std::string& what) { throw ArgumentError("half-angle fit: " + what); };
   if (channels < 1) bad("channels = " + std::to_string(channels) + ", expected >= 1");
   if (o.n_t < 2 || o.n_theta_d < 2 || o.n_phi_d < 1 || (!o.isotropic && o.n_phi_h < 1))
     bad("grid sizes n_t = " + std::to_string(o.n_t) + ", n_phi_h = " + std::to_string(o.n_phi_h) +
@@ -710,7 +710,7 @@ SampledNodes sample_nodes(const PairSampler& sampler, int channels, const HalfAn
           std::ostringstream s;
           s << "the sampled f of channel " << c << " is not finite (" << f(k, c) << ") at w_i = (" << wiv.row(k)
             << "), w_r = (" << wrv.row(k) << ")";
-          throw ArgumentError("fit_half_angle: " + s.str());
+          throw ArgumentError("half-angle fit: " + s.str());
         }
         Q[c](i, j) = q;
       }
@@ -824,7 +824,7 @@ HalfAngleFit fit_half_angle(const PairSampler& sampler, int channels, const Half
   fit.report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (o.fixed_rank == 0 && worst > o.target) {
     std::ostringstream s;
-    s << "fit_half_angle: rank " << o.max_rank << " reaches a weighted relative error of " << worst
+    s << "half-angle fit: rank " << o.max_rank << " reaches a weighted relative error of " << worst
       << ", above the target " << o.target << " (grid n_t = " << F.n_t << ", n_phi_h = " << F.n_phi_h
       << ", n_theta_d = " << F.n_theta_d << ", n_phi_d = " << F.n_phi_d << "); raise max_rank or the target";
     throw UnsupportedError(s.str());

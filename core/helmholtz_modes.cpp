@@ -30,14 +30,14 @@ long long helmholtz_mode_count(int order) {
 
 long long helmholtz_mode_index(int a, int b) {
   if (a < 0 || b < 0)
-    throw ArgumentError("helmholtz_mode_index: indices must be >= 0, got " + std::to_string(a) + ", " +
+    throw ArgumentError("Helmholtz mode index: indices must be >= 0, got " + std::to_string(a) + ", " +
                         std::to_string(b));
   if (a > b) std::swap(a, b);
   return static_cast<long long>(b) * (b + 1) / 2 + a;
 }
 
 HelmholtzMode helmholtz_mode_at(long long k) {
-  if (k < 0) throw ArgumentError("helmholtz_mode_at: index must be >= 0, got " + std::to_string(k));
+  if (k < 0) throw ArgumentError("Helmholtz mode: index must be >= 0, got " + std::to_string(k));
   auto b = static_cast<long long>((std::sqrt(8.0 * static_cast<double>(k) + 1.0) - 1.0) / 2.0);
   while (b * (b + 1) / 2 > k) --b;  // guard the floating-point estimate
   while ((b + 1) * (b + 2) / 2 <= k) ++b;
@@ -63,7 +63,7 @@ std::vector<HelmholtzMode> helmholtz_modes(int order) {
 
 Eigen::VectorXd bsss_from_coefficients(const Eigen::MatrixXd& c) {
   if (c.rows() != c.cols())
-    throw ArgumentError("bsss_from_coefficients: C must be square, got " + std::to_string(c.rows()) + " x " +
+    throw ArgumentError("BSSS from coefficients: C must be square, got " + std::to_string(c.rows()) + " x " +
                         std::to_string(c.cols()));
   hemisphere_basis_order(static_cast<int>(c.rows()));  // throws unless M is a basis count
   const Eigen::Index m = c.rows();
@@ -90,7 +90,7 @@ Eigen::MatrixXd coefficients_from_bsss(const Eigen::VectorXd& bsss) {
 
 Eigen::MatrixXd helmholtz_modes_eval(int order, const RowMatrix3d& wi, const RowMatrix3d& wr) {
   if (wi.rows() != wr.rows())
-    throw ArgumentError("helmholtz_modes_eval: wi has " + std::to_string(wi.rows()) + " rows but wr has " +
+    throw ArgumentError("Helmholtz modes: wi has " + std::to_string(wi.rows()) + " rows but wr has " +
                         std::to_string(wr.rows()));
   const long long count = helmholtz_mode_count(order);
   const Eigen::MatrixXd ki = hemisphere_basis_matrix(order, wi);  // rows x M

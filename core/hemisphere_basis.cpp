@@ -40,19 +40,19 @@ int hemisphere_basis_count(int order) {
 int hemisphere_basis_order(int count) {
   for (int n = 0; n <= kMaxZernikeOrder; ++n)
     if ((n + 1) * (n + 2) / 2 == count) return n;
-  throw ArgumentError("hemisphere_basis_order: " + std::to_string(count) +
+  throw ArgumentError("hemisphere basis: " + std::to_string(count) +
                       " is not (N+1)(N+2)/2 for any order N in [0, " + std::to_string(kMaxZernikeOrder) + "]");
 }
 
 int ansi_index(int n, int l) {
   if (n < 0 || l < -n || l > n || (n - l) % 2 != 0)
-    throw ArgumentError("ansi_index: need n >= 0, |l| <= n, n - l even, got n = " + std::to_string(n) +
+    throw ArgumentError("mode index: need n >= 0, |l| <= n, n - l even, got n = " + std::to_string(n) +
                         ", l = " + std::to_string(l));
   return (n * (n + 2) + l) / 2;
 }
 
 BasisIndex ansi_to_nl(int j) {
-  if (j < 0) throw ArgumentError("ansi_to_nl: index must be >= 0, got " + std::to_string(j));
+  if (j < 0) throw ArgumentError("mode index: index must be >= 0, got " + std::to_string(j));
   int n = static_cast<int>((std::sqrt(8.0 * j + 1.0) - 1.0) / 2.0);
   while (n * (n + 1) / 2 > j) --n;            // guard the floating-point estimate
   while ((n + 1) * (n + 2) / 2 <= j) ++n;
@@ -194,7 +194,7 @@ Eigen::MatrixXd hemisphere_basis_matrix(int order, const RowMatrix3d& dirs) {
   const Eigen::Index rows = dirs.rows();
   // Validate up front: nothing may throw inside the parallel loop.
   if (const Eigen::Index r = first_invalid_direction(dirs); r >= 0)
-    throw ArgumentError("hemisphere_basis_matrix: direction " + std::to_string(r) + " = (" + std::to_string(dirs(r, 0)) + ", " +
+    throw ArgumentError("hemisphere basis: direction " + std::to_string(r) + " = (" + std::to_string(dirs(r, 0)) + ", " +
                         std::to_string(dirs(r, 1)) + ", " + std::to_string(dirs(r, 2)) + ") is not a finite direction with z >= 0");
   Eigen::MatrixXd out(rows, count);
   advise_huge_pages(out.data(), sizeof(double) * static_cast<size_t>(out.size()));

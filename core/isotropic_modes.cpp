@@ -97,7 +97,7 @@ std::vector<HelmholtzComponent> isotropic_mode_components(int n, int m, int l) {
 
 Eigen::VectorXd ibsss_from_coefficients(const Eigen::MatrixXd& c) {
   if (c.rows() != c.cols())
-    throw ArgumentError("ibsss_from_coefficients: C must be square, got " + std::to_string(c.rows()) + " x " +
+    throw ArgumentError("IBSSS from coefficients: C must be square, got " + std::to_string(c.rows()) + " x " +
                         std::to_string(c.cols()));
   const auto modes = isotropic_modes(hemisphere_basis_order(static_cast<int>(c.rows())));
   Eigen::VectorXd v(static_cast<Eigen::Index>(modes.size()));
@@ -114,7 +114,7 @@ Eigen::VectorXd ibsss_from_coefficients(const Eigen::MatrixXd& c) {
 Eigen::MatrixXd coefficients_from_ibsss(int order, const Eigen::VectorXd& ibsss) {
   const auto modes = isotropic_modes(order);
   if (ibsss.size() != static_cast<Eigen::Index>(modes.size()))
-    throw ArgumentError("coefficients_from_ibsss: order " + std::to_string(order) + " has " +
+    throw ArgumentError("coefficients from IBSSS: order " + std::to_string(order) + " has " +
                         std::to_string(modes.size()) + " isotropic modes, got a vector of length " +
                         std::to_string(ibsss.size()));
   const int m = hemisphere_basis_count(order);
@@ -143,7 +143,7 @@ double anisotropic_energy_fraction(const Eigen::MatrixXd& c) {
 
 Eigen::MatrixXd isotropic_modes_eval(int order, const RowMatrix3d& wi, const RowMatrix3d& wr) {
   if (wi.rows() != wr.rows())
-    throw ArgumentError("isotropic_modes_eval: wi has " + std::to_string(wi.rows()) + " rows but wr has " +
+    throw ArgumentError("isotropic modes: wi has " + std::to_string(wi.rows()) + " rows but wr has " +
                         std::to_string(wr.rows()));
   const auto modes = isotropic_modes(order);
   const Eigen::MatrixXd ki = hemisphere_basis_matrix(order, wi);  // rows x M

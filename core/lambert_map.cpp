@@ -33,7 +33,7 @@ double lambert_rho_squared(const Eigen::Vector3d& unit_dir) {
 Eigen::Vector3d lambert_from_disk(const Eigen::Vector2d& p) {
   double r2 = p.squaredNorm();
   if (!(r2 <= 1.0 + kHorizonSlack))
-    throw ArgumentError("lambert_from_disk: point must lie in the unit disk, got |p| = " +
+    throw ArgumentError("Lambert map: point must lie in the unit disk, got |p| = " +
                         std::to_string(std::sqrt(r2)));
   if (r2 > 1.0) r2 = 1.0;
   const double s = std::sqrt(2.0 - r2);

@@ -1,4 +1,5 @@
 #include "core/lut.hpp"
+#include "core/progress.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -116,14 +117,17 @@ Lut build_lut(const BrdfModel& model, const Grid& g, bool cosine, LutSampling sa
   const int cells = g.cells(), ch = model.channels();
   Lut lut;
   lut.cosine = cosine;
-  lut.channels.assign(static_cast<size_t>(ch), Eigen::MatrixXd::Zero(cells, cells));
+  lut.channels.resize(static_cast<size_t>(ch));  // each cells x cells matrix allocated once, no temporary
+  for (auto& m : lut.channels) m.setZero(cells, cells);
   const int blocks = (cells + kRowBlock - 1) / kRowBlock;
+  ProgressMeter progress("sampling the LUT", blocks);
 #pragma omp parallel for schedule(dynamic)
   for (int b = 0; b < blocks; ++b) {
     const int r0 = b * kRowBlock, r1 = std::min(cells, r0 + kRowBlock);
     std::vector<Eigen::MatrixXd> part;
     sample_lut_rows(model, g, cosine, sampling, r0, r1, part);
     for (int c = 0; c < ch; ++c) lut.channels[c].middleRows(r0, r1 - r0) = part[c];
+    progress.step();
   }
   for (const auto& d : deltas)
     for (auto& m : lut.channels) add_delta_lut(d, g, m);

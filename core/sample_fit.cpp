@@ -33,7 +33,7 @@ Eigen::Index chunk_rows(int unknowns) { return std::max<Eigen::Index>(64, 4'000'
 
 Eigen::VectorXd tikhonov_penalties(int order, bool isotropic, double power) {
   if (!(power >= 0.0) || !std::isfinite(power))
-    throw ArgumentError("tikhonov_penalties: power p must be finite and >= 0, got " + std::to_string(power));
+    throw ArgumentError("Tikhonov penalties: power p must be finite and >= 0, got " + std::to_string(power));
   std::vector<std::pair<int, int>> nm;
   if (isotropic) {
     for (const auto& k : isotropic_modes(order)) nm.emplace_back(k.n, k.m);

@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <mutex>
+#include <set>
 
 #include "core/error.hpp"
 #include "io/output_path.hpp"
@@ -37,7 +39,36 @@ int sync_path(const std::string& p, bool folder) {
   return err;
 }
 
+// Temporaries of the atomic writes in progress (remove_unfinished_temporaries).
+std::mutex& temporaries_mutex() {
+  static std::mutex m;
+  return m;
+}
+std::set<std::string>& temporaries() {
+  static std::set<std::string> t;
+  return t;
+}
+
+// Registers a temporary for its lifetime.
+struct InFlight {
+  std::string path;
+  explicit InFlight(std::string p) : path(std::move(p)) {
+    std::lock_guard<std::mutex> lock(temporaries_mutex());
+    temporaries().insert(path);
+  }
+  ~InFlight() {
+    std::lock_guard<std::mutex> lock(temporaries_mutex());
+    temporaries().erase(path);
+  }
+};
+
 }  // namespace
+
+void remove_unfinished_temporaries() {
+  std::lock_guard<std::mutex> lock(temporaries_mutex());
+  for (const auto& t : temporaries()) ::unlink(t.c_str());
+  temporaries().clear();
+}
 
 std::string file_name(const std::string& path) {
   const auto slash = path.find_last_of('/');
@@ -72,6 +103,7 @@ void atomic_write(const std::string& path, const std::function<void(const std::s
   if (fd < 0) fail(path, "cannot find a free temporary name in " + folder, EEXIST);
   ::close(fd);
 
+  const InFlight in_flight(temp);
   try {
     produce(temp);
     write_fault_point("atomic_write:produced");

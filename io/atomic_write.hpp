@@ -20,6 +20,11 @@ namespace icobrdf {
 
 void atomic_write(const std::string& path, const std::function<void(const std::string& temp_path)>& produce);
 
+// Removes the temporaries of atomic writes still in progress in this process: for a program that must end
+// at once (std::terminate after an allocation failed in a worker thread), so that it leaves no partial output.
+// Files already renamed into place are untouched.
+void remove_unfinished_temporaries();
+
 // atomic_write of a text (or any bytes) as the whole file.
 void atomic_write_text(const std::string& path, const std::string& text);
 

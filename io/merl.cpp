@@ -209,7 +209,7 @@ MerlTable read_merl(const std::string& path) {
 void write_merl(const std::string& path, const BrdfModel& model, const std::function<bool(const MerlBin&)>& missing) {
   const int ch = model.channels();
   if (ch != 1 && ch != 3)
-    throw ArgumentError("write_merl: model '" + quoted_text(model.spec()) + "' has " + std::to_string(ch) + " channels, expected 1 or 3");
+    throw ArgumentError("MERL table: model '" + quoted_text(model.spec()) + "' has " + std::to_string(ch) + " channels, expected 1 or 3");
   std::vector<unsigned char> bytes(static_cast<size_t>(kMerlFileBytes));
   put_le_int32(kMerlThetaHalfRes, bytes.data());
   put_le_int32(kMerlThetaDiffRes, bytes.data() + 4);
@@ -235,7 +235,7 @@ void write_merl(const std::string& path, const BrdfModel& model, const std::func
       for (int c = 0; c < 3; ++c) {
         const double f = out(r, ch == 3 ? c : 0);
         if (!gone && above && (!std::isfinite(f) || f < 0))
-          throw ArgumentError("write_merl: model '" + quoted_text(model.spec()) + "' gives " + std::to_string(f) +
+          throw ArgumentError("MERL table: model '" + quoted_text(model.spec()) + "' gives " + std::to_string(f) +
                               " at a table node; expected a finite value >= 0");
         const double v = gone ? -1.0 : (std::isfinite(f) ? std::max(f, 0.0) : 0.0) / kMerlChannelScale[static_cast<size_t>(c)];
         put_le_double(v, bytes.data() + 12 + 8 * (c * kMerlSamplesPerChannel + bin.flat()));

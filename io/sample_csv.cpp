@@ -39,7 +39,7 @@ void normalize(double& theta, double& phi, double full) {
 
 BrdfSamples read_sample_csv(const std::string& path, const SampleCsvOptions& options) {
   if (!(options.reciprocity_tolerance >= 0) || !std::isfinite(options.reciprocity_tolerance))
-    throw ArgumentError("read_sample_csv: reciprocity tolerance must be finite and >= 0");
+    throw ArgumentError("CSV samples: reciprocity tolerance must be finite and >= 0");
   const CsvTable t = read_numeric_csv(path);
   require_columns(t, {"theta_i", "phi_i", "theta_r", "phi_r"});
   if (t.header.size() != 5 && t.header.size() != 7)

@@ -159,7 +159,11 @@ Scene read_scene(const std::string& path) {
     if (!(s.target > 0)) fail(s, w, "'target' expected > 0");
     if (sampling != "centre" && sampling != "average") fail(s, w, "'sampling' expected \"centre\" or \"average\", found \"" + quoted_text(sampling) + "\"");
     s.sampling = sampling == "average" ? LutSampling::CellAverage : LutSampling::CellCentre;
-    if (s.holdout_pairs < 16 || s.holdout_pairs > 1000000) fail(s, w, "'holdout_pairs' expected in [16, 1000000]");
+    if (s.holdout_pairs < 16 || s.holdout_pairs > kMaxErrorPairs)
+      fail(s, w, "'holdout_pairs' expected in [16, " + std::to_string(kMaxErrorPairs) + "], found " + std::to_string(s.holdout_pairs));
+    if (s.store_lut)  // LUTs are stored on the bank's grid; a one-channel LUT is the smallest
+      if (const std::string p = lut_size_problem(equal_area_cells(s.level), 1, s.lut_float32); !p.empty())
+        fail(s, w, "'store_lut' on the level-" + std::to_string(s.level) + " bank grid: " + p);
   }
   for (const auto& [k, v] : root) {
     if (k.str() != "bank" && k.str() != "material") fail(s, "top level", "unknown table '" + quoted_text(std::string(k.str())) + "'");
@@ -210,6 +214,9 @@ Scene read_scene(const std::string& path) {
     m.lights = directions(s, *t, w, "lights");
     m.cameras = directions(s, *t, w, "cameras");
     if (m.lights.empty() != m.cameras.empty()) fail(s, w, "'lights' and 'cameras' go together: give both or neither");
+    if (static_cast<double>(m.lights.size()) * static_cast<double>(m.cameras.size()) > static_cast<double>(kMaxErrorPairs))
+      fail(s, w, "'lights' x 'cameras' expected at most " + std::to_string(kMaxErrorPairs) + " pairs, found " + std::to_string(m.lights.size()) +
+                     " x " + std::to_string(m.cameras.size()));
     s.materials.push_back(std::move(m));
   }
   return s;

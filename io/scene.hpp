@@ -38,6 +38,10 @@
 
 namespace icobrdf {
 
+// Most direction pairs a material's error is measured on: holdout_pairs, and lights x cameras. A million
+// pairs is 1e6 evaluations per candidate (well under a second) and ~100 MB of pair data; 1e8 would be 10 GB.
+inline constexpr long long kMaxErrorPairs = 1000000;
+
 // The scene's words, parsed once by read_scene; to_string gives back the scene's text (resume keys use it).
 enum class ErrorMetric { F, Cosine };                 // "f" | "cosine"
 enum class IsotropicChoice { Auto, Always, Never };   // "auto" | true | false

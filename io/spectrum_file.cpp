@@ -24,9 +24,6 @@ using RowMapF = Eigen::Map<Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, 
 
 std::int64_t modes_of(std::int64_t order) { return (order + 1) * (order + 2) / 2; }
 
-// Cell count of the equal-area hemisphere tessellation at `level` (whole cells 10 * 4^L, plus 2^(L+1)
-// equator cells cut in half): docs/SPEC-NOTES "Discrete engine".
-std::int64_t equal_area_cells(int level) { return 10 * (std::int64_t{1} << (2 * level)) + (std::int64_t{1} << (level + 1)); }
 
 // Reason an IBSSS (n, m, l) entry is invalid for `order`, or "".
 std::string ibsss_index_problem(int n, int m, int l, int order) {
@@ -72,6 +69,23 @@ void require_storable_source(const std::string& source) {
   if (const std::string p = source_text_problem(source); !p.empty()) throw ArgumentError(p);
 }
 
+// Cell count of the equal-area hemisphere tessellation at `level` (whole cells 10 * 4^L, plus 2^(L+1)
+// equator cells cut in half): docs/SPEC-NOTES "Discrete engine".
+std::int64_t equal_area_cells(int level) { return 10 * (std::int64_t{1} << (2 * level)) + (std::int64_t{1} << (level + 1)); }
+
+std::string lut_size_problem(std::int64_t cells, int channels, bool float32) {
+  const double bytes = static_cast<double>(channels) * static_cast<double>(cells) * static_cast<double>(cells) * (float32 ? 4 : 8);
+  if (bytes <= static_cast<double>(h5::kDefaultMaxDatasetBytes)) return "";
+  return "a " + std::to_string(channels) + "-channel " + (float32 ? "float32" : "float64") + " LUT of " + std::to_string(cells) +
+         " x " + std::to_string(cells) + " cells is " + std::to_string(static_cast<long long>(bytes / 1e6)) +
+         " MB, more than the " + std::to_string(h5::kDefaultMaxDatasetBytes >> 20) +
+         " MiB a LUT file may hold (level 5 is the largest stored LUT; banks of higher levels store spectra only)";
+}
+
+void require_storable_lut(std::int64_t cells, int channels, bool float32, const std::string& what) {
+  if (const std::string p = lut_size_problem(cells, channels, float32); !p.empty()) throw UnsupportedError(what + ": " + p);
+}
+
 // Names of the `choice` attributes.
 static bool choice_key_ok(const std::string& k) {
   if (k.empty() || k.size() > 64) return false;
@@ -91,6 +105,7 @@ std::string representation_name(const MaterialRecord& rec) {
 static void write_lut(h5::Group& g, const MaterialRecord& rec, std::int64_t cells) {
   const int ch = rec.spectrum.channel_count();
   if (!rec.lut.empty()) {
+    require_storable_lut(cells, ch, rec.lut_float32, g.path() + " material '" + rec.name + "'");
     const size_t per = static_cast<size_t>(cells * cells);
     const std::string what = "LUT[c, i, r] = BRDF on incident cell i and remitted cell r";
     if (rec.lut_float32) {

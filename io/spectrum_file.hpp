@@ -63,6 +63,17 @@ std::string source_text_problem(const std::string& source);
 // Throws ArgumentError with that reason: commands that store their SOURCE call it before any work.
 void require_storable_source(const std::string& source);
 
+// Cells of the equal-area grid of `level`: 10 4^L + 2^(L+1).
+std::int64_t equal_area_cells(int level);
+
+// A LUT dataset holds channels x cells x cells values of 8 bytes (4 with float32) and may not exceed the
+// readers' limit h5::kDefaultMaxDatasetBytes (4 GiB: level 5 with 3 float64 channels is 2.5 GB, level 6 with
+// one float32 channel already 6.75 GB). Reason a LUT of this size cannot be stored, or "".
+std::string lut_size_problem(std::int64_t cells, int channels, bool float32);
+// Throws UnsupportedError with that reason prefixed by `what`: commands call it before sampling a LUT, and the
+// writer before writing one, so no file is written that its own readers refuse.
+void require_storable_lut(std::int64_t cells, int channels, bool float32, const std::string& what);
+
 // Writes `rec` as the new group `materials/<rec.name>`. ArgumentError when the record is inconsistent
 // (C not M x M for the order, channels not 1 or 3, LUT not square, IBSSS tables disagreeing, a float32 LUT
 // value beyond float32 range); IoError on write failure. Finiteness is checked before the file is opened

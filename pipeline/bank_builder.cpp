@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <iostream>
 #include <map>
 #include <optional>
 
@@ -14,6 +15,7 @@
 #include "pipeline/bank_resume.hpp"
 #include "pipeline/held_out.hpp"
 #include "pipeline/material_candidate.hpp"
+#include "pipeline/reflectance_check.hpp"
 
 namespace icobrdf {
 namespace {
@@ -36,7 +38,7 @@ void report_candidate(const MaterialCandidate& c, MaterialReport& rep) {
 
 // One material from its source: held-out pairs, the best representation, the record as stored.
 MaterialRecord fit_material(const Scene& scene, const SceneMaterial& m, FitContexts& contexts, BankOperators& bank,
-                            MaterialReport& rep, const Say& say) {
+                            MaterialReport& rep, const Say& say, const BankBuildOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
   const auto src = open_source(m.source);
   rep.source = src->spec();
@@ -53,6 +55,9 @@ MaterialRecord fit_material(const Scene& scene, const SceneMaterial& m, FitConte
   chosen.record.name = m.name;
   chosen.record.spectrum.source = rep.source;
   MaterialRecord rec = bank.finish_record(std::move(chosen));
+  if (opt.strict || opt.warnings)
+    check_fitted_albedo(rec.spectrum, bank.grid(), "material '" + m.name + "' (" + quoted_text(rep.source) + ")",
+                        {opt.strict, opt.warnings ? opt.warnings : &std::cerr});
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   store_choice(rec, rep);
   return rec;
@@ -60,9 +65,10 @@ MaterialRecord fit_material(const Scene& scene, const SceneMaterial& m, FitConte
 
 // A material taken from the resume file or fitted; its report is filled in either way.
 MaterialRecord material_record(const Scene& scene, const SceneMaterial& m, const std::map<std::string, MaterialRecord>& previous,
-                               FitContexts& contexts, BankOperators& bank, MaterialReport& rep, const Say& say) {
+                               FitContexts& contexts, BankOperators& bank, MaterialReport& rep, const Say& say,
+                               const BankBuildOptions& opt) {
   const auto prev = previous.find(rep.key);
-  if (prev == previous.end()) return fit_material(scene, m, contexts, bank, rep, say);
+  if (prev == previous.end()) return fit_material(scene, m, contexts, bank, rep, say, opt);
   MaterialRecord rec = prev->second;
   rec.name = m.name;
   report_from_record(rec, rep);
@@ -105,7 +111,7 @@ BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& opt) {
     rep.key = material_key(scene, m);
     say("[" + std::to_string(i + 1) + "/" + std::to_string(scene.materials.size()) + "] " + m.name + " (" + quoted_text(m.source) + ")");
     try {
-      done.materials.push_back(material_record(scene, m, previous, contexts, bank, rep, say));
+      done.materials.push_back(material_record(scene, m, previous, contexts, bank, rep, say, opt));
       rep.ok = true;
       checkpoint.maybe_write(done, false);
     } catch (const std::exception& e) {

@@ -55,6 +55,10 @@ struct BankBuildOptions {
   bool resume = false;
   std::function<void(const std::string&)> progress;  // one line per step, may be empty
   const std::atomic<int>* stop = nullptr;             // non-zero: stop after the current material
+  // Negative directional albedo of a fitted material (pipeline/reflectance_check.hpp): a warning on
+  // `warnings` (none when null), or, when strict, the material fails.
+  bool strict = false;
+  std::ostream* warnings = nullptr;
 };
 
 struct BankBuildResult {

@@ -1,6 +1,7 @@
 #include "pipeline/fit_source.hpp"
 
 #include "mesh/tessellation.hpp"
+#include "pipeline/resource_estimate.hpp"
 
 namespace icobrdf {
 namespace {
@@ -20,6 +21,8 @@ std::shared_ptr<const Grid> FitContexts::grid(const FitRequest& request) {
 
 std::shared_ptr<const ProjectionContext> FitContexts::context(const FitRequest& request) {
   auto& c = contexts_[{grid_key(request), request.order, request.gram_tolerance}];
+  // One channel: the channel terms are small beside the C x M matrices that decide whether it fits.
+  if (!c) require_model_fit_memory(request.level, request.order, 1, "a fit");
   if (!c) c = std::make_shared<const ProjectionContext>(make_projection_context(grid(request), request.order, request.gram_tolerance));
   return c;
 }
@@ -28,7 +31,11 @@ int FitContexts::supported_order(const FitRequest& request) {
   const ContextKey key{grid_key(request), request.order, request.gram_tolerance};
   const auto it = supported_.find(key);
   if (it != supported_.end()) return it->second;
-  return supported_[key] = largest_supported_order(build_discrete_basis(*grid(request), request.order), request.gram_tolerance);
+  // The basis is built at the largest order whose fit the memory holds: a search need not be refused for an
+  // order it may never reach, and orders beyond that one are never tried.
+  const int in_memory = largest_order_in_memory(request.level, request.order, 1);
+  if (in_memory < 0) require_model_fit_memory(request.level, 0, 1, "a fit");
+  return supported_[key] = largest_supported_order(build_discrete_basis(*grid(request), in_memory), request.gram_tolerance);
 }
 
 FitResult fit_source(const BrdfSource& source, const FitRequest& request) {

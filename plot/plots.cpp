@@ -59,10 +59,10 @@ void draw_disk_frame(Figure& fig, const PanelRect& r) {
 std::vector<std::string> plot_basis(int order, const std::string& dir, bool separate, int panel_request) {
   constexpr int kMaxBasisOrder = 16;
   if (order < 0 || order > kMaxBasisOrder)
-    throw ArgumentError(fmt::format("plot_basis: order {} outside 0..{}", order, kMaxBasisOrder));
-  if (!is_directory(dir)) throw ArgumentError("plot_basis: " + dir + " is not an existing directory");
+    throw ArgumentError(fmt::format("basis plot: order {} outside 0..{}", order, kMaxBasisOrder));
+  if (!is_directory(dir)) throw ArgumentError("basis plot: " + dir + " is not an existing directory");
   if (panel_request != 0 && (panel_request < 32 || panel_request > 800))
-    throw ArgumentError(fmt::format("plot_basis: panel {} outside 32..800 pixels", panel_request));
+    throw ArgumentError(fmt::format("basis plot: panel {} outside 32..800 pixels", panel_request));
   const int panel = panel_request ? panel_request : std::clamp(1400 / (order + 1) - 24, 60, 170);
   const DiskSamples ds = disk_samples(panel);
   const Eigen::MatrixXd b = disk_basis(ds, order);
@@ -121,16 +121,16 @@ constexpr int kMaxSliceOrder = 32;
 constexpr std::size_t kMaxSliceColumns = 9;
 
 void check_slice_request(const SliceSource& src, const SliceRequest& q) {
-  if (q.orders.empty()) throw ArgumentError("plot_slice: at least one truncation order is required");
+  if (q.orders.empty()) throw ArgumentError("slice plot: at least one truncation order is required");
   for (int n : q.orders)
-    if (n < 0 || n > kMaxSliceOrder) throw ArgumentError(fmt::format("plot_slice: order {} outside 0..{}", n, kMaxSliceOrder));
+    if (n < 0 || n > kMaxSliceOrder) throw ArgumentError(fmt::format("slice plot: order {} outside 0..{}", n, kMaxSliceOrder));
   if (!(q.theta_i >= 0.0 && q.theta_i < M_PI / 2))
-    throw ArgumentError(fmt::format("plot_slice: theta_i {} degrees outside [0, 90)", q.theta_i * kDeg));
+    throw ArgumentError(fmt::format("slice plot: theta_i {} degrees outside [0, 90)", q.theta_i * kDeg));
   if (q.orders.size() > kMaxSliceColumns)
-    throw ArgumentError(fmt::format("plot_slice: at most {} orders side by side, found {}", kMaxSliceColumns, q.orders.size()));
+    throw ArgumentError(fmt::format("slice plot: at most {} orders side by side, found {}", kMaxSliceColumns, q.orders.size()));
   const int top_order = *std::max_element(q.orders.begin(), q.orders.end());
   if (top_order > src.spectrum.order)
-    throw ArgumentError(fmt::format("plot_slice: order {} beyond the order {} of the spectrum", top_order, src.spectrum.order));
+    throw ArgumentError(fmt::format("slice plot: order {} beyond the order {} of the spectrum", top_order, src.spectrum.order));
 }
 
 // One column of a slice picture: its values on the disk raster and along the plane of incidence.
@@ -449,22 +449,22 @@ Shader model_shader(const PairFunction& f, int channels, const std::string& name
 
 void check_sphere_request(const SphereRequest& q) {
   if (!(q.light_theta >= 0.0 && q.light_theta <= M_PI))
-    throw ArgumentError(fmt::format("plot_sphere: light theta {} degrees outside 0..180", q.light_theta * kDeg));
-  if (!(q.exposure > 0.0) || !std::isfinite(q.exposure)) throw ArgumentError(fmt::format("plot_sphere: exposure {} is not > 0", q.exposure));
-  if (!(q.sky >= 0.0) || !std::isfinite(q.sky)) throw ArgumentError(fmt::format("plot_sphere: sky radiance {} is not >= 0", q.sky));
+    throw ArgumentError(fmt::format("sphere plot: light theta {} degrees outside 0..180", q.light_theta * kDeg));
+  if (!(q.exposure > 0.0) || !std::isfinite(q.exposure)) throw ArgumentError(fmt::format("sphere plot: exposure {} is not > 0", q.exposure));
+  if (!(q.sky >= 0.0) || !std::isfinite(q.sky)) throw ArgumentError(fmt::format("sphere plot: sky radiance {} is not >= 0", q.sky));
   if (q.size < kMinSphereSize || q.size > kMaxSphereSize)
-    throw ArgumentError(fmt::format("plot_sphere: size {} outside {}..{} pixels", q.size, kMinSphereSize, kMaxSphereSize));
+    throw ArgumentError(fmt::format("sphere plot: size {} outside {}..{} pixels", q.size, kMinSphereSize, kMaxSphereSize));
 }
 
 // The shader of each material as `shading` asks: the model itself, or the spectrum.
 std::vector<Shader> sphere_shaders(const std::vector<SphereMaterial>& materials, SphereRequest::Shading shading) {
-  if (materials.empty()) throw ArgumentError("plot_sphere: no material to draw");
+  if (materials.empty()) throw ArgumentError("sphere plot: no material to draw");
   std::vector<Shader> shaders;
   for (const auto& m : materials) {
     const bool use_model = m.model && shading != SphereRequest::Shading::Spectrum;
     if (shading == SphereRequest::Shading::Model && !use_model)
-      throw ArgumentError("plot_sphere: model shading needs the model of '" + m.name + "' (a model without delta parts)");
-    if (!use_model && !m.spectrum) throw ArgumentError("plot_sphere: '" + m.name + "' has no spectrum to shade from");
+      throw ArgumentError("sphere plot: model shading needs the model of '" + m.name + "' (a model without delta parts)");
+    if (!use_model && !m.spectrum) throw ArgumentError("sphere plot: '" + m.name + "' has no spectrum to shade from");
     shaders.push_back(use_model ? model_shader(m.model, m.model_channels, m.name) : spectrum_shader(*m.spectrum, m.name));
   }
   return shaders;

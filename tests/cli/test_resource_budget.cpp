@@ -1,0 +1,163 @@
+// Work the machine cannot do is refused before it starts (issue #19, class 1): each command estimates its
+// peak memory from the request (pipeline/resource_estimate.hpp) and compares it with what the machine, or
+// --memory-budget / ICOBRDF_MEMORY_BUDGET, offers: exit 6, one line with the need, what there is and what
+// fits, and no output. An allocation that fails anyway (here forced by an address-space limit, with the
+// estimate overridden) ends the same way, also inside OpenMP worker threads: never an abort (134) or an
+// "internal error" (70), and no partial file or temporary left. LUTs too large for the files' readers are
+// refused before sampling, and scenes whose error pairs or stored LUTs would not fit before any fitting.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "tests/cli/cli_runner.hpp"
+#include "tests/cli/measured_run.hpp"
+
+namespace icobrdf::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kExitResources = 6;    // cli/exit_codes.hpp
+constexpr int kExitUnsupported = 4;
+constexpr int kExitInput = 3;
+
+struct Scratch {
+  fs::path dir;
+  Scratch() {
+    dir = fs::temp_directory_path() / ("icobrdf_budget_" + std::to_string(::getpid()) + "_" +
+                                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+  }
+  ~Scratch() { fs::remove_all(dir); }
+  std::string path(const std::string& name) const { return (dir / name).string(); }
+  // Every entry of the folder (temporaries are hidden dot files).
+  std::vector<std::string> entries() const {
+    std::vector<std::string> e;
+    for (const auto& x : fs::directory_iterator(dir)) e.push_back(x.path().filename().string());
+    return e;
+  }
+};
+
+void expect_one_line(const std::string& err) {
+  ASSERT_FALSE(err.empty());
+  EXPECT_EQ(err.find('\n'), err.size() - 1) << err;
+}
+
+TEST(ResourceBudget, LutBeyondTheBudgetIsRefusedNamingWhatFits) {
+  Scratch s;
+  // A level-5 LUT is 10,304^2 doubles = 849 MB, held twice at its peak: far beyond 300 MB; level 4 (52 MB) fits.
+  const auto r = run_cli({"--memory-budget", "300MB", "lut", "model:lambert", "--level", "5", "-o", s.path("x.h5")});
+  EXPECT_EQ(r.exit_code, kExitResources) << r.err;
+  expect_one_line(r.err);
+  EXPECT_NE(r.err.find("needs about"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("300 MB is available (memory budget)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("level 4 fits"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--memory-budget"), std::string::npos) << r.err;
+  EXPECT_TRUE(s.entries().empty());
+}
+
+TEST(ResourceBudget, BudgetFromTheEnvironmentAndAfterTheCommand) {
+  Scratch s;
+  const auto env = run_measured({"fit", "model:ggx:alpha=0.3", "--level", "7", "--order", "64", "-o", s.path("x.h5")}, 0,
+                                {{"ICOBRDF_MEMORY_BUDGET", "1G"}});
+  EXPECT_EQ(env.exit_code, kExitResources) << env.err;
+  EXPECT_NE(env.err.find("a fit at level 7, order 64 needs about"), std::string::npos) << env.err;
+  EXPECT_NE(env.err.find("fits at level 7"), std::string::npos) << env.err;
+  // The option is accepted after the command's name too.
+  const auto after = run_cli({"fit", "model:ggx:alpha=0.3", "--level", "7", "--order", "64", "-o", s.path("x.h5"), "--memory-budget", "1G"});
+  EXPECT_EQ(after.exit_code, kExitResources) << after.err;
+  EXPECT_TRUE(s.entries().empty());
+}
+
+TEST(ResourceBudget, BadBudgetIsAUsageError) {
+  const auto r = run_cli({"--memory-budget", "8Q", "grid", "--level", "1"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("expected a size"), std::string::npos) << r.err;
+}
+
+TEST(ResourceBudget, LutLargerThanItsReadersAcceptIsRefusedBeforeSampling) {
+  Scratch s;
+  // Level 6: 41,088^2 x 8 B = 13.5 GB per channel (6.75 GB as float32), beyond the readers' 4 GiB datasets.
+  for (const bool f32 : {false, true}) {
+    std::vector<std::string> args{"lut", "model:lambert", "--level", "6", "-o", s.path("x.h5")};
+    if (f32) args.push_back("--float32");
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, kExitUnsupported) << r.err;
+    expect_one_line(r.err);
+    EXPECT_NE(r.err.find("41088 x 41088"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("4096 MiB"), std::string::npos) << r.err;
+  }
+  EXPECT_TRUE(s.entries().empty());
+}
+
+TEST(ResourceBudget, FailedAllocationsEndCleanlyInAnyThread) {
+  if (kSanitizedBuild) GTEST_SKIP() << "an address-space limit leaves AddressSanitizer no room to start";
+  Scratch s;
+  // The estimate is overridden (100 GB) so that the work starts; the address-space limit then makes an
+  // allocation fail at some point: in the main thread for the LUT, or in a worker thread of the projection
+  // (which OpenMP cannot pass on). Several limits put the failure at different places.
+  const std::vector<std::pair<std::vector<std::string>, std::vector<double>>> cases{
+      {{"lut", "model:ggx:alpha=0.3", "--level", "5", "--sampling", "centre", "-o", s.path("lut.h5")}, {300e6, 900e6, 1.2e9}},
+      {{"fit", "model:ggx:alpha=0.3", "--level", "6", "--order", "30", "--sampling", "centre", "-o", s.path("fit.h5")}, {150e6, 200e6, 400e6}},
+  };
+  for (const auto& [args, limits] : cases)
+    for (const double limit : limits) {
+      std::vector<std::string> a{"--memory-budget", "100G", "--no-progress"};
+      a.insert(a.end(), args.begin(), args.end());
+      const auto r = run_measured(a, limit);
+      SCOPED_TRACE(args[0] + " under " + std::to_string(limit / 1e6) + " MB of address space");
+      EXPECT_EQ(r.signal_number, 0) << r.err;
+      EXPECT_EQ(r.exit_code, kExitResources) << r.err;
+      expect_one_line(r.err);
+      EXPECT_NE(r.err.find("out of memory"), std::string::npos) << r.err;
+      EXPECT_TRUE(s.entries().empty()) << "left: " << s.entries().front();
+    }
+}
+
+void write_text(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+TEST(ResourceBudget, SceneStoringLutsTooLargeToReadIsRefusedBeforeFitting) {
+  Scratch s;
+  write_text(s.path("scene.toml"), "[bank]\nlevel = 6\nlevels = [2]\norder_max = 4\nstore_lut = true\n\n[[material]]\nname = \"m\"\nsource = \"model:lambert\"\n");
+  const auto r = run_cli({"bank", "build", s.path("scene.toml"), "-o", s.path("bank.h5")});
+  EXPECT_EQ(r.exit_code, kExitInput) << r.err;
+  expect_one_line(r.err);
+  EXPECT_NE(r.err.find("'store_lut' on the level-6 bank grid"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(s.path("bank.h5")));
+}
+
+TEST(ResourceBudget, SceneWithTooManyErrorPairsIsRefusedBeforeFitting) {
+  Scratch s;
+  // 1,001 lights x 1,000 cameras = 1,001,000 pairs, one more thousand than the limit of a million.
+  std::string lights = "[", cameras = "[";
+  for (int k = 0; k < 1001; ++k) lights += (k ? ", " : "") + std::string("[") + std::to_string(k % 80) + ", 0]";
+  for (int k = 0; k < 1000; ++k) cameras += (k ? ", " : "") + std::string("[") + std::to_string(k % 80) + ", 90]";
+  write_text(s.path("scene.toml"), "[bank]\nlevel = 2\nlevels = [2]\norder_max = 4\n\n[[material]]\nname = \"m\"\nsource = \"model:lambert\"\nlights = " +
+                                       lights + "]\ncameras = " + cameras + "]\n");
+  const auto r = run_cli({"bank", "build", s.path("scene.toml"), "-o", s.path("bank.h5")});
+  EXPECT_EQ(r.exit_code, kExitInput) << r.err;
+  expect_one_line(r.err);
+  EXPECT_NE(r.err.find("at most 1000000 pairs, found 1001 x 1000"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(s.path("bank.h5")));
+}
+
+TEST(ResourceBudget, LongWorkShowsProgressWithWhatIsLeft) {
+  if (kSanitizedBuild) GTEST_SKIP() << "a level-5 LUT takes minutes under the sanitizers";
+  Scratch s;
+  // A level-5 GGX LUT samples 10,304^2 cell pairs: some 9 s on 2 idle cores, past the 2 s delay.
+  const auto r = run_cli({"lut", "model:ggx:alpha=0.3", "--level", "5", "--sampling", "centre", "-o", s.path("x.h5")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("sampling the LUT: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(" left\n"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("sampling the LUT: done after"), std::string::npos) << r.err;
+  const auto quiet = run_cli({"lut", "model:ggx:alpha=0.3", "--level", "5", "--sampling", "centre", "--no-progress", "-o", s.path("y.h5")});
+  ASSERT_EQ(quiet.exit_code, 0) << quiet.err;
+  EXPECT_EQ(quiet.err.find("sampling the LUT"), std::string::npos) << quiet.err;
+}
+
+}  // namespace
+}  // namespace icobrdf::test
