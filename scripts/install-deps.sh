@@ -6,6 +6,7 @@ packages=(
   libeigen3-dev libopenmesh-dev libhdf5-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libbenchmark-dev libcairo2-dev libopenblas-dev libboost-dev
   python3 python3-numpy python3-h5py python3-matplotlib
+  python3-dev pybind11-dev python3-pytest   # the Python module (python/) and its tests
   clang libclang-rt-14-dev libomp-dev llvm   # scripts/fuzz.sh: libFuzzer, sanitizer runtimes, OpenMP for clang, llvm-symbolizer
 )
 missing=()
