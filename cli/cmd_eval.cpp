@@ -5,7 +5,7 @@
 // SOURCE: model:NAME[:key=value,...] (icobrdf models lists them; sums "model:0.8*lambert+0.2*ggx:alpha=0.1")
 // or any other SOURCE that io/brdf_source.hpp opens. PAIRS.csv: header theta_i,phi_i,theta_r,phi_r, degrees
 // unless --radians (io/direction_csv.hpp). Output: CSV with a header of one column per channel ("f" or
-// "f_r,f_g,f_b"), one line per input row, f in 1/sr, shortest round-trip decimals. Delta parts (mirror,
+// "f_r,f_g,f_b"; a source naming its channels gives "f_" + name, e.g. "f_550nm" for a spectral RGL material), one line per input row, f in 1/sr, shortest round-trip decimals. Delta parts (mirror,
 // retroreflector) have no pointwise value: the regular part is printed and a note goes to stderr.
 // Nothing is printed to stdout unless every row was evaluated and every value is finite (an overflow is an
 // error, exit 4); negative f is reported as non-physical (pipeline/reflectance_check.hpp; error with --strict).
@@ -37,7 +37,7 @@ void run_eval(const EvalOptions& o) {
   const Eigen::MatrixXd values = source->eval(pairs.wi, pairs.wr);
   check_reflectance(values, "eval " + quoted_text(source->spec()), "the evaluation at the pairs of " + o.at, "f", {o.strict, &std::cerr});
   for (const auto& note : source->notes()) std::cerr << "icobrdf: note: " << source->spec() << ": " << note << "\n";
-  const std::vector<std::string> columns = channel_column_names(source->channels());
+  const std::vector<std::string> columns = channel_column_names(*source);
   std::string text;
   for (std::size_t c = 0; c < columns.size(); ++c) text += (c ? "," : "") + columns[c];
   text += "\n";
