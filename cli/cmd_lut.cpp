@@ -46,7 +46,8 @@ void run_lut(const LutArgs& a) {
   check_output_path(a.output, {a.source});
   require_storable_source(a.source);
   std::string label;
-  const auto model = model_of_source(a.source, &label);
+  std::vector<std::string> channel_names;
+  const auto model = model_of_source(a.source, &label, &channel_names);
   auto grid = std::make_shared<const Grid>(build_equal_area_grid(a.level));
   const auto named = lut_sampling_named(a.sampling);
   if (!named) throw ArgumentError("--sampling: expected 'average' or 'centre', found '" + quoted_text(a.sampling) + "'");
@@ -61,6 +62,7 @@ void run_lut(const LutArgs& a) {
   o.cosine = cosine;
   const auto ctx = make_projection_context(grid, a.order);
   auto rec = lut_record(a.name, lut, label, ctx, o, a.float32);
+  rec.spectrum.channel_names = channel_names;
   const auto wf = white_furnace(lut.channels[0], cosine, *grid);
   write_lut_file(a.output, *grid, std::move(rec));
   std::cout << fmt::format("{}: {} x {} LUT of {} ({}), max directional albedo {:.6g}\n", a.output, grid->cells(), grid->cells(),
