@@ -171,7 +171,15 @@ class SampleCsvSource final : public BrdfSource, public SampleFitHolder {
 
 class ScatmechSource final : public BrdfSource {
  public:
-  ScatmechSource(Spectrum s, std::string text) : s_(std::move(s)), text_(std::move(text)) { s_.source = text_; }
+  ScatmechSource(Spectrum s, const ScatmechCoefficients& file, std::string text) : s_(std::move(s)), text_(std::move(text)) {
+    s_.source = text_;
+    if (file.polarized_rows > 0)
+      notes_.push_back(std::to_string(file.polarized_rows) + " row(s) of polarized Mueller elements (i, j) != (1, 1) ignored: the BRDF is the unpolarized element's " +
+                       std::to_string(file.unpolarized_rows) + " row(s)");
+    if (file.k_differs_rows > 0)
+      notes_.push_back(std::to_string(file.k_differs_rows) + " unpolarized row(s) with k != l: the azimuthal order is taken from l, as SCATMECH evaluates");
+  }
+  std::vector<std::string> notes() const override { return notes_; }
   std::string spec() const override { return text_; }
   int channels() const override { return 1; }
   Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
@@ -195,6 +203,7 @@ class ScatmechSource final : public BrdfSource {
  private:
   Spectrum s_;
   std::string text_;
+  std::vector<std::string> notes_;
 };
 
 // f of an RGL material (io/rgl_bsdf.hpp): evaluated as Mitsuba's measured BSDF does, divided by cos(theta_r);
@@ -304,7 +313,8 @@ std::unique_ptr<BrdfSource> open_scatmech(const std::string& text, const std::st
   }
   if (io.wavelength_um != -1.0 && !(io.wavelength_um > 0))
     throw ArgumentError("SOURCE '" + quoted_text(text) + "': lambda must be > 0 (micrometres)");
-  return std::make_unique<ScatmechSource>(scatmech_to_spectrum(read_scatmech_coefficients(op.path), io), text);
+  const ScatmechCoefficients file = read_scatmech_coefficients(op.path);
+  return std::make_unique<ScatmechSource>(scatmech_to_spectrum(file, io), file, text);
 }
 
 }  // namespace
@@ -321,6 +331,9 @@ std::unique_ptr<BrdfSource> open_measured_source(const std::string& text) {
   const std::string path = split_options(text).path;
   if (ends_with(path, ".bsdf")) return open_rgl(text, text);
   if (ends_with(path, ".zernike.csv")) return open_scatmech(text, text);
+  // Other files by content: a SCATMECH coefficient file whatever its name (NIST's *.coeff.csv, *.coef.csv,
+  // *.txt), else a .csv is BRDF samples.
+  if (looks_like_scatmech_coefficients(path)) return open_scatmech(text, text);
   if (ends_with(path, ".csv")) return open_samples(text, text);
   return nullptr;
 }

@@ -7,7 +7,8 @@
 //                                                 file, or the 1-3 wavelengths chosen (interpolated) by lambda
 //   FILE.csv[#OPTIONS] | samples:FILE[#OPTIONS]   BRDF samples (io/sample_csv.hpp); OPTIONS, comma-separated:
 //                                                 radians, strict, tikhonov=LAMBDA, power=P, rank-tol=T
-//   FILE.zernike.csv[#OPTIONS] | scatmech:FILE[#OPTIONS]
+//   FILE.zernike.csv[#OPTIONS] | scatmech:FILE[#OPTIONS] | any other FILE whose content is one
+//                                                 (io/scatmech_coefficients.hpp looks_like_scatmech_coefficients)
 //                                                 SCATMECH Zernike-expansion coefficients
 //                                                 (io/scatmech_coefficients.hpp); OPTIONS: lambda=UM, scale=R
 //
@@ -25,6 +26,7 @@
 //   * RGL: like an analytic model (core/spectral_fit.hpp fit_model: f sampled on the context's grid, not
 //     reciprocal, not assumed isotropic); 1 or 3 channels only (a spectral file needs #lambda).
 //   MERL, CSV and SCATMECH refuse --cosine (UnsupportedError): their expansions are of f; a low-pass filter applies after the fit.
+// notes(): SCATMECH sources count the polarized rows (Mueller elements other than 11) and the k != l rows.
 // Evaluation (eval()): RGL as io/rgl_bsdf.hpp describes; MERL looks the table up (NaN at missing samples); SCATMECH evaluates its spectrum
 // at its own order; CSV samples throw ArgumentError (the samples must be fitted first).
 #include <cstdint>

@@ -109,8 +109,11 @@ TEST(CliRgl, FitAndLutStoreTheChannelNames) {
   // Four wavelengths cannot go into a spectrum (1 or 3 channels): refused with the way out named.
   auto r = run_cli({"fit", f, "--order", "2", "--level", "2", "-o", d.file("x.h5")});
   EXPECT_EQ(r.exit_code, 4) << r.err;
-  EXPECT_NE(r.err.find("#lambda="), std::string::npos) << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  // stderr: the measured-data note, then the error on one line.
+  const size_t error_at = r.err.find("icobrdf: error: ");
+  ASSERT_NE(error_at, std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("#lambda=", error_at), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin() + static_cast<std::ptrdiff_t>(error_at), r.err.end(), '\n'), 1) << r.err;
   r = run_cli({"fit", f + "#lambda=450/550/650", "--order", "2", "--level", "2", "-o", d.file("x.h5")});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = run_cli({"eval", d.file("x.h5"), "--at", pairs});
