@@ -52,6 +52,7 @@ MaterialRecord fit_material(const Scene& scene, const SceneMaterial& m, FitConte
   report_candidate(chosen, rep);
   chosen.record.name = m.name;
   chosen.record.spectrum.source = rep.source;
+  chosen.record.spectrum.channel_names = src->channel_names();  // whatever representation made the record
   MaterialRecord rec = bank.finish_record(std::move(chosen));
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   store_choice(rec, rep);

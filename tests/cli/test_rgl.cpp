@@ -129,6 +129,20 @@ TEST(CliRgl, FitAndLutStoreTheChannelNames) {
   EXPECT_EQ(header, "f_700nm");
 }
 
+TEST(CliRgl, BankBuildAcceptsAnRglSourceAndKeepsItsChannelNames) {
+  TempDir d;
+  const std::string f = lambert_file(d, "white.bsdf", {450, 550, 650, 750}, {0.2, 0.4, 0.6, 0.8});
+  std::ofstream(d.file("scene.toml")) << "[bank]\nlevel = 2\nlevels = [2]\norder_max = 2\ntarget = 0.9\nmetric = \"cosine\"\n"
+                                         "[[material]]\nname = \"m\"\nsource = \"" + f + "#lambda=450/550/750\"\n";
+  auto r = run_cli({"bank", "build", d.file("scene.toml"), "-o", d.file("bank.h5")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_cli({"eval", d.file("bank.h5") + "#m", "--at", mirror_pairs(d)});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::string header;
+  rows_of(r.out, header);
+  EXPECT_EQ(header, "f_450nm,f_550nm,f_750nm");
+}
+
 TEST(CliRgl, MalformedFileIsOneLineInputError) {
   TempDir d;
   const std::string f = lambert_file(d, "cut.bsdf", {450, 550, 650}, {0.2, 0.4, 0.6});
