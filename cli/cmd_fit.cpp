@@ -49,6 +49,8 @@ void run_fit(const FitArgs& a) {
   check_output_path(a.output, {a.source});
   require_storable_source(a.source);
   const auto source = open_source(a.source);  // validates the source before any work
+  if (!source->has_delta())  // a model's delta note is about pointwise values, which fit does not print
+    for (const auto& note : source->notes()) std::cerr << "icobrdf: note: " << source->spec() << ": " << note << "\n";
   r.grid_kind = fitting_grid_kind(a.grid);
   const FitResult fit = fit_source(*source, r);
   const Spectrum& s = fit.spectrum;

@@ -48,7 +48,8 @@ void run_lut(const LutArgs& a) {
   check_output_path(a.output, {a.source});
   require_storable_source(a.source);
   std::string label;
-  const auto model = model_of_source(a.source, &label);
+  std::vector<std::string> channel_names;
+  const auto model = model_of_source(a.source, &label, &channel_names);
   auto grid = std::make_shared<const Grid>(build_equal_area_grid(a.level));
   const auto named = lut_sampling_named(a.sampling);
   if (!named) throw ArgumentError("--sampling: expected 'average' or 'centre', found '" + quoted_text(a.sampling) + "'");
@@ -67,6 +68,7 @@ void run_lut(const LutArgs& a) {
   const auto ctx = make_projection_context(grid, a.order);
   const auto wf = white_furnace(lut.channels[0], cosine, *grid);
   auto rec = lut_record(a.name, std::move(lut), label, ctx, o, a.float32);
+  rec.spectrum.channel_names = channel_names;
   write_lut_file(a.output, *grid, std::move(rec));
   std::cout << fmt::format("{}: {} x {} LUT of {} ({}), max directional albedo {:.6g}\n", a.output, grid->cells(), grid->cells(),
                            label, cosine ? "g = f cos(theta_i)" : "f", wf.max_albedo);

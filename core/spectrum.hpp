@@ -21,6 +21,8 @@ struct Spectrum {
   bool cosine = false;                    // coefficients of g = f cos(theta_i) instead of f
   std::vector<Eigen::MatrixXd> channels;  // one M x M symmetric matrix per channel (1 or 3)
   std::string source;                     // canonical SOURCE string it came from
+  // Names of the channels ("r", "g", "b"; "550nm"), one per channel, or empty when the source names none.
+  std::vector<std::string> channel_names;
   std::string filter = "none";            // low-pass filter applied to it (none = plain truncation)
   int level = -1;                         // tessellation level used; -1 when computed without a grid
   std::string grid_kind;                  // "equal-area", "geodesic", ... ; empty when no grid

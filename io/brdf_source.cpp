@@ -54,6 +54,7 @@ class SpectrumSource final : public BrdfSource {
       : s_(std::move(s)), lobe_(std::move(lobe)), text_(std::move(text)) {}
   std::string spec() const override { return text_; }
   int channels() const override { return s_.channel_count(); }
+  std::vector<std::string> channel_names() const override { return s_.channel_names; }
   Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
     return evaluate_material(s_, lobe_, wi, wr);
   }
@@ -107,6 +108,13 @@ std::vector<std::string> channel_column_names(int channels) {
   return names;
 }
 
+std::vector<std::string> channel_column_names(const BrdfSource& source) {
+  std::vector<std::string> names = source.channel_names();
+  if (static_cast<int>(names.size()) != source.channels()) return channel_column_names(source.channels());
+  for (auto& n : names) n = "f_" + n;
+  return names;
+}
+
 std::unique_ptr<BrdfSource> spectrum_source(Spectrum spectrum) {
   const std::string text = spectrum.source;
   return std::make_unique<SpectrumSource>(std::move(spectrum), std::nullopt, text);
@@ -114,7 +122,7 @@ std::unique_ptr<BrdfSource> spectrum_source(Spectrum spectrum) {
 
 std::unique_ptr<BrdfSource> open_source(const std::string& text) {
   if (is_model_source(text)) return std::make_unique<ModelSource>(parse_model_source(text));
-  if (auto measured = open_measured_source(text)) return measured;  // MERL, CSV samples, SCATMECH (io/measured_sources.hpp)
+  if (auto measured = open_measured_source(text)) return measured;  // MERL, RGL, CSV samples, SCATMECH (io/measured_sources.hpp)
   const auto [path, name] = split_material_ref(text);
   if (path.size() > 3 && path.compare(path.size() - 3, 3, ".h5") == 0) {
     if (!is_regular_file(path)) throw InputError(path + ": no such file (SOURCE '" + quoted_text(text) + "')");

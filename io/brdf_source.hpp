@@ -5,7 +5,7 @@
 //   model:NAME[:key=value,...]   an analytic model (core/model_spec.hpp; `icobrdf models` lists them)
 //   FILE.h5[#MATERIAL]           a spectrum in an icobrdf HDF5 file (spectrum file or bank); without
 //                                #MATERIAL the file must hold exactly one material
-//   MERL tables, CSV samples, SCATMECH coefficient files (io/measured_sources.hpp)
+//   MERL tables, RGL materials, CSV samples, SCATMECH coefficient files (io/measured_sources.hpp)
 // A new kind of SOURCE is one more BrdfSource and one more branch of open_source.
 #include <Eigen/Core>
 
@@ -24,6 +24,8 @@ class BrdfSource {
   virtual ~BrdfSource() = default;
   virtual std::string spec() const = 0;  // canonical SOURCE text
   virtual int channels() const = 0;
+  // Names of the channels ("r", "g", "b"; "550nm"), one per channel, or empty when the source names none.
+  virtual std::vector<std::string> channel_names() const { return {}; }
   // f [1/sr] at direction pairs (rows x 3 each): rows x channels. Delta parts of models are not included
   // (has_delta() tells); spectra of g = f cos(theta_i) are divided by cos(theta_i) (infinite at grazing).
   virtual Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const = 0;
@@ -39,6 +41,8 @@ std::unique_ptr<BrdfSource> open_source(const std::string& text);
 
 // Names of eval()'s columns: "f" for 1 channel, "f_r,f_g,f_b" for 3, "f_0".."f_{n-1}" otherwise.
 std::vector<std::string> channel_column_names(int channels);
+// "f_" + name per channel when the source names its channels, else channel_column_names(channels).
+std::vector<std::string> channel_column_names(const BrdfSource& source);
 
 // A source wrapping a spectrum already in memory.
 std::unique_ptr<BrdfSource> spectrum_source(Spectrum spectrum);

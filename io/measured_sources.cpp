@@ -14,6 +14,7 @@
 #include "core/projection.hpp"
 #include "core/spectrum_ops.hpp"
 #include "io/merl.hpp"
+#include "io/rgl_bsdf.hpp"
 #include "io/sample_csv.hpp"
 #include "io/scatmech_coefficients.hpp"
 
@@ -170,7 +171,15 @@ class SampleCsvSource final : public BrdfSource, public SampleFitHolder {
 
 class ScatmechSource final : public BrdfSource {
  public:
-  ScatmechSource(Spectrum s, std::string text) : s_(std::move(s)), text_(std::move(text)) { s_.source = text_; }
+  ScatmechSource(Spectrum s, const ScatmechCoefficients& file, std::string text) : s_(std::move(s)), text_(std::move(text)) {
+    s_.source = text_;
+    if (file.polarized_rows > 0)
+      notes_.push_back(std::to_string(file.polarized_rows) + " row(s) of polarized Mueller elements (i, j) != (1, 1) ignored: the BRDF is the unpolarized element's " +
+                       std::to_string(file.unpolarized_rows) + " row(s)");
+    if (file.k_differs_rows > 0)
+      notes_.push_back(std::to_string(file.k_differs_rows) + " unpolarized row(s) with k != l: the azimuthal order is taken from l, as SCATMECH evaluates");
+  }
+  std::vector<std::string> notes() const override { return notes_; }
   std::string spec() const override { return text_; }
   int channels() const override { return 1; }
   Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
@@ -194,7 +203,83 @@ class ScatmechSource final : public BrdfSource {
  private:
   Spectrum s_;
   std::string text_;
+  std::vector<std::string> notes_;
 };
+
+// f of an RGL material (io/rgl_bsdf.hpp): evaluated as Mitsuba's measured BSDF does, divided by cos(theta_r);
+// fitted like an analytic model (its values sampled on the context's grid, core/spectral_fit.hpp fit_model).
+class RglSource final : public BrdfSource {
+ public:
+  RglSource(std::shared_ptr<const RglBsdf> b, std::vector<double> lambdas, std::vector<std::string> names, std::string text)
+      : model_(std::move(b), std::move(lambdas), text), names_(std::move(names)), text_(std::move(text)) {}
+  std::string spec() const override { return text_; }
+  int channels() const override { return model_.channels(); }
+  std::vector<std::string> channel_names() const override { return names_; }
+  std::vector<std::string> notes() const override {
+    return {"measured data (not reciprocal): w_i is the illumination direction, the one that selects the measured slice"};
+  }
+  Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
+    Eigen::MatrixXd out(wi.rows(), model_.channels());
+    model_.eval(wi, wr, out);
+    return out;
+  }
+  Spectrum fit(const ProjectionContext& ctx, const FitOptions& o) const override {
+    if (channels() != 1 && channels() != 3)
+      throw UnsupportedError("RGL SOURCE '" + quoted_text(text_) + "' has " + std::to_string(channels()) +
+                             " wavelengths; a spectrum holds 1 or 3 channels: choose them with " + quoted_text(split_options(text_).path) +
+                             "#lambda=NM or #lambda=NM/NM/NM");
+    Spectrum s = fit_model(model_, ctx, o);
+    s.source = text_;
+    s.channel_names = names_;
+    return s;
+  }
+
+ private:
+  RglModel model_;
+  std::vector<std::string> names_;
+  std::string text_;
+};
+
+std::string wavelength_name(double nm) {
+  std::string t = format_parameter(nm);
+  return t + "nm";
+}
+
+std::unique_ptr<BrdfSource> open_rgl(const std::string& text, const std::string& body) {
+  const Options op = split_options(body);
+  require_file(op.path, text);
+  std::vector<double> lambdas;
+  bool chosen = false;
+  for (const auto& [k, v] : op.kv) {
+    if (k == "lambda") {
+      chosen = true;
+      std::stringstream ss(v);
+      std::string item;
+      while (std::getline(ss, item, '/')) lambdas.push_back(number_option(text, k, item));
+      if (lambdas.empty() || lambdas.size() > 3 || v.back() == '/')
+        throw ArgumentError("SOURCE '" + quoted_text(text) + "': option lambda expected 1 to 3 wavelengths in nm separated by '/', found '" + quoted_text(v) + "'");
+    } else {
+      throw ArgumentError("SOURCE '" + quoted_text(text) + "': unknown RGL option '" + quoted_text(k) + "', expected lambda=NM[/NM/NM] (spectral files)");
+    }
+  }
+  auto b = std::make_shared<const RglBsdf>(read_rgl_bsdf(op.path));
+  std::vector<std::string> names;
+  if (!b->spectral) {
+    if (chosen)
+      throw ArgumentError("SOURCE '" + quoted_text(text) + "': option lambda applies to spectral RGL files; " + op.path + " holds RGB values");
+    lambdas = {0, 1, 2};
+    names = {"r", "g", "b"};
+  } else {
+    if (!chosen) lambdas = b->wavelengths;
+    for (double l : lambdas) {
+      if (l < b->wavelengths.front() || l > b->wavelengths.back())
+        throw ArgumentError("SOURCE '" + quoted_text(text) + "': wavelength " + format_parameter(l) + " nm outside the file's range " +
+                            format_parameter(b->wavelengths.front()) + " .. " + format_parameter(b->wavelengths.back()) + " nm");
+      names.push_back(wavelength_name(l));
+    }
+  }
+  return std::make_unique<RglSource>(std::move(b), std::move(lambdas), std::move(names), text);
+}
 
 std::unique_ptr<BrdfSource> open_samples(const std::string& text, const std::string& body) {
   const Options op = split_options(body);
@@ -228,7 +313,8 @@ std::unique_ptr<BrdfSource> open_scatmech(const std::string& text, const std::st
   }
   if (io.wavelength_um != -1.0 && !(io.wavelength_um > 0))
     throw ArgumentError("SOURCE '" + quoted_text(text) + "': lambda must be > 0 (micrometres)");
-  return std::make_unique<ScatmechSource>(scatmech_to_spectrum(read_scatmech_coefficients(op.path), io), text);
+  const ScatmechCoefficients file = read_scatmech_coefficients(op.path);
+  return std::make_unique<ScatmechSource>(scatmech_to_spectrum(file, io), file, text);
 }
 
 }  // namespace
@@ -239,10 +325,15 @@ std::unique_ptr<BrdfSource> open_measured_source(const std::string& text) {
     const std::string path = merl_prefix ? text.substr(5) : text;
     return std::make_unique<MerlSource>(std::make_shared<const MerlTable>(read_merl(path)), text);
   }
+  if (starts_with(text, "rgl:")) return open_rgl(text, text.substr(4));
   if (starts_with(text, "scatmech:")) return open_scatmech(text, text.substr(9));
   if (starts_with(text, "samples:")) return open_samples(text, text.substr(8));
   const std::string path = split_options(text).path;
+  if (ends_with(path, ".bsdf")) return open_rgl(text, text);
   if (ends_with(path, ".zernike.csv")) return open_scatmech(text, text);
+  // Other files by content: a SCATMECH coefficient file whatever its name (NIST's *.coeff.csv, *.coef.csv,
+  // *.txt), else a .csv is BRDF samples.
+  if (looks_like_scatmech_coefficients(path)) return open_scatmech(text, text);
   if (ends_with(path, ".csv")) return open_samples(text, text);
   return nullptr;
 }

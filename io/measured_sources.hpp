@@ -2,9 +2,13 @@
 // SOURCE kinds for measured data (io/brdf_source.hpp's open_source dispatches to open_measured_source):
 //
 //   FILE.binary | merl:FILE                       MERL table (io/merl.hpp), 3 channels
+//   FILE.bsdf[#lambda=NM[/NM/NM]] | rgl:FILE[...]  RGL material (io/rgl_bsdf.hpp): RGB files give 3 channels
+//                                                 (r, g, b); spectral files one channel per wavelength of the
+//                                                 file, or the 1-3 wavelengths chosen (interpolated) by lambda
 //   FILE.csv[#OPTIONS] | samples:FILE[#OPTIONS]   BRDF samples (io/sample_csv.hpp); OPTIONS, comma-separated:
 //                                                 radians, strict, tikhonov=LAMBDA, power=P, rank-tol=T
-//   FILE.zernike.csv[#OPTIONS] | scatmech:FILE[#OPTIONS]
+//   FILE.zernike.csv[#OPTIONS] | scatmech:FILE[#OPTIONS] | any other FILE whose content is one
+//                                                 (io/scatmech_coefficients.hpp looks_like_scatmech_coefficients)
 //                                                 SCATMECH Zernike-expansion coefficients
 //                                                 (io/scatmech_coefficients.hpp); OPTIONS: lambda=UM, scale=R
 //
@@ -19,8 +23,11 @@
 //     modes, or the isotropic modes with --isotropic, with the Tikhonov options above; the grid is
 //     likewise unused except for the max-albedo figure.
 //   * SCATMECH: the file's isotropic spectrum truncated or zero-padded to the requested order (exact, no grid).
-//   All three refuse --cosine (UnsupportedError): their expansions are of f; a low-pass filter applies after the fit.
-// Evaluation (eval()): MERL looks the table up (NaN at missing samples); SCATMECH evaluates its spectrum
+//   * RGL: like an analytic model (core/spectral_fit.hpp fit_model: f sampled on the context's grid, not
+//     reciprocal, not assumed isotropic); 1 or 3 channels only (a spectral file needs #lambda).
+//   MERL, CSV and SCATMECH refuse --cosine (UnsupportedError): their expansions are of f; a low-pass filter applies after the fit.
+// notes(): SCATMECH sources count the polarized rows (Mueller elements other than 11) and the k != l rows.
+// Evaluation (eval()): RGL as io/rgl_bsdf.hpp describes; MERL looks the table up (NaN at missing samples); SCATMECH evaluates its spectrum
 // at its own order; CSV samples throw ArgumentError (the samples must be fitted first).
 #include <cstdint>
 #include <memory>

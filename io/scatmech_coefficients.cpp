@@ -94,6 +94,36 @@ double scatmech_basis_factor(int n, int m, int l) {
   return std::sqrt(static_cast<double>(isotropic_norm_divisor(std::max(n, m), std::min(n, m), L)) / scatmech_norm_divisor(n, m, l));
 }
 
+bool looks_like_scatmech_coefficients(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::string head(static_cast<size_t>(kScatmechSniffBytes), '\0');
+  in.read(&head[0], kScatmechSniffBytes);
+  head.resize(static_cast<size_t>(in.gcount()));
+  if (head.compare(0, 3, "\xEF\xBB\xBF") == 0) head.erase(0, 3);
+  std::istringstream lines(head);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const auto cpos = line.find_first_of(";#");
+    if (cpos != std::string::npos) line.erase(cpos);
+    if (line.find_first_not_of(" \t") == std::string::npos) continue;
+    const std::vector<std::string> fl = fields_of(line);
+    if (fl.size() != 8) return false;
+    bool header = true, row = true;
+    for (size_t k = 0; k < 8; ++k) {
+      std::string lower = fl[k];
+      for (auto& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      header = header && lower == kColumns[k];
+      int v;
+      double a;
+      row = row && (k < 7 ? parse_int(fl[k], v) : parse_double(fl[k], a));
+    }
+    return header || row;
+  }
+  return false;
+}
+
 ScatmechCoefficients read_scatmech_coefficients(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open coefficient file for reading");

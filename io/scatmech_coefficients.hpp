@@ -52,6 +52,13 @@ struct ScatmechCoefficients {
 // optional header row "i,j,n,m,k,l,p,a" are accepted). InputError when there is no 11 row.
 ScatmechCoefficients read_scatmech_coefficients(const std::string& path);
 
+// Content test used to dispatch a SOURCE (io/measured_sources.hpp): true when the first content line of the
+// first kScatmechSniffBytes bytes (after a BOM, blank lines and ';' / '#' comments) is the header
+// "i,j,n,m,k,l,p,a" (any case) or a row of eight fields, seven integers and a number. BRDF sample CSVs
+// (header theta_i,...) and binary files give false. A file that cannot be opened gives false.
+inline constexpr long kScatmechSniffBytes = 65536;
+bool looks_like_scatmech_coefficients(const std::string& path);
+
 struct ScatmechImportOptions {
   double wavelength_um = -1.0;  // lambda [um]; required (> 0) when the file has p != 0 rows
   double scale = 1.0;           // SCATMECH's `scale` parameter r(lambda) (finite, >= 0)

@@ -41,6 +41,28 @@ std::string index_text(int n, int m, int l) {
   throw ArgumentError("cannot write material '" + name + "': " + what);
 }
 
+// "r,g,b": names of the channels, checked (one per channel, non-empty, no comma).
+std::string join_channel_names(const std::vector<std::string>& names, int channels, const std::string& nm) {
+  if (static_cast<int>(names.size()) != channels)
+    bad_record(nm, "expected " + std::to_string(channels) + " channel names, found " + std::to_string(names.size()));
+  std::string out;
+  for (const auto& n : names) {
+    if (n.empty() || n.find(',') != std::string::npos) bad_record(nm, "channel name '" + quoted_text(n) + "' must be non-empty without a comma");
+    out += (out.empty() ? "" : ",") + n;
+  }
+  return out;
+}
+std::vector<std::string> split_channel_names(const std::string& text) {
+  std::vector<std::string> out;
+  size_t at = 0;
+  while (true) {
+    const size_t comma = text.find(',', at);
+    out.push_back(text.substr(at, comma == std::string::npos ? std::string::npos : comma - at));
+    if (comma == std::string::npos) return out;
+    at = comma + 1;
+  }
+}
+
 }  // namespace
 
 std::string material_name_problem(const std::string& name) {
@@ -233,6 +255,8 @@ void write_material(h5::Group& materials, const MaterialRecord& rec) {
   g.set_attr("level", static_cast<std::int32_t>(s.level));
   g.set_attr("grid_kind", s.grid_kind);
   g.set_attr("channels", static_cast<std::int32_t>(ch));
+  // Written only when the source names its channels (RGL materials), so other files stay as they were.
+  if (!s.channel_names.empty()) g.set_attr("channel_names", join_channel_names(s.channel_names, ch, nm));
   g.set_attr("gram_error", s.gram_error);
   g.set_attr("reciprocity_violation", s.reciprocity_violation);
   g.set_attr("anisotropy_fraction", s.anisotropy_fraction);
@@ -287,6 +311,12 @@ MaterialRecord read_material(const h5::Group& materials, const std::string& name
   s.reciprocity_violation = g.attr_double("reciprocity_violation");
   s.anisotropy_fraction = g.attr_double("anisotropy_fraction");
   s.max_albedo = g.attr_double("max_albedo");
+  if (g.has_attr("channel_names")) {
+    s.channel_names = split_channel_names(g.attr_string("channel_names"));
+    if (static_cast<int>(s.channel_names.size()) != ch)
+      g.fail(g.path(), "attribute channel_names: expected " + std::to_string(ch) + " comma-separated names, found " +
+                           std::to_string(s.channel_names.size()) + " in '" + quoted_text(g.attr_string("channel_names")) + "'");
+  }
 
   {
     auto a = g.read<double>("C", ShapePattern{ch, m, m}, lim);

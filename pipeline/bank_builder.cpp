@@ -54,6 +54,7 @@ MaterialRecord fit_material(const Scene& scene, const SceneMaterial& m, FitConte
   report_candidate(chosen, rep);
   chosen.record.name = m.name;
   chosen.record.spectrum.source = rep.source;
+  chosen.record.spectrum.channel_names = src->channel_names();  // whatever representation made the record
   MaterialRecord rec = bank.finish_record(std::move(chosen));
   if (opt.strict || opt.warnings)
     check_fitted_albedo(rec.spectrum, bank.grid(), "material '" + m.name + "' (" + quoted_text(rep.source) + ")",

@@ -9,12 +9,14 @@
 
 namespace icobrdf {
 
-std::shared_ptr<const BrdfModel> model_of_source(const std::string& text, std::string* label) {
+std::shared_ptr<const BrdfModel> model_of_source(const std::string& text, std::string* label, std::vector<std::string>* channel_names) {
+  if (channel_names) channel_names->clear();
   struct stat st{};
   const std::string path = split_material_ref(text).path;
   if (!is_model_source(text) && ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode)) {
     std::shared_ptr<const BrdfSource> src = open_source(text);
     *label = src->spec();
+    if (channel_names) *channel_names = src->channel_names();
     return std::make_shared<FunctionModel>(
         src->channels(), [src](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) { out = src->eval(wi, wr); },
         src->spec(), false, false);

@@ -2,14 +2,17 @@
 // Any SOURCE as a BrdfModel, for what samples models (`icobrdf lut`): an analytic model (with or without the
 // "model:" prefix) as itself; any other SOURCE naming an existing file (a bank material of any
 // representation, measured data) through its values (core/function_model.hpp; not claimed reciprocal or
-// isotropic, so the LUT takes the full path). `label` receives the canonical SOURCE text.
+// isotropic, so the LUT takes the full path). `label` receives the canonical SOURCE text and, when given,
+// `channel_names` the source's channel names (empty when it names none).
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core/brdf_model.hpp"
 
 namespace icobrdf {
 
-std::shared_ptr<const BrdfModel> model_of_source(const std::string& text, std::string* label);
+std::shared_ptr<const BrdfModel> model_of_source(const std::string& text, std::string* label,
+                                                 std::vector<std::string>* channel_names = nullptr);
 
 }  // namespace icobrdf

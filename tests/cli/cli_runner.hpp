@@ -66,6 +66,20 @@ inline std::vector<double> eval_first_column(const std::string& source, const st
   return v;
 }
 
+// A CSV of numbers as `icobrdf eval` prints it: the header line goes to `header`, the rows are returned.
+inline std::vector<std::vector<double>> parse_value_csv(const std::string& text, std::string& header) {
+  std::istringstream in(text);
+  std::getline(in, header);
+  std::vector<std::vector<double>> rows;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<double> row;
+    std::istringstream ls(line);
+    for (std::string cell; std::getline(ls, cell, ',');) row.push_back(std::stod(cell));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
 // A fresh temporary directory, removed with its content on destruction.
 struct TempDir {
   std::string path;

@@ -15,16 +15,7 @@ namespace {
 constexpr double kValueTol = 1e-13;
 
 std::vector<std::vector<double>> parse_csv(const std::string& text, std::string& header) {
-  std::istringstream in(text);
-  std::getline(in, header);
-  std::vector<std::vector<double>> rows;
-  for (std::string line; std::getline(in, line);) {
-    std::vector<double> row;
-    std::istringstream ls(line);
-    for (std::string cell; std::getline(ls, cell, ',');) row.push_back(std::stod(cell));
-    rows.push_back(row);
-  }
-  return rows;
+  return icobrdf::test::parse_value_csv(text, header);
 }
 
 std::string write(const TempDir& d, const std::string& name, const std::string& content) {

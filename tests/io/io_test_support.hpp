@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "core/error.hpp"
 #include "core/grid.hpp"
 #include "core/spectrum.hpp"
@@ -228,6 +230,21 @@ inline ChildResult run_in_child(const std::function<void()>& f, double timeout_s
     r.message = payload.substr(nl + 1);
   }
   return r;
+}
+
+// The message of the InputError that read(file) throws, checked to be one line starting with the file;
+// "" and a test failure when it throws none.
+inline std::string input_error_of(const std::string& file, const std::function<void()>& read) {
+  try {
+    read();
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    EXPECT_EQ(m.rfind(file, 0), 0u) << m;
+    return m;
+  }
+  ADD_FAILURE() << "no InputError for " << file;
+  return "";
 }
 
 }  // namespace icobrdf::test

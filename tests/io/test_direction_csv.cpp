@@ -61,6 +61,39 @@ TEST(DirectionCsv, RadiansOnRequest) {
   EXPECT_GT(icobrdf::read_directions_csv(path, false)(0, 2), 0.999);
 }
 
+TEST(DirectionCsv, SignedThetaIsTheOppositeAzimuth) {
+  TempDir dir;
+  // (-30, 0) = (30, 180) = (-1/2, 0, sqrt(3)/2); (-90, 90) = (90, 270) = (0, -1, 0).
+  const auto p = icobrdf::read_direction_pairs_csv(write(dir, "s.csv", "theta_i,phi_i,theta_r,phi_r\n-30,0,-90,90\n"));
+  EXPECT_NEAR(p.wi(0, 0), -0.5, kAngleTol);
+  EXPECT_NEAR(p.wi(0, 1), 0.0, kAngleTol);
+  EXPECT_NEAR(p.wi(0, 2), std::sqrt(3.0) / 2, kAngleTol);
+  EXPECT_NEAR(p.wr(0, 1), -1.0, kAngleTol);
+  EXPECT_NEAR(p.wr(0, 2), 0.0, kAngleTol);
+}
+
+TEST(DirectionCsv, ScatmechGeometryMapsToSampleAzimuths) {
+  TempDir dir;
+  // Row 1: thetai 30, thetas 60, phis 0 (forward), no rotation: w_i = (30, 180) = (-1/2, 0, sqrt(3)/2),
+  //        w_r = (60, 0) = (sqrt(3)/2, 0, 1/2).
+  // Row 2: the same with rotation 90: azimuths 180 - 90 = 90 and 0 - 90 = -90: w_i = (0, 1/2, sqrt(3)/2),
+  //        w_r = (0, -sqrt(3)/2, 1/2).
+  // Row 3: signed angles: thetai -30 puts the source at azimuth 0, thetas -60 at phis 0 gives azimuth 180.
+  const auto p = icobrdf::read_direction_pairs_csv(
+      write(dir, "g.csv", "thetai,thetas,phis,rotation\n30,60,0,0\n30,60,0,90\n-30,-60,0,0\n"));
+  const double h = std::sqrt(3.0) / 2;
+  const double expect[3][6] = {{-0.5, 0, h, h, 0, 0.5}, {0, 0.5, h, 0, -h, 0.5}, {0.5, 0, h, -h, 0, 0.5}};
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(p.wi(r, k), expect[r][k], kAngleTol) << r << " " << k;
+      EXPECT_NEAR(p.wr(r, k), expect[r][3 + k], kAngleTol) << r << " " << k;
+    }
+  // Without the rotation column it is 0.
+  const auto q = icobrdf::read_direction_pairs_csv(write(dir, "h.csv", "thetai,thetas,phis\n30,60,0\n"));
+  EXPECT_NEAR(q.wi(0, 0), -0.5, kAngleTol);
+  EXPECT_NEAR(q.wr(0, 0), h, kAngleTol);
+}
+
 TEST(DirectionCsv, ErrorsNameFileLineAndValue) {
   TempDir dir;
   expect_error(write(dir, "a.csv", ""), {"a.csv", "empty file"});
@@ -68,7 +101,7 @@ TEST(DirectionCsv, ErrorsNameFileLineAndValue) {
   expect_error(write(dir, "c.csv", "theta_i,phi_i,theta_r,phi_r\n1,2,3\n"), {"c.csv:2", "expected 4 fields, found 3"});
   expect_error(write(dir, "d.csv", "theta_i,phi_i,theta_r,phi_r\n1,2,3,x\n"), {"d.csv:2", "phi_r", "'x'"});
   expect_error(write(dir, "e.csv", "theta_i,phi_i,theta_r,phi_r\n1,2,3,nan\n"), {"e.csv:2", "finite"});
-  expect_error(write(dir, "f.csv", "theta_i,phi_i,theta_r,phi_r\n0,0,0,0\n91,0,0,0\n"), {"f.csv:3", "theta_i", "[0, 90]", "91"});
+  expect_error(write(dir, "f.csv", "theta_i,phi_i,theta_r,phi_r\n0,0,0,0\n91,0,0,0\n"), {"f.csv:3", "theta_i", "[-90, 90]", "91"});
   expect_error(write(dir, "g.csv", "theta_i,phi_i,theta_r,phi_r\n0,0,0,0,5\n"), {"g.csv:2", "expected 4 fields, found 5"});
   expect_error(write(dir, "h.csv", "theta_i,phi_i,theta_r,phi_r\n10,0,0,0,5\n"), {"h.csv:2"});
   // A decimal comma turns one number into two fields.

@@ -16,6 +16,8 @@
 #include "core/error.hpp"
 #include "core/isotropic_modes.hpp"
 #include "core/spectrum_ops.hpp"
+#include "io/brdf_source.hpp"
+#include "io/direction_csv.hpp"
 #include "io/scatmech_coefficients.hpp"
 #include "io_test_support.hpp"
 
@@ -141,6 +143,68 @@ TEST(ScatmechCoefficients, ImportMatchesScatmechDefinitionAtRandomGeometries) {
     double mag = 0;
     const double want = scatmech_f11(rows, 0.6328, 0.93, geo[0], geo[1], geo[2], mag);
     EXPECT_NEAR(ours(s, geo[0], geo[1], geo[2]), want, kEvalTol * mag * 0.93);
+  }
+}
+
+TEST(ScatmechCoefficients, RecognizedByContentWhateverTheName) {
+  ScratchDir d;
+  const auto rows = random_rows(3);
+  // NIST's names, a headerless file and a .txt: all SCATMECH files by content.
+  write_rows(d / "ptfe.coeff.csv", rows, "; NIST PTFE\ni,j,n,m,k,l,p,a\n");
+  write_rows(d / "ptfe.coef.csv", rows);
+  write_rows(d / "ptfe.txt", rows, "\n# comment\n");
+  for (const char* name : {"ptfe.coeff.csv", "ptfe.coef.csv", "ptfe.txt"}) {
+    EXPECT_TRUE(looks_like_scatmech_coefficients(d / name)) << name;
+    const auto src = open_source(d / name + "#lambda=0.6328");
+    EXPECT_EQ(src->channels(), 1);
+    // The 3 polarized rows are counted, not dropped silently.
+    const auto notes = src->notes();
+    ASSERT_FALSE(notes.empty()) << name;
+    EXPECT_NE(notes[0].find("3 row(s) of polarized Mueller elements"), std::string::npos) << notes[0];
+    EXPECT_NE(notes[0].find("61 row(s)"), std::string::npos) << notes[0];
+  }
+  // A sample CSV stays a sample CSV; binary bytes and missing files are not coefficient files.
+  test::write_bytes(d / "s.csv", "theta_i,phi_i,theta_r,phi_r,f\n10,0,20,180,0.3\n");
+  EXPECT_FALSE(looks_like_scatmech_coefficients(d / "s.csv"));
+  EXPECT_THROW(open_source(d / "s.csv")->eval(RowMatrix3d::Zero(1, 3), RowMatrix3d::Zero(1, 3)), ArgumentError);  // samples: fit first
+  test::write_bytes(d / "b.h5", std::string("\x89HDF\r\n\x1a\n\0\0\0", 11));
+  EXPECT_FALSE(looks_like_scatmech_coefficients(d / "b.h5"));
+  EXPECT_FALSE(looks_like_scatmech_coefficients(d / "absent.csv"));
+  // Seven fields, or a non-integer index, is not a coefficient row.
+  test::write_bytes(d / "seven.txt", "1,1,0,0,0,0,0\n");
+  EXPECT_FALSE(looks_like_scatmech_coefficients(d / "seven.txt"));
+  test::write_bytes(d / "real.txt", "1,1,0.5,0,0,0,0,1\n");
+  EXPECT_FALSE(looks_like_scatmech_coefficients(d / "real.txt"));
+}
+
+TEST(ScatmechCoefficients, EvalInScatmechGeometryMatchesItsDefinition) {
+  // Pairs given as SCATMECH's (thetai, thetas, phis, rotation), signed angles included, evaluated through the
+  // SOURCE; the reference is SCATMECH's definition at the geometrically equal unsigned angles: a negative
+  // thetai puts the source at azimuth 0 and a negative thetas turns phis by pi, so the relative azimuth
+  // gains pi for each; the rotation of an isotropic expansion changes nothing.
+  ScratchDir d;
+  const auto rows = random_rows(4);
+  write_rows(d / "g.coef.csv", rows);
+  const auto src = open_source(d / "g.coef.csv#lambda=0.6328");
+  std::mt19937 g(5);
+  std::uniform_real_distribution<double> th(-89.0, 89.0), ph(-180.0, 180.0);
+  std::ostringstream csv;
+  csv.precision(17);
+  csv << "thetai,thetas,phis,rotation\n";
+  std::vector<std::array<double, 3>> geo;
+  for (int t = 0; t < 100; ++t) {
+    const double ti = th(g), ts = th(g), ps = ph(g), rot = ph(g);
+    csv << ti << "," << ts << "," << ps << "," << rot << "\n";
+    const double deg = M_PI / 180;
+    geo.push_back({std::abs(ti) * deg, std::abs(ts) * deg, ps * deg + M_PI * ((ti < 0) + (ts < 0))});
+  }
+  test::write_bytes(d / "pairs.csv", csv.str());
+  const DirectionPairs p = read_direction_pairs_csv(d / "pairs.csv");
+  const Eigen::MatrixXd v = src->eval(p.wi, p.wr);
+  for (int t = 0; t < 100; ++t) {
+    double mag = 0;
+    const double want = scatmech_f11(rows, 0.6328, 1.0, geo[t][0], geo[t][1], geo[t][2], mag);
+    EXPECT_NEAR(v(t, 0), want, kEvalTol * mag) << t;
   }
 }
 

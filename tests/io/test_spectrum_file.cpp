@@ -36,6 +36,7 @@ void expect_identical(const Spectrum& a, const Spectrum& b) {
   expect_same_figure(a.reciprocity_violation, b.reciprocity_violation);
   expect_same_figure(a.anisotropy_fraction, b.anisotropy_fraction);
   expect_same_figure(a.max_albedo, b.max_albedo);
+  EXPECT_EQ(a.channel_names, b.channel_names);
   ASSERT_EQ(a.channel_count(), b.channel_count());
   for (int c = 0; c < a.channel_count(); ++c) EXPECT_TRUE(a.channels[c] == b.channels[c]) << "channel " << c;
 }
@@ -67,6 +68,18 @@ TEST(SpectrumFile, ThreeChannelCosineRoundTripsExactly) {
   const icobrdf::Grid g = icobrdf::test::synthetic_grid();
   icobrdf::write_spectrum_file(dir / "s.h5", s, &g, "red_paint");
   expect_identical(s, icobrdf::read_spectrum_file(dir / "s.h5", "red_paint"));
+}
+
+TEST(SpectrumFile, ChannelNamesRoundTripAndAreChecked) {
+  icobrdf::test::ScratchDir dir;
+  Spectrum s = icobrdf::test::synthetic_spectrum(2, 3);
+  s.channel_names = {"450nm", "550nm", "650nm"};
+  icobrdf::write_spectrum_file(dir / "s.h5", s);
+  expect_identical(s, icobrdf::read_spectrum_file(dir / "s.h5"));
+  s.channel_names = {"r", "g"};  // one name short
+  EXPECT_THROW(icobrdf::write_spectrum_file(dir / "t.h5", s), icobrdf::ArgumentError);
+  s.channel_names = {"r", "g,b", "x"};  // a comma would split the list
+  EXPECT_THROW(icobrdf::write_spectrum_file(dir / "t.h5", s), icobrdf::ArgumentError);
 }
 
 TEST(SpectrumFile, UnknownMaterialIsAnInputError) {

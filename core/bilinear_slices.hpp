@@ -1,0 +1,42 @@
+#pragma once
+// BilinearSlices: a stack of 2-D tables on the unit square, interpolated bilinearly inside a table and
+// multilinearly across tables (core/parameter_grid.hpp). The value tables of the RGL measured-BRDF format
+// (spectra, NDF, projected area; io/rgl_bsdf.hpp) are of this kind.
+//
+// Shapes: `values` holds grid.slices() tables of h rows x w columns (w, h >= 2), row-major, slice-major:
+// value(slice s, row j, column k) = values[(s * h + j) * w + k], node (x, y) = (k / (w - 1), j / (h - 1)).
+// eval(x, y): x and y are clamped to [0, 1]; the patch is (floor(x (w - 1)), floor(y (h - 1))) clamped
+// to the last patch, and the value is lerp(lerp(v00, v10, fx), lerp(v01, v11, fx), fy) with the corner
+// values blended across slices first. At a node the stored value comes back exactly (up to the blend).
+#include <cstdint>
+#include <vector>
+
+#include "core/parameter_grid.hpp"
+
+namespace icobrdf {
+
+class BilinearSlices {
+ public:
+  BilinearSlices() = default;
+  // ArgumentError for w or h < 2 or values.size() != slices * w * h.
+  BilinearSlices(std::vector<double> values, int w, int h, ParameterGrid grid);
+  int width() const { return w_; }
+  int height() const { return h_; }
+  const ParameterGrid& grid() const { return grid_; }
+  double eval(double x, double y, const SliceBlend& blend) const;
+  double eval(double x, double y, const double* params) const { return eval(x, y, grid_.blend(params)); }
+
+ private:
+  std::vector<double> v_;
+  int w_ = 0, h_ = 0;
+  ParameterGrid grid_;
+};
+
+// Patch of a coordinate in [0, 1] on n >= 2 nodes: index in [0, n - 2] and the fraction in it.
+struct PatchCoordinate {
+  int index;
+  double fraction;
+};
+PatchCoordinate patch_coordinate(double u, int n);
+
+}  // namespace icobrdf
