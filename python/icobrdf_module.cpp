@@ -146,8 +146,8 @@ PYBIND11_MODULE(icobrdf, m) {
 
   // ---- sources
   py::class_<PySource>(m, "Source",
-                       "A SOURCE: model:NAME[:key=value,...], FILE.h5[#MATERIAL] (spectrum or bank), a MERL table, CSV "
-                       "samples or a SCATMECH coefficient file")
+                       "A SOURCE: model:NAME[:key=value,...], FILE.h5[#MATERIAL] (spectrum or bank), a MERL table, an RGL "
+                       ".bsdf file, CSV samples or a SCATMECH coefficient file")
       .def(py::init(&open), py::arg("text"))
       .def_property_readonly("spec", [](const PySource& s) { return s.source->spec(); })
       .def_property_readonly("channels", [](const PySource& s) { return s.source->channels(); })
@@ -172,6 +172,7 @@ PYBIND11_MODULE(icobrdf, m) {
       .def_readonly("gram_error", &Spectrum::gram_error)
       .def_readonly("max_albedo", &Spectrum::max_albedo)
       .def_property_readonly("coefficients", [](const Spectrum& s) { return s.channels; })
+      .def_readonly("channel_names", &Spectrum::channel_names, "labels of the channels (RGB or wavelengths); empty when unlabelled")
       .def("eval",
            [](const Spectrum& s, const DirArray& wi, const DirArray& wr) {
              const auto src = spectrum_source(s);
