@@ -35,25 +35,65 @@ void blas_project(const Eigen::MatrixXd& P, const Eigen::MatrixXd& F, bool pf_fi
 
 void set_blas_threads(int threads) { openblas_set_num_threads(threads); }
 
-ProjectionBenchmark measure_projection(int level, int order, int threads, int repeat) {
+std::string blas_core_name() {
+  const char* name = openblas_get_corename();
+  return name != nullptr ? name : "unknown";
+}
+
+std::string blas_config() {
+  const char* config = openblas_get_config();
+  return config != nullptr ? config : "unknown";
+}
+
+double relative_difference(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  return (a - b).cwiseAbs().maxCoeff() / std::max(1e-300, a.cwiseAbs().maxCoeff());
+}
+
+namespace {
+
+struct Problem {
+  ProjectionOperator proj;
+  Eigen::MatrixXd lut;
+};
+
+Problem problem_at(int level, int order, int threads) {
   omp_set_num_threads(threads);
   Eigen::setNbThreads(threads);
   set_blas_threads(threads);
   const Grid g = with_centre_cubature(build_equal_area_grid(level));
   const auto basis = build_discrete_basis(g, order);
   check_supported(basis);
-  const auto proj = make_projection(basis);
+  return {make_projection(basis), random_lut(g.cells())};
+}
+
+BlasProjection time_blas(const Problem& p, int repeat) {
+  const Eigen::Index c = p.lut.rows(), m = p.proj.P.cols();
+  Eigen::MatrixXd fp(c, m), pf(m, c), out_fp(m, m), out_pf(m, m);
+  BlasProjection b;
+  b.seconds_fp_first = best_seconds(repeat, [&] { blas_project(p.proj.P, p.lut, false, fp, out_fp); });
+  b.seconds_pf_first = best_seconds(repeat, [&] { blas_project(p.proj.P, p.lut, true, pf, out_pf); });
+  b.seconds = std::min(b.seconds_fp_first, b.seconds_pf_first);
+  b.coefficients = b.seconds_fp_first <= b.seconds_pf_first ? out_fp : out_pf;
+  b.core = blas_core_name();
+  b.config = blas_config();
+  return b;
+}
+
+}  // namespace
+
+BlasProjection measure_blas_projection(int level, int order, int threads, int repeat) {
+  return time_blas(problem_at(level, order, threads), repeat);
+}
+
+ProjectionBenchmark measure_projection(int level, int order, int threads, int repeat) {
+  const Problem p = problem_at(level, order, threads);
   ProjectionBenchmark b;
-  b.cells = g.cells();
-  b.modes = proj.P.cols();
-  const Eigen::Index c = b.cells, m = b.modes;
-  const Eigen::MatrixXd f = random_lut(c);
-  Eigen::MatrixXd out(m, m), fp_blas(c, m), pf_blas(m, c), out_blas(m, m);
-  b.seconds = best_seconds(repeat, [&] { out = project_lut(proj, f); });
-  b.blas_seconds_fp_first = best_seconds(repeat, [&] { blas_project(proj.P, f, false, fp_blas, out_blas); });
-  b.blas_seconds_pf_first = best_seconds(repeat, [&] { blas_project(proj.P, f, true, pf_blas, out_blas); });
-  b.blas_seconds = std::min(b.blas_seconds_fp_first, b.blas_seconds_pf_first);
-  b.relative_difference_to_blas = (out - out_blas).cwiseAbs().maxCoeff() / std::max(1e-300, out.cwiseAbs().maxCoeff());
+  b.cells = p.lut.rows();
+  b.modes = p.proj.P.cols();
+  b.seconds = best_seconds(repeat, [&] { b.coefficients = project_lut(p.proj, p.lut); });
+  b.blas = time_blas(p, repeat);
+  b.relative_difference_to_blas = relative_difference(b.coefficients, b.blas.coefficients);
+  const double c = static_cast<double>(b.cells), m = static_cast<double>(b.modes);
   b.flops = 2.0 * c * c * m + 2.0 * c * m * m;
   return b;
 }

@@ -4,6 +4,7 @@
 // doing the same products in the same run, in both association orders (the faster is the baseline).
 // The LUT holds uniform random values in [0, 1) and is written before timing (its pages are resident).
 #include <Eigen/Core>
+#include <string>
 
 namespace icobrdf::lab {
 
@@ -18,15 +19,35 @@ void blas_project(const Eigen::MatrixXd& P, const Eigen::MatrixXd& F, bool pf_fi
 // Threads OpenBLAS uses.
 void set_blas_threads(int threads);
 
+// The kernel OpenBLAS chose when it loaded ("Haswell", "SkylakeX", "Zen", ...) and its build configuration
+// (openblas_get_corename / openblas_get_config). OPENBLAS_CORETYPE, read at load time, overrides the choice.
+std::string blas_core_name();
+std::string blas_config();
+
+// Raw OpenBLAS timing of one projection, both association orders.
+struct BlasProjection {
+  double seconds_fp_first = 0.0;  // best of `repeat`, P^T (F P)
+  double seconds_pf_first = 0.0;  // best of `repeat`, (P^T F) P
+  double seconds = 0.0;           // the faster of the two
+  Eigen::MatrixXd coefficients;   // C from the faster order
+  std::string core, config;       // blas_core_name(), blas_config()
+};
+
 struct ProjectionBenchmark {
   Eigen::Index cells = 0, modes = 0;
   double seconds = 0.0;                            // best of `repeat`, the library's project_lut
-  double blas_seconds_fp_first = 0.0;              // best of `repeat`, P^T (F P)
-  double blas_seconds_pf_first = 0.0;              // best of `repeat`, (P^T F) P
-  double blas_seconds = 0.0;                       // the faster of the two
+  Eigen::MatrixXd coefficients;                    // its C
+  BlasProjection blas;                             // raw OpenBLAS in this process
   double relative_difference_to_blas = 0.0;        // max|C - C_blas| / max|C|
   double flops = 0.0;                              // 2 cells^2 modes + 2 cells modes^2
 };
+
+// max|a - b| / max|a|: how well two coefficient matrices of the same product agree.
+double relative_difference(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
+
+// Times raw OpenBLAS alone at (level, order) with `threads` threads, on the LUT of measure_projection.
+// Throws when the grid does not support the order.
+BlasProjection measure_blas_projection(int level, int order, int threads, int repeat);
 
 // Times the projection at (level, order) on the centre-sampled equal-area grid with `threads` threads
 // (OpenMP, Eigen and OpenBLAS are set to it). Throws when the grid does not support the order.
