@@ -1,4 +1,4 @@
-// icobrdf bench project --level L --order N [--threads T] [--repeat R] [--peak-gflops G] [--no-best-blas] [--json]
+// icobrdf bench project --level L --order N [--threads T] [--repeat R] [--peak-gflops G] [--symmetric] [--no-best-blas] [--json]
 // Times one projection C = P^T F P of a cells x cells LUT with the library's call and with raw OpenBLAS in
 // the same run (lab/projection_benchmark.hpp), and reports GFLOP/s, the ratio to the machine's measured FP64
 // peak (lab/machine.hpp; --peak-gflops overrides it) next to the nominal one, the memory floor of streaming F
@@ -33,7 +33,7 @@ const std::vector<std::string> kBlasOverrides = {"OPENBLAS_CORETYPE", "OPENBLAS_
 struct BenchArgs {
   int level = 5, order = 8, threads = 0, repeat = 5;
   double peak_gflops = 0.0;
-  bool json = false, no_best_blas = false, blas_only = false;
+  bool json = false, no_best_blas = false, blas_only = false, symmetric = false;
 };
 
 nlohmann::json matrix_json(const Eigen::MatrixXd& m) {
@@ -59,7 +59,7 @@ Eigen::MatrixXd matrix_of(const nlohmann::json& rows, Eigen::Index n) {
 
 // The child's side: OpenBLAS alone, as JSON.
 void run_blas_only(const BenchArgs& a, int threads) {
-  const lab::BlasProjection b = lab::measure_blas_projection(a.level, a.order, threads, a.repeat);
+  const lab::BlasProjection b = lab::measure_blas_projection(a.level, a.order, threads, a.repeat, a.symmetric);
   const nlohmann::json j{{"blas_seconds", b.seconds},         {"blas_seconds_fp_first", b.seconds_fp_first},
                          {"blas_seconds_pf_first", b.seconds_pf_first}, {"blas_core", b.core},
                          {"blas_config", b.config},           {"coefficients", matrix_json(b.coefficients)}};
@@ -69,10 +69,11 @@ void run_blas_only(const BenchArgs& a, int threads) {
 // The parent's side: this program again, --blas-only, without the OpenBLAS overrides. Returns the JSON the
 // report carries: seconds, core, agreement with our C; or {"error": ...}.
 nlohmann::json best_blas(const BenchArgs& a, int threads, const lab::ProjectionBenchmark& ours) {
-  const std::vector<std::string> argv = {lab::own_executable(), "bench", "project", "--blas-only", "--level", std::to_string(a.level),
+  std::vector<std::string> args = {lab::own_executable(), "bench", "project", "--blas-only", "--level", std::to_string(a.level),
                                          "--order", std::to_string(a.order), "--threads", std::to_string(threads), "--repeat",
                                          std::to_string(a.repeat)};
-  const lab::ChildResult r = lab::run_child(argv, kBlasOverrides);
+  if (a.symmetric) args.push_back("--symmetric");
+  const lab::ChildResult r = lab::run_child(args, kBlasOverrides);
   if (r.signal != 0) return {{"error", fmt::format("the OpenBLAS run without {} was killed by signal {}", "OPENBLAS_CORETYPE", r.signal)}};
   if (r.exit_code != 0)
     return {{"error", fmt::format("the OpenBLAS run without OPENBLAS_CORETYPE exited with {}: {}", r.exit_code,
@@ -99,7 +100,7 @@ void run_project(const BenchArgs& a) {
   const int threads = a.threads > 0 ? a.threads : omp_get_num_procs();
   if (a.blas_only) return run_blas_only(a, threads);
   const std::string load_before = lab::load_average();
-  const lab::ProjectionBenchmark b = lab::measure_projection(a.level, a.order, threads, a.repeat);
+  const lab::ProjectionBenchmark b = lab::measure_projection(a.level, a.order, threads, a.repeat, a.symmetric);
   const double measured_peak = a.peak_gflops > 0 ? 0.0 : lab::measure_fp64_peak_gflops(threads);
   const double bandwidth = lab::measure_bandwidth_gbs(threads);
   const nlohmann::json best = a.no_best_blas ? nlohmann::json(nullptr) : best_blas(a, threads, b);
@@ -109,7 +110,7 @@ void run_project(const BenchArgs& a) {
   const double peak = a.peak_gflops > 0 ? a.peak_gflops : measured_peak;
   const double lut_bytes = 8.0 * static_cast<double>(b.cells) * static_cast<double>(b.cells);
   const double stream_seconds = lut_bytes / (bandwidth * 1e9);  // F read once: the memory floor of the projection
-  nlohmann::json j{{"level", a.level},      {"order", a.order},          {"cells", b.cells},
+  nlohmann::json j{{"level", a.level},      {"order", a.order},          {"cells", b.cells},  {"symmetric", a.symmetric},
                    {"modes", b.modes},      {"threads", threads},        {"seconds", ours},
                    {"gflops", gflops},      {"peak_gflops", peak},       {"peak_ratio", peak > 0 ? gflops / peak : 0.0},
                    {"peak_source", a.peak_gflops > 0 ? "--peak-gflops" : "measured"},
@@ -128,8 +129,8 @@ void run_project(const BenchArgs& a) {
     std::cout << j.dump(2) << "\n";
     return;
   }
-  std::cout << fmt::format("projection C = P^T F P, level {} ({} cells), order {} ({} modes), {} thread(s)\n", a.level, b.cells, a.order,
-                           b.modes, threads)
+  std::cout << fmt::format("projection C = P^T F P, level {} ({} cells), order {} ({} modes), {} thread(s){}\n", a.level, b.cells, a.order,
+                           b.modes, threads, a.symmetric ? ", symmetric F (icobrdf reads half of it; OpenBLAS does the general product)" : "")
             << fmt::format("  machine: {}; kernels on {}; load {} before, {} after\n", lab::cpu_model(), lab::simd_target_description(),
                            load_before, lab::load_average())
             << fmt::format("  FP64 peak: {:.1f} GFLOP/s {}; nominal {:.1f} ({:.0f} MHz x {} flops/cycle x cores)\n", peak,
@@ -162,6 +163,8 @@ void add_project(CLI::App& bench) {
       ->check(finite_in(0.0, kMaxPeakGflops, true));
   project->add_flag("--no-best-blas", a->no_best_blas,
                     "Skip the OpenBLAS run on its own kernel (a child process without OPENBLAS_CORETYPE / OPENBLAS_L2_SIZE)");
+  project->add_flag("--symmetric", a->symmetric,
+                    "Symmetric F (a reciprocal BRDF's LUT): the library uses it, OpenBLAS does the general product; gflops count the general flops");
   project->add_flag("--blas-only", a->blas_only, "Time OpenBLAS alone and print JSON (the child run)")->group("");
   project->add_flag("--json", a->json, "JSON: seconds, gflops, peak_gflops, peak_ratio, blas_seconds, blas_ratio, blas_best, ...");
   project->callback([a] { run_project(*a); });

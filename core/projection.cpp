@@ -11,9 +11,9 @@
 namespace icobrdf {
 namespace {
 
-// LUT columns per block of project_lut: enough blocks to balance two or more threads at level 4 and up,
-// wide enough that the packing of P^T for each block costs little next to the block of F.
-constexpr Eigen::Index kProjectColumns = 512;
+// LUT columns per block of project_lut (kProjectBlockColumns): enough blocks to balance two or more threads at
+// level 4 and up, wide enough that the small second product T P_J of each block costs little.
+constexpr Eigen::Index kProjectColumns = kProjectBlockColumns;
 
 }  // namespace
 
@@ -36,7 +36,7 @@ ProjectionOperator make_projection(const DiscreteBasis& basis, ProjectionOperato
   return p;
 }
 
-Eigen::MatrixXd project_lut(const ProjectionOperator& proj, const Eigen::MatrixXd& lut) {
+Eigen::MatrixXd project_lut(const ProjectionOperator& proj, const Eigen::MatrixXd& lut, LutSymmetry symmetry) {
   if (lut.rows() != proj.P.rows() || lut.cols() != proj.P.rows())
     throw ArgumentError("project: LUT is " + std::to_string(lut.rows()) + " x " + std::to_string(lut.cols()) +
                         ", expected " + std::to_string(proj.P.rows()) + " x " + std::to_string(proj.P.rows()) + " (cells x cells)");
@@ -48,15 +48,29 @@ Eigen::MatrixXd project_lut(const ProjectionOperator& proj, const Eigen::MatrixX
   const Eigen::Index cells = lut.rows(), modes = proj.P.cols();
   const Eigen::Index blocks = (cells + kProjectColumns - 1) / kProjectColumns;
   std::vector<Eigen::MatrixXd> partial(static_cast<size_t>(blocks));
+  const PackedProjection packed = pack_projection(proj.P);  // once, shared by the threads
 #pragma omp parallel
   {
-    Eigen::MatrixXd t(modes, kProjectColumns);  // P^T F_J, per thread
+    Eigen::MatrixXd t(modes, kProjectColumns), below(modes, kProjectColumns);  // P^T F_J, per thread
     std::vector<double> acc;
 #pragma omp for schedule(dynamic)
     for (Eigen::Index b = 0; b < blocks; ++b) {
       const Eigen::Index c0 = b * kProjectColumns, w = std::min(kProjectColumns, cells - c0);
-      projection_tile(proj.P, lut.data() + c0 * cells, cells, w, t, acc);  // P^T F_J at the CPU's vector width
-      partial[static_cast<size_t>(b)].noalias() = t * proj.P.middleRows(c0, w);
+      const double* fj = lut.data() + c0 * cells;
+      Eigen::MatrixXd& part = partial[static_cast<size_t>(b)];
+      if (symmetry == LutSymmetry::General) {
+        projection_tile(packed, proj.P, fj, cells, w, t, acc);  // P^T F_J at the CPU's vector width
+        part.noalias() = t * proj.P.middleRows(c0, w);
+      } else {
+        projection_tile(packed, proj.P, fj, cells, w, t, acc, c0, c0 + w);        // the diagonal block
+        if (c0 + w < cells)
+          projection_tile(packed, proj.P, fj, cells, w, below, acc, c0 + w, cells);  // the rows below it
+        else
+          below.setZero(modes, w);
+        part.noalias() = below * proj.P.middleRows(c0, w);
+        part = part + part.transpose().eval();
+        part.noalias() += t * proj.P.middleRows(c0, w);
+      }
     }
   }
   Eigen::MatrixXd c = Eigen::MatrixXd::Zero(modes, modes);

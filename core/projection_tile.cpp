@@ -8,7 +8,9 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "core/error.hpp"
 #include "core/projection_tile.hpp"
+#include <string>
 
 HWY_BEFORE_NAMESPACE();
 namespace icobrdf {
@@ -16,7 +18,7 @@ namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
 // Modes per register tile.
-constexpr int kTileModes = 3;
+constexpr int kTileModes = kProjectionTileModes;
 #if HWY_TARGET <= HWY_AVX3
 // 32 vector registers: 24 accumulators, 3 P vectors and 1 F vector.
 constexpr int kTileColumns = 8;
@@ -24,9 +26,12 @@ constexpr int kTileColumns = 8;
 // 16 vector registers: 12 accumulators, 3 P vectors and 1 F vector.
 constexpr int kTileColumns = 4;
 #endif
-// Cells per chunk: the chunk of P (45 modes x 512 cells = 184 KB at order 8) stays in L2 (chunks of 128 to
-// 1024 cells measured on AVX2 and AVX-512: 512 was fastest or within noise).
-constexpr std::ptrdiff_t kChunkCells = 512;
+// Cells per chunk and LUT columns per sweep over the cells (core/projection_tile.hpp: what stays in which cache).
+constexpr std::ptrdiff_t kChunkCells = 256, kSweepColumns = 64;
+double* aligned_start(double* p) {
+  while (reinterpret_cast<std::uintptr_t>(p) % kPackAlignBytes != 0) ++p;
+  return p;
+}
 
 // Keeps a loaded vector in a register: without this, GCC folds the load of F into each of the 3 FMAs that
 // use it (3 loads instead of 1), and the load ports saturate before the FMA pipes.
@@ -82,55 +87,61 @@ void pack_columns(const double* src, std::ptrdiff_t ld, std::ptrdiff_t first, st
   }
 }
 
-void ProjectionTile(const double* p, std::ptrdiff_t cells, std::ptrdiff_t modes, const double* f, std::ptrdiff_t ldf, std::ptrdiff_t w,
-                    double* t, std::vector<double>& scratch) {
-  const hn::ScalableTag<double> d;
-  const std::ptrdiff_t lanes = static_cast<std::ptrdiff_t>(hn::Lanes(d));
-  const std::ptrdiff_t groups = (modes + kTileModes - 1) / kTileModes, wv = w / kTileColumns * kTileColumns;
-  const std::ptrdiff_t cv = cells / lanes * lanes;  // cells handled by vectors
-  const std::ptrdiff_t per_column = kTileModes * lanes;  // accumulator doubles of one (mode group, column)
-  const std::ptrdiff_t acc_size = groups * w * per_column, pack_p_size = groups * kTileModes * kChunkCells,
-                       pack_f_size = kTileColumns * kChunkCells;
-  // One buffer: accumulators, then the packed chunk of P, then the packed chunk of F's columns; each part
-  // starts on a whole number of vectors (the packed loads are aligned).
-  constexpr std::uintptr_t kAlignBytes = 64;  // the widest vector of any target
-  scratch.assign(static_cast<size_t>(acc_size + pack_p_size + pack_f_size) + kAlignBytes / sizeof(double), 0.0);
-  double* acc = scratch.data();
-  double* base = acc + acc_size;
-  while (reinterpret_cast<std::uintptr_t>(base) % kAlignBytes != 0) ++base;
-  double* pack_p = base;
-  double* pack_f = pack_p + pack_p_size;
-  for (std::ptrdiff_t k0 = 0; k0 < cv; k0 += kChunkCells) {
-    const std::ptrdiff_t vectors = (std::min(cv, k0 + kChunkCells) - k0) / lanes;
-    // A short last mode group repeats the last mode; its sums are never read.
-    for (std::ptrdiff_t g = 0; g < groups; ++g)
-      pack_columns(p, cells, g * kTileModes, kTileModes, modes - 1, k0, vectors, lanes, pack_p + g * kTileModes * vectors * lanes);
-    for (std::ptrdiff_t j0 = 0; j0 < w;) {
-      const std::ptrdiff_t n = j0 < wv ? kTileColumns : 1;
-      pack_columns(f, ldf, j0, n, w - 1, k0, vectors, lanes, pack_f);
-      for (std::ptrdiff_t g = 0; g < groups; ++g) {
-        const double* pg = pack_p + g * kTileModes * vectors * lanes;
-        double* a = acc + (g * w + j0) * per_column;
-        if (n == kTileColumns)
-          dot_tile<kTileColumns>(pg, pack_f, vectors, a);
-        else
-          dot_tile<1>(pg, pack_f, vectors, a);
-      }
-      j0 += n;
-    }
-  }
+std::ptrdiff_t TileLanes() { return static_cast<std::ptrdiff_t>(hn::Lanes(hn::ScalableTag<double>())); }
+
+// out[g][kk][r][lane] = P(kk L + lane, min(g M + r, modes - 1)) for the cv = cells / L * L vector cells.
+void PackProjection(const double* p, std::ptrdiff_t cells, std::ptrdiff_t modes, double* out) {
+  const std::ptrdiff_t lanes = TileLanes(), cv = cells / lanes * lanes;
+  const std::ptrdiff_t groups = (modes + kTileModes - 1) / kTileModes;
   for (std::ptrdiff_t g = 0; g < groups; ++g)
-    for (std::ptrdiff_t j = 0; j < w; ++j)
-      for (std::ptrdiff_t r = 0; r < kTileModes; ++r) {
-        const std::ptrdiff_t m = g * kTileModes + r;
-        if (m >= modes) continue;
-        double* v = acc + (g * w + j) * per_column + r * lanes;
-        for (std::ptrdiff_t step = 1; step < lanes; step *= 2)  // the lanes, pairwise
-          for (std::ptrdiff_t i = 0; i + step < lanes; i += 2 * step) v[i] += v[i + step];
-        double sum = v[0];
-        for (std::ptrdiff_t k = cv; k < cells; ++k) sum += p[m * cells + k] * f[j * ldf + k];  // the last cells
-        t[j * modes + m] = sum;
+    pack_columns(p, cells, g * kTileModes, kTileModes, modes - 1, 0, cv / lanes, lanes, out + g * kTileModes * cv);
+}
+
+void ProjectionTile(const double* packed_p, const double* p, std::ptrdiff_t cells, std::ptrdiff_t modes, const double* f,
+                    std::ptrdiff_t ldf, std::ptrdiff_t w, std::ptrdiff_t k_begin, std::ptrdiff_t k_end, double* t,
+                    std::vector<double>& scratch) {
+  const std::ptrdiff_t lanes = TileLanes();
+  const std::ptrdiff_t groups = (modes + kTileModes - 1) / kTileModes;
+  const std::ptrdiff_t packed_cells = cells / lanes * lanes;  // cells of each packed mode group
+  const std::ptrdiff_t cv = k_begin + (k_end - k_begin) / lanes * lanes;  // cells handled by vectors
+  const std::ptrdiff_t per_column = kTileModes * lanes;  // accumulator doubles of one (mode group, column)
+  const std::ptrdiff_t acc_size = groups * kSweepColumns * per_column, pack_f_size = kTileColumns * kChunkCells;
+  // One buffer: the packed chunk of F's columns (aligned), then the accumulators of one sweep.
+  scratch.resize(static_cast<size_t>(pack_f_size + acc_size) + kPackAlignBytes / sizeof(double));
+  double* pack_f = aligned_start(scratch.data());
+  double* acc = pack_f + pack_f_size;
+  for (std::ptrdiff_t s0 = 0; s0 < w; s0 += kSweepColumns) {
+    const std::ptrdiff_t sw = std::min(kSweepColumns, w - s0), swv = sw / kTileColumns * kTileColumns;
+    std::fill(acc, acc + groups * sw * per_column, 0.0);
+    for (std::ptrdiff_t k0 = k_begin; k0 < cv; k0 += kChunkCells) {
+      const std::ptrdiff_t vectors = (std::min(cv, k0 + kChunkCells) - k0) / lanes;
+      for (std::ptrdiff_t j0 = 0; j0 < sw;) {
+        const std::ptrdiff_t n = j0 < swv ? kTileColumns : 1;
+        pack_columns(f, ldf, s0 + j0, n, w - 1, k0, vectors, lanes, pack_f);
+        for (std::ptrdiff_t g = 0; g < groups; ++g) {
+          const double* pg = packed_p + g * kTileModes * packed_cells + k0 * kTileModes;
+          double* a = acc + (g * sw + j0) * per_column;
+          if (n == kTileColumns)
+            dot_tile<kTileColumns>(pg, pack_f, vectors, a);
+          else
+            dot_tile<1>(pg, pack_f, vectors, a);
+        }
+        j0 += n;
       }
+    }
+    for (std::ptrdiff_t g = 0; g < groups; ++g)
+      for (std::ptrdiff_t j = 0; j < sw; ++j)
+        for (std::ptrdiff_t r = 0; r < kTileModes; ++r) {
+          const std::ptrdiff_t m = g * kTileModes + r;
+          if (m >= modes) continue;
+          double* v = acc + (g * sw + j) * per_column + r * lanes;
+          for (std::ptrdiff_t step = 1; step < lanes; step *= 2)  // the lanes, pairwise
+            for (std::ptrdiff_t i = 0; i + step < lanes; i += 2 * step) v[i] += v[i + step];
+          double sum = v[0];
+          for (std::ptrdiff_t k = cv; k < k_end; ++k) sum += p[m * cells + k] * f[(s0 + j) * ldf + k];  // the last cells
+          t[(s0 + j) * modes + m] = sum;
+        }
+  }
 }
 
 }  // namespace HWY_NAMESPACE
@@ -140,12 +151,37 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace icobrdf {
 
+HWY_EXPORT(TileLanes);
+HWY_EXPORT(PackProjection);
 HWY_EXPORT(ProjectionTile);
 
-void projection_tile(const Eigen::MatrixXd& p, const double* f, Eigen::Index ldf, Eigen::Index w, Eigen::MatrixXd& t,
-                     std::vector<double>& scratch) {
+PackedProjection pack_projection(const Eigen::MatrixXd& p) {
+  PackedProjection packed;
+  packed.cells = p.rows();
+  packed.modes = p.cols();
+  packed.lanes = HWY_DYNAMIC_DISPATCH(TileLanes)();
+  const Eigen::Index groups = (packed.modes + kProjectionTileModes - 1) / kProjectionTileModes;
+  const Eigen::Index cv = packed.cells / packed.lanes * packed.lanes;
+  packed.storage.assign(static_cast<size_t>(groups * kProjectionTileModes * cv) + kPackAlignBytes / sizeof(double), 0.0);
+  while (reinterpret_cast<std::uintptr_t>(packed.storage.data() + packed.offset) % kPackAlignBytes != 0) ++packed.offset;
+  if (packed.modes > 0) HWY_DYNAMIC_DISPATCH(PackProjection)(p.data(), p.rows(), p.cols(), packed.storage.data() + packed.offset);
+  return packed;
+}
+
+void projection_tile(const PackedProjection& packed, const Eigen::MatrixXd& p, const double* f, Eigen::Index ldf, Eigen::Index w,
+                     Eigen::MatrixXd& t, std::vector<double>& scratch, Eigen::Index first_cell, Eigen::Index end_cell) {
+  if (end_cell < 0) end_cell = p.rows();
+  if (packed.lanes != HWY_DYNAMIC_DISPATCH(TileLanes)() || packed.cells != p.rows() || packed.modes != p.cols())
+    throw ArgumentError("projection: P was packed for " + std::to_string(packed.lanes) + " lanes and " + std::to_string(packed.cells) + " x " +
+                        std::to_string(packed.modes) + ", used with " + std::to_string(HWY_DYNAMIC_DISPATCH(TileLanes)()) + " lanes and " +
+                        std::to_string(p.rows()) + " x " + std::to_string(p.cols()));
+  const bool aligned_end = end_cell == p.rows() || end_cell % packed.lanes == 0;
+  if (first_cell < 0 || first_cell > end_cell || end_cell > p.rows() || first_cell % packed.lanes != 0 || !aligned_end)
+    throw ArgumentError("projection: cell range [" + std::to_string(first_cell) + ", " + std::to_string(end_cell) + ") of " +
+                        std::to_string(p.rows()) + " cells does not start and end on a multiple of " + std::to_string(packed.lanes));
   t.resize(p.cols(), w);
-  HWY_DYNAMIC_DISPATCH(ProjectionTile)(p.data(), p.rows(), p.cols(), f, ldf, w, t.data(), scratch);
+  if (p.cols() == 0) return;
+  HWY_DYNAMIC_DISPATCH(ProjectionTile)(packed.data(), p.data(), p.rows(), p.cols(), f, ldf, w, first_cell, end_cell, t.data(), scratch);
 }
 
 }  // namespace icobrdf

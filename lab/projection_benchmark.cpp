@@ -21,6 +21,13 @@ Eigen::MatrixXd random_lut(Eigen::Index cells, unsigned seed) {
   return f;
 }
 
+Eigen::MatrixXd random_symmetric_lut(Eigen::Index cells, unsigned seed) {
+  Eigen::MatrixXd f = random_lut(cells, seed);
+  for (Eigen::Index j = 0; j < cells; ++j)
+    for (Eigen::Index k = j + 1; k < cells; ++k) f(j, k) = f(k, j) = 0.5 * (f(k, j) + f(j, k));
+  return f;
+}
+
 void blas_project(const Eigen::MatrixXd& P, const Eigen::MatrixXd& F, bool pf_first, Eigen::MatrixXd& tmp, Eigen::MatrixXd& out) {
   const int c = static_cast<int>(F.rows()), m = static_cast<int>(P.cols());
   const double* p = P.data();
@@ -56,14 +63,14 @@ struct Problem {
   Eigen::MatrixXd lut;
 };
 
-Problem problem_at(int level, int order, int threads) {
+Problem problem_at(int level, int order, int threads, bool symmetric) {
   omp_set_num_threads(threads);
   Eigen::setNbThreads(threads);
   set_blas_threads(threads);
   const Grid g = with_centre_cubature(build_equal_area_grid(level));
   const auto basis = build_discrete_basis(g, order);
   check_supported(basis);
-  return {make_projection(basis), random_lut(g.cells())};
+  return {make_projection(basis), symmetric ? random_symmetric_lut(g.cells()) : random_lut(g.cells())};
 }
 
 BlasProjection time_blas(const Problem& p, int repeat) {
@@ -81,16 +88,17 @@ BlasProjection time_blas(const Problem& p, int repeat) {
 
 }  // namespace
 
-BlasProjection measure_blas_projection(int level, int order, int threads, int repeat) {
-  return time_blas(problem_at(level, order, threads), repeat);
+BlasProjection measure_blas_projection(int level, int order, int threads, int repeat, bool symmetric) {
+  return time_blas(problem_at(level, order, threads, symmetric), repeat);
 }
 
-ProjectionBenchmark measure_projection(int level, int order, int threads, int repeat) {
-  const Problem p = problem_at(level, order, threads);
+ProjectionBenchmark measure_projection(int level, int order, int threads, int repeat, bool symmetric) {
+  const Problem p = problem_at(level, order, threads, symmetric);
+  const LutSymmetry symmetry = symmetric ? LutSymmetry::Symmetric : LutSymmetry::General;
   ProjectionBenchmark b;
   b.cells = p.lut.rows();
   b.modes = p.proj.P.cols();
-  b.seconds = best_seconds(repeat, [&] { b.coefficients = project_lut(p.proj, p.lut); });
+  b.seconds = best_seconds(repeat, [&] { b.coefficients = project_lut(p.proj, p.lut, symmetry); });
   b.blas = time_blas(p, repeat);
   b.relative_difference_to_blas = relative_difference(b.coefficients, b.blas.coefficients);
   const double c = static_cast<double>(b.cells), m = static_cast<double>(b.modes);

@@ -10,6 +10,8 @@ namespace icobrdf::lab {
 
 // A cells x cells matrix of uniform values in [0, 1) from std::mt19937_64(seed), written in storage order.
 Eigen::MatrixXd random_lut(Eigen::Index cells, unsigned seed = 1);
+// The same made symmetric: F = (R + R^T) / 2 (the shape of the f-form LUT of a reciprocal BRDF).
+Eigen::MatrixXd random_symmetric_lut(Eigen::Index cells, unsigned seed = 1);
 
 // Raw OpenBLAS (cblas_dgemm, column-major as Eigen stores) computes out = P^T F P; P is cells x modes,
 // F cells x cells. pf_first: (P^T F) P, else P^T (F P). `tmp` is the intermediate product: modes x cells
@@ -47,10 +49,12 @@ double relative_difference(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
 
 // Times raw OpenBLAS alone at (level, order) with `threads` threads, on the LUT of measure_projection.
 // Throws when the grid does not support the order.
-BlasProjection measure_blas_projection(int level, int order, int threads, int repeat);
+BlasProjection measure_blas_projection(int level, int order, int threads, int repeat, bool symmetric = false);
 
 // Times the projection at (level, order) on the centre-sampled equal-area grid with `threads` threads
-// (OpenMP, Eigen and OpenBLAS are set to it). Throws when the grid does not support the order.
-ProjectionBenchmark measure_projection(int level, int order, int threads, int repeat);
+// (OpenMP, Eigen and OpenBLAS are set to it). symmetric: the LUT is random_symmetric_lut and the library is
+// told so (LutSymmetry::Symmetric), while OpenBLAS does the general product, which cannot use it.
+// Throws when the grid does not support the order.
+ProjectionBenchmark measure_projection(int level, int order, int threads, int repeat, bool symmetric = false);
 
 }  // namespace icobrdf::lab

@@ -49,6 +49,15 @@ TEST(CliBench, ProjectReportsTheContractKeysAndBothPathsAgree) {
   }
 }
 
+TEST(CliBench, ProjectOfASymmetricLutAgreesWithTheGeneralProduct) {
+  const auto r = run_cli({"bench", "project", "--level", "2", "--order", "2", "--repeat", "1", "--threads", "2", "--symmetric", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["symmetric"].get<bool>());
+  EXPECT_LT(j["relative_difference_to_blas"].get<double>(), kSameProductTol);
+  if (!j["blas_best"].contains("error")) EXPECT_LT(j["blas_best"]["relative_difference"].get<double>(), kSameProductTol);
+}
+
 TEST(CliBench, ProjectTakesTheGivenPeakAndCanSkipTheChildRun) {
   const auto r = run_cli({"bench", "project", "--level", "1", "--order", "1", "--repeat", "1", "--threads", "1", "--peak-gflops", "123.5",
                           "--no-best-blas", "--json"});

@@ -3,11 +3,12 @@
 // (a target it cannot run is reported as skipped), at sizes that exercise every remainder: cells not a
 // multiple of the vector width (scalar tail) or of the cell chunk, LUT blocks whose width is not a multiple
 // of the tile width (one-column tiles), mode counts not a multiple of the 3-mode tile (1, 10, 21), and
-// several 512-column blocks.
+// several 512-column blocks; and the symmetric-F path (LutSymmetry::Symmetric) at the same sizes.
 #include <gtest/gtest.h>
 #include <omp.h>
 
 #include <cfloat>
+#include <cmath>
 #include <random>
 
 #include "core/error.hpp"
@@ -64,6 +65,26 @@ TEST_P(ProjectLutOnTarget, EqualsThePlainProductAtEveryRemainder) {
     EXPECT_TRUE(((two - reference).cwiseAbs().array() <= bound.array()).all())
         << target.name << ", " << s.cells << " cells, " << s.modes << " modes: max error " << (two - reference).cwiseAbs().maxCoeff();
     EXPECT_EQ((two - one).cwiseAbs().maxCoeff(), 0.0) << target.name << ": 1 and 2 threads must agree bitwise";
+
+    // The same F made symmetric, with every entry the symmetric path must not read (above its column's
+    // diagonal block) poisoned: the result is the projection of the symmetric F. The terms are those of the
+    // general product (each mirrored pair counted from the lower triangle), with 2 more additions per
+    // entry (A + A^T + D), within the same slack.
+    const Eigen::MatrixXd sym = 0.5 * (f + f.transpose());
+    const Eigen::MatrixXd sym_reference = p.P.transpose() * sym * p.P;
+    const Eigen::MatrixXd sym_bound =
+        (2.0 * s.cells + kBoundSlackOps) * DBL_EPSILON * (p.P.cwiseAbs().transpose() * sym.cwiseAbs() * p.P.cwiseAbs());
+    Eigen::MatrixXd poisoned = sym;
+    for (Eigen::Index j = 0; j < s.cells; ++j)
+      for (Eigen::Index k = 0; k < j / kProjectBlockColumns * kProjectBlockColumns; ++k) poisoned(k, j) = std::nan("");
+    const Eigen::MatrixXd sym_two = project_lut(p, poisoned, LutSymmetry::Symmetric);
+    omp_set_num_threads(1);
+    const Eigen::MatrixXd sym_one = project_lut(p, poisoned, LutSymmetry::Symmetric);
+    omp_set_num_threads(2);
+    EXPECT_TRUE(((sym_two - sym_reference).cwiseAbs().array() <= sym_bound.array()).all())
+        << target.name << ", symmetric, " << s.cells << " cells, " << s.modes << " modes: max error "
+        << (sym_two - sym_reference).cwiseAbs().maxCoeff();
+    EXPECT_EQ((sym_two - sym_one).cwiseAbs().maxCoeff(), 0.0) << target.name << ", symmetric: 1 and 2 threads must agree bitwise";
   }
 }
 
