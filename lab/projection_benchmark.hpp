@@ -31,6 +31,7 @@ struct BlasProjection {
   double seconds_fp_first = 0.0;  // best of `repeat`, P^T (F P)
   double seconds_pf_first = 0.0;  // best of `repeat`, (P^T F) P
   double seconds = 0.0;           // the faster of the two
+  double cpu_seconds = 0.0;       // least CPU time of a call of either order (all threads; lab/timing.hpp)
   Eigen::MatrixXd coefficients;   // C from the faster order
   std::string core, config;       // blas_core_name(), blas_config()
 };
@@ -38,6 +39,7 @@ struct BlasProjection {
 struct ProjectionBenchmark {
   Eigen::Index cells = 0, modes = 0;
   double seconds = 0.0;                            // best of `repeat`, the library's project_lut
+  double cpu_seconds = 0.0;                        // least CPU time of its calls (all threads)
   Eigen::MatrixXd coefficients;                    // its C
   BlasProjection blas;                             // raw OpenBLAS in this process
   double relative_difference_to_blas = 0.0;        // max|C - C_blas| / max|C|
@@ -52,7 +54,8 @@ double relative_difference(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
 BlasProjection measure_blas_projection(int level, int order, int threads, int repeat, bool symmetric = false);
 
 // Times the projection at (level, order) on the centre-sampled equal-area grid with `threads` threads
-// (OpenMP, Eigen and OpenBLAS are set to it). symmetric: the LUT is random_symmetric_lut and the library is
+// (OpenMP, Eigen and OpenBLAS are set to it), the paths interleaved call by call (a drift of the machine's
+// load reaches all of them alike), best of `repeat` each. symmetric: the LUT is random_symmetric_lut and the library is
 // told so (LutSymmetry::Symmetric), while OpenBLAS does the general product, which cannot use it.
 // Throws when the grid does not support the order.
 ProjectionBenchmark measure_projection(int level, int order, int threads, int repeat, bool symmetric = false);
