@@ -1,4 +1,5 @@
-// icobrdf bench project --level L --order N [--threads T] [--repeat R] [--peak-gflops G] [--symmetric] [--no-best-blas] [--json]
+// icobrdf bench project --level L --order N [--threads T] [--repeat R] [--peak-gflops G] [--symmetric] [--simd-target T]
+//                       [--no-best-blas] [--json]
 // Times one projection C = P^T F P of a cells x cells LUT with the library's call and with raw OpenBLAS in
 // the same run (lab/projection_benchmark.hpp), and reports GFLOP/s, the ratio to the machine's measured FP64
 // peak (lab/machine.hpp; --peak-gflops overrides it) next to the nominal one, the memory floor of streaming F
@@ -19,6 +20,8 @@
 
 #include "cli/bench_commands.hpp"
 #include "cli/option_checks.hpp"
+#include "core/error.hpp"
+#include "core/simd_target.hpp"
 #include "lab/child_process.hpp"
 #include "lab/machine.hpp"
 #include "lab/projection_benchmark.hpp"
@@ -34,6 +37,7 @@ struct BenchArgs {
   int level = 5, order = 8, threads = 0, repeat = 5;
   double peak_gflops = 0.0;
   bool json = false, no_best_blas = false, blas_only = false, symmetric = false;
+  std::string simd_target;  // empty: the best this CPU runs
 };
 
 nlohmann::json matrix_json(const Eigen::MatrixXd& m) {
@@ -98,9 +102,21 @@ nlohmann::json best_blas(const BenchArgs& a, int threads, const lab::ProjectionB
   }
 }
 
+// The compiled target named `name` (core/simd_target.hpp); ArgumentError listing the compiled ones otherwise.
+SimdTarget target_named(const std::string& name) {
+  std::string names;
+  for (const auto& t : compiled_simd_targets()) {
+    if (t.name == name) return t;
+    names += (names.empty() ? "" : ", ") + t.name;
+  }
+  throw ArgumentError("--simd-target '" + name + "': not compiled into this build, expected one of " + names);
+}
+
 void run_project(const BenchArgs& a) {
   const int threads = a.threads > 0 ? a.threads : omp_get_num_procs();
   if (a.blas_only) return run_blas_only(a, threads);
+  std::unique_ptr<ScopedSimdTarget> forced;  // UnsupportedError when the CPU cannot run it
+  if (!a.simd_target.empty()) forced = std::make_unique<ScopedSimdTarget>(target_named(a.simd_target));
   const std::string load_before = lab::load_average();
   const lab::ProjectionBenchmark b = lab::measure_projection(a.level, a.order, threads, a.repeat, a.symmetric);
   const double measured_peak = a.peak_gflops > 0 ? 0.0 : lab::measure_fp64_peak_gflops(threads);
@@ -171,6 +187,9 @@ void add_project(CLI::App& bench) {
                     "Skip the OpenBLAS run on its own kernel (a child process without OPENBLAS_CORETYPE / OPENBLAS_L2_SIZE)");
   project->add_flag("--symmetric", a->symmetric,
                     "Symmetric F (a reciprocal BRDF's LUT): the library uses it, OpenBLAS does the general product; gflops count the general flops");
+  project->add_option("--simd-target", a->simd_target,
+                      "Run the dispatched kernels and the peak loop on this compiled SIMD target (AVX3, AVX2, ...; default: the best "
+                      "this CPU runs)");
   project->add_flag("--blas-only", a->blas_only, "Time OpenBLAS alone and print JSON (the child run)")->group("");
   project->add_flag("--json", a->json, "JSON: seconds, gflops, peak_gflops, peak_ratio, blas_seconds, blas_ratio, blas_best, ...");
   project->callback([a] { run_project(*a); });

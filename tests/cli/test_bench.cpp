@@ -69,6 +69,19 @@ TEST(CliBench, ProjectTakesTheGivenPeakAndCanSkipTheChildRun) {
   EXPECT_TRUE(j["blas_best"].is_null());
 }
 
+TEST(CliBench, ProjectRunsOnANamedTargetAndRefusesAnUnknownOne) {
+  auto r = run_cli({"bench", "project", "--level", "1", "--order", "1", "--repeat", "1", "--no-best-blas", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string best = nlohmann::json::parse(r.out)["simd_target"].get<std::string>();
+  const std::string name = best.substr(0, best.find(' '));  // "AVX3 (8 FP64 lanes)"
+  r = run_cli({"bench", "project", "--level", "1", "--order", "1", "--repeat", "1", "--no-best-blas", "--simd-target", name, "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["simd_target"].get<std::string>(), best);
+  r = run_cli({"bench", "project", "--level", "1", "--order", "1", "--simd-target", "NOSUCH"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--simd-target 'NOSUCH': not compiled into this build, expected one of"), std::string::npos) << r.err;
+}
+
 TEST(CliBench, UnsupportedOrderIsRefused) {
   const auto r = run_cli({"bench", "project", "--level", "1", "--order", "8", "--json"});
   EXPECT_EQ(r.exit_code, 4) << r.err;
