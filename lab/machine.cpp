@@ -37,15 +37,10 @@ std::string cpu_model() {
 }
 
 int flops_per_cycle_per_core() {
-#if defined(__AVX512F__)
-  return 32;
-#elif defined(__AVX2__) && defined(__FMA__)
-  return 16;
-#elif defined(__AVX__)
-  return 8;
-#else
-  return 4;
-#endif
+  // Two FMA pipes of the dispatched width where the target has FMA (AVX2 and up: 4 doubles or more), else
+  // one add and one multiply pipe.
+  const int lanes = dispatched_f64_lanes();
+  return lanes >= 4 ? 2 * 2 * lanes : 2 * lanes;
 }
 
 const char* compiled_isa() {

@@ -4,8 +4,8 @@
 // the one the kernels dispatch to, the FP64 peak (nominal and measured), the memory bandwidth, the load
 // average and a measured GEMM rate.
 //   nominal FP64 peak [GFLOP/s] = threads x flops per cycle per core x clock [GHz], with flops per cycle per
-//   core = 32 for AVX-512 (two 8-wide FMA pipes), 16 for AVX2 + FMA (two 4-wide FMA pipes), 8 for AVX, 4
-//   otherwise. The clock is the first "cpu MHz" line: the nominal clock on virtual machines, which can be far
+//   core of the dispatched SIMD target = 32 for AVX-512 (two 8-wide FMA pipes), 16 for AVX2 + FMA (two 4-wide
+//   FMA pipes), 4 for SSE (one 2-wide add and one multiply pipe). The clock is the first "cpu MHz" line: the nominal clock on virtual machines, which can be far
 //   from what the cores sustain (issue 17: 166 GFLOP/s nominal, 271 measured on a 2-core Zen 5).
 //   measured FP64 peak: FMA throughput in-process, on all the threads asked for, at the vector width the
 //   kernels dispatch to (core/simd_target.hpp). Ratios to the peak use the measured one.
@@ -20,7 +20,7 @@ std::string proc_field(const std::string& file, const std::string& key);
 
 double cpu_mhz();               // MHz; 0 when /proc/cpuinfo has no clock
 std::string cpu_model();        // "unknown" when absent
-int flops_per_cycle_per_core(); // FP64, of the instruction set compiled for
+int flops_per_cycle_per_core(); // FP64, of the SIMD target the kernels dispatch to
 const char* compiled_isa();     // "AVX-512", "AVX2 + FMA", "AVX" or "SSE2"
 double fp64_peak_gflops(int threads);  // nominal, of min(threads, processors) cores: extra threads add no peak
 
@@ -45,7 +45,7 @@ struct Machine {
   std::string simd_target;              // what the dispatched kernels run on (core/simd_target.hpp), with its FP64 lanes
   int cores = 0;
   double cpu_mhz = 0.0;
-  int flops_per_cycle_per_core = 0;     // FP64, of the instruction set compiled for
+  int flops_per_cycle_per_core = 0;     // FP64, of the dispatched SIMD target
   double peak_gflops = 0.0;             // nominal: threads x flops/cycle x clock
   double measured_peak_gflops = 0.0;    // measure_fp64_peak_gflops (filled by the caller)
   double bandwidth_gbs = 0.0;           // measure_bandwidth_gbs (filled by the caller)
