@@ -1,7 +1,13 @@
-// icobrdf bench project --level L --order N [--threads T] [--repeat R] [--peak-gflops G] [--json]
+// icobrdf bench project --level L --order N [--threads T] [--repeat R] [--peak-gflops G] [--symmetric] [--simd-target T]
+//                       [--no-best-blas] [--json]
 // Times one projection C = P^T F P of a cells x cells LUT with the library's call and with raw OpenBLAS in
-// the same run (lab/projection_benchmark.hpp), and reports GFLOP/s, the ratio to the machine's FP64 peak
-// (lab/machine.hpp, or --peak-gflops) and to the BLAS baseline.
+// the same run (lab/projection_benchmark.hpp), and reports GFLOP/s, the ratio to the machine's measured FP64
+// peak (lab/machine.hpp; --peak-gflops overrides it) next to the nominal one, the memory floor of streaming F
+// once at the measured bandwidth, and the ratio to the BLAS baseline twice: OpenBLAS as this process loaded
+// it, and OpenBLAS on the kernel it picks for the CPU, timed in a child process (this program again, with
+// the hidden --blas-only) whose environment lacks OPENBLAS_CORETYPE and OPENBLAS_L2_SIZE. The parent's
+// environment is not changed. A child that fails is reported, not fatal (old OpenBLAS builds can crash
+// without those variables on some CPUs).
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 #include <omp.h>
@@ -9,9 +15,14 @@
 #include <Eigen/Core>
 #include <iostream>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "cli/bench_commands.hpp"
 #include "cli/option_checks.hpp"
+#include "core/error.hpp"
+#include "core/simd_target.hpp"
+#include "lab/child_process.hpp"
 #include "lab/machine.hpp"
 #include "lab/projection_benchmark.hpp"
 
@@ -19,37 +30,150 @@ namespace icobrdf::cli {
 namespace {
 
 constexpr double kMaxPeakGflops = 1e9;  // an exaflop: beyond any single machine this benchmark runs on
+// The variables OpenBLAS reads at load time to override its own choice of kernel and cache size.
+const std::vector<std::string> kBlasOverrides = {"OPENBLAS_CORETYPE", "OPENBLAS_L2_SIZE"};
 
 struct BenchArgs {
   int level = 5, order = 8, threads = 0, repeat = 5;
   double peak_gflops = 0.0;
-  bool json = false;
+  bool json = false, no_best_blas = false, blas_only = false, symmetric = false;
+  std::string simd_target;  // empty: the best this CPU runs
 };
+
+nlohmann::json matrix_json(const Eigen::MatrixXd& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    std::vector<double> row(static_cast<size_t>(m.cols()));
+    for (Eigen::Index j = 0; j < m.cols(); ++j) row[static_cast<size_t>(j)] = m(i, j);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+Eigen::MatrixXd matrix_of(const nlohmann::json& rows, Eigen::Index n) {
+  Eigen::MatrixXd m(n, n);
+  if (!rows.is_array() || static_cast<Eigen::Index>(rows.size()) != n) throw std::runtime_error("coefficients are not " + std::to_string(n) + " rows");
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto& row = rows[static_cast<size_t>(i)];
+    if (!row.is_array() || static_cast<Eigen::Index>(row.size()) != n) throw std::runtime_error("a coefficient row is not " + std::to_string(n) + " long");
+    for (Eigen::Index j = 0; j < n; ++j) m(i, j) = row[static_cast<size_t>(j)].get<double>();
+  }
+  return m;
+}
+
+// The child's side: OpenBLAS alone, as JSON.
+void run_blas_only(const BenchArgs& a, int threads) {
+  const lab::BlasProjection b = lab::measure_blas_projection(a.level, a.order, threads, a.repeat, a.symmetric);
+  const nlohmann::json j{{"blas_seconds", b.seconds},         {"blas_cpu_seconds", b.cpu_seconds},         {"blas_seconds_fp_first", b.seconds_fp_first},
+                         {"blas_seconds_pf_first", b.seconds_pf_first}, {"blas_core", b.core},
+                         {"blas_config", b.config},           {"coefficients", matrix_json(b.coefficients)}};
+  std::cout << j.dump() << "\n";
+}
+
+// The parent's side: this program again, --blas-only, without the OpenBLAS overrides. Returns the JSON the
+// report carries: seconds, core, agreement with our C; or {"error": ...}.
+nlohmann::json best_blas(const BenchArgs& a, int threads, const lab::ProjectionBenchmark& ours) {
+  std::vector<std::string> args = {lab::own_executable(), "bench", "project", "--blas-only", "--level", std::to_string(a.level),
+                                         "--order", std::to_string(a.order), "--threads", std::to_string(threads), "--repeat",
+                                         std::to_string(a.repeat)};
+  if (a.symmetric) args.push_back("--symmetric");
+  const lab::ChildResult r = lab::run_child(args, kBlasOverrides);
+  if (r.signal != 0) return {{"error", fmt::format("the OpenBLAS run without {} was killed by signal {}", "OPENBLAS_CORETYPE", r.signal)}};
+  if (r.exit_code != 0)
+    return {{"error", fmt::format("the OpenBLAS run without OPENBLAS_CORETYPE exited with {}: {}", r.exit_code,
+                                  r.err.substr(0, r.err.find('\n')))}};
+  try {
+    const auto c = nlohmann::json::parse(r.out);
+    const Eigen::MatrixXd coefficients = matrix_of(c.at("coefficients"), ours.modes);
+    const double seconds = c.at("blas_seconds").get<double>();
+    return {{"seconds", seconds},
+            {"seconds_fp_first", c.at("blas_seconds_fp_first")},
+            {"seconds_pf_first", c.at("blas_seconds_pf_first")},
+            {"gflops", ours.flops / seconds / 1e9},
+            {"ratio", seconds / ours.seconds},
+            {"cpu_seconds", c.at("blas_cpu_seconds")},
+            {"cpu_ratio", c.at("blas_cpu_seconds").get<double>() / ours.cpu_seconds},
+            {"core", c.at("blas_core")},
+            {"config", c.at("blas_config")},
+            {"relative_difference", lab::relative_difference(ours.coefficients, coefficients)},
+            {"environment", "without OPENBLAS_CORETYPE and OPENBLAS_L2_SIZE"}};
+  } catch (const std::exception& e) {
+    return {{"error", std::string("the OpenBLAS run without OPENBLAS_CORETYPE printed no readable result: ") + e.what()}};
+  }
+}
+
+// The compiled target named `name` (core/simd_target.hpp); ArgumentError listing the compiled ones otherwise.
+SimdTarget target_named(const std::string& name) {
+  std::string names;
+  for (const auto& t : compiled_simd_targets()) {
+    if (t.name == name) return t;
+    names += (names.empty() ? "" : ", ") + t.name;
+  }
+  throw ArgumentError("--simd-target '" + name + "': not compiled into this build, expected one of " + names);
+}
 
 void run_project(const BenchArgs& a) {
   const int threads = a.threads > 0 ? a.threads : omp_get_num_procs();
-  const lab::ProjectionBenchmark b = lab::measure_projection(a.level, a.order, threads, a.repeat);
-  const double ours = b.seconds, blas = b.blas_seconds, agree = b.relative_difference_to_blas;
-  const double gflops = b.flops / ours / 1e9;
-  const double peak = a.peak_gflops > 0 ? a.peak_gflops : lab::fp64_peak_gflops(threads);
-  nlohmann::json j{{"level", a.level},      {"order", a.order},          {"cells", b.cells},
+  if (a.blas_only) return run_blas_only(a, threads);
+  std::unique_ptr<ScopedSimdTarget> forced;  // UnsupportedError when the CPU cannot run it
+  if (!a.simd_target.empty()) forced = std::make_unique<ScopedSimdTarget>(target_named(a.simd_target));
+  const std::string load_before = lab::load_average();
+  const lab::ProjectionBenchmark b = lab::measure_projection(a.level, a.order, threads, a.repeat, a.symmetric);
+  const double measured_peak = a.peak_gflops > 0 ? 0.0 : lab::measure_fp64_peak_gflops(threads);
+  const double bandwidth = lab::measure_bandwidth_gbs(threads);
+  const nlohmann::json best = a.no_best_blas ? nlohmann::json(nullptr) : best_blas(a, threads, b);
+  const double ours = b.seconds, blas = b.blas.seconds, agree = b.relative_difference_to_blas;
+  const double gflops = b.flops / ours / 1e9;                    // general-product flops per second (comparable with BLAS)
+  const double performed_gflops = b.performed_flops / ours / 1e9;  // what the peak ratio uses
+  const double nominal = lab::fp64_peak_gflops(threads);
+  const double peak = a.peak_gflops > 0 ? a.peak_gflops : measured_peak;
+  const double lut_bytes = 8.0 * static_cast<double>(b.cells) * static_cast<double>(b.cells);
+  const double stream_seconds = lut_bytes / (bandwidth * 1e9);  // F read once: the memory floor of the projection
+  nlohmann::json j{{"level", a.level},      {"order", a.order},          {"cells", b.cells},  {"symmetric", a.symmetric},
                    {"modes", b.modes},      {"threads", threads},        {"seconds", ours},
-                   {"gflops", gflops},      {"peak_gflops", peak},       {"peak_ratio", peak > 0 ? gflops / peak : 0.0},
+                   {"gflops", gflops},      {"peak_gflops", peak},       {"peak_ratio", peak > 0 ? performed_gflops / peak : 0.0},
+                   {"performed_gflops", performed_gflops},
+                   {"peak_source", a.peak_gflops > 0 ? "--peak-gflops" : "measured"},
+                   {"measured_peak_gflops", measured_peak}, {"nominal_peak_gflops", nominal},
+                   {"fma_chains_per_thread", lab::kFmaChains}, {"simd_target", lab::simd_target_description()},
+                   {"bandwidth_gbs", bandwidth}, {"stream_seconds", stream_seconds}, {"stream_ratio", stream_seconds / ours},
                    {"blas_seconds", blas},  {"blas_ratio", blas / ours}, {"blas_gflops", b.flops / blas / 1e9},
+                   {"cpu_seconds", b.cpu_seconds}, {"blas_cpu_seconds", b.blas.cpu_seconds}, {"blas_cpu_ratio", b.blas.cpu_seconds / b.cpu_seconds},
+                   {"blas_core", b.blas.core}, {"blas_config", b.blas.config},
                    {"flops_per_cycle_per_core", lab::flops_per_cycle_per_core()}, {"cpu_mhz", lab::cpu_mhz()},
                    {"relative_difference_to_blas", agree}, {"blas", "OpenBLAS (cblas_dgemm), faster of (F P) and (P^T F) first"},
-                   {"blas_seconds_fp_first", b.blas_seconds_fp_first}, {"blas_seconds_pf_first", b.blas_seconds_pf_first},
-                   {"eigen_simd", Eigen::SimdInstructionSetsInUse()}};
+                   {"blas_seconds_fp_first", b.blas.seconds_fp_first}, {"blas_seconds_pf_first", b.blas.seconds_pf_first},
+                   {"blas_best", best},
+                   {"eigen_simd", Eigen::SimdInstructionSetsInUse()}, {"cpu_model", lab::cpu_model()},
+                   {"load_before", load_before}, {"load_after", lab::load_average()}};
   if (a.json) {
     std::cout << j.dump(2) << "\n";
     return;
   }
-  std::cout << fmt::format("projection C = P^T F P, level {} ({} cells), order {} ({} modes), {} thread(s)\n", a.level, b.cells, a.order,
-                           b.modes, threads)
-            << fmt::format("  icobrdf (Eigen): {:.4f} s, {:.1f} GFLOP/s = {:.0f}% of the FP64 peak {:.1f} GFLOP/s\n", ours, gflops,
-                           100 * gflops / peak, peak)
-            << fmt::format("  raw OpenBLAS:    {:.4f} s, {:.1f} GFLOP/s; icobrdf is {:.2f}x its speed (results agree to {:.1e})\n", blas,
-                           b.flops / blas / 1e9, blas / ours, agree);
+  std::cout << fmt::format("projection C = P^T F P, level {} ({} cells), order {} ({} modes), {} thread(s){}\n", a.level, b.cells, a.order,
+                           b.modes, threads, a.symmetric ? ", symmetric F (icobrdf reads half of it; OpenBLAS does the general product)" : "")
+            << fmt::format("  machine: {}; kernels on {}; load {} before, {} after\n", lab::cpu_model(), lab::simd_target_description(),
+                           load_before, lab::load_average())
+            << fmt::format("  FP64 peak: {:.1f} GFLOP/s {}; nominal {:.1f} ({:.0f} MHz x {} flops/cycle x cores)\n", peak,
+                           a.peak_gflops > 0 ? "(--peak-gflops)" : "measured (FMA throughput on all threads)", nominal, lab::cpu_mhz(),
+                           lab::flops_per_cycle_per_core())
+            << fmt::format("  memory: {:.1f} GB/s (triad); reading F once ({:.0f} MB) takes {:.4f} s\n", bandwidth, lut_bytes / 1e6,
+                           stream_seconds)
+            << fmt::format("  icobrdf:                {:.4f} s ({:.4f} s CPU), {:.1f} GFLOP/s = {:.0f}% of the FP64 peak\n", ours, b.cpu_seconds,
+                           gflops, 100 * performed_gflops / peak)
+            << fmt::format("  OpenBLAS ({}): {:.4f} s ({:.4f} s CPU), {:.1f} GFLOP/s; icobrdf is {:.2f}x its speed ({:.2f}x in CPU time; results "
+                           "agree to {:.1e})\n",
+                           b.blas.core, blas, b.blas.cpu_seconds, b.flops / blas / 1e9, blas / ours, b.blas.cpu_seconds / b.cpu_seconds, agree);
+  if (best.is_null()) return;
+  if (best.contains("error")) {
+    std::cout << "  OpenBLAS on its own kernel: not measured (" << best["error"].get<std::string>() << ")\n";
+    return;
+  }
+  std::cout << fmt::format("  OpenBLAS on its own kernel ({}, child without OPENBLAS_CORETYPE / OPENBLAS_L2_SIZE): {:.4f} s ({:.4f} s CPU), "
+                           "{:.1f} GFLOP/s; icobrdf is {:.2f}x its speed ({:.2f}x in CPU time; results agree to {:.1e})\n",
+                           best["core"].get<std::string>(), best["seconds"].get<double>(), best["cpu_seconds"].get<double>(),
+                           best["gflops"].get<double>(), best["ratio"].get<double>(), best["cpu_ratio"].get<double>(),
+                           best["relative_difference"].get<double>());
 }
 
 void add_project(CLI::App& bench) {
@@ -59,9 +183,17 @@ void add_project(CLI::App& bench) {
   project->add_option("--order,-n", a->order, "Expansion order")->capture_default_str()->check(CLI::Range(0, 64));
   project->add_option("--threads,-t", a->threads, "Threads (default: all cores)")->check(thread_count());
   project->add_option("--repeat", a->repeat, "Timed repetitions (the best is reported)")->capture_default_str()->check(CLI::Range(1, 1000));
-  project->add_option("--peak-gflops", a->peak_gflops, "FP64 peak of the machine, when /proc/cpuinfo's clock is not right")
+  project->add_option("--peak-gflops", a->peak_gflops, "FP64 peak of the machine for the ratio (default: measured)")
       ->check(finite_in(0.0, kMaxPeakGflops, true));
-  project->add_flag("--json", a->json, "JSON: seconds, gflops, peak_gflops, peak_ratio, blas_seconds, blas_ratio, ...");
+  project->add_flag("--no-best-blas", a->no_best_blas,
+                    "Skip the OpenBLAS run on its own kernel (a child process without OPENBLAS_CORETYPE / OPENBLAS_L2_SIZE)");
+  project->add_flag("--symmetric", a->symmetric,
+                    "Symmetric F (a reciprocal BRDF's LUT): the library uses it, OpenBLAS does the general product; gflops count the general flops, the peak ratio the performed ones");
+  project->add_option("--simd-target", a->simd_target,
+                      "Run the dispatched kernels and the peak loop on this compiled SIMD target (AVX3, AVX2, ...; default: the best "
+                      "this CPU runs)");
+  project->add_flag("--blas-only", a->blas_only, "Time OpenBLAS alone and print JSON (the child run)")->group("");
+  project->add_flag("--json", a->json, "JSON: seconds, gflops, peak_gflops, peak_ratio, blas_seconds, blas_ratio, blas_best, ...");
   project->callback([a] { run_project(*a); });
 }
 

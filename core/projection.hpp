@@ -26,7 +26,17 @@ struct ProjectionOperator {
 // LeastSquares requires G positive definite (UnsupportedError otherwise, with the condition number).
 ProjectionOperator make_projection(const DiscreteBasis& basis, ProjectionOperator::Kind kind = ProjectionOperator::Kind::LeastSquares);
 
-Eigen::MatrixXd project_lut(const ProjectionOperator& proj, const Eigen::MatrixXd& lut);          // P^T F P
+// What the caller knows of F's symmetry. Symmetric: F = F^T (the f-form LUT of a reciprocal BRDF, rows and
+// columns on the same cells); project_lut then reads only F(k, j) with k >= kProjectBlockColumns x
+// floor(j / kProjectBlockColumns), about half of F, and does about half the flops: with F's column blocks J,
+// C = sum_J (A_J + A_J^T + D_J), A_J = P(below J)^T F(below J, J) P_J, D_J = P_J^T F(J, J) P_J. Nothing checks
+// the claim (a check would read all of F); an F that is not symmetric gives the projection of its lower part
+// mirrored.
+enum class LutSymmetry { General, Symmetric };
+constexpr Eigen::Index kProjectBlockColumns = 512;  // LUT columns per block of project_lut
+
+Eigen::MatrixXd project_lut(const ProjectionOperator& proj, const Eigen::MatrixXd& lut,
+                            LutSymmetry symmetry = LutSymmetry::General);                          // P^T F P
 Eigen::MatrixXd reconstruct_lut(const DiscreteBasis& basis, const Eigen::MatrixXd& coefficients);  // B C B^T
 Eigen::MatrixXd smooth_lut(const DiscreteBasis& basis, const ProjectionOperator& proj, const Eigen::MatrixXd& lut,
                            const LowPassFilter& filter);                                           // S F S^T

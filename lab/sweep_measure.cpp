@@ -199,6 +199,8 @@ void measure_table(SweepResult& result, const std::function<void(const std::stri
   const SweepConfig& cfg = result.config;
   const auto t_start = std::chrono::steady_clock::now();
   result.machine.gemm_gflops = measure_gemm_gflops(cfg.quick ? kQuickGemmSize : kGemmSize);
+  result.machine.measured_peak_gflops = measure_fp64_peak_gflops(cfg.threads);
+  result.machine.bandwidth_gbs = measure_bandwidth_gbs(cfg.threads);
   Truth t;
   for (const auto& spec : cfg.models) t.models.push_back(parse_model(spec));
   t.held = held_out_pairs(cfg.held_out);

@@ -115,7 +115,7 @@ struct SweepResult {
   double table_seconds = 0.0, sections_seconds = 0.0;
 };
 
-// Runs the level x order table and measures the GEMM rate of result.machine. `progress` (may be empty)
+// Runs the level x order table and measures the GEMM rate, the FP64 peak and the bandwidth of result.machine. `progress` (may be empty)
 // gets one line per finished row.
 void measure_table(SweepResult& result, const std::function<void(const std::string&)>& progress);
 

@@ -139,9 +139,12 @@ std::string header_markdown(const SweepResult& r) {
   const auto& mc = r.machine;
   std::string md = "# Speed against error: `icobrdf bench sweep`\n\n";
   md += fmt::format("- date: {}\n- command: `{}`\n", r.created, r.command_line);
-  md += fmt::format("- machine: {}, {} cores, SIMD {}, clock {:.0f} MHz; FP64 peak {:.1f} GFLOP/s for {} thread(s) "
-                    "({} flops/cycle/core, as `bench project`); measured Eigen 1024^3 GEMM {:.1f} GFLOP/s\n",
-                    mc.cpu_model, mc.cores, mc.isa, mc.cpu_mhz, mc.peak_gflops, cfg.threads, mc.flops_per_cycle_per_core, mc.gemm_gflops);
+  md += fmt::format("- machine: {}, {} cores, SIMD {}, kernels dispatched to {}, clock {:.0f} MHz; FP64 peak for {} thread(s): "
+                    "measured {:.1f} GFLOP/s (FMA throughput, as `bench project`), nominal {:.1f} ({} flops/cycle/core x clock); "
+                    "measured Eigen 1024^3 GEMM {:.1f} GFLOP/s = {:.2f} of the measured peak; memory bandwidth {:.1f} GB/s (triad)\n",
+                    mc.cpu_model, mc.cores, mc.isa, mc.simd_target, mc.cpu_mhz, cfg.threads, mc.measured_peak_gflops, mc.peak_gflops,
+                    mc.flops_per_cycle_per_core, mc.gemm_gflops, mc.measured_peak_gflops > 0 ? mc.gemm_gflops / mc.measured_peak_gflops : 0.0,
+                    mc.bandwidth_gbs);
   md += fmt::format("- load average before: {}; after: {}\n", mc.load_before, mc.load_after);
   md += fmt::format("- levels {}; orders {}; models (canonical specs): {}\n", fmt::join(cfg.levels, ","), fmt::join(cfg.orders, ","),
                     fmt::join(cfg.models, "; "));
@@ -270,6 +273,7 @@ nlohmann::json to_json(const SweepResult& r) {
   const auto& mc = r.machine;
   j["machine"] = {{"cpu_model", mc.cpu_model}, {"cores", mc.cores}, {"isa", mc.isa}, {"cpu_mhz", mc.cpu_mhz},
                   {"flops_per_cycle_per_core", mc.flops_per_cycle_per_core}, {"peak_gflops", mc.peak_gflops},
+                  {"measured_peak_gflops", mc.measured_peak_gflops}, {"simd_target", mc.simd_target}, {"bandwidth_gbs", mc.bandwidth_gbs},
                   {"gemm_gflops", mc.gemm_gflops}, {"load_before", mc.load_before}, {"load_after", mc.load_after}};
   j["config"] = {{"levels", cfg.levels}, {"orders", cfg.orders}, {"models", cfg.models}, {"labels", cfg.labels}, {"threads", cfg.threads},
                  {"held_out_pairs", cfg.held_out}, {"held_out_seed", kHeldOutSeed}, {"quick", cfg.quick},

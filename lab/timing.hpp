@@ -2,6 +2,7 @@
 // Wall-clock timing of measurement steps (std::chrono::steady_clock), in seconds.
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 
 namespace icobrdf::lab {
 
@@ -11,6 +12,20 @@ double seconds_of(F&& f) {
   const auto t0 = std::chrono::steady_clock::now();
   f();
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// CPU seconds (all threads of this process, CLOCK_PROCESS_CPUTIME_ID) and wall seconds of one call of f. On
+// a machine shared with other work the CPU time leaves out the time the threads waited for a core.
+struct CpuWall {
+  double cpu = 0.0, wall = 0.0;
+};
+template <class F>
+CpuWall cpu_and_wall_of(F&& f) {
+  timespec c0{}, c1{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c0);
+  const double wall = seconds_of(f);
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c1);
+  return {static_cast<double>(c1.tv_sec - c0.tv_sec) + 1e-9 * static_cast<double>(c1.tv_nsec - c0.tv_nsec), wall};
 }
 
 // Best of `repeats` calls of f (the first also pays for first touch and thread start-up).

@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
-  libeigen3-dev libopenmesh-dev libhdf5-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev
+  libeigen3-dev libhwy-dev libopenmesh-dev libhdf5-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libbenchmark-dev libcairo2-dev libopenblas-dev libboost-dev
   python3 python3-numpy python3-h5py python3-matplotlib
   python3-dev pybind11-dev python3-pytest   # the Python module (python/) and its tests

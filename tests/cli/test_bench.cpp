@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cstdlib>
+
 #include "tests/cli/cli_runner.hpp"
 
 using icobrdf::test::run_cli;
@@ -21,7 +23,67 @@ TEST(CliBench, ProjectReportsTheContractKeysAndBothPathsAgree) {
   EXPECT_NEAR(j["gflops"].get<double>(), flops / j["seconds"].get<double>() / 1e9, 1e-9 * j["gflops"].get<double>());
   EXPECT_NEAR(j["blas_ratio"].get<double>(), j["blas_seconds"].get<double>() / j["seconds"].get<double>(), 1e-12);
   EXPECT_NEAR(j["peak_ratio"].get<double>(), j["gflops"].get<double>() / j["peak_gflops"].get<double>(), 1e-12);
+  EXPECT_EQ(j["performed_gflops"].get<double>(), j["gflops"].get<double>()) << "a general F performs the general product's flops";
   EXPECT_LT(j["relative_difference_to_blas"].get<double>(), kSameProductTol);
+  // The peak the ratio uses is the measured one; the nominal one is reported beside it.
+  EXPECT_EQ(j["peak_source"].get<std::string>(), "measured");
+  EXPECT_GT(j["measured_peak_gflops"].get<double>(), 0.0);
+  EXPECT_EQ(j["peak_gflops"].get<double>(), j["measured_peak_gflops"].get<double>());
+  EXPECT_TRUE(j.contains("nominal_peak_gflops"));
+  // The memory floor: the 168 x 168 LUT read once at the measured bandwidth.
+  const double bw = j["bandwidth_gbs"].get<double>();
+  ASSERT_GT(bw, 0.0);
+  EXPECT_NEAR(j["stream_seconds"].get<double>(), 8.0 * 168 * 168 / (bw * 1e9), 1e-12 * j["stream_seconds"].get<double>());
+  EXPECT_FALSE(j["blas_core"].get<std::string>().empty());
+  // OpenBLAS on its own kernel, in a child without OPENBLAS_CORETYPE / OPENBLAS_L2_SIZE. When this process
+  // has neither variable, the child's OpenBLAS loads exactly as this one did: it must run and agree.
+  const auto& best = j["blas_best"];
+  ASSERT_TRUE(best.is_object());
+  if (std::getenv("OPENBLAS_CORETYPE") == nullptr && std::getenv("OPENBLAS_L2_SIZE") == nullptr) {
+    ASSERT_FALSE(best.contains("error")) << best.dump();
+    EXPECT_EQ(best["core"].get<std::string>(), j["blas_core"].get<std::string>());
+  }
+  if (!best.contains("error")) {
+    EXPECT_LT(best["relative_difference"].get<double>(), kSameProductTol);
+    EXPECT_NEAR(best["ratio"].get<double>(), best["seconds"].get<double>() / j["seconds"].get<double>(), 1e-12);
+    EXPECT_FALSE(best["core"].get<std::string>().empty());
+  }
+}
+
+TEST(CliBench, ProjectOfASymmetricLutAgreesWithTheGeneralProduct) {
+  const auto r = run_cli({"bench", "project", "--level", "2", "--order", "2", "--repeat", "1", "--threads", "2", "--symmetric", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["symmetric"].get<bool>());
+  // 168 cells are one column block: P^T F over all 168 cells, then two 6 x 168 x 6 products.
+  const double performed = 2.0 * 6 * 168 * 168 + 2.0 * 2.0 * 6 * 168 * 6;
+  EXPECT_NEAR(j["performed_gflops"].get<double>(), performed / j["seconds"].get<double>() / 1e9, 1e-9 * j["performed_gflops"].get<double>());
+  EXPECT_LT(j["relative_difference_to_blas"].get<double>(), kSameProductTol);
+  if (!j["blas_best"].contains("error")) EXPECT_LT(j["blas_best"]["relative_difference"].get<double>(), kSameProductTol);
+}
+
+TEST(CliBench, ProjectTakesTheGivenPeakAndCanSkipTheChildRun) {
+  const auto r = run_cli({"bench", "project", "--level", "1", "--order", "1", "--repeat", "1", "--threads", "1", "--peak-gflops", "123.5",
+                          "--no-best-blas", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["peak_source"].get<std::string>(), "--peak-gflops");
+  EXPECT_EQ(j["peak_gflops"].get<double>(), 123.5);
+  EXPECT_NEAR(j["peak_ratio"].get<double>(), j["gflops"].get<double>() / 123.5, 1e-12);
+  EXPECT_TRUE(j["blas_best"].is_null());
+}
+
+TEST(CliBench, ProjectRunsOnANamedTargetAndRefusesAnUnknownOne) {
+  auto r = run_cli({"bench", "project", "--level", "1", "--order", "1", "--repeat", "1", "--no-best-blas", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string best = nlohmann::json::parse(r.out)["simd_target"].get<std::string>();
+  const std::string name = best.substr(0, best.find(' '));  // "AVX3 (8 FP64 lanes)"
+  r = run_cli({"bench", "project", "--level", "1", "--order", "1", "--repeat", "1", "--no-best-blas", "--simd-target", name, "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["simd_target"].get<std::string>(), best);
+  r = run_cli({"bench", "project", "--level", "1", "--order", "1", "--simd-target", "NOSUCH"});
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--simd-target 'NOSUCH': not compiled into this build, expected one of"), std::string::npos) << r.err;
 }
 
 TEST(CliBench, UnsupportedOrderIsRefused) {
