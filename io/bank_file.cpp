@@ -197,7 +197,7 @@ void write_bank(const std::string& path, const BankContents& c) {
       bool lobes = false, fits = false;
       for (const auto& m : c.materials) {
         lobes = lobes || m.lobe.has_value();
-        fits = fits || m.spectrum.sample_fit.has_value();
+        fits = fits || sample_fit_record_matches(m.spectrum);
       }
       root.set_attr("format_version", lobes ? (fits ? bank_format::kVersionSampleFit : bank_format::kVersion)
                                             : (fits ? bank_format::kVersionModesOnlySampleFit : bank_format::kVersionModesOnly));

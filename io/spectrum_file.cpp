@@ -162,16 +162,19 @@ void require_finite_material(const std::string& file, const MaterialRecord& rec)
 }
 
 // The `sample_fit` subgroup: the record of a fit of scattered samples (core/spectrum.hpp SampleFitRecord).
-static void write_sample_fit(h5::Group& g, const Spectrum& s, const std::string& nm) {
+bool sample_fit_record_matches(const Spectrum& s) {
+  if (!s.sample_fit) return false;
   const SampleFitRecord& f = *s.sample_fit;
   const std::int64_t k = s.isotropic ? isotropic_mode_count(s.order) : helmholtz_mode_count(s.order);
   const int ch = s.channel_count();
-  if (f.unknowns != k || f.standard_error.rows() != ch || f.standard_error.cols() != k ||
-      static_cast<int>(f.residual_rms.size()) != ch || static_cast<int>(f.noise_sigma.size()) != ch)
-    bad_record(nm, "sample_fit: expected " + std::to_string(k) + " unknowns and " + std::to_string(ch) +
-                       " channels in the standard errors, residuals and sigmas, found " + std::to_string(f.unknowns) + ", " +
-                       std::to_string(f.standard_error.rows()) + " x " + std::to_string(f.standard_error.cols()) + ", " +
-                       std::to_string(f.residual_rms.size()) + ", " + std::to_string(f.noise_sigma.size()));
+  return f.unknowns == k && f.standard_error.rows() == ch && f.standard_error.cols() == k &&
+         static_cast<int>(f.residual_rms.size()) == ch && static_cast<int>(f.noise_sigma.size()) == ch;
+}
+
+static void write_sample_fit(h5::Group& g, const Spectrum& s) {
+  const SampleFitRecord& f = *s.sample_fit;
+  const std::int64_t k = f.unknowns;
+  const int ch = s.channel_count();
   h5::Group r = g.create_group("sample_fit");
   r.set_attr("modes", s.isotropic ? "isotropic (IBSSS, Table 2 order)" : "general Helmholtz (BSSS, library order)");
   r.set_attr("samples", static_cast<std::int64_t>(f.samples));
@@ -318,7 +321,7 @@ void write_material(h5::Group& materials, const MaterialRecord& rec) {
 
   write_lut(g, rec, cells);
   write_choice(g, rec);
-  if (s.sample_fit) write_sample_fit(g, s, nm);
+  if (sample_fit_record_matches(s)) write_sample_fit(g, s);
 }
 
 MaterialRecord read_material(const h5::Group& materials, const std::string& name, const h5::ReadLimits& lim, bool read_lut,
