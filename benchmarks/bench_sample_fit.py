@@ -68,6 +68,7 @@ def fit(exe, args):
 def main():
     exe = os.path.abspath(sys.argv[1])
     work = sys.argv[2] if len(sys.argv) > 2 else tempfile.mkdtemp(prefix="bench_sample_fit_")
+    os.makedirs(work, exist_ok=True)
     held = os.path.join(work, "held.csv")
     write_pairs(held, pairs(2000, 2, False))
     full = samples(exe, work, "full20k", pairs(20000, 3, False))

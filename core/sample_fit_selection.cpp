@@ -148,8 +148,8 @@ OrderCrossValidation score_orders(const Folds& f, int min_order, int max_order, 
   for (size_t i = 0; i < scores.size(); ++i)
     if (scores[i].determined && (best < 0 || scores[i].mse < scores[static_cast<size_t>(best)].mse)) best = static_cast<int>(i);
   if (best < 0) return cv;
-  const OrderScore& b = scores[static_cast<size_t>(best)];
-  const double threshold = b.mse + std::max(b.mse_se, kCvResolution * data_ms);
+  // The lowest order within kCvTieFraction of the best mean square (or its resolution).
+  const double threshold = scores[static_cast<size_t>(best)].mse * (1.0 + kCvTieFraction) + kCvResolution * data_ms;
   for (size_t i = 0; i < scores.size(); ++i)
     if (scores[i].determined && scores[i].mse <= threshold) {
       cv.chosen = cv.orders[i];
@@ -327,7 +327,7 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
     out.notes.push_back("order " + std::to_string(o.order) + " chosen by " + std::to_string(plan.folds) +
                         "-fold cross-validation over orders 0.." + std::to_string(top) + " (CV RMS " +
                         fmt_g(out.order_cv.rms[at]) + " +- " + fmt_g(out.order_cv.rms_se[at], 2) +
-                        " 1/sr; lowest order within one standard error of the best)");
+                        " 1/sr; lowest order within 0.5% of the best mean square)");
   } else {
     folds = assemble_folds(o.order, o.isotropic, wi, wr, values, w, plan.folds, o.progress);
   }
