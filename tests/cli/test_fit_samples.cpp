@@ -133,6 +133,27 @@ TEST(CliFitSamples, AutomaticOrderAndLambdaAreReportedAndStored) {
   EXPECT_LT(held_out_error(d.file("s.h5"), d.file("held.csv")), 1.0);
 }
 
+// Samples within 5 degrees of the normal (rho <= 0.087) with values 0.3-0.35 scattered at random: a fit of
+// order 2 with a negligible given lambda (no fallback) bends with the scatter, its rho^2 terms of size
+// about 0.05 / rho^2 ~ 7 grow to ~ 7 x 2 at the horizon (rho^2 = 2), far over 10 times the largest sample.
+// Refused: exit 4 (UnsupportedError), one line naming the bound, no file.
+TEST(CliFitSamples, FitNotBoundedBySamplesIsRefused) {
+  TempDir d;
+  {
+    std::ofstream o(d.file("cap.csv"));
+    o << "theta_i,phi_i,theta_r,phi_r,value\n";
+    std::mt19937 g(5);
+    std::uniform_real_distribution<double> th(0, 5), ph(0, 360), v(0.3, 0.35);
+    for (int k = 0; k < 200; ++k) o << th(g) << "," << ph(g) << "," << th(g) << "," << ph(g) << "," << v(g) << "\n";
+  }
+  const auto r = run_cli({"fit", d.file("cap.csv") + "#tikhonov=1e-12", "--order", "2", "--isotropic", "-q", "-o", d.file("cap.h5")});
+  EXPECT_EQ(r.exit_code, 4) << r.out << r.err;
+  EXPECT_NE(r.err.find("the samples cannot bound a fit"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  std::ifstream f(d.file("cap.h5"));
+  EXPECT_FALSE(f.good());
+}
+
 TEST(CliFitSamples, HelpDocumentsTheSampleOptions) {
   const auto r = run_cli({"fit", "--help"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
