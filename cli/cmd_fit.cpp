@@ -1,5 +1,7 @@
-// icobrdf fit SOURCE --order N --level L [--isotropic] [--cosine] [--filter NAME] -o SPECTRUM.h5
-// Projects a BRDF onto the Helmholtz modes on a tessellation and writes its spectrum.
+// icobrdf fit SOURCE [--order N] --level L [--isotropic] [--cosine] [--filter NAME] [--quiet] -o SPECTRUM.h5
+// Projects a BRDF onto the Helmholtz modes on a tessellation and writes its spectrum. Scattered samples
+// (CSV) without --order get a cross-validated order; a fit longer than kProgressAfterSeconds reports its
+// stages on stderr.
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
@@ -21,12 +23,30 @@
 namespace icobrdf::cli {
 namespace {
 
+// Default order of sources that do not choose their own.
+constexpr int kDefaultOrder = 8;
+// Progress lines start after this long (a shorter fit prints none) and come at most once per interval.
+constexpr double kProgressAfterSeconds = 2.0;
+constexpr double kProgressIntervalSeconds = 1.0;
+
 struct FitArgs {
   std::string source, output, filter = "none", grid = "equal-area", sampling = "average", name;
-  int order = 8, level = 4;
-  bool isotropic = false, cosine = false, json = false, strict = false;
+  int order = kDefaultOrder, level = 4;
+  bool order_given = false;
+  bool isotropic = false, cosine = false, json = false, strict = false, quiet = false;
   double gram_tol = kDefaultGramTolerance;
 };
+
+// Stage and percentage on stderr, from kProgressAfterSeconds on.
+FitProgress progress_printer(std::chrono::steady_clock::time_point start) {
+  auto last = std::make_shared<double>(-1.0);
+  return [start, last](const char* stage, double fraction) {
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (t < kProgressAfterSeconds || (*last >= 0.0 && t - *last < kProgressIntervalSeconds)) return;
+    *last = t;
+    std::cerr << fmt::format("fit: {} {:.0f}% ({:.1f} s)", stage, 100.0 * std::clamp(fraction, 0.0, 1.0), t) << std::endl;
+  };
+}
 
 GridKind fitting_grid_kind(const std::string& text) {
   if (text == to_string(GridKind::EqualArea)) return GridKind::EqualArea;
@@ -39,6 +59,7 @@ void run_fit(const FitArgs& a) {
   FitRequest r;
   r.level = a.level;
   r.order = a.order;
+  if (!a.quiet) r.progress = progress_printer(t0);
   r.isotropic = a.isotropic;
   r.cosine = a.cosine;
   r.filter = parse_lowpass_filter(a.filter);
@@ -51,6 +72,7 @@ void run_fit(const FitArgs& a) {
   const auto source = open_source(a.source);  // validates the source before any work
   if (!source->has_delta())  // a model's delta note is about pointwise values, which fit does not print
     for (const auto& note : source->notes()) std::cerr << "icobrdf: note: " << source->spec() << ": " << note << "\n";
+  if (!a.order_given && chooses_order(*source)) r.order = kChooseOrder;
   r.grid_kind = fitting_grid_kind(a.grid);
   const FitResult fit = fit_source(*source, r);
   const Spectrum& s = fit.spectrum;
@@ -76,40 +98,70 @@ void run_fit(const FitArgs& a) {
                    {"max_albedo", s.max_albedo},
                    {"seconds", seconds}};
   // Scattered-sample fits (MERL, CSV): the least-squares figures, so rank-deficient data is visible.
-  const SampleFitResult* sf = last_sample_fit(*source);
+  const CheckedSampleFit* cf = last_checked_sample_fit(*source);
+  const SampleFitResult* sf = cf ? &cf->fit : nullptr;
   const std::int64_t missing = merl_missing_samples(*source);
+  const bool grid_fit = s.level >= 0;  // the tessellation took part in the fit (not samples or coefficients)
+  if (!grid_fit) {
+    j.erase("gram_error");
+    j.erase("gram_condition");
+    j["level"] = a.level;
+    j["grid_use"] = "albedo figure only";
+  }
   if (sf) {
-    const auto& sv = sf->singular_values;
-    const double cond = sf->effective_rank > 0 ? sv(0) / sv(sf->effective_rank - 1) : 0.0;
+    const auto vec = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
     j["sample_fit"] = {{"samples", sf->samples},
                        {"unknowns", sf->unknowns},
                        {"effective_rank", sf->effective_rank},
                        {"null_space_dimension", sf->null_space_dimension},
                        {"unseen_modes", sf->unseen_modes},
                        {"rank_threshold", sf->rank_threshold},
-                       {"condition_of_kept_part", cond},
-                       {"residual_rms", std::vector<double>(sf->residual_rms.data(), sf->residual_rms.data() + sf->residual_rms.size())}};
+                       {"condition_of_kept_part", sf->condition},
+                       {"solver", sf->solver},
+                       {"tikhonov", sf->tikhonov},
+                       {"tikhonov_choice", cf->tikhonov_choice},
+                       {"order_choice", cf->order_choice},
+                       {"cv_rms", cf->cv_rms},
+                       {"cv_folds", cf->cv_folds},
+                       {"fallback", cf->fallback},
+                       {"notes", cf->notes},
+                       {"noise_sigma", vec(sf->noise_sigma)},
+                       {"residual_rms", vec(sf->residual_rms)}};
   }
   if (missing >= 0) j["missing_samples"] = missing;
+  if (cf && !cf->fallback.empty()) std::cerr << "icobrdf: warning: fit " << quoted_text(s.source) << ": " << cf->fallback << "\n";
   if (a.json) {
     std::cout << j.dump(2) << "\n";
     return;
   }
-  std::cout << fmt::format("{} -> {}\n", s.source, a.output)
-            << fmt::format("  order {} ({} K functions), {} grid level {} ({} cells), {} channel(s){}{}\n", s.order, s.modes(),
-                           s.grid_kind, s.level, ctx.grid->cells(), s.channel_count(), s.isotropic ? ", isotropic" : "",
-                           s.cosine ? ", g = f cos(theta_i)" : "")
-            << fmt::format("  Gram error {:.3g} (condition {:.4g}), reciprocity violation {:.3g}, anisotropic energy {:.3g}\n",
-                           s.gram_error, ctx.basis.condition, s.reciprocity_violation, s.anisotropy_fraction)
-            << fmt::format("  max directional albedo {:.6g}, filter {}, {:.3f} s\n", s.max_albedo, s.filter, seconds);
+  std::cout << fmt::format("{} -> {}\n", s.source, a.output);
+  if (grid_fit) {
+    std::cout << fmt::format("  order {} ({} K functions), {} grid level {} ({} cells), {} channel(s){}{}\n", s.order, s.modes(),
+                             s.grid_kind, s.level, ctx.grid->cells(), s.channel_count(), s.isotropic ? ", isotropic" : "",
+                             s.cosine ? ", g = f cos(theta_i)" : "")
+              << fmt::format("  Gram error {:.3g} (condition {:.4g}), reciprocity violation {:.3g}, anisotropic energy {:.3g}\n",
+                             s.gram_error, ctx.basis.condition, s.reciprocity_violation, s.anisotropy_fraction);
+  } else {
+    std::cout << fmt::format("  order {} ({} K functions), {} channel(s){}; {} (no tessellation: the {} grid of level {}, "
+                             "{} cells, serves only the albedo figure)\n",
+                             s.order, s.modes(), s.channel_count(), s.isotropic ? ", isotropic" : "",
+                             sf ? "least-squares fit of samples" : "coefficients re-expanded exactly", r.grid_kind == GridKind::EqualArea ? "equal-area" : "geodesic",
+                             a.level, ctx.grid->cells())
+              << fmt::format("  reciprocity violation {:.3g}, anisotropic energy {:.3g}\n", s.reciprocity_violation,
+                             s.anisotropy_fraction);
+  }
+  std::cout << fmt::format("  max directional albedo {:.6g}, filter {}, {:.3f} s\n", s.max_albedo, s.filter, seconds);
   if (sf) {
     double worst = 0.0;
     for (Eigen::Index c = 0; c < sf->residual_rms.size(); ++c) worst = std::max(worst, sf->residual_rms(c));
     std::cout << fmt::format("  sample fit: {} samples, rank {} of {} unknowns (null space {}, unseen modes {}), "
-                             "condition {:.3g}, residual RMS {:.3g} 1/sr (worst channel)\n",
+                             "condition {:.3g}, residual RMS {:.3g} 1/sr (worst channel), {}\n",
                              sf->samples, sf->effective_rank, sf->unknowns, sf->null_space_dimension, sf->unseen_modes,
-                             j["sample_fit"]["condition_of_kept_part"].get<double>(), worst);
-    if (sf->null_space_dimension > 0)
+                             sf->condition, worst, sf->solver);
+    std::cout << fmt::format("  order {} ({}), Tikhonov lambda {:.3g} ({}), {}-fold CV RMS {:.3g} 1/sr\n", s.order,
+                             cf->order_choice, sf->tikhonov, cf->tikhonov_choice, cf->cv_folds, cf->cv_rms);
+    for (const auto& n : cf->notes) std::cout << "  " << n << "\n";
+    if (sf->null_space_dimension > 0 && sf->tikhonov == 0.0)
       std::cout << "  warning: the samples do not determine every mode; the minimum-norm solution sets the "
                 << sf->null_space_dimension << " undetermined combination(s) to zero\n";
   }
@@ -119,8 +171,24 @@ void run_fit(const FitArgs& a) {
 void add_fit_command(CLI::App& app) {
   auto a = std::make_shared<FitArgs>();
   auto* cmd = app.add_subcommand("fit", "Project a BRDF onto the Helmholtz modes and write its spectrum (HDF5)");
-  cmd->add_option("source", a->source, "SOURCE: model:NAME[:key=value,...] (see `icobrdf models`) or a spectrum/bank file")->required();
-  cmd->add_option("--order,-n", a->order, "Total order N of the expansion")->capture_default_str()->check(CLI::Range(0, 128));
+  cmd->footer(
+      "Samples (FILE.csv or samples:FILE, columns theta_i,phi_i,theta_r,phi_r,value[s], degrees) take options after '#',\n"
+      "comma-separated, e.g. 'data.csv#tikhonov=auto,power=1':\n"
+      "  radians          angles in radians\n"
+      "  strict           non-reciprocal sample pairs are an error\n"
+      "  tikhonov=L|auto  penalty L * sum_k d_k x_k^2, d_k = (n(n+2) + m(m+2))^p; auto: L by generalized cross-validation\n"
+      "  power=P          the exponent p of the penalty (default 1; 0 = plain ridge)\n"
+      "  rank-tol=T       relative singular-value threshold of the rank (default max(samples, unknowns) * 2.2e-16)\n"
+      "Without --order, the order of a sample fit is chosen by 5-fold cross-validation and lambda by generalized\n"
+      "cross-validation (unless tikhonov=L is given); both choices are printed. Samples that do not determine the\n"
+      "modes (in-plane data against anisotropic modes, unseen modes, condition > 1e6) fall back to the isotropic modes,\n"
+      "then to a regularized fit, and say so; a fit reaching over 10 times the largest sample anywhere is refused.\n"
+      "The spectrum file keeps the fit's record: standard errors, CV error, rank, condition, residual RMS.");
+  cmd->add_option("source", a->source, "SOURCE: model:NAME[:key=value,...] (see `icobrdf models`), a spectrum/bank file, "
+                                       "FILE.csv[#OPTIONS] samples, FILE.binary MERL, FILE.zernike.csv SCATMECH")->required();
+  cmd->add_option("--order,-n", a->order, "Total order N of the expansion (default 8; samples: chosen by cross-validation)")
+      ->check(CLI::Range(0, 128))
+      ->each([a](const std::string&) { a->order_given = true; });
   cmd->add_option("--level,-l", a->level, "Tessellation level (cells: 10*4^L + 2^(L+1))")->capture_default_str()->check(CLI::Range(0, 8));
   cmd->add_flag("--isotropic", a->isotropic, "Project onto the isotropic modes (IBSSS)");
   cmd->add_flag("--cosine", a->cosine, "Project g = f cos(theta_i) (always for delta models)");
@@ -132,6 +200,7 @@ void add_fit_command(CLI::App& app) {
   cmd->add_option("-o,--output", a->output, "Output spectrum file (.h5)")->required();
   cmd->add_flag("--json", a->json, "Print the figures as JSON");
   cmd->add_flag("--strict", a->strict, "A negative directional albedo (non-physical) is an error, not a warning");
+  cmd->add_flag("--quiet,-q", a->quiet, "No progress lines on stderr (printed for fits longer than 2 s)");
   cmd->callback([a] { run_fit(*a); });
 }
 

@@ -1,6 +1,8 @@
 // icobrdf spectrum SPECTRUM.h5[#MATERIAL] [--json]: the coefficients with their indices.
 // Isotropic spectra print the IBSSS a_nm^l with [n, m, l]; others the Helmholtz BSSS a_ab with
 // [n, l, m, l'] (the order of core/helmholtz_modes.hpp), as `icobrdf modes` indexes them.
+// A spectrum fitted to samples also prints its fit record (samples, rank, condition, residual RMS, CV error,
+// choices) and each coefficient's standard error ("+- se").
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
@@ -49,11 +51,31 @@ void run_spectrum(const SpectrumArgs& a) {
       coefficients.push_back(std::vector<double>(v.data(), v.data() + v.size()));
     }
   }
+  // The standard errors are per fitted unknown; they match the listed modes when the spectrum kept the fit's
+  // modes (a filter changes the coefficients, not their count).
+  const SampleFitRecord* fit = s.sample_fit ? &*s.sample_fit : nullptr;
+  const bool has_se = fit && fit->standard_error.cols() == static_cast<Eigen::Index>(indices.size());
   if (a.json) {
     nlohmann::json j{{"order", s.order},       {"isotropic", s.isotropic}, {"cosine", s.cosine},
                      {"source", s.source},     {"filter", s.filter},       {"indices", indices},
                      {"coefficients", coefficients}, {"asymmetry", asym}, {"representation", representation_name(rec)}};
     if (rec.lobe) j["half_angle"] = lobe;
+    if (fit) {
+      nlohmann::json se = nlohmann::json::array();
+      for (Eigen::Index c = 0; c < fit->standard_error.rows(); ++c) {
+        std::vector<double> row(static_cast<size_t>(fit->standard_error.cols()));
+        for (Eigen::Index k = 0; k < fit->standard_error.cols(); ++k) row[static_cast<size_t>(k)] = fit->standard_error(c, k);
+        se.push_back(row);
+      }
+      j["sample_fit"] = {{"samples", fit->samples},       {"unknowns", fit->unknowns},
+                         {"effective_rank", fit->effective_rank}, {"condition", fit->condition},
+                         {"residual_rms", fit->residual_rms}, {"noise_sigma", fit->noise_sigma},
+                         {"cv_rms", fit->cv_rms},         {"cv_folds", fit->cv_folds},
+                         {"tikhonov", fit->tikhonov},     {"tikhonov_power", fit->tikhonov_power},
+                         {"order_choice", fit->order_choice}, {"tikhonov_choice", fit->tikhonov_choice},
+                         {"fallback", fit->fallback},     {"solver", fit->solver},
+                         {"standard_errors", se}};
+    }
     std::cout << j.dump() << "\n";
     return;
   }
@@ -61,6 +83,17 @@ void run_spectrum(const SpectrumArgs& a) {
                            s.cosine ? "g = f cos(theta_i)" : "f", s.source, s.filter);
   if (s.cosine && asym > 0)
     std::cout << fmt::format("  note: the spectrum of g is not symmetric (asymmetry {:.3g}); listed is its reciprocal part\n", asym);
+  if (fit) {
+    double rms = 0.0, sigma = 0.0;
+    for (double x : fit->residual_rms) rms = std::max(rms, x);
+    for (double x : fit->noise_sigma) sigma = std::max(sigma, x);
+    std::cout << fmt::format("  sample fit: {} samples, rank {} of {} unknowns, condition {:.3g}, residual RMS {:.3g} 1/sr, "
+                             "sigma {:.3g} 1/sr (worst channel), {}-fold CV RMS {:.3g} 1/sr\n",
+                             fit->samples, fit->effective_rank, fit->unknowns, fit->condition, rms, sigma, fit->cv_folds, fit->cv_rms)
+              << fmt::format("  order {}, Tikhonov lambda {:.3g} (power {:.3g}, {}), {}\n", fit->order_choice, fit->tikhonov,
+                             fit->tikhonov_power, fit->tikhonov_choice, fit->solver);
+    if (!fit->fallback.empty()) std::cout << "  fallback: " << fit->fallback << "\n";
+  }
   size_t zeros = 0;
   for (size_t k = 0; k < indices.size(); ++k) {
     bool all_zero = true;
@@ -70,7 +103,10 @@ void run_spectrum(const SpectrumArgs& a) {
       continue;
     }
     std::string line = "  " + indices[k].dump();
-    for (const auto& ch : coefficients) line += fmt::format("  {: .10e}", ch[k].get<double>());
+    for (size_t c = 0; c < coefficients.size(); ++c) {
+      line += fmt::format("  {: .10e}", coefficients[c][k].get<double>());
+      if (has_se) line += fmt::format(" +- {:.3e}", fit->standard_error(static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(k)));
+    }
     std::cout << line << "\n";
   }
   if (zeros) std::cout << fmt::format("  ({} coefficients below {:.0e} not listed; --all lists them)\n", zeros, kPrintZero);

@@ -21,6 +21,7 @@
 #include "core/lowpass_filter.hpp"
 #include "core/lut.hpp"
 #include "core/projection.hpp"
+#include "core/sample_fit.hpp"
 #include "core/spectrum.hpp"
 
 namespace icobrdf {
@@ -38,7 +39,12 @@ struct FitOptions {
   LutSampling sampling = LutSampling::CellAverage;
   double gram_tolerance = kDefaultGramTolerance;
   ProjectionOperator::Kind projection = ProjectionOperator::Kind::LeastSquares;
+  FitProgress progress;  // optional: fits of scattered samples report their stages (core/sample_fit.hpp)
 };
+
+// FitOptions::order for sources that choose their order (fits of scattered samples: K-fold cross-validation,
+// core/sample_fit_selection.hpp); other sources refuse it.
+inline constexpr int kChooseOrder = -1;
 
 // The operators for one (grid, order), built once and shared by many fits.
 // `sampling_grid` (optional): the same cells with a cheaper cubature, used only to sample LUT rows of

@@ -10,10 +10,33 @@
 #include <Eigen/Core>
 
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace icobrdf {
+
+// How a spectrum was fitted to scattered samples (core/sample_fit.hpp, core/sample_fit_selection.hpp):
+// stored with it (docs/file-format.md, group sample_fit) and printed by `icobrdf spectrum`.
+struct SampleFitRecord {
+  long long samples = 0;                 // samples used (weight > 0)
+  int unknowns = 0;                      // modes fitted
+  int effective_rank = 0;
+  double condition = std::numeric_limits<double>::quiet_NaN();  // of W^(1/2) A on the kept part
+  std::vector<double> residual_rms;      // per channel, weighted [1/sr]
+  std::vector<double> noise_sigma;       // per channel, sigma of a weight-1 sample [1/sr]
+  double cv_rms = std::numeric_limits<double>::quiet_NaN();  // K-fold CV error of the final fit [1/sr]
+  int cv_folds = 0;
+  double tikhonov = 0.0;                 // lambda
+  double tikhonov_power = 1.0;           // p
+  std::string order_choice;              // "given" or "cross-validation"
+  std::string tikhonov_choice;           // "given" or "generalized cross-validation"
+  std::string fallback;                  // empty, or the fallback taken and why
+  std::string solver;                    // "normal equations" or "QR"
+  // channels x unknowns: standard error of each mode coefficient, library order of the spectrum's modes
+  // (BSSS, or IBSSS when the spectrum is isotropic); NaN where undefined.
+  Eigen::MatrixXd standard_error;
+};
 
 struct Spectrum {
   int order = 0;                          // total order N of the K basis
@@ -31,6 +54,7 @@ struct Spectrum {
   double reciprocity_violation = std::numeric_limits<double>::quiet_NaN();  // ||F - F^T|| / ||F|| of the input
   double anisotropy_fraction = std::numeric_limits<double>::quiet_NaN();    // anisotropic energy / total
   double max_albedo = std::numeric_limits<double>::quiet_NaN();             // white-furnace figure
+  std::optional<SampleFitRecord> sample_fit;  // present for fits of scattered samples
 
   int modes() const { return (order + 1) * (order + 2) / 2; }
   int channel_count() const { return static_cast<int>(channels.size()); }

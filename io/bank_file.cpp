@@ -194,9 +194,13 @@ void write_bank(const std::string& path, const BankContents& c) {
     {
       h5::Group root = f.root();
       root.set_attr("format", bank_format::kName);
-      bool lobes = false;
-      for (const auto& m : c.materials) lobes = lobes || m.lobe.has_value();
-      root.set_attr("format_version", lobes ? bank_format::kVersion : bank_format::kVersionModesOnly);
+      bool lobes = false, fits = false;
+      for (const auto& m : c.materials) {
+        lobes = lobes || m.lobe.has_value();
+        fits = fits || sample_fit_record_matches(m.spectrum);
+      }
+      root.set_attr("format_version", lobes ? (fits ? bank_format::kVersionSampleFit : bank_format::kVersion)
+                                            : (fits ? bank_format::kVersionModesOnlySampleFit : bank_format::kVersionModesOnly));
       root.set_attr("creator", std::string("icobrdf ") + ICOBRDF_VERSION);
       root.set_attr("created", created);
       root.set_attr("conventions", bank_format::kConventions);

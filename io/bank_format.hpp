@@ -12,6 +12,9 @@
 //        horizon are dropped from the interpolation) and the stretch of anisotropic h grids (h_axis,
 //        h_scale_1, h_scale_2). A 2.x reader would evaluate such lobes on the wrong interpolation, so files
 //        with lobes carry major 3; 2.x files are still read (their lobes: corners "all", no stretch).
+//   1.1 / 3.1  add the optional group /materials/<name>/sample_fit (the record of a fit of scattered samples:
+//        standard errors, CV error, rank, condition, residual RMS); written only when a material has one,
+//        and ignored by 1.0 / 3.0 readers, which lose nothing else.
 namespace icobrdf::bank_format {
 
 inline constexpr const char* kName = "icobrdf-bank";
@@ -19,6 +22,8 @@ inline constexpr int kMajor = 3;            // newest major this reader reads
 inline constexpr int kOldestMajor = 1;      // oldest major this reader reads
 inline constexpr const char* kVersion = "3.0";          // files with a half-angle lobe
 inline constexpr const char* kVersionModesOnly = "1.0";  // files without
+inline constexpr const char* kVersionSampleFit = "3.1";          // lobes, and a sample_fit record
+inline constexpr const char* kVersionModesOnlySampleFit = "1.1";  // no lobe, a sample_fit record
 
 // Root attribute text describing conventions, written verbatim to every file.
 inline constexpr const char* kConventions =

@@ -12,6 +12,7 @@
 #include "core/hemisphere_basis.hpp"
 #include "core/isotropic_modes.hpp"
 #include "core/projection.hpp"
+#include "core/sample_fit_selection.hpp"
 #include "core/spectrum_ops.hpp"
 #include "io/merl.hpp"
 #include "io/rgl_bsdf.hpp"
@@ -84,23 +85,41 @@ void finish(Spectrum& s, const FitOptions& o, const ProjectionContext& ctx) {
   s.max_albedo = max_albedo_on(ctx, s);
 }
 
-Spectrum spectrum_of(const SampleFitResult& r, const std::string& source) {
+Spectrum spectrum_of(const CheckedSampleFit& c, const std::string& source, double tikhonov_power) {
+  const SampleFitResult& r = c.fit;
   Spectrum s;
   s.order = r.order;
   s.isotropic = r.isotropic;
   s.channels = r.channels;
   s.source = source;
   s.reciprocity_violation = 0;  // the modes are reciprocal by construction
+  SampleFitRecord f;
+  f.samples = r.samples;
+  f.unknowns = r.unknowns;
+  f.effective_rank = r.effective_rank;
+  f.condition = r.condition;
+  f.residual_rms.assign(r.residual_rms.data(), r.residual_rms.data() + r.residual_rms.size());
+  f.noise_sigma.assign(r.noise_sigma.data(), r.noise_sigma.data() + r.noise_sigma.size());
+  f.cv_rms = c.cv_rms;
+  f.cv_folds = c.cv_folds;
+  f.tikhonov = r.tikhonov;
+  f.tikhonov_power = tikhonov_power;
+  f.order_choice = c.order_choice;
+  f.tikhonov_choice = c.tikhonov_choice;
+  f.fallback = c.fallback;
+  f.solver = r.solver;
+  f.standard_error = r.standard_error.transpose();
+  s.sample_fit = std::move(f);
   return s;
 }
 
 class SampleFitHolder {
  public:
-  const SampleFitResult* last() const {
+  const CheckedSampleFit* last() const {
     std::lock_guard<std::mutex> g(mu_);
     return has_ ? &last_ : nullptr;
   }
-  void store(const SampleFitResult& r) const {
+  void store(const CheckedSampleFit& r) const {
     std::lock_guard<std::mutex> g(mu_);
     last_ = r;
     has_ = true;
@@ -108,7 +127,7 @@ class SampleFitHolder {
 
  private:
   mutable std::mutex mu_;
-  mutable SampleFitResult last_;
+  mutable CheckedSampleFit last_;
   mutable bool has_ = false;
 };
 
@@ -124,13 +143,18 @@ class MerlSource final : public BrdfSource, public SampleFitHolder {
   }
   Spectrum fit(const ProjectionContext& ctx, const FitOptions& o) const override {
     check_fit_options(o, "MERL SOURCE '" + text_ + "'");
+    if (o.order < 0)
+      throw UnsupportedError("MERL SOURCE '" + text_ + "': give the order (--order); it is chosen automatically only for CSV samples");
     const MerlSamples smp = merl_samples(model_.table());
     SampleFitOptions so;
     so.order = o.order;
     so.isotropic = true;
-    const SampleFitResult r = fit_samples(smp.wi, smp.wr, smp.values, smp.weights, so);
-    store(r);
-    Spectrum s = spectrum_of(r, text_);
+    so.progress = o.progress;
+    CheckedSampleFit c;
+    c.fit = fit_samples(smp.wi, smp.wr, smp.values, smp.weights, so);
+    c.cv_rms = std::numeric_limits<double>::quiet_NaN();  // not measured for MERL tables
+    store(c);
+    Spectrum s = spectrum_of(c, text_, so.tikhonov_power);
     finish(s, o, ctx);
     return s;
   }
@@ -143,8 +167,8 @@ class MerlSource final : public BrdfSource, public SampleFitHolder {
 
 class SampleCsvSource final : public BrdfSource, public SampleFitHolder {
  public:
-  SampleCsvSource(BrdfSamples s, SampleFitOptions fo, std::string text)
-      : samples_(std::move(s)), fit_options_(fo), text_(std::move(text)) {}
+  SampleCsvSource(BrdfSamples s, SampleFitOptions fo, bool tikhonov_auto, std::string text)
+      : samples_(std::move(s)), fit_options_(fo), tikhonov_auto_(tikhonov_auto), text_(std::move(text)) {}
   std::string spec() const override { return text_; }
   int channels() const override { return samples_.channels; }
   Eigen::MatrixXd eval(const RowMatrix3d&, const RowMatrix3d&) const override {
@@ -153,19 +177,26 @@ class SampleCsvSource final : public BrdfSource, public SampleFitHolder {
   }
   Spectrum fit(const ProjectionContext& ctx, const FitOptions& o) const override {
     check_fit_options(o, "samples SOURCE '" + text_ + "'");
-    SampleFitOptions so = fit_options_;
-    so.order = o.order;
-    so.isotropic = o.isotropic;
-    const SampleFitResult r = fit_samples(samples_.wi, samples_.wr, samples_.values, samples_.weights, so);
-    store(r);
-    Spectrum s = spectrum_of(r, text_);
+    SampleFitPlan plan;
+    plan.options = fit_options_;
+    plan.options.order = std::max(o.order, 0);
+    plan.options.isotropic = o.isotropic;
+    plan.options.progress = o.progress;
+    plan.choose_order = o.order == kChooseOrder;
+    // An automatic order comes with an automatic lambda unless one was given.
+    plan.choose_tikhonov = tikhonov_auto_ || (plan.choose_order && !tikhonov_given());
+    const CheckedSampleFit c = fit_samples_checked(samples_.wi, samples_.wr, samples_.values, samples_.weights, plan);
+    store(c);
+    Spectrum s = spectrum_of(c, text_, fit_options_.tikhonov_power);
     finish(s, o, ctx);
     return s;
   }
 
  private:
+  bool tikhonov_given() const { return fit_options_.tikhonov > 0.0; }
   BrdfSamples samples_;
   SampleFitOptions fit_options_;
+  bool tikhonov_auto_ = false;
   std::string text_;
 };
 
@@ -286,19 +317,21 @@ std::unique_ptr<BrdfSource> open_samples(const std::string& text, const std::str
   require_file(op.path, text);
   SampleCsvOptions co;
   SampleFitOptions fo;
+  bool tikhonov_auto = false;
   for (const auto& [k, v] : op.kv) {
     if (k == "radians" && v.empty()) co.radians = true;
     else if (k == "strict" && v.empty()) co.strict = true;
+    else if (k == "tikhonov" && v == "auto") tikhonov_auto = true;
     else if (k == "tikhonov") fo.tikhonov = number_option(text, k, v);
     else if (k == "power") fo.tikhonov_power = number_option(text, k, v);
     else if (k == "rank-tol") fo.rank_tolerance = number_option(text, k, v);
     else
       throw ArgumentError("SOURCE '" + quoted_text(text) + "': unknown samples option '" + k + (v.empty() ? "" : "=" + v) +
-                          "', expected radians, strict, tikhonov=LAMBDA, power=P or rank-tol=T");
+                          "', expected radians, strict, tikhonov=LAMBDA|auto, power=P or rank-tol=T");
   }
   if (fo.tikhonov < 0 || fo.tikhonov_power < 0)
     throw ArgumentError("SOURCE '" + quoted_text(text) + "': tikhonov and power must be >= 0");
-  return std::make_unique<SampleCsvSource>(read_sample_csv(op.path, co), fo, text);
+  return std::make_unique<SampleCsvSource>(read_sample_csv(op.path, co), fo, tikhonov_auto, text);
 }
 
 std::unique_ptr<BrdfSource> open_scatmech(const std::string& text, const std::string& body) {
@@ -339,9 +372,16 @@ std::unique_ptr<BrdfSource> open_measured_source(const std::string& text) {
 }
 
 const SampleFitResult* last_sample_fit(const BrdfSource& source) {
+  const CheckedSampleFit* c = last_checked_sample_fit(source);
+  return c ? &c->fit : nullptr;
+}
+
+const CheckedSampleFit* last_checked_sample_fit(const BrdfSource& source) {
   if (const auto* h = dynamic_cast<const SampleFitHolder*>(&source)) return h->last();
   return nullptr;
 }
+
+bool chooses_order(const BrdfSource& source) { return dynamic_cast<const SampleCsvSource*>(&source) != nullptr; }
 
 const MerlTable* merl_table_of(const BrdfSource& source) {
   if (const auto* m = dynamic_cast<const MerlSource*>(&source)) return &m->table();

@@ -6,7 +6,7 @@
 //                                                 (r, g, b); spectral files one channel per wavelength of the
 //                                                 file, or the 1-3 wavelengths chosen (interpolated) by lambda
 //   FILE.csv[#OPTIONS] | samples:FILE[#OPTIONS]   BRDF samples (io/sample_csv.hpp); OPTIONS, comma-separated:
-//                                                 radians, strict, tikhonov=LAMBDA, power=P, rank-tol=T
+//                                                 radians, strict, tikhonov=LAMBDA|auto, power=P, rank-tol=T
 //   FILE.zernike.csv[#OPTIONS] | scatmech:FILE[#OPTIONS] | any other FILE whose content is one
 //                                                 (io/scatmech_coefficients.hpp looks_like_scatmech_coefficients)
 //                                                 SCATMECH Zernike-expansion coefficients
@@ -20,8 +20,12 @@
 //     The grid of the context is not used for the fit (only for the max-albedo figure); the LUT sampling
 //     and projection kind do not apply.
 //   * CSV samples: weighted least squares of the samples (weights = duplicate counts) on the Helmholtz
-//     modes, or the isotropic modes with --isotropic, with the Tikhonov options above; the grid is
-//     likewise unused except for the max-albedo figure.
+//     modes, or the isotropic modes with --isotropic, with the Tikhonov options above, through the checked
+//     fit of core/sample_fit_selection.hpp: order kChooseOrder = chosen by K-fold cross-validation (with
+//     lambda by GCV unless tikhonov=LAMBDA is given), tikhonov=auto = lambda by GCV, fallbacks when the
+//     samples do not determine the modes, UnsupportedError when the fit is not bounded by the samples.
+//     The grid is likewise unused except for the max-albedo figure. The spectrum carries the fit's record
+//     (Spectrum::sample_fit: standard errors, CV error, rank, condition, residual).
 //   * SCATMECH: the file's isotropic spectrum truncated or zero-padded to the requested order (exact, no grid).
 //   * RGL: like an analytic model (core/spectral_fit.hpp fit_model: f sampled on the context's grid, not
 //     reciprocal, not assumed isotropic); 1 or 3 channels only (a spectral file needs #lambda).
@@ -34,6 +38,7 @@
 #include <string>
 
 #include "core/sample_fit.hpp"
+#include "core/sample_fit_selection.hpp"
 #include "io/brdf_source.hpp"
 #include "io/merl.hpp"
 
@@ -46,6 +51,10 @@ std::unique_ptr<BrdfSource> open_measured_source(const std::string& text);
 // Figures of the last sample fit of a MERL or CSV source (for reports): nullptr for other sources or
 // before fit() was called.
 const SampleFitResult* last_sample_fit(const BrdfSource& source);
+// The same with the choices, fallback and notes of the checked fit (CSV; MERL: the plain fit).
+const CheckedSampleFit* last_checked_sample_fit(const BrdfSource& source);
+// True for the sources that accept FitOptions::order = kChooseOrder (CSV samples).
+bool chooses_order(const BrdfSource& source);
 
 // Missing samples (all channels) of a MERL source's table; -1 for other sources.
 std::int64_t merl_missing_samples(const BrdfSource& source);

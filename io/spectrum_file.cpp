@@ -7,6 +7,8 @@
 
 #include "core/error.hpp"
 #include "core/finite_values.hpp"
+#include "core/helmholtz_modes.hpp"
+#include "core/isotropic_modes.hpp"
 #include "io/bank_file.hpp"
 #include "io/half_angle_file.hpp"
 
@@ -196,6 +198,82 @@ void require_finite_material(const std::string& file, const MaterialRecord& rec)
     if (!std::isnan(x)) require_finite(x, where + " attribute " + name, "the fit's figure " + std::string(name));
 }
 
+// The `sample_fit` subgroup: the record of a fit of scattered samples (core/spectrum.hpp SampleFitRecord).
+bool sample_fit_record_matches(const Spectrum& s) {
+  if (!s.sample_fit) return false;
+  const SampleFitRecord& f = *s.sample_fit;
+  const std::int64_t k = s.isotropic ? isotropic_mode_count(s.order) : helmholtz_mode_count(s.order);
+  const int ch = s.channel_count();
+  return f.unknowns == k && f.standard_error.rows() == ch && f.standard_error.cols() == k &&
+         static_cast<int>(f.residual_rms.size()) == ch && static_cast<int>(f.noise_sigma.size()) == ch;
+}
+
+static void write_sample_fit(h5::Group& g, const Spectrum& s) {
+  const SampleFitRecord& f = *s.sample_fit;
+  const std::int64_t k = f.unknowns;
+  const int ch = s.channel_count();
+  h5::Group r = g.create_group("sample_fit");
+  r.set_attr("modes", s.isotropic ? "isotropic (IBSSS, Table 2 order)" : "general Helmholtz (BSSS, library order)");
+  r.set_attr("samples", static_cast<std::int64_t>(f.samples));
+  r.set_attr("unknowns", static_cast<std::int32_t>(f.unknowns));
+  r.set_attr("effective_rank", static_cast<std::int32_t>(f.effective_rank));
+  r.set_attr("condition", f.condition);
+  r.set_attr("cv_rms", f.cv_rms);
+  r.set_attr("cv_folds", static_cast<std::int32_t>(f.cv_folds));
+  r.set_attr("tikhonov", f.tikhonov);
+  r.set_attr("tikhonov_power", f.tikhonov_power);
+  r.set_attr("order_choice", f.order_choice);
+  r.set_attr("tikhonov_choice", f.tikhonov_choice);
+  r.set_attr("fallback", f.fallback);
+  r.set_attr("solver", f.solver);
+  r.write("residual_rms", f.residual_rms.data(), Shape{u(ch)}, "1/sr", "weighted residual RMS per channel");
+  r.write("noise_sigma", f.noise_sigma.data(), Shape{u(ch)}, "1/sr",
+          "estimated error of a sample of weight 1 per channel, RSS / (samples - tr H); NaN when not estimable");
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> se = f.standard_error;
+  r.write("standard_error", se.data(), Shape{u(ch), u(k)}, "1",
+          "standard error of each mode coefficient (columns in the order of the attribute modes), "
+          "sigma * sqrt(diag(M M^T)) from the least-squares covariance; NaN where undefined");
+}
+
+static SampleFitRecord read_sample_fit(const h5::Group& g, const Spectrum& s, const h5::ReadLimits& lim) {
+  const h5::Group r = g.open_group("sample_fit");
+  const std::int64_t k = s.isotropic ? isotropic_mode_count(s.order) : helmholtz_mode_count(s.order);
+  const int ch = s.channel_count();
+  SampleFitRecord f;
+  f.samples = r.attr_int("samples", 0, std::numeric_limits<std::int64_t>::max());
+  f.unknowns = static_cast<int>(r.attr_int("unknowns", k, k));
+  f.effective_rank = static_cast<int>(r.attr_int("effective_rank", 0, k));
+  f.condition = r.attr_double("condition");
+  f.cv_rms = r.attr_double("cv_rms");
+  f.cv_folds = static_cast<int>(r.attr_int("cv_folds", 0, std::numeric_limits<std::int32_t>::max()));
+  f.tikhonov = r.attr_double("tikhonov");
+  f.tikhonov_power = r.attr_double("tikhonov_power");
+  f.order_choice = r.attr_string("order_choice");
+  f.tikhonov_choice = r.attr_string("tikhonov_choice");
+  f.fallback = r.attr_string("fallback");
+  f.solver = r.attr_string("solver");
+  const std::pair<const char*, double> figures[] = {{"condition", f.condition}, {"cv_rms", f.cv_rms},
+                                                    {"tikhonov", f.tikhonov}, {"tikhonov_power", f.tikhonov_power}};
+  for (const auto& [name, x] : figures)
+    if (!std::isnan(x) && !(x >= 0.0 && std::isfinite(x)))
+      r.fail(r.path(), std::string("attribute ") + name + ": expected a finite value >= 0 or NaN, found " + std::to_string(x));
+  auto vec = [&](const char* name) {
+    const auto a = r.read<double>(name, ShapePattern{ch}, lim);
+    for (double x : a.data)
+      if (!std::isnan(x) && !(x >= 0.0 && std::isfinite(x)))
+        r.fail(r.child_path(name), "expected finite values >= 0 or NaN, found " + std::to_string(x));
+    return a.data;
+  };
+  f.residual_rms = vec("residual_rms");
+  f.noise_sigma = vec("noise_sigma");
+  const auto se = r.read<double>("standard_error", ShapePattern{ch, k}, lim);
+  for (double x : se.data)
+    if (!std::isnan(x) && !(x >= 0.0 && std::isfinite(x)))
+      r.fail(r.child_path("standard_error"), "expected finite values >= 0 or NaN, found " + std::to_string(x));
+  f.standard_error = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(se.data.data(), ch, k);
+  return f;
+}
+
 void write_material(h5::Group& materials, const MaterialRecord& rec) {
   validate_material_name(rec.name);
   const Spectrum& s = rec.spectrum;
@@ -282,6 +360,7 @@ void write_material(h5::Group& materials, const MaterialRecord& rec) {
 
   write_lut(g, rec, cells);
   write_choice(g, rec);
+  if (sample_fit_record_matches(s)) write_sample_fit(g, s);
 }
 
 MaterialRecord read_material(const h5::Group& materials, const std::string& name, const h5::ReadLimits& lim, bool read_lut,
@@ -413,6 +492,7 @@ MaterialRecord read_material(const h5::Group& materials, const std::string& name
     for (const auto& k : names(choice.attr_string("figures"))) rec.figures[k] = choice.attr_double(k);
     for (const auto& k : names(choice.attr_string("labels"))) rec.labels[k] = choice.attr_string(k);
   }
+  if (g.has("sample_fit")) s.sample_fit = read_sample_fit(g, s, lim);
   return rec;
 }
 

@@ -74,6 +74,11 @@ std::string lut_size_problem(std::int64_t cells, int channels, bool float32);
 // writer before writing one, so no file is written that its own readers refuse.
 void require_storable_lut(std::int64_t cells, int channels, bool float32, const std::string& what);
 
+// True when the spectrum carries a sample-fit record that describes it (same modes and channels). A spectrum
+// truncated, padded or made isotropic after its fit (the bank builder's order search) keeps a record of
+// another estimate; the writer stores the group `sample_fit` only when this holds.
+bool sample_fit_record_matches(const Spectrum& s);
+
 // Writes `rec` as the new group `materials/<rec.name>`. ArgumentError when the record is inconsistent
 // (C not M x M for the order, channels not 1 or 3, LUT not square, IBSSS tables disagreeing, a float32 LUT
 // value beyond float32 range); IoError on write failure. Finiteness is checked before the file is opened

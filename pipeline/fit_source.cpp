@@ -45,9 +45,16 @@ FitResult fit_source(const BrdfSource& source, const FitRequest& request) {
 
 FitResult fit_source(const BrdfSource& source, const FitRequest& request, FitContexts& contexts) {
   FitResult r;
-  r.context = contexts.context(request);
+  if (request.order == kChooseOrder) {
+    FitRequest grid_only = request;
+    grid_only.order = 0;
+    r.context = contexts.context(grid_only);
+  } else {
+    r.context = contexts.context(request);
+  }
   FitOptions o;
   o.order = request.order;
+  o.progress = request.progress;
   o.isotropic = request.isotropic;
   o.cosine = request.cosine;
   o.filter = request.filter;

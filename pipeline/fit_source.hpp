@@ -9,6 +9,8 @@
 //      UnsupportedError when the grid cannot resolve the order;
 //   3. FitOptions from the request, LUT rows averaged over the grid's own cubature;
 //   4. BrdfSource::fit (io/brdf_source.hpp).
+// With order kChooseOrder (sources that choose their order, io/measured_sources.hpp chooses_order) the
+// context is that of order 0: such fits use the grid only for the albedo figure.
 // A FitContexts cache keeps grids and contexts across fits (the bank builder fits many materials on a few
 // grids); without one, each call builds its own.
 #include <map>
@@ -25,13 +27,14 @@ namespace icobrdf {
 
 struct FitRequest {
   int level = 4;
-  int order = 8;
+  int order = 8;                                        // kChooseOrder: the source chooses (chooses_order)
   GridKind grid_kind = GridKind::EqualArea;             // EqualArea or Geodesic (build_fitting_grid)
   LutSampling sampling = LutSampling::CellAverage;      // how the fitting grid samples each cell
   bool isotropic = false;                               // project onto the isotropic modes
   bool cosine = false;                                  // fit g = f cos(theta_i) (forced for delta models)
   LowPassFilter filter;                                 // applied after the projection
   double gram_tolerance = kDefaultGramTolerance;        // largest Gram error accepted for (grid, order)
+  FitProgress progress;                                 // optional, passed to the source's fit
 };
 
 // Grids and projection contexts by what defines them, built on first use.

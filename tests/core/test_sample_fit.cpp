@@ -11,6 +11,7 @@
 #include "core/hemisphere_basis.hpp"
 #include "core/isotropic_modes.hpp"
 #include "core/sample_fit.hpp"
+#include "tests/core/sample_pairs.hpp"
 
 namespace icobrdf {
 namespace {
@@ -20,27 +21,8 @@ constexpr double kRecoveryTol = 1e-9;
 // Reproduction of the data by a rank-deficient fit: same rounding bound.
 constexpr double kReproduceTol = 1e-9;
 
-Eigen::Vector3d random_direction(std::mt19937& g) {
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  const double z = u(g), phi = 2 * M_PI * u(g), s = std::sqrt(1 - z * z);
-  return {s * std::cos(phi), s * std::sin(phi), z};
-}
-
-struct Pairs {
-  RowMatrix3d wi, wr;
-};
-
-Pairs random_pairs(int count, unsigned seed) {
-  std::mt19937 g(seed);
-  Pairs p;
-  p.wi.resize(count, 3);
-  p.wr.resize(count, 3);
-  for (int i = 0; i < count; ++i) {
-    p.wi.row(i) = random_direction(g).transpose();
-    p.wr.row(i) = random_direction(g).transpose();
-  }
-  return p;
-}
+using test::Pairs;
+using test::random_pairs;
 
 // Pairs in the plane of incidence y = 0 (phi in {0, pi}); y is exactly 0 so the sine-type K_n^l (l < 0)
 // vanish exactly there.

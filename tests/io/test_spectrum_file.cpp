@@ -82,6 +82,61 @@ TEST(SpectrumFile, ChannelNamesRoundTripAndAreChecked) {
   EXPECT_THROW(icobrdf::write_spectrum_file(dir / "t.h5", s), icobrdf::ArgumentError);
 }
 
+// The record of a sample fit (format 1.1): every figure and the standard errors round-trip exactly, NaN
+// included; a record that does not describe the spectrum (modes of another order) is not written, and the
+// file stays 1.0.
+TEST(SpectrumFile, SampleFitRecordRoundTripsAndBumpsTheMinorVersion) {
+  icobrdf::test::ScratchDir dir;
+  Spectrum s = icobrdf::test::synthetic_spectrum(2, 3);  // general modes of order 2: 21 unknowns
+  icobrdf::SampleFitRecord f;
+  f.samples = 1234;
+  f.unknowns = 21;
+  f.effective_rank = 20;
+  f.condition = 12.5;
+  f.residual_rms = {0.1, 0.2, 0.3};
+  f.noise_sigma = {0.11, std::nan(""), 0.33};
+  f.cv_rms = 0.25;
+  f.cv_folds = 5;
+  f.tikhonov = 1e-3;
+  f.tikhonov_power = 1.0;
+  f.order_choice = "cross-validation";
+  f.tikhonov_choice = "generalized cross-validation";
+  f.fallback = "none taken";
+  f.solver = "QR";
+  f.standard_error = Eigen::MatrixXd::Constant(3, 21, 0.01);
+  f.standard_error(1, 7) = std::nan("");
+  s.sample_fit = f;
+  icobrdf::write_spectrum_file(dir / "s.h5", s);
+  EXPECT_EQ(icobrdf::read_bank(dir / "s.h5").format_version, "1.1");
+  const Spectrum r = icobrdf::read_spectrum_file(dir / "s.h5");
+  expect_identical(s, r);
+  ASSERT_TRUE(r.sample_fit.has_value());
+  const auto& g = *r.sample_fit;
+  EXPECT_EQ(g.samples, 1234);
+  EXPECT_EQ(g.unknowns, 21);
+  EXPECT_EQ(g.effective_rank, 20);
+  EXPECT_EQ(g.condition, 12.5);
+  EXPECT_EQ(g.residual_rms, f.residual_rms);
+  EXPECT_EQ(g.noise_sigma[0], 0.11);
+  EXPECT_TRUE(std::isnan(g.noise_sigma[1]));
+  EXPECT_EQ(g.cv_rms, 0.25);
+  EXPECT_EQ(g.cv_folds, 5);
+  EXPECT_EQ(g.tikhonov, 1e-3);
+  EXPECT_EQ(g.order_choice, f.order_choice);
+  EXPECT_EQ(g.tikhonov_choice, f.tikhonov_choice);
+  EXPECT_EQ(g.fallback, f.fallback);
+  EXPECT_EQ(g.solver, "QR");
+  ASSERT_EQ(g.standard_error.rows(), 3);
+  ASSERT_EQ(g.standard_error.cols(), 21);
+  EXPECT_TRUE(std::isnan(g.standard_error(1, 7)));
+  EXPECT_EQ(g.standard_error(2, 20), 0.01);
+
+  s.sample_fit->unknowns = 6;  // the record of another fit
+  icobrdf::write_spectrum_file(dir / "t.h5", s);
+  EXPECT_EQ(icobrdf::read_bank(dir / "t.h5").format_version, "1.0");
+  EXPECT_FALSE(icobrdf::read_spectrum_file(dir / "t.h5").sample_fit.has_value());
+}
+
 TEST(SpectrumFile, UnknownMaterialIsAnInputError) {
   icobrdf::test::ScratchDir dir;
   icobrdf::write_spectrum_file(dir / "s.h5", icobrdf::test::synthetic_spectrum(1, 1));
