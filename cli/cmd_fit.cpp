@@ -1,6 +1,6 @@
 // icobrdf fit SOURCE [--order N] --level L [--isotropic] [--cosine] [--filter NAME] [--quiet] -o SPECTRUM.h5
 // Projects a BRDF onto the Helmholtz modes on a tessellation and writes its spectrum. Scattered samples
-// (CSV) without --order get a cross-validated order; a fit longer than kProgressAfterSeconds reports its
+// (CSV) without --order get a cross-validated order; a fit longer than kProgressDelaySeconds reports its
 // stages on stderr.
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -16,6 +16,7 @@
 #include "io/measured_sources.hpp"
 #include "io/output_path.hpp"
 #include "core/error.hpp"
+#include "core/progress.hpp"
 #include "io/spectrum_file.hpp"
 #include "pipeline/fit_source.hpp"
 #include "pipeline/reflectance_check.hpp"
@@ -25,9 +26,6 @@ namespace {
 
 // Default order of sources that do not choose their own.
 constexpr int kDefaultOrder = 8;
-// Progress lines start after this long (a shorter fit prints none) and come at most once per interval.
-constexpr double kProgressAfterSeconds = 2.0;
-constexpr double kProgressIntervalSeconds = 1.0;
 
 struct FitArgs {
   std::string source, output, filter = "none", grid = "equal-area", sampling = "average", name;
@@ -37,14 +35,16 @@ struct FitArgs {
   double gram_tol = kDefaultGramTolerance;
 };
 
-// Stage and percentage on stderr, from kProgressAfterSeconds on.
+// Stage and percentage on the progress stream (core/progress.hpp: its delay and interval), from the
+// start of the command.
 FitProgress progress_printer(std::chrono::steady_clock::time_point start) {
   auto last = std::make_shared<double>(-1.0);
   return [start, last](const char* stage, double fraction) {
+    std::ostream* out = progress_stream();
     const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (t < kProgressAfterSeconds || (*last >= 0.0 && t - *last < kProgressIntervalSeconds)) return;
+    if (!out || t < kProgressDelaySeconds || (*last >= 0.0 && t - *last < kProgressIntervalSeconds)) return;
     *last = t;
-    std::cerr << fmt::format("fit: {} {:.0f}% ({:.1f} s)", stage, 100.0 * std::clamp(fraction, 0.0, 1.0), t) << std::endl;
+    *out << fmt::format("fit: {} {:.0f}% after {:.0f} s", stage, 100.0 * std::clamp(fraction, 0.0, 1.0), t) << std::endl;
   };
 }
 
@@ -59,7 +59,8 @@ void run_fit(const FitArgs& a) {
   FitRequest r;
   r.level = a.level;
   r.order = a.order;
-  if (!a.quiet) r.progress = progress_printer(t0);
+  if (a.quiet) set_progress_stream(nullptr);  // the projection's lines too
+  r.progress = progress_printer(t0);
   r.isotropic = a.isotropic;
   r.cosine = a.cosine;
   r.filter = parse_lowpass_filter(a.filter);

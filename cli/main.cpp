@@ -66,6 +66,8 @@ int main(int argc, char** argv) {
   bool quiet = false;
   app.add_flag("--no-progress", quiet, "No progress lines on stderr for long work");
   app.parse_complete_callback([&quiet] { icobrdf::set_progress_stream(quiet ? nullptr : &std::cerr); });
+  // ICOBRDF_PROGRESS_DELAY: seconds before the first progress line (0: at once), for scripts and tests.
+  if (const char* d = std::getenv("ICOBRDF_PROGRESS_DELAY")) icobrdf::set_progress_delay(std::atof(d));
   for (auto& [name, adder] : command_registry()) adder(app);
   app.failure_message([](const CLI::App*, const CLI::Error& e) { return icobrdf::message_line(e.what()) + "\n"; });
   const auto fail = [](const std::exception& e, int code, const char* kind = "error") {

@@ -12,6 +12,11 @@ std::ostream*& stream_slot() {
   return out;
 }
 
+double& delay_slot() {
+  static double delay = kProgressDelaySeconds;
+  return delay;
+}
+
 std::string seconds_text(double s) {
   char buf[32];
   if (s < 120) std::snprintf(buf, sizeof buf, "%.0f s", s);
@@ -24,9 +29,11 @@ std::string seconds_text(double s) {
 
 void set_progress_stream(std::ostream* out) { stream_slot() = out; }
 std::ostream* progress_stream() { return stream_slot(); }
+void set_progress_delay(double seconds) { delay_slot() = seconds >= 0 ? seconds : kProgressDelaySeconds; }
+double progress_delay() { return delay_slot(); }
 
 ProgressMeter::ProgressMeter(std::string label, long long total_steps)
-    : label_(std::move(label)), total_(total_steps > 0 ? total_steps : 1), start_(Clock::now()) {}
+    : label_(std::move(label)), total_(total_steps > 0 ? total_steps : 1), start_(Clock::now()), next_print_(progress_delay()) {}
 
 ProgressMeter::~ProgressMeter() {
   std::ostream* out = progress_stream();

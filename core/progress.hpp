@@ -24,6 +24,10 @@ inline constexpr double kProgressIntervalSeconds = 5.0;
 // before the work starts.
 void set_progress_stream(std::ostream* out);
 std::ostream* progress_stream();
+// Seconds of silence before the first line (default kProgressDelaySeconds; 0 shows progress at once, as
+// the program's ICOBRDF_PROGRESS_DELAY does). Set it before the work starts.
+void set_progress_delay(double seconds);
+double progress_delay();
 
 class ProgressMeter {
  public:
@@ -40,7 +44,7 @@ class ProgressMeter {
   long long total_;
   std::atomic<long long> done_{0};
   Clock::time_point start_;
-  std::atomic<double> next_print_{kProgressDelaySeconds};  // seconds since start_; written under mutex_
+  std::atomic<double> next_print_;  // seconds since start_ of the next line; written under mutex_
   bool printed_ = false;
   std::mutex mutex_;
 };
