@@ -10,6 +10,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
@@ -44,6 +45,33 @@ RowMatrix3d directions(const Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynam
 }
 using DirArray = Eigen::Ref<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
 
+// Pairs per chunk when evaluating from numpy arrays: the directions are copied into reused row-major
+// buffers of this many rows (6 MB each) instead of whole new copies, whose first touch cost a third of the
+// evaluation at 10^6 pairs. Measured at 2^20 pairs, order 8, 2 threads: chunks of 2^16 reach 0.50 of the
+// C++ rate (each call's threads get too little work), 2^18 0.94, one whole copy 0.65.
+constexpr Eigen::Index kEvalChunk = Eigen::Index{1} << 18;
+
+// fn(wi_chunk, wr_chunk) -> rows x cols values, applied chunk by chunk into one result.
+template <class Fn>
+Eigen::MatrixXd eval_chunked(const DirArray& wi, const DirArray& wr, Eigen::Index cols, Fn fn) {
+  if (wi.cols() != 3 || wr.cols() != 3)
+    throw ArgumentError(std::string(wi.cols() != 3 ? "wi" : "wr") + ": expected an (n, 3) array of unit vectors, found (" +
+                        std::to_string(wi.cols() != 3 ? wi.rows() : wr.rows()) + ", " + std::to_string(wi.cols() != 3 ? wi.cols() : wr.cols()) + ")");
+  if (wi.rows() != wr.rows())
+    throw ArgumentError("eval: wi has " + std::to_string(wi.rows()) + " rows, wr has " + std::to_string(wr.rows()));
+  const Eigen::Index n = wi.rows();
+  Eigen::MatrixXd out(n, cols);
+  py::gil_scoped_release release;
+  RowMatrix3d a, b;
+  for (Eigen::Index r0 = 0; r0 < n; r0 += kEvalChunk) {
+    const Eigen::Index m = std::min(kEvalChunk, n - r0);
+    a = wi.middleRows(r0, m);
+    b = wr.middleRows(r0, m);
+    out.middleRows(r0, m) = fn(a, b);
+  }
+  return out;
+}
+
 // A source opened once and shared by the Python object.
 struct PySource {
   std::shared_ptr<BrdfSource> source;
@@ -52,11 +80,7 @@ struct PySource {
 PySource open(const std::string& text) { return {std::shared_ptr<BrdfSource>(open_source(text))}; }
 
 Eigen::MatrixXd eval_source(const BrdfSource& s, const DirArray& wi, const DirArray& wr) {
-  const RowMatrix3d a = directions(wi, "wi"), b = directions(wr, "wr");
-  if (a.rows() != b.rows())
-    throw ArgumentError("eval: wi has " + std::to_string(a.rows()) + " rows, wr has " + std::to_string(b.rows()));
-  py::gil_scoped_release release;
-  return s.eval(a, b);
+  return eval_chunked(wi, wr, s.channels(), [&s](const RowMatrix3d& a, const RowMatrix3d& b) { return s.eval(a, b); });
 }
 
 Spectrum fit(const PySource& src, int level, int order, bool isotropic, bool cosine, const std::string& filter,
@@ -241,9 +265,10 @@ PYBIND11_MODULE(icobrdf, m) {
         py::arg("basis"), py::arg("projection"), py::arg("lut"), py::arg("filter") = "none", "S F S^T with S = B P^T (filtered)");
   m.def("evaluate_coefficients",
         [](const Eigen::MatrixXd& c, int order, const DirArray& wi, const DirArray& wr) {
-          const RowMatrix3d a = directions(wi, "wi"), b = directions(wr, "wr");
-          py::gil_scoped_release release;
-          return evaluate_coefficients(c, order, a, b);
+          const Eigen::MatrixXd f = eval_chunked(wi, wr, 1, [&](const RowMatrix3d& a, const RowMatrix3d& b) {
+            return Eigen::MatrixXd(evaluate_coefficients(c, order, a, b));
+          });
+          return Eigen::VectorXd(f.col(0));
         },
         py::arg("coefficients"), py::arg("order"), py::arg("wi"), py::arg("wr"), "sum_ab C_ab K_a(w_i) K_b(w_r) at n pairs");
 }
