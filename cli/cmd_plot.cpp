@@ -20,7 +20,9 @@
 #include "io/bank_file.hpp"
 #include "io/output_path.hpp"
 #include "io/spectrum_file.hpp"
+#include "mesh/tessellation.hpp"
 #include "pipeline/picture_source.hpp"
+#include "pipeline/reflectance_check.hpp"
 #include "plot/plots.hpp"
 
 namespace icobrdf::cli {
@@ -37,8 +39,12 @@ struct PlotArgs {
   int order = 4, level = 4, size = 256, panel = 200, basis_panel = 0;
   std::vector<int> orders{0, 1, 2, 4, 6, 8};
   double theta_i = 45.0, phi_i = 0.0, sky_radiance = 0.3, exposure = 1.0;
-  bool separate = false, sky = false, no_exact = false, json = false;
+  bool separate = false, sky = false, no_exact = false, json = false, strict = false;
 };
+
+// Level of the cells at whose directions a shaded spectrum's directional albedo is checked: 656 directions,
+// enough to see a negative lobe of the orders a sphere is shaded with (<= 32), in milliseconds.
+constexpr int kSphereAlbedoLevel = 3;
 
 void report(const PlotArgs& a, nlohmann::json j) {
   if (a.json) std::cout << j.dump(2) << "\n";
@@ -183,6 +189,7 @@ void add_sphere_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   sphere->add_option("--shading", a->shading, "auto (model when it has no delta part), model, or spectrum")->capture_default_str();
   sphere->add_option("-o,--output", a->output, "Output PNG")->required();
   sphere->add_flag("--json", a->json, "Print the figures as JSON");
+  sphere->add_flag("--strict", a->strict, "Negative reflectance of a material is an error (default: a warning)");
   sphere->callback([a, sphere] {
     plot::SphereRequest q;
     const auto [t, p] = parse_light(a->light);
@@ -196,6 +203,10 @@ void add_sphere_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
     check_output_path(a->output, {a->source});
     q.shading = parse_shading(a->shading);
     const auto materials = load_sphere_materials(a->source, q.shading, order, a->level);
+    // A sphere shaded from a spectrum with negative albedo would show it clipped to black without a word.
+    const Grid albedo_grid = build_equal_area_grid(kSphereAlbedoLevel);
+    for (const auto& m : materials)
+      if (m.spectrum) check_fitted_albedo(*m.spectrum, albedo_grid, "plot sphere '" + quoted_text(m.name) + "'", {a->strict, &std::cerr});
     const auto f = plot::plot_sphere(a->source, materials, q, a->output);
     report(*a, {{"output", a->output}, {"width", f.width}, {"height", f.height}, {"spheres", f.names}});
   });
