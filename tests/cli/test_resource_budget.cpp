@@ -99,11 +99,13 @@ TEST(ResourceBudget, FailedAllocationsEndCleanlyInAnyThread) {
   if (kSanitizedBuild) GTEST_SKIP() << "an address-space limit leaves AddressSanitizer no room to start";
   Scratch s;
   // The estimate is overridden (100 GB) so that the work starts; the address-space limit then makes an
-  // allocation fail at some point: in the main thread for the LUT, or in a worker thread of the projection
-  // (which OpenMP cannot pass on). Several limits put the failure at different places.
+  // allocation fail at some point of the work, which depends on the limit. Limits stay at 250 MB and
+  // above: below about 200 MB the libraries' own start-up (OpenBLAS's thread pool) can fail or hang before
+  // main runs, which no handler of ours can reach. An allocation failing inside an OpenMP worker (where the
+  // terminate handler answers) was seen at 200 MB but is not reachable deterministically.
   const std::vector<std::pair<std::vector<std::string>, std::vector<double>>> cases{
       {{"lut", "model:ggx:alpha=0.3", "--level", "5", "--sampling", "centre", "-o", s.path("lut.h5")}, {300e6, 900e6, 1.2e9}},
-      {{"fit", "model:ggx:alpha=0.3", "--level", "6", "--order", "30", "--sampling", "centre", "-o", s.path("fit.h5")}, {150e6, 200e6, 400e6}},
+      {{"fit", "model:ggx:alpha=0.3", "--level", "6", "--order", "30", "--sampling", "centre", "-o", s.path("fit.h5")}, {300e6, 400e6, 600e6}},
   };
   for (const auto& [args, limits] : cases)
     for (const double limit : limits) {
