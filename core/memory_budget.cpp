@@ -129,7 +129,10 @@ std::string byte_size_text(double bytes) {
 }
 
 void require_memory(double need_bytes, const std::string& what, const std::string& advice) {
-  const MemoryAvailable have = available_memory();
+  require_memory(need_bytes, available_memory(), what, advice);
+}
+
+void require_memory(double need_bytes, const MemoryAvailable& have, const std::string& what, const std::string& advice) {
   if (need_bytes <= have.bytes) return;
   throw ResourceError(what + " needs about " + byte_size_text(need_bytes) + " of memory, " + byte_size_text(have.bytes) +
                       " is available (" + have.source + ")" + (advice.empty() ? "" : "; " + advice));

@@ -39,5 +39,7 @@ std::string byte_size_text(double bytes);
 //   "<what> needs about 40.2 GB of memory, 22.1 GB is available (MemAvailable); <advice>"
 // `advice` names what would fit (for example "level 5 or lower fits"); empty for none.
 void require_memory(double need_bytes, const std::string& what, const std::string& advice);
+// The same against an availability already read (available_memory() reads /proc and /sys each call).
+void require_memory(double need_bytes, const MemoryAvailable& have, const std::string& what, const std::string& advice);
 
 }  // namespace icobrdf

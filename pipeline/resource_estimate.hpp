@@ -2,7 +2,8 @@
 // Peak memory of a request, estimated from its sizes before anything is allocated, and the refusal of a
 // request that the machine cannot hold (core/memory_budget.hpp), naming the largest level or order that fits.
 //
-// Sizes: C = cells of the level (10 4^L + 2^(L+1)), M = (N+1)(N+2)/2 hemisphere functions of order N,
+// Sizes: C = cells of the level (equal_area_cells, io/spectrum_file.hpp), M = hemisphere functions of order N
+// (hemisphere_basis_count, core/hemisphere_basis.hpp),
 // ch = channels, T = threads. The estimates count the arrays that grow with C and M, in doubles:
 //   grid                C x kGridBytesPerCell (directions, maps, a degree-9 cubature of ~37 points per cell)
 //   projection context  3 C M (B, P and the weighted basis alive while P is made) + (kGramBlocks + 3) M^2
@@ -19,11 +20,6 @@ namespace icobrdf {
 // Bytes per cell of a grid that do not depend on the order: representative directions, solid angles, the
 // neighbour and symmetry maps, and the cubature (points and weights; 37 points per cell at degree 9).
 inline constexpr double kGridBytesPerCell = 1600.0;
-
-// Cells of the equal-area (and geodesic) hemi-icosahedral grid of level L: 10 4^L + 2^(L+1).
-double grid_cells(int level);
-// Hemisphere functions of order N: (N+1)(N+2)/2.
-double order_modes(int order);
 
 // Peak bytes of fitting an analytic model by streaming projection at (level, order): no LUT is materialized.
 double model_fit_bytes(int level, int order, int channels, int threads);

@@ -8,7 +8,9 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/hemisphere_basis.hpp"
 #include "core/memory_budget.hpp"
+#include "io/spectrum_file.hpp"
 #include "pipeline/resource_estimate.hpp"
 #include "tests/cli/measured_run.hpp"
 
@@ -39,13 +41,13 @@ void expect_estimate_matches(const std::vector<std::string>& args, double estima
   EXPECT_LE(estimate, kEstimateFactor * r.peak_bytes) << "estimate " << estimate << " B, measured " << r.peak_bytes << " B";
 }
 
-TEST(ResourceEstimate, CellAndModeCountsFollowTheirFormulas) {
-  EXPECT_EQ(grid_cells(0), 12);       // 10 + 2
-  EXPECT_EQ(grid_cells(5), 10304);    // 10240 + 64
-  EXPECT_EQ(grid_cells(8), 655872);   // 655360 + 512
-  EXPECT_EQ(order_modes(0), 1);
-  EXPECT_EQ(order_modes(8), 45);
-  EXPECT_EQ(order_modes(64), 2145);
+TEST(ResourceEstimate, CellAndModeCountsFollowTheirFormulas) {  // the counts the estimates are built on
+  EXPECT_EQ(equal_area_cells(0), 12);       // 10 + 2
+  EXPECT_EQ(equal_area_cells(5), 10304);    // 10240 + 64
+  EXPECT_EQ(equal_area_cells(8), 655872);   // 655360 + 512
+  EXPECT_EQ(hemisphere_basis_count(0), 1);
+  EXPECT_EQ(hemisphere_basis_count(8), 45);
+  EXPECT_EQ(hemisphere_basis_count(64), 2145);
 }
 
 TEST(ResourceEstimate, LutEstimatesBoundTheMeasuredPeak) {
@@ -74,9 +76,9 @@ TEST(ResourceEstimate, EstimatesGrowWithTheirSizes) {
   // The quantities that decide what fits: C^2 for LUTs, C M for fits; doubling nothing else.
   const double l5 = lut_bytes(5, 8, 1, false, 2), l6 = lut_bytes(6, 8, 1, false, 2);
   // Within 5%: the grid and fit terms, linear in C, dilute the C^2 ratio by a couple of percent.
-  const double c2 = std::pow(grid_cells(6) / grid_cells(5), 2);
+  const double c2 = std::pow(static_cast<double>(equal_area_cells(6)) / static_cast<double>(equal_area_cells(5)), 2);
   EXPECT_NEAR(l6 / l5, c2, 0.05 * c2);
-  EXPECT_GT(model_fit_bytes(7, 64, 1, 2), 3 * 8 * grid_cells(7) * order_modes(64));  // at least B, P and a third C x M
+  EXPECT_GT(model_fit_bytes(7, 64, 1, 2), 3 * 8 * static_cast<double>(equal_area_cells(7)) * hemisphere_basis_count(64));  // at least B, P and a third C x M
   EXPECT_LT(lut_bytes(5, 8, 1, true, 2), lut_bytes(5, 8, 1, false, 2));
 }
 
