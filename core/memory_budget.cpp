@@ -68,7 +68,7 @@ MemoryAvailable available_memory() {
   MemoryAvailable best;
   consider(best, proc_field_bytes("/proc/meminfo", "MemAvailable"), "MemAvailable");
   // cgroup v2: the process's own group first, then the mount point's root file (containers mount their group there).
-  for (const std::string dir : {"/sys/fs/cgroup" + cgroup_v2_path(), std::string("/sys/fs/cgroup")}) {
+  for (const std::string& dir : {"/sys/fs/cgroup" + cgroup_v2_path(), std::string("/sys/fs/cgroup")}) {
     const double limit = first_number(dir + "/memory.max"), used = first_number(dir + "/memory.current");
     if (limit >= 0) {
       consider(best, std::max(0.0, limit - std::max(used, 0.0)), "cgroup limit");
