@@ -35,8 +35,7 @@ double BilinearSlices::eval(double x, double y, const SliceBlend& b) const {
     v01 += wt * s[w_];
     v11 += wt * s[w_ + 1];
   }
-  const double a = v00 + (v10 - v00) * px.fraction, c = v01 + (v11 - v01) * px.fraction;
-  return a + (c - a) * py.fraction;
+  return interpolate(interpolate(v00, v10, px.fraction), interpolate(v01, v11, px.fraction), py.fraction);
 }
 
 }  // namespace icobrdf

@@ -39,4 +39,10 @@ struct PatchCoordinate {
 };
 PatchCoordinate patch_coordinate(double u, int n);
 
+// Linear interpolation between a (t = 0) and b (t = 1) for t in [0, 1], written as the convex combination
+// (1 - t) a + t b: exact at both ends, within [min(a, b), max(a, b)], and positive when a and b are. The
+// form a + (b - a) t is not: with a = 4e31, b = 0.5 and t = 1 it cancels to 0 (a positive table then
+// interpolated to 0 and a division by it gave inf; found by fuzz_rgl_bsdf).
+inline double interpolate(double a, double b, double t) { return (1.0 - t) * a + t * b; }
+
 }  // namespace icobrdf

@@ -1,5 +1,6 @@
 #include "core/marginal_warp.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -60,8 +61,7 @@ double MarginalWarp2D::density(double x, double y, const SliceBlend& b) const {
   const std::int64_t n = static_cast<std::int64_t>(w_) * h_, at = static_cast<std::int64_t>(py.index) * w_ + px.index;
   const double v00 = blended(data_, n, at, b), v10 = blended(data_, n, at + 1, b), v01 = blended(data_, n, at + w_, b),
                v11 = blended(data_, n, at + w_ + 1, b);
-  const double c0 = v00 + (v01 - v00) * py.fraction, c1 = v10 + (v11 - v10) * py.fraction;
-  return c0 + (c1 - c0) * px.fraction;
+  return interpolate(interpolate(v00, v01, py.fraction), interpolate(v10, v11, py.fraction), px.fraction);
 }
 
 Eigen::Vector2d MarginalWarp2D::invert(double x, double y, const SliceBlend& b) const {
@@ -70,18 +70,20 @@ Eigen::Vector2d MarginalWarp2D::invert(double x, double y, const SliceBlend& b) 
   const double fx = px.fraction, fy = py.fraction;
   const double v00 = blended(data_, n, at, b), v10 = blended(data_, n, at + 1, b), v01 = blended(data_, n, at + w_, b),
                v11 = blended(data_, n, at + w_ + 1, b);
-  const double c0 = v00 + (v01 - v00) * fy, c1 = v10 + (v11 - v10) * fy;
-  // x: partial patch integral, then the rows' cumulative integrals before the patch, over the row total.
-  double sx = fx * (c0 + (c1 - c0) * 0.5 * fx) / (w_ - 1);
+  const double c0 = interpolate(v00, v01, fy), c1 = interpolate(v10, v11, fy);
+  // x: partial patch integral (of the linear c0 .. c1 from 0 to fx: fx times its value at fx / 2), then the
+  // rows' cumulative integrals before the patch, over the row total. Convex combinations throughout, so
+  // that a positive density never cancels to 0 or below (see interpolate).
+  double sx = fx * interpolate(c0, c1, 0.5 * fx) / (w_ - 1);
   const std::int64_t nc = static_cast<std::int64_t>(h_) * (w_ - 1), row = static_cast<std::int64_t>(py.index) * (w_ - 1);
   if (px.index > 0) {
     const double a = blended(cond_, nc, row + px.index - 1, b), c = blended(cond_, nc, row + (w_ - 1) + px.index - 1, b);
-    sx += a + (c - a) * fy;
+    sx += interpolate(a, c, fy);
   }
   const double r0 = blended(cond_, nc, row + w_ - 2, b), r1 = blended(cond_, nc, row + 2 * (w_ - 1) - 1, b);
-  const double total = r0 + (r1 - r0) * fy;
-  sx = total > 0 ? sx / total : 0.0;
-  double sy = fy * (r0 + (r1 - r0) * 0.5 * fy) / (h_ - 1);
+  const double total = interpolate(r0, r1, fy);
+  sx = total > 0 ? std::min(sx / total, 1.0) : 0.0;
+  double sy = fy * interpolate(r0, r1, 0.5 * fy) / (h_ - 1);
   if (py.index > 0) sy += blended(marg_, h_ - 1, py.index - 1, b);
   return {sx, sy};
 }

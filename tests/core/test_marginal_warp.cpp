@@ -87,6 +87,33 @@ TEST(BilinearSlices, ReproducesAffineFunctionsAndBlends) {
   EXPECT_NEAR(t.eval(-3.0, 2.0, &p0), 1 + 3, kTol);  // clamped to (0, 1)
 }
 
+TEST(BilinearSlices, PositiveNodesOfVeryDifferentSizeStayPositiveAndExactAtNodes) {
+  // Nodes 0.5 and 4e31 in one row (the table fuzz_rgl_bsdf found): at y = 1 the value is the second row's
+  // interpolant, 0.5 + 0.0015 (1 - x) exactly up to rounding, not the 0 that a + (b - a) t cancels to.
+  const BilinearSlices t({0.5, 4e31, 0.5015, 0.5}, 2, 2, ParameterGrid());
+  for (double x : {0.0, 0.3, 0.64005119279497236, 1.0}) {
+    const double v = t.eval(x, 1.0, nullptr);
+    EXPECT_GT(v, 0.0) << x;
+    EXPECT_NEAR(v, 0.5015 + (0.5 - 0.5015) * x, kTol) << x;
+  }
+  EXPECT_EQ(t.eval(1.0, 0.0, nullptr), 4e31);  // exact at a node
+  for (double y : {1e-17, 0.25, 1 - 1e-16}) EXPECT_GT(t.eval(0.9, y, nullptr), 0.0) << y;
+}
+
+TEST(MarginalWarp2D, DensityOfVeryDifferentSizeInvertsInsideTheSquare) {
+  // A row of density 1e-30 next to one of 1e30: every inverse stays in [0, 1]^2 and is finite.
+  const MarginalWarp2D w({1e-30, 1e-30, 1e-30, 1e30, 3.0, 1e30}, 3, 2, ParameterGrid());
+  const SliceBlend b = w.grid().blend(nullptr);
+  for (double x : {0.0, 1e-17, 0.5, 1 - 1e-16, 1.0})
+    for (double y : {0.0, 1e-17, 0.5, 1 - 1e-16, 1.0}) {
+      const Eigen::Vector2d s = w.invert(x, y, b);
+      EXPECT_TRUE(s.allFinite());
+      EXPECT_GE(s.minCoeff(), 0.0);
+      EXPECT_LE(s.maxCoeff(), 1.0 + kTol);
+      EXPECT_GE(w.density(x, y, b), 0.0);
+    }
+}
+
 TEST(MarginalWarp2D, ConstantDensityIsTheIdentity) {
   const MarginalWarp2D w(std::vector<double>(5 * 4, 2.5), 5, 4, ParameterGrid());
   const SliceBlend b = w.grid().blend(nullptr);
