@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
-#include "core/direction.hpp"
-#include "core/error.hpp"
-#include "core/half_angle_factors.hpp"
-#include "core/model_spec.hpp"
+#include "icobrdf/core/direction.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/half_angle_factors.hpp"
+#include "icobrdf/core/model_spec.hpp"
 
 using namespace icobrdf;
 

@@ -5,8 +5,8 @@
 
 #include <random>
 
-#include "mesh/cell_locator.hpp"
-#include "mesh/tessellation.hpp"
+#include "icobrdf/mesh/cell_locator.hpp"
+#include "icobrdf/mesh/tessellation.hpp"
 
 namespace {
 

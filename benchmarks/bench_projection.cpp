@@ -1,10 +1,10 @@
-// Projection C = P^T F P of a dense LUT (core/projection.hpp project_lut) against raw OpenBLAS doing the
-// same products in the same run (lab/projection_benchmark.hpp); target at level 5, order 8: >= 60% of the
+// Projection C = P^T F P of a dense LUT (icobrdf/core/projection.hpp project_lut) against raw OpenBLAS doing the
+// same products in the same run (icobrdf/lab/projection_benchmark.hpp); target at level 5, order 8: >= 60% of the
 // FP64 peak in the GEMM part and at least as fast as raw OpenBLAS. The LUT is random and written before
 // timing (no page faults in the timed region). OpenBLAS runs both association orders; the faster is the baseline.
 //   bench_projection [--benchmark_filter=...]   (threads: OMP_NUM_THREADS and OPENBLAS_NUM_THREADS)
 // Counters: gflops (2 cells^2 modes + 2 cells modes^2 flops per call); peak_gflops, the FP64 peak measured
-// in-process on all threads at the dispatched vector width (lab/machine.hpp measure_fp64_peak_gflops, once per
+// in-process on all threads at the dispatched vector width (icobrdf/lab/machine.hpp measure_fp64_peak_gflops, once per
 // run), beside nominal_peak_gflops (threads x FP64 flops/cycle of the ISA compiled for x the clock of
 // /proc/cpuinfo); divide gflops by peak_gflops for the ratio. OpenBLAS runs as the environment loads it; for
 // OpenBLAS on its own kernel run `icobrdf bench project`, which also times it in a clean child process.
@@ -14,11 +14,11 @@
 
 #include <memory>
 
-#include "core/discrete_basis.hpp"
-#include "core/projection.hpp"
-#include "lab/machine.hpp"
-#include "lab/projection_benchmark.hpp"
-#include "mesh/tessellation.hpp"
+#include "icobrdf/core/discrete_basis.hpp"
+#include "icobrdf/core/projection.hpp"
+#include "icobrdf/lab/machine.hpp"
+#include "icobrdf/lab/projection_benchmark.hpp"
+#include "icobrdf/mesh/tessellation.hpp"
 
 namespace {
 

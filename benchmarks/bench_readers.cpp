@@ -9,11 +9,11 @@
 #include <random>
 #include <string>
 
-#include "core/helmholtz_modes.hpp"
-#include "core/isotropic_modes.hpp"
-#include "core/model_spec.hpp"
-#include "core/sample_fit.hpp"
-#include "io/merl.hpp"
+#include "icobrdf/core/helmholtz_modes.hpp"
+#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/core/sample_fit.hpp"
+#include "icobrdf/io/merl.hpp"
 
 namespace {
 

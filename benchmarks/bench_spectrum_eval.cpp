@@ -1,4 +1,4 @@
-// Spectrum evaluation f(w_i, w_r) = K(w_i)^T C K(w_r) at many direction pairs (core/spectrum_ops.hpp
+// Spectrum evaluation f(w_i, w_r) = K(w_i)^T C K(w_r) at many direction pairs (icobrdf/core/spectrum_ops.hpp
 // evaluate_coefficients): issue 6 target ">= 10 million direction pairs per second at order 8". Per block
 // of 256 pairs the basis of both sides is evaluated by the block kernel (BM_BasisBlock: directions per
 // second, in cache), then a register-tiled kernel forms sum_j K_j(w_r) sum_k K_k(w_i) C_kj. That part
@@ -15,8 +15,8 @@
 #include <random>
 #include <vector>
 
-#include "core/hemisphere_basis.hpp"
-#include "core/spectrum_ops.hpp"
+#include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/spectrum_ops.hpp"
 
 namespace {
 

@@ -1,8 +1,8 @@
 // icobrdf bench project --level L --order N [--threads T] [--repeat R] [--peak-gflops G] [--symmetric] [--simd-target T]
 //                       [--no-best-blas] [--json]
 // Times one projection C = P^T F P of a cells x cells LUT with the library's call and with raw OpenBLAS in
-// the same run (lab/projection_benchmark.hpp), and reports GFLOP/s, the ratio to the machine's measured FP64
-// peak (lab/machine.hpp; --peak-gflops overrides it) next to the nominal one, the memory floor of streaming F
+// the same run (icobrdf/lab/projection_benchmark.hpp), and reports GFLOP/s, the ratio to the machine's measured FP64
+// peak (icobrdf/lab/machine.hpp; --peak-gflops overrides it) next to the nominal one, the memory floor of streaming F
 // once at the measured bandwidth, and the ratio to the BLAS baseline twice: OpenBLAS as this process loaded
 // it, and OpenBLAS on the kernel it picks for the CPU, timed in a child process (this program again, with
 // the hidden --blas-only) whose environment lacks OPENBLAS_CORETYPE and OPENBLAS_L2_SIZE. The parent's
@@ -20,11 +20,11 @@
 
 #include "cli/bench_commands.hpp"
 #include "cli/option_checks.hpp"
-#include "core/error.hpp"
-#include "core/simd_target.hpp"
-#include "lab/child_process.hpp"
-#include "lab/machine.hpp"
-#include "lab/projection_benchmark.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/simd_target.hpp"
+#include "icobrdf/lab/child_process.hpp"
+#include "icobrdf/lab/machine.hpp"
+#include "icobrdf/lab/projection_benchmark.hpp"
 
 namespace icobrdf::cli {
 namespace {
@@ -102,7 +102,7 @@ nlohmann::json best_blas(const BenchArgs& a, int threads, const lab::ProjectionB
   }
 }
 
-// The compiled target named `name` (core/simd_target.hpp); ArgumentError listing the compiled ones otherwise.
+// The compiled target named `name` (icobrdf/core/simd_target.hpp); ArgumentError listing the compiled ones otherwise.
 SimdTarget target_named(const std::string& name) {
   std::string names;
   for (const auto& t : compiled_simd_targets()) {

@@ -1,5 +1,5 @@
 #pragma once
-// The stand-alone subcommand of a report section (lab/report_section.hpp)
+// The stand-alone subcommand of a report section (icobrdf/lab/report_section.hpp)
 //   icobrdf bench NAME [--levels 1..5] [--orders 0..32] [--quick] [--json] [--report DIR] [--threads T]
 // that runs one section and prints its markdown (or its JSON data), the same section `bench sweep` includes,
 // and the parsing of level and order lists shared with `bench sweep`.
@@ -17,9 +17,9 @@
 #include <vector>
 
 #include "cli/option_checks.hpp"
-#include "core/error.hpp"
-#include "io/atomic_write.hpp"
-#include "lab/report_section.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/atomic_write.hpp"
+#include "icobrdf/lab/report_section.hpp"
 
 namespace icobrdf::cli::section {
 

@@ -1,9 +1,9 @@
 // icobrdf bench baselines | hard-cases: each report section of `bench sweep` run alone
-// (cli/bench_section_command.hpp; the measurements are lab/baselines.hpp and lab/hard_cases.hpp).
+// (cli/bench_section_command.hpp; the measurements are icobrdf/lab/baselines.hpp and icobrdf/lab/hard_cases.hpp).
 #include "cli/bench_commands.hpp"
 #include "cli/bench_section_command.hpp"
-#include "lab/baselines.hpp"
-#include "lab/hard_cases.hpp"
+#include "icobrdf/lab/baselines.hpp"
+#include "icobrdf/lab/hard_cases.hpp"
 
 namespace icobrdf::cli {
 namespace {

@@ -2,11 +2,11 @@
 //                     [--sampling centre|average] [--gram-tol G] [--quick] [--quiet] [--json] -o RESULTS.h5 --report DIR
 // Speed against error: for every (level, order) of the equal-area tessellation, Gram error, condition number,
 // the cost of the grid and operators, and per model the cost of one projection and the error of its
-// reconstruction at held-out direction pairs (lab/sweep_measure.hpp); then every report section
-// (lab/report_section.hpp). Writes RESULTS.h5 (docs/file-format.md, "Sweep results") and DIR/report.md with
-// PNG figures (lab/sweep_report.hpp); docs/benchmarks.md explains how to read them.
+// reconstruction at held-out direction pairs (icobrdf/lab/sweep_measure.hpp); then every report section
+// (icobrdf/lab/report_section.hpp). Writes RESULTS.h5 (docs/file-format.md, "Sweep results") and DIR/report.md with
+// PNG figures (icobrdf/lab/sweep_report.hpp); docs/benchmarks.md explains how to read them.
 //
-// Lists: levels and orders as "a..b" or "a,b,c"; models as lab/sweep_measure.hpp split_model_list reads
+// Lists: levels and orders as "a..b" or "a,b,c"; models as icobrdf/lab/sweep_measure.hpp split_model_list reads
 // them. Models with delta parts have no pointwise error: refused.
 //
 // Nothing is written unless the whole sweep succeeds: the report is assembled in a hidden folder beside DIR
@@ -25,13 +25,13 @@
 
 #include "cli/bench_commands.hpp"
 #include "cli/bench_section_command.hpp"
-#include "core/error.hpp"
-#include "core/model_spec.hpp"
-#include "io/output_path.hpp"
-#include "lab/invocation.hpp"
-#include "lab/staged_folder.hpp"
-#include "lab/sweep_measure.hpp"
-#include "lab/sweep_report.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/io/output_path.hpp"
+#include "icobrdf/lab/invocation.hpp"
+#include "icobrdf/lab/staged_folder.hpp"
+#include "icobrdf/lab/sweep_measure.hpp"
+#include "icobrdf/lab/sweep_report.hpp"
 
 namespace icobrdf::cli {
 namespace {

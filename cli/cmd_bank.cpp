@@ -10,12 +10,12 @@
 
 #include "cli/commands.hpp"
 #include "cli/exit_codes.hpp"
-#include "core/error.hpp"
-#include "core/progress.hpp"
-#include "io/bank_file.hpp"
-#include "io/half_angle_file.hpp"
-#include "io/scene.hpp"
-#include "pipeline/bank_builder.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/progress.hpp"
+#include "icobrdf/io/bank_file.hpp"
+#include "icobrdf/io/half_angle_file.hpp"
+#include "icobrdf/io/scene.hpp"
+#include "icobrdf/pipeline/bank_builder.hpp"
 
 namespace icobrdf::cli {
 namespace {
@@ -43,7 +43,7 @@ int run_build(const BuildArgs& a) {
   o.strict = a.strict;
   o.warnings = &std::cerr;
   if (!a.quiet) o.progress = [](const std::string& line) { std::cerr << line << std::endl; };
-  if (a.quiet) set_progress_stream(nullptr);  // no lines from long projections either (core/progress.hpp)
+  if (a.quiet) set_progress_stream(nullptr);  // no lines from long projections either (icobrdf/core/progress.hpp)
   const auto r = build_bank(scene, o);
   nlohmann::json mats = nlohmann::json::array();
   for (const auto& m : r.materials) {

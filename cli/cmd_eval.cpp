@@ -3,12 +3,12 @@
 //   icobrdf eval SOURCE --at PAIRS.csv [--radians]
 //
 // SOURCE: model:NAME[:key=value,...] (icobrdf models lists them; sums "model:0.8*lambert+0.2*ggx:alpha=0.1")
-// or any other SOURCE that io/brdf_source.hpp opens. PAIRS.csv: header theta_i,phi_i,theta_r,phi_r or SCATMECH's
-// thetai,thetas,phis[,rotation], signed theta accepted, degrees unless --radians (io/direction_csv.hpp). Output: CSV with a header of one column per channel ("f" or
+// or any other SOURCE that icobrdf/io/brdf_source.hpp opens. PAIRS.csv: header theta_i,phi_i,theta_r,phi_r or SCATMECH's
+// thetai,thetas,phis[,rotation], signed theta accepted, degrees unless --radians (icobrdf/io/direction_csv.hpp). Output: CSV with a header of one column per channel ("f" or
 // "f_r,f_g,f_b"; a source naming its channels gives "f_" + name, e.g. "f_550nm" for a spectral RGL material), one line per input row, f in 1/sr, shortest round-trip decimals. Delta parts (mirror,
 // retroreflector) have no pointwise value: the regular part is printed and a note goes to stderr.
 // Nothing is printed to stdout unless every row was evaluated and every value is finite (an overflow is an
-// error, exit 4); negative f is reported as non-physical (pipeline/reflectance_check.hpp; error with --strict).
+// error, exit 4); negative f is reported as non-physical (icobrdf/pipeline/reflectance_check.hpp; error with --strict).
 #include <fmt/core.h>
 
 #include <iostream>
@@ -16,10 +16,10 @@
 #include <string>
 
 #include "cli/commands.hpp"
-#include "core/error.hpp"
-#include "io/brdf_source.hpp"
-#include "io/direction_csv.hpp"
-#include "pipeline/reflectance_check.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/brdf_source.hpp"
+#include "icobrdf/io/direction_csv.hpp"
+#include "icobrdf/pipeline/reflectance_check.hpp"
 
 namespace icobrdf::cli {
 

@@ -1,6 +1,6 @@
 // icobrdf export SPECTRUM.h5[#MATERIAL] --format scatmech [--channel C] [--isotropic] -o FILE.csv [--json]
 // Writes a spectrum in another program's format. Formats:
-//   scatmech   coefficient file of NIST SCATMECH's ZernikeExpansion_BRDF_Model (io/scatmech_coefficients.hpp):
+//   scatmech   coefficient file of NIST SCATMECH's ZernikeExpansion_BRDF_Model (icobrdf/io/scatmech_coefficients.hpp):
 //              rows 1,1,n,m,l,l,0,a of the unpolarized element; f spectra only; an anisotropic spectrum is
 //              refused unless --isotropic (then its isotropic projection is written and the dropped
 //              anisotropic energy fraction reported). A 3-channel spectrum needs --channel.
@@ -14,11 +14,11 @@
 #include <string>
 
 #include "cli/commands.hpp"
-#include "core/error.hpp"
-#include "io/scatmech_coefficients.hpp"
-#include "io/bank_file.hpp"
-#include "io/output_path.hpp"
-#include "io/spectrum_file.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/scatmech_coefficients.hpp"
+#include "icobrdf/io/bank_file.hpp"
+#include "icobrdf/io/output_path.hpp"
+#include "icobrdf/io/spectrum_file.hpp"
 
 namespace icobrdf::cli {
 namespace {

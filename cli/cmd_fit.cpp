@@ -12,14 +12,14 @@
 
 #include "cli/commands.hpp"
 #include "cli/option_checks.hpp"
-#include "io/brdf_source.hpp"
-#include "io/measured_sources.hpp"
-#include "io/output_path.hpp"
-#include "core/error.hpp"
-#include "core/progress.hpp"
-#include "io/spectrum_file.hpp"
-#include "pipeline/fit_source.hpp"
-#include "pipeline/reflectance_check.hpp"
+#include "icobrdf/io/brdf_source.hpp"
+#include "icobrdf/io/measured_sources.hpp"
+#include "icobrdf/io/output_path.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/progress.hpp"
+#include "icobrdf/io/spectrum_file.hpp"
+#include "icobrdf/pipeline/fit_source.hpp"
+#include "icobrdf/pipeline/reflectance_check.hpp"
 
 namespace icobrdf::cli {
 namespace {
@@ -35,7 +35,7 @@ struct FitArgs {
   double gram_tol = kDefaultGramTolerance;
 };
 
-// Stage and percentage on the progress stream (core/progress.hpp: its delay and interval), from the
+// Stage and percentage on the progress stream (icobrdf/core/progress.hpp: its delay and interval), from the
 // start of the command.
 FitProgress progress_printer(std::chrono::steady_clock::time_point start) {
   auto last = std::make_shared<double>(-1.0);

@@ -9,9 +9,9 @@
 #include <memory>
 
 #include "cli/commands.hpp"
-#include "core/error.hpp"
-#include "io/grid_obj_file.hpp"
-#include "mesh/tessellation.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/grid_obj_file.hpp"
+#include "icobrdf/mesh/tessellation.hpp"
 
 namespace icobrdf::cli {
 namespace {

@@ -2,8 +2,8 @@
 //   icobrdf lut SOURCE --level L [--cosine] [--sampling average|centre] [--float32] [--order N] -o LUT.h5
 //   icobrdf smooth LUT.h5[#MATERIAL] --order N [--filter NAME] [--float32] -o OUT.h5     (S F S^T)
 //   icobrdf albedo LUT.h5[#MATERIAL] [--json] [--strict]                                (white furnace)
-// lut and albedo refuse Inf / NaN and report negative f or albedo (pipeline/reflectance_check.hpp).
-// LUT files: io/lut_file.hpp.
+// lut and albedo refuse Inf / NaN and report negative f or albedo (icobrdf/pipeline/reflectance_check.hpp).
+// LUT files: icobrdf/io/lut_file.hpp.
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
@@ -11,18 +11,18 @@
 #include <memory>
 
 #include "cli/commands.hpp"
-#include "core/direction.hpp"
-#include "core/error.hpp"
-#include "core/reflection.hpp"
-#include "core/spectral_fit.hpp"
-#include "core/model_spec.hpp"
-#include "pipeline/reflectance_check.hpp"
-#include "pipeline/resource_estimate.hpp"
-#include "pipeline/source_model.hpp"
-#include "io/lut_file.hpp"
-#include "io/spectrum_file.hpp"
-#include "io/output_path.hpp"
-#include "mesh/tessellation.hpp"
+#include "icobrdf/core/direction.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/reflection.hpp"
+#include "icobrdf/core/spectral_fit.hpp"
+#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/pipeline/reflectance_check.hpp"
+#include "icobrdf/pipeline/resource_estimate.hpp"
+#include "icobrdf/pipeline/source_model.hpp"
+#include "icobrdf/io/lut_file.hpp"
+#include "icobrdf/io/spectrum_file.hpp"
+#include "icobrdf/io/output_path.hpp"
+#include "icobrdf/mesh/tessellation.hpp"
 
 namespace icobrdf::cli {
 namespace {

@@ -13,7 +13,7 @@
 #include <memory>
 
 #include "cli/commands.hpp"
-#include "core/model_spec.hpp"
+#include "icobrdf/core/model_spec.hpp"
 
 namespace icobrdf::cli {
 

@@ -18,12 +18,12 @@
 #include <string>
 
 #include "cli/commands.hpp"
-#include "core/error.hpp"
-#include "core/helmholtz_modes.hpp"
-#include "core/hemisphere_basis.hpp"
-#include "core/isotropic_modes.hpp"
-#include "core/zernike.hpp"
-#include "io/direction_csv.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/helmholtz_modes.hpp"
+#include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/zernike.hpp"
+#include "icobrdf/io/direction_csv.hpp"
 
 namespace icobrdf::cli {
 

@@ -1,6 +1,6 @@
 // icobrdf plot basis|slice|spectrum|sphere ... -o FILE.png: pictures of basis functions, slices, spectra
-// and lit spheres (plot/plots.hpp, docs/plots.md). Every picture is written atomically. The SOURCE is
-// loaded (and models fitted) by pipeline/picture_source.hpp; plot/ draws what it is given. The flags are
+// and lit spheres (icobrdf/plot/plots.hpp, docs/plots.md). Every picture is written atomically. The SOURCE is
+// loaded (and models fitted) by icobrdf/pipeline/picture_source.hpp; plot/ draws what it is given. The flags are
 // checked here, in the order the pictures used to check them, so that the first error names the flag.
 #include <fmt/core.h>
 #include <sys/stat.h>
@@ -15,15 +15,15 @@
 
 #include "cli/commands.hpp"
 #include "cli/option_checks.hpp"
-#include "core/error.hpp"
-#include "core/lowpass_filter.hpp"
-#include "io/bank_file.hpp"
-#include "io/output_path.hpp"
-#include "io/spectrum_file.hpp"
-#include "mesh/tessellation.hpp"
-#include "pipeline/picture_source.hpp"
-#include "pipeline/reflectance_check.hpp"
-#include "plot/plots.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/lowpass_filter.hpp"
+#include "icobrdf/io/bank_file.hpp"
+#include "icobrdf/io/output_path.hpp"
+#include "icobrdf/io/spectrum_file.hpp"
+#include "icobrdf/mesh/tessellation.hpp"
+#include "icobrdf/pipeline/picture_source.hpp"
+#include "icobrdf/pipeline/reflectance_check.hpp"
+#include "icobrdf/plot/plots.hpp"
 
 namespace icobrdf::cli {
 namespace {

@@ -9,10 +9,10 @@
 
 #include "cli/commands.hpp"
 #include "cli/exit_codes.hpp"
-#include "core/error.hpp"
-#include "core/memory_budget.hpp"
-#include "core/progress.hpp"
-#include "io/atomic_write.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/memory_budget.hpp"
+#include "icobrdf/core/progress.hpp"
+#include "icobrdf/io/atomic_write.hpp"
 
 namespace {
 

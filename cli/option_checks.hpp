@@ -9,7 +9,7 @@
 #include <limits>
 #include <string>
 
-#include "core/error.hpp"
+#include "icobrdf/core/error.hpp"
 
 namespace icobrdf::cli {
 

@@ -1,4 +1,4 @@
-// libFuzzer target: the bank validator (io/bank_file.hpp read_bank, read_bank_material, bank_material_names).
+// libFuzzer target: the bank validator (icobrdf/io/bank_file.hpp read_bank, read_bank_material, bank_material_names).
 //
 // Banks are trusted input beyond the validation (docs/reliability.md): HDF5 itself parses the file
 // structure, and HDF5 1.10 can crash or hang on crafted bytes. So this target fuzzes what icobrdf owns, the
@@ -24,11 +24,11 @@
 #include <sstream>
 #include <vector>
 
-#include "core/isotropic_modes.hpp"
+#include "icobrdf/core/isotropic_modes.hpp"
 #include "fuzz/fuzz_support.hpp"
-#include "io/bank_file.hpp"
-#include "io/h5_file.hpp"
-#include "mesh/tessellation.hpp"
+#include "icobrdf/io/bank_file.hpp"
+#include "icobrdf/io/h5_file.hpp"
+#include "icobrdf/mesh/tessellation.hpp"
 
 using namespace icobrdf;
 

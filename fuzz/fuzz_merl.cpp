@@ -1,4 +1,4 @@
-// libFuzzer target: the MERL reader (io/merl.hpp read_merl).
+// libFuzzer target: the MERL reader (icobrdf/io/merl.hpp read_merl).
 //
 // A MERL file must be exactly 34,992,012 bytes, far beyond useful fuzz inputs, so the first input byte picks
 // how the file is made from the rest:
@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "fuzz/fuzz_support.hpp"
-#include "io/merl.hpp"
+#include "icobrdf/io/merl.hpp"
 
 using namespace icobrdf;
 

@@ -1,13 +1,13 @@
-// libFuzzer target: the RGL material reader (io/rgl_bsdf.hpp, over io/tensor_file.hpp). The input is the
+// libFuzzer target: the RGL material reader (icobrdf/io/rgl_bsdf.hpp, over icobrdf/io/tensor_file.hpp). The input is the
 // file. For files it accepts, a fixed set of direction pairs (normal, oblique, grazing, below the horizon,
 // every azimuth quadrant for the symmetry reductions) is evaluated on every channel: the values must be
 // finite (every table was checked finite, sigma > 0 when it divides, and the cosine is floored).
 // Seeds: fuzz/corpus/rgl_bsdf/ (small valid RGB, spectral and anisotropic files).
 #include <cmath>
 
-#include "core/error.hpp"
+#include "icobrdf/core/error.hpp"
 #include "fuzz/fuzz_support.hpp"
-#include "io/rgl_bsdf.hpp"
+#include "icobrdf/io/rgl_bsdf.hpp"
 
 using namespace icobrdf;
 

@@ -1,12 +1,12 @@
-// libFuzzer target: the CSV sample reader (io/sample_csv.hpp read_sample_csv) and, on the same bytes, the
-// direction-list readers (io/direction_csv.hpp), which share the CSV layer (io/csv.hpp).
+// libFuzzer target: the CSV sample reader (icobrdf/io/sample_csv.hpp read_sample_csv) and, on the same bytes, the
+// direction-list readers (icobrdf/io/direction_csv.hpp), which share the CSV layer (icobrdf/io/csv.hpp).
 // The options come from the input length (bit 0: radians, bit 1: strict), so seeds stay plain CSV text.
 // On success: unit direction vectors in the upper hemisphere, finite values, weights >= 1 summing to the rows.
 #include <cmath>
 
 #include "fuzz/fuzz_support.hpp"
-#include "io/direction_csv.hpp"
-#include "io/sample_csv.hpp"
+#include "icobrdf/io/direction_csv.hpp"
+#include "icobrdf/io/sample_csv.hpp"
 
 using namespace icobrdf;
 

@@ -1,9 +1,9 @@
-// libFuzzer target: the SCATMECH coefficient-file reader (io/scatmech_coefficients.hpp) and, for files it
+// libFuzzer target: the SCATMECH coefficient-file reader (icobrdf/io/scatmech_coefficients.hpp) and, for files it
 // accepts, the import as a Spectrum (at a wavelength of 0.6328 um, so p != 0 rows are accepted).
 // On success: rows counted consistently, order within kMaxScatmechOrder, finite spectrum coefficients.
-#include "core/error.hpp"
+#include "icobrdf/core/error.hpp"
 #include "fuzz/fuzz_support.hpp"
-#include "io/scatmech_coefficients.hpp"
+#include "icobrdf/io/scatmech_coefficients.hpp"
 
 using namespace icobrdf;
 

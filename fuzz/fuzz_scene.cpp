@@ -1,4 +1,4 @@
-// libFuzzer target: the scene reader (io/scene.hpp read_scene), on the input bytes as a TOML file. It
+// libFuzzer target: the scene reader (icobrdf/io/scene.hpp read_scene), on the input bytes as a TOML file. It
 // returns a scene or throws InputError with a one-line message naming the file and the place. A returned
 // scene must hold what the reader promises: settings within their documented ranges, at least one
 // material, unique valid names, a non-empty source, lights and cameras together; and each material's
@@ -6,9 +6,9 @@
 #include <cmath>
 #include <set>
 
-#include "core/model_spec.hpp"
+#include "icobrdf/core/model_spec.hpp"
 #include "fuzz/fuzz_support.hpp"
-#include "io/scene.hpp"
+#include "icobrdf/io/scene.hpp"
 
 using namespace icobrdf;
 

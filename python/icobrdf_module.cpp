@@ -15,21 +15,21 @@
 #include <string>
 #include <vector>
 
-#include "core/discrete_basis.hpp"
-#include "core/error.hpp"
-#include "core/helmholtz_modes.hpp"
-#include "core/hemisphere_basis.hpp"
-#include "core/isotropic_modes.hpp"
-#include "core/lowpass_filter.hpp"
-#include "core/lut.hpp"
-#include "core/model_spec.hpp"
-#include "core/projection.hpp"
-#include "core/spectrum_ops.hpp"
-#include "io/bank_file.hpp"
-#include "io/brdf_source.hpp"
-#include "io/spectrum_file.hpp"
-#include "mesh/tessellation.hpp"
-#include "pipeline/fit_source.hpp"
+#include "icobrdf/core/discrete_basis.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/helmholtz_modes.hpp"
+#include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/lowpass_filter.hpp"
+#include "icobrdf/core/lut.hpp"
+#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/core/projection.hpp"
+#include "icobrdf/core/spectrum_ops.hpp"
+#include "icobrdf/io/bank_file.hpp"
+#include "icobrdf/io/brdf_source.hpp"
+#include "icobrdf/io/spectrum_file.hpp"
+#include "icobrdf/mesh/tessellation.hpp"
+#include "icobrdf/pipeline/fit_source.hpp"
 
 namespace py = pybind11;
 using namespace icobrdf;

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/direction.hpp"
-#include "io/bank_file.hpp"
-#include "io/brdf_source.hpp"
+#include "icobrdf/core/direction.hpp"
+#include "icobrdf/io/bank_file.hpp"
+#include "icobrdf/io/brdf_source.hpp"
 
 int main(int argc, char** argv) {
   using namespace icobrdf;

@@ -5,13 +5,13 @@
 #include <cstdio>
 #include <memory>
 
-#include "core/direction.hpp"
-#include "core/lowpass_filter.hpp"
-#include "core/projection.hpp"
-#include "core/spectrum_ops.hpp"
-#include "io/brdf_source.hpp"
-#include "io/spectrum_file.hpp"
-#include "pipeline/fit_source.hpp"
+#include "icobrdf/core/direction.hpp"
+#include "icobrdf/core/lowpass_filter.hpp"
+#include "icobrdf/core/projection.hpp"
+#include "icobrdf/core/spectrum_ops.hpp"
+#include "icobrdf/io/brdf_source.hpp"
+#include "icobrdf/io/spectrum_file.hpp"
+#include "icobrdf/pipeline/fit_source.hpp"
 
 int main(int argc, char** argv) {
   using namespace icobrdf;

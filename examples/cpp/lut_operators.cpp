@@ -5,12 +5,12 @@
 #include <cstdio>
 #include <memory>
 
-#include "core/discrete_basis.hpp"
-#include "core/lut.hpp"
-#include "core/model_spec.hpp"
-#include "core/projection.hpp"
-#include "core/reflection.hpp"
-#include "mesh/tessellation.hpp"
+#include "icobrdf/core/discrete_basis.hpp"
+#include "icobrdf/core/lut.hpp"
+#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/core/projection.hpp"
+#include "icobrdf/core/reflection.hpp"
+#include "icobrdf/mesh/tessellation.hpp"
 
 int main() {
   using namespace icobrdf;

@@ -1,6 +1,6 @@
 // A MERL table through `bank build`: the half-angle lobe is fitted on the table's own nodes (bin centres, no
 // resampling), judged at the table's samples, and evaluates closer to the function the table sampled than
-// the table's own piecewise-constant lookup does. The table is written here (the MERL layout of io/merl.hpp)
+// the table's own piecewise-constant lookup does. The table is written here (the MERL layout of icobrdf/io/merl.hpp)
 // from a closed form in half-angle coordinates; the check computes those coordinates independently.
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // folder, a socket, a symbolic link (to a FIFO, a file or /dev/null), a missing folder, or a folder where no
 // file can be created, at the output path is refused with a one-line error (exit 5) before any work, and
 // left exactly as it was; an output that is one of the command's own inputs is refused (exit 2) and the
-// input kept byte for byte. The check is io/output_path.hpp (tests/io/test_output_path.cpp tests it piece
+// input kept byte for byte. The check is icobrdf/io/output_path.hpp (tests/io/test_output_path.cpp tests it piece
 // by piece); atomic_write applies its first half again (tests/io/test_atomic_write.cpp).
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -1,5 +1,5 @@
 // Work the machine cannot do is refused before it starts (issue #19, class 1): each command estimates its
-// peak memory from the request (pipeline/resource_estimate.hpp) and compares it with what the machine, or
+// peak memory from the request (icobrdf/pipeline/resource_estimate.hpp) and compares it with what the machine, or
 // --memory-budget / ICOBRDF_MEMORY_BUDGET, offers: exit 6, one line with the need, what there is and what
 // fits, and no output. An allocation that fails anyway (here forced by an address-space limit, with the
 // estimate overridden) ends the same way, also inside OpenMP worker threads: never an abort (134) or an

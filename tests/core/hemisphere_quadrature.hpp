@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "core/grid.hpp"
+#include "icobrdf/core/grid.hpp"
 
 namespace icobrdf::test {
 

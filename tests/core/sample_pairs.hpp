@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-#include "core/grid.hpp"
+#include "icobrdf/core/grid.hpp"
 
 namespace icobrdf::test {
 

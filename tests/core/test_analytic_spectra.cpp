@@ -1,15 +1,15 @@
 // Analytic spectra: Lambert, ideal mirror and retroreflector (g form), Minnaert with integer exponent.
-// Each closed form (core/analytic_spectra.cpp, derivations there) is checked against an independent exact
+// Each closed form (icobrdf/core/analytic_spectra.cpp, derivations there) is checked against an independent exact
 // quadrature of its defining integral and against the values of SPEC-NOTES / docs/errata.md.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/analytic_spectra.hpp"
-#include "core/error.hpp"
-#include "core/helmholtz_modes.hpp"
-#include "core/hemisphere_basis.hpp"
-#include "core/isotropic_modes.hpp"
+#include "icobrdf/core/analytic_spectra.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/helmholtz_modes.hpp"
+#include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/isotropic_modes.hpp"
 #include "tests/core/hemisphere_quadrature.hpp"
 
 namespace {

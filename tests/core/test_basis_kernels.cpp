@@ -13,11 +13,11 @@
 #include <random>
 #include <vector>
 
-#include "core/discrete_basis.hpp"
-#include "core/grid_symmetry.hpp"
-#include "core/hemisphere_basis.hpp"
-#include "core/reference_grids.hpp"
-#include "core/spectrum_ops.hpp"
+#include "icobrdf/core/discrete_basis.hpp"
+#include "icobrdf/core/grid_symmetry.hpp"
+#include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/reference_grids.hpp"
+#include "icobrdf/core/spectrum_ops.hpp"
 
 namespace {
 
@@ -197,7 +197,7 @@ TEST(DiscreteBasisOrbits, OneCellPerOrbitEqualsTheCellByCellBasis) {
   const Grid mapped = with_mapped_cubature(build_lat_long_grid(12, 32, 3));
   for (int order : {0, 1, 8, 12}) expect_matches_cell_by_cell(mapped, order, mapped.cells() / 4);
   // The plain lat-long grid lists mirrored points in another order: the rule compares them as a set
-  // (core/grid_symmetry.hpp cubature_is_image), so it too goes by orbits, with the same results.
+  // (icobrdf/core/grid_symmetry.hpp cubature_is_image), so it too goes by orbits, with the same results.
   expect_matches_cell_by_cell(build_lat_long_grid(12, 32, 3), 8, 12 * 32 / 4);
 }
 

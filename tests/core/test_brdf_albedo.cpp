@@ -8,8 +8,8 @@
 #include <iomanip>
 #include <iostream>
 
-#include "core/hapke.hpp"
-#include "core/model_spec.hpp"
+#include "icobrdf/core/hapke.hpp"
+#include "icobrdf/core/model_spec.hpp"
 #include "tests/core/brdf_quadrature.hpp"
 
 using namespace icobrdf;

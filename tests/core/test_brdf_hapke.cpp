@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "core/hapke.hpp"
+#include "icobrdf/core/hapke.hpp"
 #include "tests/core/brdf_quadrature.hpp"
 
 using namespace icobrdf;

@@ -4,9 +4,9 @@
 
 #include <cmath>
 
-#include "core/fresnel.hpp"
-#include "core/microfacet.hpp"
-#include "core/model_spec.hpp"
+#include "icobrdf/core/fresnel.hpp"
+#include "icobrdf/core/microfacet.hpp"
+#include "icobrdf/core/model_spec.hpp"
 #include "tests/core/brdf_quadrature.hpp"
 
 using namespace icobrdf;

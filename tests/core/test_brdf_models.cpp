@@ -5,9 +5,9 @@
 #include <cmath>
 #include <iostream>
 
-#include "core/brdf_model.hpp"
-#include "core/error.hpp"
-#include "core/model_spec.hpp"
+#include "icobrdf/core/brdf_model.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/model_spec.hpp"
 #include "tests/core/brdf_quadrature.hpp"
 
 using namespace icobrdf;

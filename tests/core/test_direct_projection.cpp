@@ -1,17 +1,17 @@
-// Direct quadrature without matrices (core/direct_projection.hpp) against closed-form spectra and the matrix
+// Direct quadrature without matrices (icobrdf/core/direct_projection.hpp) against closed-form spectra and the matrix
 // path. Grids: the polar-Gauss product rule (one point per cell), whose exactness degrees are known.
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
 
-#include "core/analytic_spectra.hpp"
-#include "core/direct_projection.hpp"
-#include "core/discrete_basis.hpp"
-#include "core/error.hpp"
-#include "core/lut.hpp"
-#include "core/model_spec.hpp"
-#include "core/projection.hpp"
-#include "core/reference_grids.hpp"
+#include "icobrdf/core/analytic_spectra.hpp"
+#include "icobrdf/core/direct_projection.hpp"
+#include "icobrdf/core/discrete_basis.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/lut.hpp"
+#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/core/projection.hpp"
+#include "icobrdf/core/reference_grids.hpp"
 
 using namespace icobrdf;
 
@@ -60,7 +60,7 @@ TEST(DirectProjection, PerPairAndCachedModesAgreeToRounding) {
 
 TEST(DirectProjection, AgreesWithTheMatrixPathOnOnePointCells) {
   // One point per cell: B_ca = K_a(x_c), F_ir = f(x_i, x_r), so P = W B gives P^T F P = the direct sum, and
-  // P = W B G^-1 gives G^-1 (direct) G^-1 (core/direct_projection.hpp).
+  // P = W B G^-1 gives G^-1 (direct) G^-1 (icobrdf/core/direct_projection.hpp).
   const int order = 6;
   const Grid g = build_polar_gauss_grid(5, 12);  // order 6 needs rings >= 3.5 and n_phi >= 13 for G = I: not met
   const auto model = parse_model("ggx:alpha=0.3");

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <random>
 
-#include "core/direction.hpp"
+#include "icobrdf/core/direction.hpp"
 
 // Round trips through sin/cos/atan2 lose a few ulps; 1e-14 is ~50 ulps of pi.
 constexpr double kRoundTripTol = 1e-14;

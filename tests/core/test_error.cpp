@@ -1,10 +1,10 @@
-// Message helpers of core/error.hpp (issue #19, "messages stay one short line"): quoted_text cuts quoted
+// Message helpers of icobrdf/core/error.hpp (issue #19, "messages stay one short line"): quoted_text cuts quoted
 // input to kQuoteLimit characters and says how long it was; message_line caps a whole message.
 #include <gtest/gtest.h>
 
 #include <string>
 
-#include "core/error.hpp"
+#include "icobrdf/core/error.hpp"
 
 namespace icobrdf {
 namespace {

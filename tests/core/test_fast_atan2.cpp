@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-#include "core/fast_atan2.hpp"
+#include "icobrdf/core/fast_atan2.hpp"
 
 using namespace icobrdf;
 

@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "core/error.hpp"
-#include "core/gauss_legendre.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/gauss_legendre.hpp"
 
 // Sums of O(n) terms of size O(1): 1e-14 allows their rounding.
 constexpr double kQuadTol = 1e-14;

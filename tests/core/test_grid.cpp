@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "core/error.hpp"
-#include "core/grid.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/grid.hpp"
 
 namespace {
 

@@ -1,12 +1,12 @@
-// cubature_is_image (core/grid_symmetry.hpp) on a grid core builds itself, the lat-long grid with several
+// cubature_is_image (icobrdf/core/grid_symmetry.hpp) on a grid core builds itself, the lat-long grid with several
 // points per cell: its mirrors send a cell's points onto its image's in another order, so the rule must
 // compare them as a set. The hemi-icosahedral grids are checked in tests/mesh/test_mirrored_cubature.cpp.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 
-#include "core/grid_symmetry.hpp"
-#include "core/reference_grids.hpp"
+#include "icobrdf/core/grid_symmetry.hpp"
+#include "icobrdf/core/reference_grids.hpp"
 
 namespace icobrdf {
 namespace {

@@ -8,9 +8,9 @@
 #include <random>
 #include <vector>
 
-#include "core/direction.hpp"
-#include "core/half_angle.hpp"
-#include "core/model_spec.hpp"
+#include "icobrdf/core/direction.hpp"
+#include "icobrdf/core/half_angle.hpp"
+#include "icobrdf/core/model_spec.hpp"
 #include "tests/core/brdf_quadrature.hpp"
 
 using namespace icobrdf;

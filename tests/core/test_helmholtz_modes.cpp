@@ -7,9 +7,9 @@
 #include <iostream>
 #include <random>
 
-#include "core/error.hpp"
-#include "core/helmholtz_modes.hpp"
-#include "core/hemisphere_basis.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/helmholtz_modes.hpp"
+#include "icobrdf/core/hemisphere_basis.hpp"
 #include "tests/core/hemisphere_quadrature.hpp"
 
 namespace {

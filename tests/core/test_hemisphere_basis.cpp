@@ -8,8 +8,8 @@
 #include <random>
 #include <vector>
 
-#include "core/error.hpp"
-#include "core/hemisphere_basis.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/hemisphere_basis.hpp"
 #include "tests/core/hemisphere_quadrature.hpp"
 
 namespace {

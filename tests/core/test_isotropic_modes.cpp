@@ -11,11 +11,11 @@
 #include <random>
 #include <tuple>
 
-#include "core/error.hpp"
-#include "core/helmholtz_modes.hpp"
-#include "core/hemisphere_basis.hpp"
-#include "core/isotropic_modes.hpp"
-#include "core/zernike.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/helmholtz_modes.hpp"
+#include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/zernike.hpp"
 #include "tests/core/hemisphere_quadrature.hpp"
 
 namespace {

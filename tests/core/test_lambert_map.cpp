@@ -4,8 +4,8 @@
 #include <cmath>
 #include <random>
 
-#include "core/error.hpp"
-#include "core/lambert_map.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/lambert_map.hpp"
 
 namespace {
 

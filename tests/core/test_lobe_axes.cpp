@@ -4,9 +4,9 @@
 
 #include <cmath>
 
-#include "core/half_angle_factors.hpp"
-#include "core/lobe_axes.hpp"
-#include "core/model_spec.hpp"
+#include "icobrdf/core/half_angle_factors.hpp"
+#include "icobrdf/core/lobe_axes.hpp"
+#include "icobrdf/core/model_spec.hpp"
 
 using namespace icobrdf;
 

@@ -1,15 +1,15 @@
-// ParameterGrid, BilinearSlices and MarginalWarp2D (core/parameter_grid.hpp, core/bilinear_slices.hpp,
-// core/marginal_warp.hpp). Expected values are derived by hand: a constant density warps by the identity,
+// ParameterGrid, BilinearSlices and MarginalWarp2D (icobrdf/core/parameter_grid.hpp, icobrdf/core/bilinear_slices.hpp,
+// icobrdf/core/marginal_warp.hpp). Expected values are derived by hand: a constant density warps by the identity,
 // a density a + b x by x -> (a x + b x^2 / 2) / (a + b / 2) (its CDF), and blends are linear in the parameters.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
-#include "core/bilinear_slices.hpp"
-#include "core/error.hpp"
-#include "core/marginal_warp.hpp"
-#include "core/parameter_grid.hpp"
+#include "icobrdf/core/bilinear_slices.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/marginal_warp.hpp"
+#include "icobrdf/core/parameter_grid.hpp"
 
 namespace icobrdf {
 namespace {

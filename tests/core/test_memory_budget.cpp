@@ -1,12 +1,12 @@
-// Memory available to a request and the parsing of --memory-budget sizes (core/memory_budget.hpp).
+// Memory available to a request and the parsing of --memory-budget sizes (icobrdf/core/memory_budget.hpp).
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <sstream>
 #include <string>
 
-#include "core/error.hpp"
-#include "core/memory_budget.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/memory_budget.hpp"
 
 namespace icobrdf {
 namespace {

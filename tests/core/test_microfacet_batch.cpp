@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "core/microfacet.hpp"
+#include "icobrdf/core/microfacet.hpp"
 #include "tests/core/brdf_quadrature.hpp"
 
 namespace icobrdf {
@@ -72,7 +72,7 @@ TEST(BeckmannBatch, EqualsPairByPairIncludingHardCases) {
     const MicrofacetModel m(p);
     Eigen::MatrixXd batch(n, 1);
     m.eval(wi, wr, batch);
-    // Reference: the pair-by-pair path (value() with the horizon rule of core/brdf_model.hpp).
+    // Reference: the pair-by-pair path (value() with the horizon rule of icobrdf/core/brdf_model.hpp).
     Eigen::MatrixXd one(n, 1);
     m.ScalarBrdfModel::eval(wi, wr, one);
     for (Eigen::Index k = 0; k < n; ++k) {

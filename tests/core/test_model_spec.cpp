@@ -4,8 +4,8 @@
 #include <cmath>
 #include <random>
 
-#include "core/error.hpp"
-#include "core/model_spec.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/model_spec.hpp"
 #include "tests/core/brdf_quadrature.hpp"
 
 using namespace icobrdf;

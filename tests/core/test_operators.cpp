@@ -1,6 +1,6 @@
 // Discrete engine: sampled basis, projection, reconstruction, smoothing, delta LUTs, reciprocity,
 // rotation, reflection. Expected values are derived in the comments from the definitions
-// (core/discrete_basis.hpp, core/projection.hpp), never taken from the code's output.
+// (icobrdf/core/discrete_basis.hpp, icobrdf/core/projection.hpp), never taken from the code's output.
 #include <gtest/gtest.h>
 
 #include <Eigen/QR>
@@ -9,19 +9,19 @@
 #include <omp.h>
 #include <random>
 
-#include "core/brdf_model.hpp"
-#include "core/direction.hpp"
-#include "core/discrete_basis.hpp"
-#include "core/error.hpp"
-#include "core/hemisphere_basis.hpp"
-#include "core/lut.hpp"
-#include "core/projection.hpp"
-#include "core/reference_grids.hpp"
-#include "core/reflection.hpp"
-#include "core/spectrum_ops.hpp"
-#include "core/streaming_projection.hpp"
-#include "core/isotropic_modes.hpp"
-#include "core/spectral_fit.hpp"
+#include "icobrdf/core/brdf_model.hpp"
+#include "icobrdf/core/direction.hpp"
+#include "icobrdf/core/discrete_basis.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/lut.hpp"
+#include "icobrdf/core/projection.hpp"
+#include "icobrdf/core/reference_grids.hpp"
+#include "icobrdf/core/reflection.hpp"
+#include "icobrdf/core/spectrum_ops.hpp"
+#include "icobrdf/core/streaming_projection.hpp"
+#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/spectral_fit.hpp"
 
 using namespace icobrdf;
 
@@ -108,7 +108,7 @@ Eigen::MatrixXd random_symmetric(int m, unsigned seed) {
 }  // namespace
 
 TEST(DiscreteBasis, ExactQuadratureGivesIdentityGram) {
-  // Order 6: rings >= 3.5 and n_phi >= 13 make the product rule exact (core/reference_grids.hpp).
+  // Order 6: rings >= 3.5 and n_phi >= 13 make the product rule exact (icobrdf/core/reference_grids.hpp).
   const auto g = build_polar_gauss_grid(4, 14);
   const auto b = build_discrete_basis(g, 6);
   EXPECT_EQ(b.B.rows(), g.cells());

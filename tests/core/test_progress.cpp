@@ -1,4 +1,4 @@
-// Progress lines of long work (core/progress.hpp).
+// Progress lines of long work (icobrdf/core/progress.hpp).
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -6,7 +6,7 @@
 #include <sstream>
 #include <thread>
 
-#include "core/progress.hpp"
+#include "icobrdf/core/progress.hpp"
 
 namespace icobrdf {
 namespace {

@@ -1,4 +1,4 @@
-// project_lut's block kernel (core/projection_tile.cpp: P^T F_J as register-tiled dot products along the
+// project_lut's block kernel (icobrdf/core/projection_tile.cpp: P^T F_J as register-tiled dot products along the
 // cells) against the plain product P^T F P, on every SIMD target compiled into this build that this CPU runs
 // (a target it cannot run is reported as skipped), at sizes that exercise every remainder: cells not a
 // multiple of the vector width (scalar tail) or of the cell chunk, LUT blocks whose width is not a multiple
@@ -11,9 +11,9 @@
 #include <cmath>
 #include <random>
 
-#include "core/error.hpp"
-#include "core/projection.hpp"
-#include "core/simd_target.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/projection.hpp"
+#include "icobrdf/core/simd_target.hpp"
 
 namespace icobrdf {
 namespace {

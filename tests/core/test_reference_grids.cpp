@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include "core/direction.hpp"
-#include "core/grid.hpp"
-#include "core/reference_grids.hpp"
+#include "icobrdf/core/direction.hpp"
+#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/reference_grids.hpp"
 
 // Sums of up to a few thousand O(1e-3) weights: 1e-13 relative allows their rounding.
 constexpr double kSumTol = 1e-13;

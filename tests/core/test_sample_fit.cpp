@@ -1,4 +1,4 @@
-// Weighted least-squares fits of scattered samples (core/sample_fit.hpp).
+// Weighted least-squares fits of scattered samples (icobrdf/core/sample_fit.hpp).
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
@@ -6,11 +6,11 @@
 #include <cmath>
 #include <random>
 
-#include "core/error.hpp"
-#include "core/helmholtz_modes.hpp"
-#include "core/hemisphere_basis.hpp"
-#include "core/isotropic_modes.hpp"
-#include "core/sample_fit.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/helmholtz_modes.hpp"
+#include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/sample_fit.hpp"
 #include "tests/core/sample_pairs.hpp"
 
 namespace icobrdf {
@@ -67,7 +67,7 @@ TEST(SampleFit, RecoversGeneralSpectrumFromRandomSamples) {
   EXPECT_EQ(r.unseen_modes, 0);
   EXPECT_LT((r.modes.col(0) - truth).cwiseAbs().maxCoeff(), kRecoveryTol);
   EXPECT_LT(r.residual_rms[0], kRecoveryTol);
-  // C is the symmetric matrix of the BSSS vector (core/helmholtz_modes.hpp).
+  // C is the symmetric matrix of the BSSS vector (icobrdf/core/helmholtz_modes.hpp).
   EXPECT_LT((r.channels[0] - coefficients_from_bsss(truth)).cwiseAbs().maxCoeff(), kRecoveryTol);
 }
 

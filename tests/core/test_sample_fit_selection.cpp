@@ -1,5 +1,5 @@
-// Uncertainty of sample fits (core/sample_fit.hpp) and the automatic choices and checks of
-// core/sample_fit_selection.hpp: standard errors against the analytic covariance, cross-validated order,
+// Uncertainty of sample fits (icobrdf/core/sample_fit.hpp) and the automatic choices and checks of
+// icobrdf/core/sample_fit_selection.hpp: standard errors against the analytic covariance, cross-validated order,
 // GCV against a brute-force hat matrix, and in-plane data that must fall back or be refused.
 #include <gtest/gtest.h>
 
@@ -9,11 +9,11 @@
 #include <cmath>
 #include <random>
 
-#include "core/error.hpp"
-#include "core/helmholtz_modes.hpp"
-#include "core/isotropic_modes.hpp"
-#include "core/sample_fit.hpp"
-#include "core/sample_fit_selection.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/helmholtz_modes.hpp"
+#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/sample_fit.hpp"
+#include "icobrdf/core/sample_fit_selection.hpp"
 #include "tests/core/sample_pairs.hpp"
 
 namespace icobrdf {

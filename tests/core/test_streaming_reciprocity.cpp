@@ -1,4 +1,4 @@
-// The reciprocal streaming projection (core/streaming_projection.cpp): for a Helmholtz-reciprocal model
+// The reciprocal streaming projection (icobrdf/core/streaming_projection.cpp): for a Helmholtz-reciprocal model
 // only one triangle of the LUT is sampled (an eighth of it with the D2 symmetry, half without), in f form
 // with any sampling and in g form with centre sampling. Each case must equal P^T F P of the materialized
 // LUT, be bitwise the same on 1 and 2 threads, and a model that is not reciprocal must not take the path.
@@ -8,14 +8,14 @@
 #include <memory>
 #include <string>
 
-#include "core/discrete_basis.hpp"
-#include "core/error.hpp"
-#include "core/grid_symmetry.hpp"
-#include "core/lut.hpp"
-#include "core/model_spec.hpp"
-#include "core/projection.hpp"
-#include "core/reference_grids.hpp"
-#include "core/streaming_projection.hpp"
+#include "icobrdf/core/discrete_basis.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/grid_symmetry.hpp"
+#include "icobrdf/core/lut.hpp"
+#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/core/projection.hpp"
+#include "icobrdf/core/reference_grids.hpp"
+#include "icobrdf/core/streaming_projection.hpp"
 
 namespace icobrdf {
 namespace {

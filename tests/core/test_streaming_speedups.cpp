@@ -7,16 +7,16 @@
 #include <cmath>
 #include <random>
 
-#include "core/direction.hpp"
-#include "core/discrete_basis.hpp"
-#include "core/error.hpp"
-#include "core/grid_symmetry.hpp"
-#include "core/hemisphere_basis.hpp"
-#include "core/lut.hpp"
-#include "core/microfacet.hpp"
-#include "core/projection.hpp"
-#include "core/reference_grids.hpp"
-#include "core/streaming_projection.hpp"
+#include "icobrdf/core/direction.hpp"
+#include "icobrdf/core/discrete_basis.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/grid_symmetry.hpp"
+#include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/lut.hpp"
+#include "icobrdf/core/microfacet.hpp"
+#include "icobrdf/core/projection.hpp"
+#include "icobrdf/core/reference_grids.hpp"
+#include "icobrdf/core/streaming_projection.hpp"
 
 namespace icobrdf {
 namespace {
@@ -72,7 +72,7 @@ TEST(GgxBatch, EqualsPairByPairIncludingHardCases) {
     Eigen::MatrixXd batch(n, 1);
     m.eval(wi, wr, batch);
     for (int k = 0; k < n; ++k) {
-      // Reference: value() with the horizon rule of ScalarBrdfModel::eval (core/brdf_model.hpp).
+      // Reference: value() with the horizon rule of ScalarBrdfModel::eval (icobrdf/core/brdf_model.hpp).
       Eigen::Vector3d a = wi.row(k).transpose(), b = wr.row(k).transpose();
       double one = 0.0;
       if (a.z() >= -kHorizonSlack && b.z() >= -kHorizonSlack) {
@@ -100,7 +100,7 @@ TEST(LutRows, ListOfCellsGivesTheSameRowsAsTheRange) {
   EXPECT_THROW(sample_lut_rows(m, g, true, LutSampling::CellAverage, std::vector<int>{g.cells()}, list), ArgumentError);
 }
 
-// The lat-long grid with an even number of sectors is D2-symmetric (core/reference_grids.hpp). Equality
+// The lat-long grid with an even number of sectors is D2-symmetric (icobrdf/core/reference_grids.hpp). Equality
 // of every streaming path with the materialized LUT, on 1 and 2 threads, is checked in
 // test_streaming_reciprocity.cpp; here the structure the symmetric path imposes.
 TEST(StreamingProjection, SymmetricPathKeepsOnlySymmetryAllowedCouplings) {

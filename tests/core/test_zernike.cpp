@@ -8,8 +8,8 @@
 #include <random>
 #include <vector>
 
-#include "core/error.hpp"
-#include "core/zernike.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/zernike.hpp"
 
 namespace {
 

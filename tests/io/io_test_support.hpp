@@ -20,9 +20,9 @@
 
 #include <gtest/gtest.h>
 
-#include "core/error.hpp"
-#include "core/grid.hpp"
-#include "core/spectrum.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/spectrum.hpp"
 
 namespace icobrdf::test {
 

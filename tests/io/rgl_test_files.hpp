@@ -1,12 +1,12 @@
 #pragma once
-// Small RGL material files (io/rgl_bsdf.hpp) for tests: every table is given as a function of its node
+// Small RGL material files (icobrdf/io/rgl_bsdf.hpp) for tests: every table is given as a function of its node
 // indices, so a test knows each stored value by construction.
 #include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
 
-#include "io/tensor_file.hpp"
+#include "icobrdf/io/tensor_file.hpp"
 
 namespace icobrdf::test {
 

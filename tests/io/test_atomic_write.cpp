@@ -12,9 +12,9 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "core/error.hpp"
-#include "io/atomic_write.hpp"
-#include "io/bank_file.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/atomic_write.hpp"
+#include "icobrdf/io/bank_file.hpp"
 #include "io_test_support.hpp"
 
 namespace {
@@ -193,7 +193,7 @@ TEST(AtomicWrite, DiskFullKeepsTheOldBank) {
 }
 
 // Defence in depth: atomic_write itself refuses a target that is not a regular file or a new name (the
-// commands check it up front too, io/output_path.hpp), before producing anything, and leaves it alone.
+// commands check it up front too, icobrdf/io/output_path.hpp), before producing anything, and leaves it alone.
 TEST(AtomicWrite, NonRegularTargetsAreRefusedBeforeProducing) {
   ScratchDir dir;
   icobrdf::test::write_bytes(dir / "plain", "keep me");

@@ -13,8 +13,8 @@
 #include <set>
 #include <thread>
 
-#include "core/error.hpp"
-#include "io/bank_file.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/bank_file.hpp"
 #include "io_test_support.hpp"
 
 namespace {

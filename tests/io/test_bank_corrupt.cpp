@@ -8,8 +8,8 @@
 #include <cstdlib>
 #include <functional>
 
-#include "core/error.hpp"
-#include "io/bank_file.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/bank_file.hpp"
 #include "io_test_support.hpp"
 
 namespace {

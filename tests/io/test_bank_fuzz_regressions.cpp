@@ -2,7 +2,7 @@
 // fuzz/fuzz_bank.cpp). Each read runs in a child with a timeout, as in test_bank_corrupt.cpp.
 #include <gtest/gtest.h>
 
-#include "io/bank_file.hpp"
+#include "icobrdf/io/bank_file.hpp"
 #include "io_test_support.hpp"
 
 namespace {

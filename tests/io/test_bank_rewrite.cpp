@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "io/bank_file.hpp"
+#include "icobrdf/io/bank_file.hpp"
 #include "io_test_support.hpp"
 
 namespace {

@@ -1,11 +1,11 @@
-// Numeric CSV reader (io/csv.hpp), issue #19: a 50 MB numeric field gave a 50 MB message. Messages quote
+// Numeric CSV reader (icobrdf/io/csv.hpp), issue #19: a 50 MB numeric field gave a 50 MB message. Messages quote
 // at most kQuoteLimit characters of a field or header and say how long it was.
 #include <gtest/gtest.h>
 
 #include <string>
 
-#include "core/error.hpp"
-#include "io/csv.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/csv.hpp"
 #include "tests/io/io_test_support.hpp"
 
 namespace icobrdf {

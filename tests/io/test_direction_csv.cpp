@@ -3,9 +3,9 @@
 #include <cmath>
 #include <fstream>
 
-#include "core/error.hpp"
-#include "io/csv.hpp"
-#include "io/direction_csv.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/csv.hpp"
+#include "icobrdf/io/direction_csv.hpp"
 #include "tests/cli/cli_runner.hpp"
 
 using icobrdf::InputError;

@@ -10,12 +10,12 @@
 #include <functional>
 #include <limits>
 
-#include "core/error.hpp"
-#include "core/finite_values.hpp"
-#include "core/isotropic_modes.hpp"
-#include "io/bank_file.hpp"
-#include "io/scatmech_coefficients.hpp"
-#include "io/spectrum_file.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/finite_values.hpp"
+#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/io/bank_file.hpp"
+#include "icobrdf/io/scatmech_coefficients.hpp"
+#include "icobrdf/io/spectrum_file.hpp"
 #include "io_test_support.hpp"
 
 namespace {

@@ -2,13 +2,13 @@
 // inconsistent grid groups.
 #include <gtest/gtest.h>
 
-#include "core/error.hpp"
-#include "io/bank_file.hpp"
-#include "io/grid_file.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/bank_file.hpp"
+#include "icobrdf/io/grid_file.hpp"
 #include "io_test_support.hpp"
 
-#if __has_include("mesh/tessellation.hpp") && !defined(ICOBRDF_NO_TESSELLATION)
-#include "mesh/tessellation.hpp"
+#if __has_include("icobrdf/mesh/tessellation.hpp") && !defined(ICOBRDF_NO_TESSELLATION)
+#include "icobrdf/mesh/tessellation.hpp"
 #define ICOBRDF_HAVE_TESSELLATION 1
 #endif
 

@@ -1,13 +1,13 @@
-// The HDF5 layer (io/h5_file.hpp) against the raw HDF5 C API: typed writes land with the documented
+// The HDF5 layer (icobrdf/io/h5_file.hpp) against the raw HDF5 C API: typed writes land with the documented
 // element types, row-major orientation and filters; reads refuse wrong kinds, types, ranks, sizes and
 // attribute forms with one-line InputErrors; big-endian data written by other tools is converted.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/error.hpp"
-#include "io/bank_file.hpp"
-#include "io/h5_file.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/bank_file.hpp"
+#include "icobrdf/io/h5_file.hpp"
 #include "io_test_support.hpp"
 
 namespace {

@@ -1,4 +1,4 @@
-// MERL binary reader / writer / lookup (io/merl.hpp). The files are generated here from analytic models.
+// MERL binary reader / writer / lookup (icobrdf/io/merl.hpp). The files are generated here from analytic models.
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
@@ -9,11 +9,11 @@
 #include <fstream>
 #include <random>
 
-#include "core/analytic_spectra.hpp"
-#include "core/error.hpp"
-#include "core/model_spec.hpp"
-#include "core/sample_fit.hpp"
-#include "io/merl.hpp"
+#include "icobrdf/core/analytic_spectra.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/core/sample_fit.hpp"
+#include "icobrdf/io/merl.hpp"
 #include "io_test_support.hpp"
 
 namespace icobrdf {

@@ -1,4 +1,4 @@
-// Output paths (io/output_path.hpp): every kind of existing node that is not a regular file is refused and
+// Output paths (icobrdf/io/output_path.hpp): every kind of existing node that is not a regular file is refused and
 // left as it was, a missing or unusable folder is refused, and an output that is one of the inputs (by
 // device and inode, whatever the spelling) is refused. Device nodes are not created (mknod needs root):
 // FIFOs, sockets, folders and symbolic links stand for the class, /dev/null is only looked at.
@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "core/error.hpp"
-#include "io/output_path.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/output_path.hpp"
 #include "io_test_support.hpp"
 #include "special_files.hpp"
 

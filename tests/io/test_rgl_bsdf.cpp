@@ -1,4 +1,4 @@
-// RGL materials (io/rgl_bsdf.hpp) and the FILE.bsdf SOURCE (io/measured_sources.hpp). The files are written
+// RGL materials (icobrdf/io/rgl_bsdf.hpp) and the FILE.bsdf SOURCE (icobrdf/io/measured_sources.hpp). The files are written
 // here (tests/io/rgl_test_files.hpp) with tables whose values are known at every node, and the expected f
 // is derived by hand from the format's definition:
 //   - Lambertian data: the stored value at a node is rho/pi cos(theta_o) for the direction pair that node
@@ -12,9 +12,9 @@
 #include <cmath>
 #include <random>
 
-#include "core/error.hpp"
-#include "io/brdf_source.hpp"
-#include "io/rgl_bsdf.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/brdf_source.hpp"
+#include "icobrdf/io/rgl_bsdf.hpp"
 #include "io_test_support.hpp"
 #include "rgl_test_files.hpp"
 

@@ -1,11 +1,11 @@
-// BRDF samples CSV (io/sample_csv.hpp).
+// BRDF samples CSV (icobrdf/io/sample_csv.hpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/direction.hpp"
-#include "core/error.hpp"
-#include "io/sample_csv.hpp"
+#include "icobrdf/core/direction.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/sample_csv.hpp"
 #include "io_test_support.hpp"
 
 namespace icobrdf {

@@ -4,7 +4,7 @@
 
 #include <cfloat>
 
-#include "io/sample_csv.hpp"
+#include "icobrdf/io/sample_csv.hpp"
 #include "io_test_support.hpp"
 
 namespace {

@@ -1,4 +1,4 @@
-// SCATMECH ZernikeExpansion_BRDF_Model coefficient files (io/scatmech_coefficients.hpp).
+// SCATMECH ZernikeExpansion_BRDF_Model coefficient files (icobrdf/io/scatmech_coefficients.hpp).
 //
 // The reference evaluation below implements SCATMECH's definition on its own terms (its documentation's
 // formula with the azimuthal order from column l, as its source code reads it): explicit factorial sum for
@@ -11,14 +11,14 @@
 #include <random>
 #include <sstream>
 
-#include "core/analytic_spectra.hpp"
-#include "core/direction.hpp"
-#include "core/error.hpp"
-#include "core/isotropic_modes.hpp"
-#include "core/spectrum_ops.hpp"
-#include "io/brdf_source.hpp"
-#include "io/direction_csv.hpp"
-#include "io/scatmech_coefficients.hpp"
+#include "icobrdf/core/analytic_spectra.hpp"
+#include "icobrdf/core/direction.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/spectrum_ops.hpp"
+#include "icobrdf/io/brdf_source.hpp"
+#include "icobrdf/io/direction_csv.hpp"
+#include "icobrdf/io/scatmech_coefficients.hpp"
 #include "io_test_support.hpp"
 
 namespace icobrdf {

@@ -3,8 +3,8 @@
 // fuzz/fuzz_scatmech_coefficients.cpp).
 #include <gtest/gtest.h>
 
-#include "core/error.hpp"
-#include "io/scatmech_coefficients.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/scatmech_coefficients.hpp"
 #include "io_test_support.hpp"
 
 namespace {

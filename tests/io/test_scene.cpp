@@ -1,13 +1,13 @@
-// Scene files (io/scene.hpp): errors are InputErrors with one-line messages even when they quote text of
+// Scene files (icobrdf/io/scene.hpp): errors are InputErrors with one-line messages even when they quote text of
 // the file that holds control bytes (found by fuzz_scene: a TOML string "c\n..." for `sampling` made the
 // message span two lines). CLI-level scene errors are in tests/cli/test_bank.cpp.
 #include <gtest/gtest.h>
 
 #include <string>
 
-#include "core/error.hpp"
-#include "io/scene.hpp"
-#include "io/spectrum_file.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/scene.hpp"
+#include "icobrdf/io/spectrum_file.hpp"
 #include "tests/io/io_test_support.hpp"
 
 namespace icobrdf {

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "core/error.hpp"
-#include "io/bank_file.hpp"
-#include "io/bank_format.hpp"
-#include "io/spectrum_file.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/bank_file.hpp"
+#include "icobrdf/io/bank_format.hpp"
+#include "icobrdf/io/spectrum_file.hpp"
 #include "io_test_support.hpp"
 
 namespace {

@@ -1,11 +1,11 @@
-// Tensor files (io/tensor_file.hpp): the writer and the reader agree, the byte layout is the documented one
+// Tensor files (icobrdf/io/tensor_file.hpp): the writer and the reader agree, the byte layout is the documented one
 // (checked on a file assembled here byte by byte), and malformed files give one-line InputErrors.
 #include <gtest/gtest.h>
 
 #include <cstring>
 
-#include "core/error.hpp"
-#include "io/tensor_file.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/tensor_file.hpp"
 #include "io_test_support.hpp"
 
 namespace icobrdf {

@@ -1,4 +1,4 @@
-// lab/child_process.hpp: the child sees the parent's environment minus the removed variables (the parent's
+// icobrdf/lab/child_process.hpp: the child sees the parent's environment minus the removed variables (the parent's
 // own is unchanged), its output streams are captured apart, and its exit status or signal is reported.
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -6,8 +6,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "core/error.hpp"
-#include "lab/child_process.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/lab/child_process.hpp"
 
 namespace icobrdf::lab {
 namespace {

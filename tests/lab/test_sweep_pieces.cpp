@@ -9,10 +9,10 @@
 #include <fstream>
 #include <limits>
 
-#include "core/error.hpp"
-#include "lab/report_format.hpp"
-#include "lab/staged_folder.hpp"
-#include "lab/sweep_measure.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/lab/report_format.hpp"
+#include "icobrdf/lab/staged_folder.hpp"
+#include "icobrdf/lab/sweep_measure.hpp"
 
 namespace {
 

@@ -9,13 +9,13 @@
 #include <cmath>
 #include <random>
 
-#include "core/error.hpp"
-#include "mesh/cell_locator.hpp"
-#include "mesh/gnomonic_projection.hpp"
-#include "mesh/hemi_lattice.hpp"
-#include "mesh/icosahedron.hpp"
-#include "mesh/snyder_projection.hpp"
-#include "mesh/tessellation.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/mesh/cell_locator.hpp"
+#include "icobrdf/mesh/gnomonic_projection.hpp"
+#include "icobrdf/mesh/hemi_lattice.hpp"
+#include "icobrdf/mesh/icosahedron.hpp"
+#include "icobrdf/mesh/snyder_projection.hpp"
+#include "icobrdf/mesh/tessellation.hpp"
 
 using namespace icobrdf;
 

@@ -8,10 +8,10 @@
 #include <cstdio>
 #include <random>
 
-#include "mesh/hemi_lattice.hpp"
-#include "mesh/icosahedron.hpp"
-#include "mesh/snyder_projection.hpp"
-#include "mesh/tessellation.hpp"
+#include "icobrdf/mesh/hemi_lattice.hpp"
+#include "icobrdf/mesh/icosahedron.hpp"
+#include "icobrdf/mesh/snyder_projection.hpp"
+#include "icobrdf/mesh/tessellation.hpp"
 
 using namespace icobrdf;
 
@@ -20,7 +20,7 @@ namespace {
 // 1e-13 relative covers their rounding and the forward/inverse round trip (~1e-15).
 constexpr double kExactRelTol = 1e-13;
 // Accuracy of cell averages of K_n^l (|K| <= 3.3), n <= 32, at level 5 with the default degree 9, as
-// documented in mesh/tessellation.hpp: worst in the equator cells, where K_32 has its first zero at
+// documented in icobrdf/mesh/tessellation.hpp: worst in the equator cells, where K_32 has its first zero at
 // z ~ 0.006 (measured 1.6e-6), RMS over all cells and modes measured 3.3e-8.
 constexpr double kBasisAvgTol = 2e-6;
 constexpr double kBasisAvgRmsTol = 1e-7;

@@ -1,17 +1,17 @@
-// Discrete spectra on the equal-area tessellation against the analytic spectra (core/analytic_spectra.hpp),
+// Discrete spectra on the equal-area tessellation against the analytic spectra (icobrdf/core/analytic_spectra.hpp),
 // for levels 3-6. Each expected value or bound is derived in a comment.
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
-#include "core/analytic_spectra.hpp"
-#include "core/brdf_model.hpp"
-#include "core/discrete_basis.hpp"
-#include "core/hemisphere_basis.hpp"
-#include "core/projection.hpp"
-#include "core/streaming_projection.hpp"
-#include "mesh/tessellation.hpp"
+#include "icobrdf/core/analytic_spectra.hpp"
+#include "icobrdf/core/brdf_model.hpp"
+#include "icobrdf/core/discrete_basis.hpp"
+#include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/projection.hpp"
+#include "icobrdf/core/streaming_projection.hpp"
+#include "icobrdf/mesh/tessellation.hpp"
 
 using namespace icobrdf;
 

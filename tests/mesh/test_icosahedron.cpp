@@ -8,7 +8,7 @@
 #include <map>
 #include <utility>
 
-#include "mesh/icosahedron.hpp"
+#include "icobrdf/mesh/icosahedron.hpp"
 
 using namespace icobrdf;
 

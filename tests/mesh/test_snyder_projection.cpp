@@ -8,8 +8,8 @@
 #include <cmath>
 #include <random>
 
-#include "mesh/icosahedron.hpp"
-#include "mesh/snyder_projection.hpp"
+#include "icobrdf/mesh/icosahedron.hpp"
+#include "icobrdf/mesh/snyder_projection.hpp"
 
 using namespace icobrdf;
 

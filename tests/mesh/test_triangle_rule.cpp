@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "core/error.hpp"
-#include "mesh/triangle_rule.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/mesh/triangle_rule.hpp"
 
 using namespace icobrdf;
 

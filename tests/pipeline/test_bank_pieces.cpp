@@ -4,15 +4,15 @@
 
 #include <cmath>
 
-#include "core/error.hpp"
-#include "core/helmholtz_modes.hpp"
-#include "core/isotropic_modes.hpp"
-#include "io/brdf_source.hpp"
-#include "pipeline/bank_resume.hpp"
-#include "pipeline/held_out.hpp"
-#include "pipeline/keys.hpp"
-#include "pipeline/material_candidate.hpp"
-#include "pipeline/pruning.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/helmholtz_modes.hpp"
+#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/io/brdf_source.hpp"
+#include "icobrdf/pipeline/bank_resume.hpp"
+#include "icobrdf/pipeline/held_out.hpp"
+#include "icobrdf/pipeline/keys.hpp"
+#include "icobrdf/pipeline/material_candidate.hpp"
+#include "icobrdf/pipeline/pruning.hpp"
 
 namespace icobrdf {
 namespace {

@@ -1,11 +1,11 @@
-// pipeline/fit_source.hpp: one request gives the spectrum that the explicit sequence (fitting grid,
+// icobrdf/pipeline/fit_source.hpp: one request gives the spectrum that the explicit sequence (fitting grid,
 // projection context, FitOptions, BrdfSource::fit) gives, and the context cache shares what it can.
 #include <gtest/gtest.h>
 
-#include "core/error.hpp"
-#include "io/brdf_source.hpp"
-#include "mesh/tessellation.hpp"
-#include "pipeline/fit_source.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/brdf_source.hpp"
+#include "icobrdf/mesh/tessellation.hpp"
+#include "icobrdf/pipeline/fit_source.hpp"
 
 namespace icobrdf {
 namespace {

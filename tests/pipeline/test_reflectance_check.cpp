@@ -1,4 +1,4 @@
-// pipeline/reflectance_check.hpp: non-finite values refused whatever the flags; negative reflectance beyond
+// icobrdf/pipeline/reflectance_check.hpp: non-finite values refused whatever the flags; negative reflectance beyond
 // rounding reported as non-physical (one warning line by default, InputError under strict); the LUT and
 // fitted-spectrum forms on a negated Lambertian, whose directional albedo is derived below (-albedo).
 #include <gtest/gtest.h>
@@ -7,12 +7,12 @@
 #include <limits>
 #include <sstream>
 
-#include "core/analytic_spectra.hpp"
-#include "core/error.hpp"
-#include "core/lut.hpp"
-#include "core/reflection.hpp"
-#include "mesh/tessellation.hpp"
-#include "pipeline/reflectance_check.hpp"
+#include "icobrdf/core/analytic_spectra.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/lut.hpp"
+#include "icobrdf/core/reflection.hpp"
+#include "icobrdf/mesh/tessellation.hpp"
+#include "icobrdf/pipeline/reflectance_check.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// The memory estimates of pipeline/resource_estimate.hpp against the peak resident memory of the program
+// The memory estimates of icobrdf/pipeline/resource_estimate.hpp against the peak resident memory of the program
 // doing that work (measured by the kernel for a child process), at several sizes; and the refusal that
 // follows from them. Not a timing test: only bytes are compared.
 #include <gtest/gtest.h>
@@ -7,11 +7,11 @@
 #include <filesystem>
 #include <string>
 
-#include "core/error.hpp"
-#include "core/hemisphere_basis.hpp"
-#include "core/memory_budget.hpp"
-#include "io/spectrum_file.hpp"
-#include "pipeline/resource_estimate.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/memory_budget.hpp"
+#include "icobrdf/io/spectrum_file.hpp"
+#include "icobrdf/pipeline/resource_estimate.hpp"
 #include "tests/cli/measured_run.hpp"
 
 namespace icobrdf {

@@ -7,9 +7,9 @@
 #include <string>
 #include <unistd.h>
 
-#include "core/error.hpp"
-#include "plot/figure.hpp"
-#include "plot/line_chart.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/plot/figure.hpp"
+#include "icobrdf/plot/line_chart.hpp"
 
 using namespace icobrdf;
 using namespace icobrdf::plot;
@@ -18,7 +18,7 @@ namespace {
 
 // Markers and lines are antialiased: a pixel counts as "the series colour" within this many sRGB levels.
 constexpr int kColourTol = 40;
-// Marker radius 3.6 px (plot/line_chart.cpp), squares of side 7.2 px: every pixel of the marker lies
+// Marker radius 3.6 px (icobrdf/plot/line_chart.cpp), squares of side 7.2 px: every pixel of the marker lies
 // within 3.6 * sqrt(2) + 1 (antialiased edge) < 6.5 px of its centre.
 constexpr double kMarkerReach = 6.5;
 // A filled 7.2 px square covers at least 6 x 6 pixels fully.

@@ -12,17 +12,17 @@
 #include <string>
 #include <vector>
 
-#include "core/error.hpp"
-#include "core/lambert_map.hpp"
-#include "core/spectral_fit.hpp"
-#include "io/brdf_source.hpp"
-#include "mesh/tessellation.hpp"
-#include "plot/colormap.hpp"
-#include "plot/disk_raster.hpp"
-#include "plot/figure.hpp"
-#include "plot/plots.hpp"
-#include "plot/slice_data.hpp"
-#include "plot/sphere_shading.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/lambert_map.hpp"
+#include "icobrdf/core/spectral_fit.hpp"
+#include "icobrdf/io/brdf_source.hpp"
+#include "icobrdf/mesh/tessellation.hpp"
+#include "icobrdf/plot/colormap.hpp"
+#include "icobrdf/plot/disk_raster.hpp"
+#include "icobrdf/plot/figure.hpp"
+#include "icobrdf/plot/plots.hpp"
+#include "icobrdf/plot/slice_data.hpp"
+#include "icobrdf/plot/sphere_shading.hpp"
 
 namespace icobrdf::plot {
 namespace {

@@ -51,7 +51,7 @@ CASES = [
 
 
 def write_merl(path):
-    """A MERL table (io/merl.hpp layout) of a smooth lobe over a constant, with a few missing (-1) entries."""
+    """A MERL table (icobrdf/io/merl.hpp layout) of a smooth lobe over a constant, with a few missing (-1) entries."""
     i = np.arange(90)
     th = math.pi / 2 * ((i + 0.5) / 90) ** 2
     td = math.pi / 2 * (i + 0.5) / 90

@@ -1,0 +1,147 @@
+#include "icobrdf/core/lut.hpp"
+#include "icobrdf/core/progress.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "icobrdf/core/error.hpp"
+
+namespace icobrdf {
+namespace {
+
+// Block of incident cells handled at once by one thread of build_lut (its rows are written together).
+constexpr int kRowBlock = 16;
+
+}  // namespace
+
+std::optional<LutSampling> lut_sampling_named(const std::string& word) {
+  if (word == "average") return LutSampling::CellAverage;
+  if (word == "centre" || word == "center") return LutSampling::CellCentre;
+  return std::nullopt;
+}
+
+Eigen::VectorXd cell_mean_cosines(const Grid& g) {
+  Eigen::VectorXd d(g.cells());
+  for (int c = 0; c < g.cells(); ++c) {
+    double s = 0.0;
+    for (auto q = g.cubature_offsets[c]; q < g.cubature_offsets[c + 1]; ++q) s += g.cubature_weights[q] * g.cubature_points(q, 2);
+    d[c] = s / g.solid_angles[c];
+  }
+  return d;
+}
+
+void sample_lut_rows(const BrdfModel& model, const Grid& g, bool cosine, LutSampling sampling, int row_begin, int row_end,
+                     std::vector<Eigen::MatrixXd>& out) {
+  std::vector<int> rows(static_cast<size_t>(std::max(0, row_end - row_begin)));
+  for (size_t i = 0; i < rows.size(); ++i) rows[i] = row_begin + static_cast<int>(i);
+  sample_lut_rows(model, g, cosine, sampling, rows, out);
+}
+
+void sample_lut_rows(const BrdfModel& model, const Grid& g, bool cosine, LutSampling sampling, const std::vector<int>& row_cells,
+                     std::vector<Eigen::MatrixXd>& out) {
+  sample_lut_block(model, g, cosine, sampling, row_cells, g.cells(), out);
+}
+
+void sample_lut_block(const BrdfModel& model, const Grid& g, bool cosine, LutSampling sampling, const std::vector<int>& row_cells,
+                      int col_end, std::vector<Eigen::MatrixXd>& out) {
+  const int cells = g.cells(), rows = static_cast<int>(row_cells.size()), ch = model.channels();
+  for (int cell : row_cells)
+    if (cell < 0 || cell >= cells)
+      throw ArgumentError("LUT rows: cell " + std::to_string(cell) + " is outside [0, " + std::to_string(cells) + ")");
+  if (col_end < 0 || col_end > cells)
+    throw ArgumentError("LUT rows: column end " + std::to_string(col_end) + " is outside [0, " + std::to_string(cells) + "]");
+  // Every entry is written below: resize without clearing (buffers are reused across calls).
+  out.resize(static_cast<size_t>(ch));
+  for (auto& m : out) m.resize(rows, col_end);
+  if (sampling == LutSampling::CellCentre) {
+    // One incident direction at a time against every remitted cell's direction (no copy of that side).
+    RowMatrix3d part;  // the remitted directions, copied once per call when only some columns are sampled
+    if (col_end < cells) part = g.directions.topRows(col_end);
+    const RowMatrix3d& wr = col_end < cells ? part : g.directions;
+    RowMatrix3d wi(col_end, 3);
+    Eigen::MatrixXd f(col_end, ch);
+    for (int i = 0; i < rows; ++i) {
+      const int cell = row_cells[static_cast<size_t>(i)];
+      wi = g.directions.row(cell).replicate(col_end, 1);
+      model.eval(wi, wr, f);
+      const double scale = cosine ? g.directions(cell, 2) : 1.0;
+      for (int c = 0; c < ch; ++c) out[c].row(i) = f.col(c).transpose() * scale;
+    }
+    return;
+  }
+  // Entry (i, r) = sum_p sum_q (w_p / Omega_i) (w_q / Omega_r) f(x_p, x_q) [cos theta_p]: for each incident
+  // point p the model runs against every remitted point at once; the incident cell's points are summed
+  // first (acc), then each remitted cell's points (contiguous in the cubature arrays).
+  const Eigen::Index points = g.cubature_offsets[static_cast<size_t>(col_end)];
+  Eigen::VectorXd rel(points);  // w_q / Omega_r of each point
+  for (int r = 0; r < col_end; ++r)
+    for (auto q = g.cubature_offsets[r]; q < g.cubature_offsets[r + 1]; ++q) rel[q] = g.cubature_weights[q] / g.solid_angles[r];
+  RowMatrix3d part;
+  if (points < g.cubature_points.rows()) part = g.cubature_points.topRows(points);
+  const RowMatrix3d& wr = points < g.cubature_points.rows() ? part : g.cubature_points;
+  RowMatrix3d wi(points, 3);
+  Eigen::MatrixXd f(points, ch), acc(points, ch);
+  for (int i = 0; i < rows; ++i) {
+    const int cell = row_cells[static_cast<size_t>(i)];
+    acc.setZero();
+    for (auto p = g.cubature_offsets[cell]; p < g.cubature_offsets[cell + 1]; ++p) {
+      const double wp = g.cubature_weights[p] / g.solid_angles[cell] * (cosine ? g.cubature_points(p, 2) : 1.0);
+      wi = g.cubature_points.row(p).replicate(points, 1);
+      model.eval(wi, wr, f);
+      acc.noalias() += wp * f;
+    }
+    for (int c = 0; c < ch; ++c) {
+      const Eigen::VectorXd weighted = rel.cwiseProduct(acc.col(c));
+      for (int r = 0; r < col_end; ++r) {
+        const auto b = g.cubature_offsets[r], e = g.cubature_offsets[r + 1];
+        out[c](i, r) = weighted.segment(b, e - b).sum();
+      }
+    }
+  }
+}
+
+void add_delta_lut(const DeltaPart& part, const Grid& g, Eigen::MatrixXd& lut) {
+  if (part.kind == DeltaPart::Kind::Mirror && g.rotate_pi.size() != g.cells())
+    throw ArgumentError("mirror LUT: grid of kind '" + std::string(to_string(g.kind)) + "' has no rotation-by-pi cell map");
+  for (int i = 0; i < g.cells(); ++i) {
+    const int r = part.kind == DeltaPart::Kind::Mirror ? g.rotate_pi[i] : i;
+    lut(i, r) += part.weight / g.solid_angles[r];
+  }
+}
+
+Lut build_lut(const BrdfModel& model, const Grid& g, bool cosine, LutSampling sampling) {
+  const auto deltas = model.delta_parts();
+  if (!deltas.empty() && !cosine)
+    throw ArgumentError("LUT of '" + quoted_text(model.spec()) + "': a delta BRDF has no finite f; use the cosine-weighted form g = f cos theta_i");
+  const int cells = g.cells(), ch = model.channels();
+  Lut lut;
+  lut.cosine = cosine;
+  lut.channels.resize(static_cast<size_t>(ch));  // each cells x cells matrix allocated once, no temporary
+  for (auto& m : lut.channels) m.setZero(cells, cells);
+  const int blocks = (cells + kRowBlock - 1) / kRowBlock;
+  ProgressMeter progress("sampling the LUT", blocks);
+#pragma omp parallel for schedule(dynamic)
+  for (int b = 0; b < blocks; ++b) {
+    const int r0 = b * kRowBlock, r1 = std::min(cells, r0 + kRowBlock);
+    std::vector<Eigen::MatrixXd> part;
+    sample_lut_rows(model, g, cosine, sampling, r0, r1, part);
+    for (int c = 0; c < ch; ++c) lut.channels[c].middleRows(r0, r1 - r0) = part[c];
+    progress.step();
+  }
+  for (const auto& d : deltas)
+    for (auto& m : lut.channels) add_delta_lut(d, g, m);
+  return lut;
+}
+
+double reciprocity_violation(const Eigen::MatrixXd& f, const Eigen::VectorXd& w) {
+  const Eigen::MatrixXd ww = w * w.transpose();
+  const double total = (ww.array() * f.array().square()).sum();
+  if (total == 0.0) return 0.0;
+  const double anti = (ww.array() * (0.5 * (f - f.transpose())).array().square()).sum();
+  return std::sqrt(anti / total);
+}
+
+Eigen::MatrixXd symmetrize(const Eigen::MatrixXd& f) { return 0.5 * (f + f.transpose()); }
+
+}  // namespace icobrdf

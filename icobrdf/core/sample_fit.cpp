@@ -1,0 +1,512 @@
+#include "icobrdf/core/sample_fit.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Householder>
+#include <Eigen/QR>
+#include <Eigen/SVD>
+#include <omp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
+
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/helmholtz_modes.hpp"
+#include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/isotropic_modes.hpp"
+
+namespace icobrdf {
+
+namespace {
+
+int unknown_count(int order, bool isotropic) {
+  return isotropic ? isotropic_mode_count(order) : static_cast<int>(helmholtz_mode_count(order));
+}
+
+Eigen::MatrixXd modes_at(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr) {
+  return isotropic ? isotropic_modes_eval(order, wi, wr) : helmholtz_modes_eval(order, wi, wr);
+}
+
+// Rows per chunk: keeps the chunk's design block near 4 million doubles (32 MB).
+Eigen::Index chunk_rows(int unknowns) { return std::max<Eigen::Index>(64, 4'000'000 / std::max(unknowns, 1)); }
+
+// Rows per block of the normal-equation passes: a block of the design near 1 million doubles (8 MB, within
+// the L3 cache of one socket), and at least 64 rows so that the rank updates run as matrix products.
+Eigen::Index block_rows(int unknowns) { return std::clamp<Eigen::Index>(1'000'000 / std::max(unknowns, 1), 64, 4096); }
+
+// A partial G per thread costs unknowns^2 doubles each; above this many unknowns (128 MB per copy) one
+// thread accumulates.
+constexpr int kThreadLocalGramMaxUnknowns = 4096;
+
+// Power-iteration steps for the extreme eigenvalues of G (Rayleigh quotients of a symmetric matrix converge
+// quadratically in the angle; the condition figure needs two digits).
+constexpr int kPowerIterations = 60;
+
+void check_options(const SampleFitOptions& options, int channels) {
+  const int max_order = options.isotropic ? 128 : kMaxSampleFitOrder;
+  if (options.order < 0 || options.order > max_order)
+    throw ArgumentError("sample fit: order must be in [0, " + std::to_string(max_order) + "] for " +
+                        (options.isotropic ? "isotropic" : "general") + " modes, got " + std::to_string(options.order));
+  if (channels < 1) throw ArgumentError("sample fit: channels must be >= 1, got " + std::to_string(channels));
+  if (!(options.tikhonov >= 0.0) || !std::isfinite(options.tikhonov))
+    throw ArgumentError("sample fit: Tikhonov lambda must be finite and >= 0, got " + std::to_string(options.tikhonov));
+  if (!(options.tikhonov_power >= 0.0) || !std::isfinite(options.tikhonov_power))
+    throw ArgumentError("sample fit: Tikhonov power p must be finite and >= 0, got " +
+                        std::to_string(options.tikhonov_power));
+  if (!std::isfinite(options.rank_tolerance) || options.rank_tolerance >= 1.0)
+    throw ArgumentError("sample fit: rank tolerance must be < 1 (negative for the default), got " +
+                        std::to_string(options.rank_tolerance));
+}
+
+void check_rows(const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values, const Eigen::VectorXd& weights,
+                Eigen::Index channels) {
+  const Eigen::Index s = wi.rows();
+  if (wr.rows() != s || values.rows() != s || weights.size() != s || values.cols() != channels)
+    throw ArgumentError("sample fit: expected wi, wr (rows x 3), values (rows x " + std::to_string(channels) +
+                        ") and weights (rows) with equal rows; got " + std::to_string(wi.rows()) + ", " +
+                        std::to_string(wr.rows()) + ", " + std::to_string(values.rows()) + " x " +
+                        std::to_string(values.cols()) + ", " + std::to_string(weights.size()));
+  for (Eigen::Index i = 0; i < s; ++i) {
+    if (!std::isfinite(weights[i]) || weights[i] < 0.0)
+      throw ArgumentError("sample fit: weight of sample " + std::to_string(i) + " must be finite and >= 0, got " +
+                          std::to_string(weights[i]));
+    if (!values.row(i).allFinite())
+      throw ArgumentError("sample fit: value of sample " + std::to_string(i) + " is not finite");
+  }
+}
+
+// Rows (of `rows`, or all) with positive weight.
+std::vector<Eigen::Index> positive_rows(const Eigen::VectorXd& weights, const std::vector<Eigen::Index>& rows) {
+  std::vector<Eigen::Index> idx;
+  if (rows.empty()) {
+    for (Eigen::Index i = 0; i < weights.size(); ++i)
+      if (weights[i] > 0.0) idx.push_back(i);
+  } else {
+    for (Eigen::Index i : rows)
+      if (weights[i] > 0.0) idx.push_back(i);
+  }
+  return idx;
+}
+
+// Calls fn(thread, W^(1/2) A_block, W^(1/2) Y_block, weights_block) for blocks of the rows `idx`, in parallel
+// (one thread when `threads` is 1); progress (if any) from the calling thread.
+template <class Fn>
+void for_each_block(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
+                    const Eigen::VectorXd& weights, const std::vector<Eigen::Index>& idx, int threads, const char* stage,
+                    const FitProgress& progress, Fn fn) {
+  const int k = unknown_count(order, isotropic);
+  const auto n = static_cast<Eigen::Index>(idx.size());
+  const Eigen::Index step = block_rows(k);
+  const Eigen::Index blocks = (n + step - 1) / step;
+  std::atomic<Eigen::Index> done{0};
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (Eigen::Index b = 0; b < blocks; ++b) {
+    const Eigen::Index lo = b * step, m = std::min(n, lo + step) - lo;
+    RowMatrix3d a(m, 3), c(m, 3);
+    Eigen::VectorXd sw(m), w(m);
+    Eigen::MatrixXd y(m, values.cols());
+    for (Eigen::Index t = 0; t < m; ++t) {
+      const Eigen::Index i = idx[static_cast<size_t>(lo + t)];
+      a.row(t) = wi.row(i);
+      c.row(t) = wr.row(i);
+      w[t] = weights[i];
+      sw[t] = std::sqrt(weights[i]);
+      y.row(t) = values.row(i);
+    }
+    const Eigen::MatrixXd ab = sw.asDiagonal() * modes_at(order, isotropic, a, c);
+    const Eigen::MatrixXd yb = sw.asDiagonal() * y;
+    fn(omp_get_thread_num(), ab, yb, w);
+    const Eigen::Index d = ++done;
+    if (progress && omp_get_thread_num() == 0) progress(stage, static_cast<double>(d) / static_cast<double>(blocks));
+  }
+}
+
+// Below this many multiply-adds (rows x unknowns^2) one thread assembles: a parallel region costs more than
+// it saves (and much more on a loaded machine, where waiting threads spin).
+constexpr double kParallelAssemblyMinWork = 5e7;
+
+int assembly_threads(int unknowns, size_t rows) {
+  if (unknowns > kThreadLocalGramMaxUnknowns) return 1;
+  if (static_cast<double>(rows) * unknowns * unknowns < kParallelAssemblyMinWork) return 1;
+  return std::max(1, std::min<int>(omp_get_max_threads(), static_cast<int>(rows / 64) + 1));
+}
+
+// Largest eigenvalue of the symmetric positive semi-definite g (power iteration, Rayleigh quotient).
+double largest_eigenvalue(const Eigen::MatrixXd& g) {
+  Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(g.rows(), 1.0, 2.0).normalized();
+  double rq = 0.0;
+  for (int it = 0; it < kPowerIterations; ++it) {
+    const Eigen::VectorXd u = g.selfadjointView<Eigen::Lower>() * v;
+    rq = v.dot(u);
+    const double un = u.norm();
+    if (un == 0.0) return 0.0;
+    v = u / un;
+  }
+  return rq;
+}
+
+// Smallest eigenvalue of g from its Cholesky factor (inverse iteration, Rayleigh quotient of g^-1).
+double smallest_eigenvalue(const Eigen::LLT<Eigen::MatrixXd>& llt, Eigen::Index k) {
+  Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(k, 2.0, 1.0).normalized();
+  double rq = 0.0;
+  for (int it = 0; it < kPowerIterations; ++it) {
+    const Eigen::VectorXd u = llt.solve(v);
+    rq = v.dot(u);
+    v = u.normalized();
+  }
+  return rq > 0.0 ? 1.0 / rq : 0.0;
+}
+
+void fill_upper(Eigen::MatrixXd& g) { g.triangularView<Eigen::StrictlyUpper>() = g.transpose(); }
+
+// sigma per channel and the standard errors from sqrt(diag(cov) / sigma^2) (unknowns), the RSS per channel and
+// tr H.
+void finish_uncertainty(SampleFitResult& out, const Eigen::VectorXd& unit_se, const Eigen::VectorXd& rss) {
+  const double dof = static_cast<double>(out.samples) - out.hat_trace;
+  out.noise_sigma.resize(rss.size());
+  for (Eigen::Index c = 0; c < rss.size(); ++c)
+    out.noise_sigma[c] = dof > 0.0 ? std::sqrt(std::max(rss[c], 0.0) / dof) : std::numeric_limits<double>::quiet_NaN();
+  out.standard_error.resize(unit_se.size(), rss.size());
+  for (Eigen::Index c = 0; c < rss.size(); ++c) out.standard_error.col(c) = unit_se * out.noise_sigma[c];
+}
+
+struct Probe {
+  NormalEquationsDeterminacy determinacy;
+  double tolerance = 0.0, s1 = 0.0;
+  std::optional<Eigen::LLT<Eigen::MatrixXd>> llt;
+};
+
+// Unseen modes (column norm <= tol s_1), the Cholesky factor and cond(W^(1/2) A) when it exists.
+Probe probe(const NormalEquations& ne, double rank_tolerance) {
+  Probe p;
+  const Eigen::MatrixXd& g = ne.gram;
+  const Eigen::Index k = g.rows();
+  const double eps = std::numeric_limits<double>::epsilon();
+  p.tolerance = rank_tolerance >= 0.0 ? rank_tolerance : static_cast<double>(std::max<long long>(ne.samples, k)) * eps;
+  if (ne.samples == 0 || k == 0) return p;
+  p.s1 = std::sqrt(std::max(largest_eigenvalue(g), 0.0));
+  if (!(p.s1 > 0.0)) {
+    p.determinacy.unseen = static_cast<int>(k);
+    return p;
+  }
+  for (Eigen::Index j = 0; j < k; ++j)
+    if (!(std::sqrt(std::max(g(j, j), 0.0)) > p.tolerance * p.s1)) ++p.determinacy.unseen;
+  p.llt.emplace(g);
+  if (p.llt->info() != Eigen::Success) return p;
+  const double lmin = smallest_eigenvalue(*p.llt, k);
+  if (!(lmin > 0.0)) return p;
+  p.determinacy.factored = true;
+  p.determinacy.condition = p.s1 / std::sqrt(lmin);
+  return p;
+}
+
+// The normal-equation solve of the header comment, or nothing when the QR path must run.
+std::optional<SampleFitResult> solve_normal_equations(const SampleFitOptions& options, const NormalEquations& ne,
+                                                      const RowMatrix3d& wi, const RowMatrix3d& wr,
+                                                      const Eigen::MatrixXd& values, const Eigen::VectorXd& weights,
+                                                      const std::vector<Eigen::Index>& idx) {
+  const Eigen::MatrixXd& g = ne.gram;
+  const Eigen::Index k = g.rows(), channels = ne.rhs.cols();
+  const Probe pr = probe(ne, options.rank_tolerance);
+  if (!pr.determinacy.factored || pr.determinacy.unseen > 0) return std::nullopt;
+  const double cond = pr.determinacy.condition, tol = pr.tolerance, s1 = pr.s1;
+  if (!(cond <= kNormalEquationsMaxCondition) || !(cond * tol < 1.0)) return std::nullopt;
+  const Eigen::LLT<Eigen::MatrixXd>& llt = *pr.llt;
+
+  SampleFitResult out;
+  out.order = options.order;
+  out.isotropic = options.isotropic;
+  out.samples = ne.samples;
+  out.unknowns = static_cast<int>(k);
+  out.effective_rank = static_cast<int>(k);
+  out.rank_tolerance = tol;
+  out.rank_threshold = tol * s1;
+  out.unseen.assign(static_cast<size_t>(k), false);
+  out.condition = cond;
+  out.tikhonov = options.tikhonov;
+  out.weight_sum = ne.weight_sum;
+  out.solver = "normal equations";
+
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(k);
+  if (options.tikhonov > 0.0) d = options.tikhonov * tikhonov_penalties(options.order, options.isotropic, options.tikhonov_power);
+  Eigen::MatrixXd gl = g;
+  gl.diagonal() += d;
+  const Eigen::LLT<Eigen::MatrixXd> lltl = options.tikhonov > 0.0 ? Eigen::LLT<Eigen::MatrixXd>(gl) : llt;
+  Eigen::MatrixXd x = lltl.solve(ne.rhs);
+
+  // One refinement step: c = A^T W (y - A x) and the weighted RSS, from the samples.
+  const int threads = assembly_threads(static_cast<int>(k), idx.size());
+  std::vector<Eigen::MatrixXd> cs(static_cast<size_t>(threads), Eigen::MatrixXd::Zero(k, channels));
+  std::vector<Eigen::VectorXd> rs(static_cast<size_t>(threads), Eigen::VectorXd::Zero(channels));
+  for_each_block(options.order, options.isotropic, wi, wr, values, weights, idx, threads, "refining", options.progress,
+                 [&](int t, const Eigen::MatrixXd& ab, const Eigen::MatrixXd& yb, const Eigen::VectorXd&) {
+                   const Eigen::MatrixXd r = yb - ab * x;
+                   cs[static_cast<size_t>(t)].noalias() += ab.transpose() * r;
+                   rs[static_cast<size_t>(t)] += r.colwise().squaredNorm().transpose();
+                 });
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(k, channels);
+  Eigen::VectorXd rss = Eigen::VectorXd::Zero(channels);
+  for (int t = 0; t < threads; ++t) {
+    c += cs[static_cast<size_t>(t)];
+    rss += rs[static_cast<size_t>(t)];
+  }
+  const Eigen::MatrixXd dx = lltl.solve(c - d.asDiagonal() * x);
+  for (Eigen::Index ch = 0; ch < channels; ++ch)
+    rss[ch] = std::max(0.0, rss[ch] - 2.0 * dx.col(ch).dot(c.col(ch)) + dx.col(ch).dot(g.selfadjointView<Eigen::Lower>() * dx.col(ch)));
+  x += dx;
+  out.modes = x;
+
+  // Covariance / sigma^2: G^-1 (lambda = 0) or G_l^-1 G G_l^-1; tr H = k or tr(G_l^-1 G).
+  Eigen::VectorXd unit_var(k);
+  if (options.tikhonov == 0.0) {
+    Eigen::MatrixXd linv = Eigen::MatrixXd::Identity(k, k);
+    llt.matrixL().solveInPlace(linv);
+    unit_var = linv.colwise().squaredNorm().transpose();
+    out.hat_trace = static_cast<double>(k);
+  } else {
+    const Eigen::MatrixXd gli = lltl.solve(Eigen::MatrixXd::Identity(k, k));
+    const Eigen::MatrixXd t = gli * g;
+    unit_var = (t.array() * gli.array()).rowwise().sum().matrix();
+    out.hat_trace = t.trace();
+  }
+  out.residual_rms.resize(channels);
+  for (Eigen::Index ch = 0; ch < channels; ++ch) out.residual_rms[ch] = std::sqrt(rss[ch] / ne.weight_sum);
+  finish_uncertainty(out, unit_var.cwiseMax(0.0).cwiseSqrt(), rss);
+  for (Eigen::Index ch = 0; ch < channels; ++ch)
+    out.channels.push_back(options.isotropic ? coefficients_from_ibsss(options.order, out.modes.col(ch))
+                                             : coefficients_from_bsss(out.modes.col(ch)));
+  return out;
+}
+
+}  // namespace
+
+int sample_fit_unknowns(int order, bool isotropic) { return unknown_count(order, isotropic); }
+
+NormalEquationsDeterminacy normal_equations_determinacy(const NormalEquations& ne, double rank_tolerance) {
+  return probe(ne, rank_tolerance).determinacy;
+}
+
+void check_sample_fit_input(const SampleFitOptions& options, const RowMatrix3d& wi, const RowMatrix3d& wr,
+                            const Eigen::MatrixXd& values, const Eigen::VectorXd& weights) {
+  check_options(options, static_cast<int>(values.cols()));
+  check_rows(wi, wr, values, weights, values.cols());
+}
+
+NormalEquations assemble_normal_equations(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr,
+                                          const Eigen::MatrixXd& values, const Eigen::VectorXd& weights,
+                                          const std::vector<Eigen::Index>& rows, const FitProgress& progress) {
+  const int k = unknown_count(order, isotropic);
+  const Eigen::Index channels = values.cols();
+  const std::vector<Eigen::Index> idx = positive_rows(weights, rows);
+  const int threads = assembly_threads(k, idx.size());
+  std::vector<Eigen::MatrixXd> g(static_cast<size_t>(threads)), r(static_cast<size_t>(threads));
+  std::vector<Eigen::VectorXd> yy(static_cast<size_t>(threads), Eigen::VectorXd::Zero(channels));
+  std::vector<double> ws(static_cast<size_t>(threads), 0.0);
+  for (int t = 0; t < threads; ++t) {
+    g[static_cast<size_t>(t)] = Eigen::MatrixXd::Zero(k, k);
+    r[static_cast<size_t>(t)] = Eigen::MatrixXd::Zero(k, channels);
+  }
+  for_each_block(order, isotropic, wi, wr, values, weights, idx, threads, "assembling", progress,
+                 [&](int t, const Eigen::MatrixXd& ab, const Eigen::MatrixXd& yb, const Eigen::VectorXd& w) {
+                   const auto ts = static_cast<size_t>(t);
+                   g[ts].selfadjointView<Eigen::Lower>().rankUpdate(ab.transpose());
+                   r[ts].noalias() += ab.transpose() * yb;
+                   yy[ts] += yb.colwise().squaredNorm().transpose();
+                   ws[ts] += w.sum();
+                 });
+  NormalEquations ne;
+  ne.gram = std::move(g[0]);
+  ne.rhs = std::move(r[0]);
+  ne.yy = yy[0];
+  ne.weight_sum = ws[0];
+  for (int t = 1; t < threads; ++t) {
+    ne.gram += g[static_cast<size_t>(t)];
+    ne.rhs += r[static_cast<size_t>(t)];
+    ne.yy += yy[static_cast<size_t>(t)];
+    ne.weight_sum += ws[static_cast<size_t>(t)];
+  }
+  fill_upper(ne.gram);
+  ne.samples = static_cast<long long>(idx.size());
+  return ne;
+}
+
+Eigen::VectorXd tikhonov_penalties(int order, bool isotropic, double power) {
+  if (!(power >= 0.0) || !std::isfinite(power))
+    throw ArgumentError("Tikhonov penalties: power p must be finite and >= 0, got " + std::to_string(power));
+  std::vector<std::pair<int, int>> nm;
+  if (isotropic) {
+    for (const auto& k : isotropic_modes(order)) nm.emplace_back(k.n, k.m);
+  } else {
+    for (const auto& k : helmholtz_modes(order)) nm.emplace_back(k.n, k.m);
+  }
+  Eigen::VectorXd d(static_cast<Eigen::Index>(nm.size()));
+  for (size_t k = 0; k < nm.size(); ++k) {
+    const double e = nm[k].first * (nm[k].first + 2.0) + nm[k].second * (nm[k].second + 2.0);
+    d[static_cast<Eigen::Index>(k)] = std::pow(e, power);  // pow(0, 0) = 1: plain ridge for p = 0
+  }
+  return d;
+}
+
+SampleFitAccumulator::SampleFitAccumulator(const SampleFitOptions& options, int channels)
+    : options_(options), channels_(channels) {
+  check_options(options, channels);
+  unknowns_ = unknown_count(options.order, options.isotropic);
+  r_ = Eigen::MatrixXd::Zero(unknowns_ + channels_, unknowns_ + channels_);
+}
+
+void SampleFitAccumulator::absorb(const Eigen::MatrixXd& block) {
+  const Eigen::Index k = r_.cols();
+  Eigen::MatrixXd stacked(k + block.rows(), k);
+  stacked.topRows(k) = r_;
+  stacked.bottomRows(block.rows()) = block;
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr(stacked);
+  r_ = qr.matrixQR().topRows(k).triangularView<Eigen::Upper>();
+}
+
+void SampleFitAccumulator::add(const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
+                               const Eigen::VectorXd& weights) {
+  const Eigen::Index s = wi.rows();
+  check_rows(wi, wr, values, weights, channels_);
+  const Eigen::Index step = chunk_rows(unknowns_);
+  for (Eigen::Index b = 0; b < s; b += step) {
+    if (options_.progress) options_.progress("QR of the samples", static_cast<double>(b) / static_cast<double>(s));
+    const Eigen::Index e = std::min(s, b + step);
+    std::vector<Eigen::Index> keep;
+    for (Eigen::Index i = b; i < e; ++i)
+      if (weights[i] > 0.0) keep.push_back(i);
+    if (keep.empty()) continue;
+    const auto n = static_cast<Eigen::Index>(keep.size());
+    RowMatrix3d a(n, 3), c(n, 3);
+    Eigen::VectorXd sw(n);
+    Eigen::MatrixXd y(n, channels_);
+    for (Eigen::Index t = 0; t < n; ++t) {
+      a.row(t) = wi.row(keep[static_cast<size_t>(t)]);
+      c.row(t) = wr.row(keep[static_cast<size_t>(t)]);
+      sw[t] = std::sqrt(weights[keep[static_cast<size_t>(t)]]);
+      y.row(t) = values.row(keep[static_cast<size_t>(t)]);
+      weight_sum_ += weights[keep[static_cast<size_t>(t)]];
+    }
+    Eigen::MatrixXd block(n, unknowns_ + channels_);
+    block.leftCols(unknowns_) = sw.asDiagonal() * modes_at(options_.order, options_.isotropic, a, c);
+    block.rightCols(channels_) = sw.asDiagonal() * y;
+    absorb(block);
+    samples_ += n;
+  }
+}
+
+SampleFitResult SampleFitAccumulator::solve() const {
+  if (samples_ == 0) throw ArgumentError("sample fit: no sample with positive weight");
+  const int k = unknowns_;
+  const Eigen::MatrixXd r11 = r_.topLeftCorner(k, k);
+  const Eigen::MatrixXd z = r_.topRightCorner(k, channels_);
+  const Eigen::MatrixXd r22 = r_.bottomRightCorner(channels_, channels_);
+
+  SampleFitResult out;
+  out.order = options_.order;
+  out.isotropic = options_.isotropic;
+  out.samples = samples_;
+  out.unknowns = k;
+  const double eps = std::numeric_limits<double>::epsilon();
+  out.rank_tolerance = options_.rank_tolerance >= 0.0
+                           ? options_.rank_tolerance
+                           : static_cast<double>(std::max<long long>(samples_, k)) * eps;
+
+  // The largest singular value of W^(1/2) A (all columns) sets the scale of every threshold.
+  Eigen::BDCSVD<Eigen::MatrixXd> full(r11);
+  const double s1 = full.singularValues().size() ? full.singularValues()[0] : 0.0;
+  out.rank_threshold = out.rank_tolerance * s1;
+
+  // Unseen modes: zero columns (column norms of R11 equal those of W^(1/2) A).
+  out.unseen.assign(static_cast<size_t>(k), false);
+  std::vector<int> seen;
+  for (int j = 0; j < k; ++j) {
+    if (r11.col(j).norm() <= out.rank_threshold || s1 == 0.0) {
+      out.unseen[static_cast<size_t>(j)] = true;
+      ++out.unseen_modes;
+    } else {
+      seen.push_back(j);
+    }
+  }
+  const auto ks = static_cast<Eigen::Index>(seen.size());
+  Eigen::MatrixXd rs(k, ks);
+  for (Eigen::Index t = 0; t < ks; ++t) rs.col(t) = r11.col(seen[static_cast<size_t>(t)]);
+
+  Eigen::MatrixXd xs = Eigen::MatrixXd::Zero(ks, channels_);
+  Eigen::MatrixXd m_op = Eigen::MatrixXd::Zero(ks, k);  // x = M z (header comment)
+  if (ks > 0) {
+    Eigen::BDCSVD<Eigen::MatrixXd> svd(rs, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    out.singular_values = svd.singularValues();
+    out.effective_rank = 0;
+    for (Eigen::Index t = 0; t < out.singular_values.size(); ++t)
+      if (out.singular_values[t] > out.rank_threshold) ++out.effective_rank;
+    if (out.effective_rank > 0)
+      out.condition = out.singular_values[0] / out.singular_values[out.effective_rank - 1];
+    if (options_.tikhonov == 0.0) {
+      const int r = out.effective_rank;
+      m_op = svd.matrixV().leftCols(r) * (out.singular_values.head(r).cwiseInverse().asDiagonal() *
+                                          svd.matrixU().leftCols(r).transpose());
+    } else {
+      const Eigen::VectorXd d = tikhonov_penalties(options_.order, options_.isotropic, options_.tikhonov_power);
+      Eigen::MatrixXd aug = Eigen::MatrixXd::Zero(k + ks, ks);
+      aug.topRows(k) = rs;
+      for (Eigen::Index t = 0; t < ks; ++t) aug(k + t, t) = std::sqrt(options_.tikhonov * d[seen[static_cast<size_t>(t)]]);
+      Eigen::BDCSVD<Eigen::MatrixXd> reg(aug, Eigen::ComputeThinU | Eigen::ComputeThinV);
+      const Eigen::VectorXd sv = reg.singularValues();
+      const double thr = out.rank_tolerance * (sv.size() ? sv[0] : 0.0);
+      int r = 0;
+      while (r < sv.size() && sv[r] > thr) ++r;
+      // The right-hand side of the stacked system is [z; 0]: only the top k rows of U act.
+      m_op = reg.matrixV().leftCols(r) * (sv.head(r).cwiseInverse().asDiagonal() *
+                                          reg.matrixU().topRows(k).leftCols(r).transpose());
+    }
+    xs = m_op * z;
+  }
+  out.null_space_dimension = k - out.effective_rank;
+  out.modes = Eigen::MatrixXd::Zero(k, channels_);
+  for (Eigen::Index t = 0; t < ks; ++t) out.modes.row(seen[static_cast<size_t>(t)]) = xs.row(t);
+  out.tikhonov = options_.tikhonov;
+  out.weight_sum = weight_sum_;
+  out.solver = "QR";
+  // tr H = tr(R_s M); the hat matrix of the rows is Q [R_s M] Q^T.
+  out.hat_trace = ks > 0 ? (rs.array() * m_op.transpose().array()).sum() : 0.0;
+
+  // Weighted residual: ||W^(1/2)(A x - y)||^2 = ||R11 x - z||^2 + ||R22 e_c||^2.
+  out.residual_rms.resize(channels_);
+  Eigen::VectorXd rss(channels_);
+  for (int c = 0; c < channels_; ++c) {
+    const double fit_part = (r11 * out.modes.col(c) - z.col(c)).squaredNorm();
+    const double rest = r22.col(c).squaredNorm();
+    rss[c] = fit_part + rest;
+    out.residual_rms[c] = std::sqrt(rss[c] / weight_sum_);
+  }
+  Eigen::VectorXd unit_se = Eigen::VectorXd::Constant(k, std::numeric_limits<double>::quiet_NaN());
+  for (Eigen::Index t = 0; t < ks; ++t) unit_se[seen[static_cast<size_t>(t)]] = m_op.row(t).norm();
+  finish_uncertainty(out, unit_se, rss);
+  for (int c = 0; c < channels_; ++c)
+    out.channels.push_back(options_.isotropic ? coefficients_from_ibsss(options_.order, out.modes.col(c))
+                                              : coefficients_from_bsss(out.modes.col(c)));
+  return out;
+}
+
+SampleFitResult fit_samples(const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
+                            const Eigen::VectorXd& weights, const SampleFitOptions& options,
+                            const NormalEquations* assembled) {
+  const Eigen::VectorXd w = weights.size() == 0 ? Eigen::VectorXd::Ones(wi.rows()).eval() : weights;
+  check_sample_fit_input(options, wi, wr, values, w);
+  const std::vector<Eigen::Index> idx = positive_rows(w, {});
+  if (idx.empty()) throw ArgumentError("sample fit: no sample with positive weight");
+  NormalEquations own;
+  if (!assembled) own = assemble_normal_equations(options.order, options.isotropic, wi, wr, values, w, {}, options.progress);
+  const NormalEquations& ne = assembled ? *assembled : own;
+  if (ne.gram.rows() != unknown_count(options.order, options.isotropic) || ne.samples != static_cast<long long>(idx.size()))
+    throw ArgumentError("sample fit: the assembled normal equations do not match the samples and modes");
+  if (auto fast = solve_normal_equations(options, ne, wi, wr, values, w, idx)) return *fast;
+  SampleFitAccumulator acc(options, static_cast<int>(values.cols()));
+  acc.add(wi, wr, values, w);
+  return acc.solve();
+}
+
+}  // namespace icobrdf

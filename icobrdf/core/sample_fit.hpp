@@ -1,0 +1,167 @@
+#pragma once
+// Weighted least-squares fit of scattered BRDF samples onto the Helmholtz modes (or the isotropic modes).
+//
+// Data: S samples (w_i, w_r, f) with weights w_s >= 0; wi, wr are S x 3 unit vectors (z >= 0, normal +z,
+// both pointing away from the surface), values S x channels [1/sr]. Unknowns: the coefficients x of the
+// modes up to total order N in the library order (icobrdf/core/helmholtz_modes.hpp: M(M+1)/2 BSSS modes;
+// icobrdf/core/isotropic_modes.hpp with `isotropic`: Table 2 order). With A (S x unknowns) the modes at the samples
+// and W = diag(w_s), per channel
+//     minimize  || W^(1/2) (A x - y) ||^2 + lambda sum_k d_k x_k^2,
+//     d_k = (n(n+2) + m(m+2))^p  for the mode built from K_n^. (x) K_m^. (isotropic: I_nm^l),
+// an order-graded Tikhonov penalty: n(n+2) is the eigenvalue of the Zernike polynomials of radial order n
+// under their Sturm-Liouville (disk Laplacian-like) operator, so p = 1 penalizes roughness; the order-0
+// mode has d = 0 and is never shrunk (p = 0 gives plain ridge regression, d = 1 for every mode).
+//
+// Solver (rank revealing, minimum norm). The rows are reduced by a streaming Householder QR of
+// [W^(1/2) A | W^(1/2) Y] (chunks of rows, so millions of samples need only unknowns^2 memory); then
+//   * unseen modes: columns of W^(1/2) A whose norm is <= tau are modes the data cannot see; their
+//     coefficients are set to exactly 0 and they take no part in the solve;
+//   * the singular values s_1 >= s_2 >= ... of W^(1/2) A (those of the triangular factor) give the effective
+//     rank r = #{ s_k > tau },  tau = tol * s_1,  tol = max(S, unknowns) * machine epsilon unless given
+//     (the LAPACK / MATLAB numerical-rank convention);
+//   * lambda = 0: x = V_r S_r^-1 U_r^T z (truncated SVD): the minimum-norm least-squares solution, with no
+//     component in the numerical null space (the least-committed solution of K&vD's velvet example);
+//     lambda > 0: the penalized system [R; sqrt(lambda D)] x = [z; 0] solved by SVD with the same truncation.
+// Reported: effective rank, null-space dimension (unknowns - rank), unseen modes, singular values, and the
+// weighted residual RMS per channel, sqrt(sum_s w_s (A x - y)_s^2 / sum_s w_s).
+// Accuracy: data in the span of the modes are recovered to ~ cond(W^(1/2) A) * 1e-16 relative.
+//
+// Fast path (fit_samples). The normal equations G = A^T W A, A^T W Y are assembled in blocks of rows
+// (the modes evaluated per block, rank-k updates of G, one partial G per thread), which costs S k^2 flops
+// instead of the QR's 2 S k^2 and needs no restacking. When every mode is seen and the Cholesky factor of
+// G exists with cond(W^(1/2) A) = sqrt(lambda_max(G) / lambda_min(G)) <= kNormalEquationsMaxCondition
+// (extreme eigenvalues by power and inverse iteration) and <= 1 / rank tolerance, the fit solves
+// (G + lambda D) x = A^T W y by Cholesky and applies one step of iterative refinement with the residual
+// recomputed from the samples (corrected semi-normal equations: the rounding error of forming G, of order
+// cond(G) eps <= 1e-4, is reduced by that factor again). Otherwise (unseen modes, rank deficiency, ill
+// conditioning) it streams the rows through the rank-revealing QR above. `solver` says which ran.
+//
+// Uncertainty (both paths). With z = Q^T W^(1/2) y the estimate is x = M z (M = G_lambda^-1 R^T, or
+// V_r S_r^-1 U_r^T for the truncated SVD), so for independent errors of variance sigma^2 / w_s (weights are
+// inverse relative variances; duplicate counts are), cov(x) = sigma^2 M M^T:
+//   lambda = 0, full rank:  sigma^2 (A^T W A)^-1;   lambda > 0:  sigma^2 G_l^-1 A^T W A G_l^-1.
+// sigma^2 is estimated per channel as RSS_w / (S - tr H), H the hat matrix (tr H = the rank for lambda = 0,
+// sum of the filter factors otherwise). standard_error(k, c) = sigma_c sqrt(cov_kk / sigma^2); NaN for
+// unseen modes (their 0 is a choice, not an estimate) and when S <= tr H. With a null space the figures
+// describe the spread of the minimum-norm estimate only: the undetermined combinations have no error bar.
+#include <Eigen/Core>
+
+#include <functional>
+#include <limits>
+#include <vector>
+
+#include "icobrdf/core/grid.hpp"
+
+namespace icobrdf {
+
+// Progress of a long fit: a stage name and the fraction of it done, in [0, 1]. May be called from
+// the calling thread only; never called when empty.
+using FitProgress = std::function<void(const char* stage, double fraction)>;
+
+// The normal equations are used only when cond(W^(1/2) A) is at most this: cond(G) = 1e12 leaves
+// cond(G) eps ~ 2e-4 < 1, so one refinement step restores QR-level accuracy (Bjorck, "Numerical Methods
+// for Least Squares Problems", sec. 2.9, corrected semi-normal equations).
+inline constexpr double kNormalEquationsMaxCondition = 1e6;
+
+struct SampleFitOptions {
+  int order = 4;             // total order N of the modes
+  bool isotropic = false;    // fit the isotropic modes I_nm^l instead of the general Helmholtz modes
+  double tikhonov = 0.0;     // lambda >= 0
+  double tikhonov_power = 1.0;  // p >= 0
+  double rank_tolerance = -1.0;  // relative tol on singular values; < 0: max(S, unknowns) * eps
+  FitProgress progress;          // optional
+};
+
+struct SampleFitResult {
+  int order = 0;
+  bool isotropic = false;
+  Eigen::MatrixXd modes;                  // unknowns x channels: the mode coefficients (BSSS or IBSSS order)
+  std::vector<Eigen::MatrixXd> channels;  // per channel the symmetric M x M coefficient matrix C
+  long long samples = 0;                  // rows used (weight > 0)
+  int unknowns = 0;
+  int effective_rank = 0;                 // numerical rank of W^(1/2) A
+  int null_space_dimension = 0;           // unknowns - effective_rank
+  int unseen_modes = 0;                   // modes with a zero column (coefficient exactly 0)
+  double rank_tolerance = 0.0;            // relative tolerance used
+  double rank_threshold = 0.0;            // tau = rank_tolerance * s_1
+  Eigen::VectorXd singular_values;        // of W^(1/2) A restricted to the seen modes, descending
+  Eigen::VectorXd residual_rms;           // per channel, weighted [1/sr]
+  std::vector<bool> unseen;               // per unknown: true when its column is (numerically) zero
+  double condition = std::numeric_limits<double>::quiet_NaN();  // s_1 / s_rank of W^(1/2) A on the kept part
+  double tikhonov = 0.0;                  // lambda used
+  double hat_trace = 0.0;                 // tr H: effective number of parameters
+  double weight_sum = 0.0;                // sum of the weights of the rows used
+  Eigen::VectorXd noise_sigma;            // per channel: sigma (error of a weight-1 sample) [1/sr]; NaN if S <= tr H
+  Eigen::MatrixXd standard_error;         // unknowns x channels (see the header comment); NaN where undefined
+  const char* solver = "";                // "normal equations" or "QR"
+};
+
+// Weighted normal equations of the modes at samples: gram = A^T W A (unknowns x unknowns, both triangles),
+// rhs = A^T W Y (unknowns x channels), yy = diag(Y^T W Y) per channel, over the rows listed in `rows`
+// (all rows when empty) whose weight is > 0. Assembled in blocks of rows, a partial G per thread.
+struct NormalEquations {
+  Eigen::MatrixXd gram;
+  Eigen::MatrixXd rhs;
+  Eigen::VectorXd yy;
+  double weight_sum = 0.0;
+  long long samples = 0;
+};
+NormalEquations assemble_normal_equations(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr,
+                                          const Eigen::MatrixXd& values, const Eigen::VectorXd& weights,
+                                          const std::vector<Eigen::Index>& rows = {}, const FitProgress& progress = {});
+
+// What the normal equations say about determinacy before any solve: modes with column norm <= tol s_1
+// (tol: the rank tolerance, negative for the default), whether G has a Cholesky factor, and then
+// cond(W^(1/2) A) (power and inverse iteration; NaN without a factor).
+struct NormalEquationsDeterminacy {
+  int unseen = 0;
+  bool factored = false;
+  double condition = std::numeric_limits<double>::quiet_NaN();
+};
+NormalEquationsDeterminacy normal_equations_determinacy(const NormalEquations& ne, double rank_tolerance = -1.0);
+
+// Number of unknowns of the modes of total order N (general: M(M+1)/2, isotropic: isotropic_mode_count).
+int sample_fit_unknowns(int order, bool isotropic);
+
+// d_k of every unknown (see the header comment), in the library order of the chosen modes.
+Eigen::VectorXd tikhonov_penalties(int order, bool isotropic, double power);
+
+// Streaming accumulation: add() chunks of samples, then solve(). Memory O(unknowns^2).
+class SampleFitAccumulator {
+ public:
+  // ArgumentError for an order outside [0, 16] (general modes: 9316 unknowns at 16; isotropic: up to 128),
+  // channels not >= 1, lambda or p negative or not finite.
+  SampleFitAccumulator(const SampleFitOptions& options, int channels);
+  // wi, wr: rows x 3, values: rows x channels, weights: rows (finite, >= 0; rows with weight 0 are skipped).
+  // ArgumentError on shape mismatch or non-finite values/weights.
+  void add(const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values, const Eigen::VectorXd& weights);
+  // ArgumentError when no sample with positive weight was added.
+  SampleFitResult solve() const;
+  long long samples() const { return samples_; }
+  int unknowns() const { return unknowns_; }
+
+ private:
+  void absorb(const Eigen::MatrixXd& block);
+  SampleFitOptions options_;
+  int channels_;
+  int unknowns_;
+  long long samples_ = 0;
+  double weight_sum_ = 0.0;
+  Eigen::MatrixXd r_;  // (unknowns + channels) square, upper triangular
+};
+
+// One-shot fit (fast path above, QR otherwise); weights empty means all 1. Same errors as the accumulator.
+// `assembled`, when given, must be the normal equations of these samples (all rows) for these modes.
+SampleFitResult fit_samples(const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
+                            const Eigen::VectorXd& weights, const SampleFitOptions& options,
+                            const NormalEquations* assembled = nullptr);
+
+// The checks of the accumulator's constructor and add() (ArgumentError), for callers that work on the
+// samples before fitting them.
+void check_sample_fit_input(const SampleFitOptions& options, const RowMatrix3d& wi, const RowMatrix3d& wr,
+                            const Eigen::MatrixXd& values, const Eigen::VectorXd& weights);
+
+// The largest order accepted for the general (anisotropic) modes.
+inline constexpr int kMaxSampleFitOrder = 16;
+
+}  // namespace icobrdf

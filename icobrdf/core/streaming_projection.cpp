@@ -1,0 +1,271 @@
+#include "icobrdf/core/streaming_projection.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/grid_symmetry.hpp"
+#include "icobrdf/core/progress.hpp"
+
+namespace icobrdf {
+namespace {
+
+// Incident cells per block: each thread holds block x cells doubles per channel (2.6 MB at level 5).
+constexpr int kBlockRows = 32;
+// Tolerance of the check that P is D2-equivariant (the sampling's own check is sampling_is_d2_symmetric,
+// icobrdf/core/grid_symmetry.hpp): a grid built symmetric matches to rounding, 1e-12 leaves room for a few ulps of
+// the mesh construction and of G^-1 while rejecting any grid that is symmetric only up to discretization.
+constexpr double kSymmetryTol = 1e-12;
+// Solid angles of the sampling grid against the projection grid's, relative to the largest: the two are
+// built from the same cells (build_fitting_grid with either cubature), so they agree to the rounding of
+// summing cubature weights; any real difference in cells is far larger.
+constexpr double kSameCellsRelTol = 1e-12;
+
+// The incident cells sampled, ascending, with their weights: one per D2 orbit weighted 1 / |stabilizer|
+// (icobrdf/core/grid_symmetry.hpp) when `use_symmetry`, else every cell with weight 1.
+std::pair<std::vector<int>, std::vector<double>> incident_rows(const Grid& g, bool use_symmetry) {
+  std::vector<int> cells;
+  std::vector<double> weight;
+  if (use_symmetry) {
+    for (const auto& r : d2_representatives(g)) {
+      cells.push_back(r.cell);
+      weight.push_back(r.weight);
+    }
+  } else {
+    for (int c = 0; c < g.cells(); ++c) {
+      cells.push_back(c);
+      weight.push_back(1.0);
+    }
+  }
+  return {cells, weight};
+}
+
+// The cells of `g` in the order `perm` (new cell k = old cell perm[k]): directions, solid angles and
+// cubature, the fields LUT sampling reads.
+Grid reorder_cells(const Grid& g, const std::vector<int>& perm) {
+  Grid r;
+  r.kind = g.kind;
+  r.level = g.level;
+  r.cubature_degree = g.cubature_degree;
+  const int cells = static_cast<int>(perm.size());
+  r.directions.resize(cells, 3);
+  r.solid_angles.resize(cells);
+  r.cubature_offsets.assign(1, 0);
+  r.cubature_points.resize(g.cubature_points.rows(), 3);
+  r.cubature_weights.resize(g.cubature_weights.size());
+  Eigen::Index q = 0;
+  for (int k = 0; k < cells; ++k) {
+    const int c = perm[static_cast<size_t>(k)];
+    r.directions.row(k) = g.directions.row(c);
+    r.solid_angles[k] = g.solid_angles[c];
+    const auto b = g.cubature_offsets[static_cast<size_t>(c)], e = g.cubature_offsets[static_cast<size_t>(c) + 1];
+    r.cubature_points.middleRows(q, e - b) = g.cubature_points.middleRows(b, e - b);
+    r.cubature_weights.segment(q, e - b) = g.cubature_weights.segment(b, e - b);
+    q += e - b;
+    r.cubature_offsets.push_back(q);
+  }
+  return r;
+}
+
+// Helmholtz reciprocity: f(wi, wr) = f(wr, wi) makes the f LUT symmetric (F_ir = F_ri, for centre and
+// cell-averaged sampling alike), so only one triangle of F needs sampling. With g = D F in g form
+// (D = diag cos theta of the cell directions, centre sampling only: a cell-averaged g is not D F), and
+// Q = D P (Q = P in f form), C = Q^T F P splits over pairs of orbits I, J (single cells without the D2
+// path) into T(I, J) = sum_{a in I, b in J} Q_a F_ab P_b^T, and symmetry of F gives T(J, I) = U(I, J)^T
+// with U(I, J) = sum_{a in I, b in J} P_a F_ab Q_b^T. Ordering orbits by their representative (smallest
+// cell index):
+//   C = sum_{J <= I}' T(I, J) + (sum_{J <= I}' U(I, J))^T,   ' = the diagonal I = J weighted 1/2,
+// and each T or U is the D2 average of its representative row's sum (as in the plain symmetric path).
+// Columns are reordered by orbit, so that representative i needs a prefix of them: the cells of orbits
+// before its own (weight 1) and its own orbit (weight 1/2). That is an eighth of F with D2, half without.
+std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const Grid& sg, const ProjectionOperator& proj,
+                                                   bool cosine, LutSampling sampling, bool use_symmetry) {
+  const int cells = sg.cells(), ch = model.channels();
+  const auto modes = proj.P.cols();
+  std::vector<int> rep(static_cast<size_t>(cells));
+  for (int c = 0; c < cells; ++c) rep[static_cast<size_t>(c)] = c;
+  if (use_symmetry)
+    for (const auto& s : d2_maps(sg))
+      for (int c = 0; c < cells; ++c) rep[static_cast<size_t>(c)] = std::min(rep[static_cast<size_t>(c)], (*s.cells)[c]);
+  const auto incident = incident_rows(sg, use_symmetry);
+  const std::vector<int>& row_cells = incident.first;
+  const std::vector<double>& row_weight = incident.second;
+  // Columns in the order (representative, cell): orbit I occupies [start(I), end(I)).
+  std::vector<int> perm(static_cast<size_t>(cells)), pos(static_cast<size_t>(cells)), orbit_end(static_cast<size_t>(cells), 0);
+  for (int c = 0; c < cells; ++c) perm[static_cast<size_t>(c)] = c;
+  std::stable_sort(perm.begin(), perm.end(), [&](int a, int b) { return rep[static_cast<size_t>(a)] < rep[static_cast<size_t>(b)]; });
+  for (int k = 0; k < cells; ++k) pos[static_cast<size_t>(perm[static_cast<size_t>(k)])] = k;
+  for (int k = 0; k < cells; ++k) orbit_end[static_cast<size_t>(rep[static_cast<size_t>(perm[static_cast<size_t>(k)])])] = k + 1;
+  const bool identity = !use_symmetry;  // without D2 every orbit is one cell and the order is unchanged
+  const Grid reordered = identity ? Grid() : reorder_cells(sg, perm);
+  const Grid& rg = identity ? sg : reordered;
+  // P and Q = D P with rows in the column order, side by side: F_block [P Q] in one product.
+  const Eigen::Index width = cosine ? 2 * modes : modes;
+  Eigen::MatrixXd pq(cells, width);
+  for (int k = 0; k < cells; ++k) {
+    const int c = perm[static_cast<size_t>(k)];
+    pq.row(k).head(modes) = proj.P.row(c);
+    if (cosine) pq.row(k).tail(modes) = sg.directions(c, 2) * proj.P.row(c);
+  }
+  const int rows_total = static_cast<int>(row_cells.size());
+  const int blocks = (rows_total + kBlockRows - 1) / kBlockRows;
+  // Per block and channel: X1 = sum w_i Q_i (F P)_i and X2 = sum w_i P_i (F Q)_i over the block's rows,
+  // added to the sums in block order (an ordered region), so the result does not depend on the number of
+  // threads and only one block's partial sums per thread are alive (not one per block: at level 6, order
+  // 40 that was 1,284 blocks x 861^2 doubles = 7.6 GB).
+  const int parts = cosine ? 2 : 1;
+  std::vector<Eigen::MatrixXd> sums(static_cast<size_t>(ch * parts), Eigen::MatrixXd::Zero(modes, modes));
+  ProgressMeter progress("projecting", blocks);
+#pragma omp parallel
+  {
+    std::vector<Eigen::MatrixXd> f;
+    std::vector<int> block;
+    Eigen::MatrixXd t, left;
+    std::vector<Eigen::MatrixXd> out;
+#pragma omp for schedule(dynamic) ordered
+    for (int b = 0; b < blocks; ++b) {
+      const int r0 = b * kBlockRows, r1 = std::min(rows_total, r0 + kBlockRows);
+      block.clear();
+      for (int k = r0; k < r1; ++k) block.push_back(pos[static_cast<size_t>(row_cells[static_cast<size_t>(k)])]);
+      int col_end = 0;  // the longest prefix any row of the block needs
+      for (int k = r0; k < r1; ++k) col_end = std::max(col_end, orbit_end[static_cast<size_t>(row_cells[static_cast<size_t>(k)])]);
+      sample_lut_block(model, rg, false, sampling, block, col_end, f);
+      left.resize(r1 - r0, width);  // row k: w_k [Q_k  P_k] (the left factors of X1 and X2)
+      for (int k = r0; k < r1; ++k) {
+        const int i = row_cells[static_cast<size_t>(k)];
+        const int first = pos[static_cast<size_t>(i)], last = orbit_end[static_cast<size_t>(i)];
+        const double w = row_weight[static_cast<size_t>(k)];
+        const int pk = first;
+        if (cosine) {
+          left.row(k - r0).head(modes) = w * pq.row(pk).tail(modes);
+          left.row(k - r0).tail(modes) = w * pq.row(pk).head(modes);
+        } else {
+          left.row(k - r0) = w * pq.row(pk);
+        }
+        for (auto& m : f) {
+          m.row(k - r0).segment(first, last - first) *= 0.5;
+          m.row(k - r0).tail(col_end - last).setZero();
+        }
+      }
+      out.clear();
+      for (int c = 0; c < ch; ++c) {
+        t.noalias() = f[static_cast<size_t>(c)] * pq.topRows(col_end);
+        if (cosine) {
+          out.push_back(left.leftCols(modes).transpose() * t.leftCols(modes));     // X1 part
+          out.push_back(left.rightCols(modes).transpose() * t.rightCols(modes));   // X2 part
+        } else {
+          out.push_back(left.transpose() * t);
+        }
+      }
+#pragma omp ordered
+      {
+        for (size_t k = 0; k < out.size(); ++k) sums[k] += out[k];
+        progress.step();
+      }
+    }
+  }
+  std::vector<Eigen::MatrixXd> out;
+  for (int c = 0; c < ch; ++c) {
+    Eigen::MatrixXd& x1 = sums[static_cast<size_t>(c * parts)];
+    Eigen::MatrixXd x2;
+    if (cosine) x2 = std::move(sums[static_cast<size_t>(c * parts + 1)]);
+    if (use_symmetry) {
+      x1 = d2_average(x1);
+      if (cosine) x2 = d2_average(x2);
+    }
+    if (cosine) out.push_back(x1 + x2.transpose());
+    else out.push_back(x1 + x1.transpose());
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const Grid& g, const ProjectionOperator& proj,
+                                                  bool cosine, LutSampling sampling, const Grid* sampling_grid) {
+  const Grid& sg = sampling_grid ? *sampling_grid : g;
+  if (sg.cells() != g.cells() || (sg.solid_angles - g.solid_angles).cwiseAbs().maxCoeff() > kSameCellsRelTol * g.solid_angles.maxCoeff())
+    throw ArgumentError("projection: the sampling grid's cells differ from the projection grid's (" + std::to_string(sg.cells()) +
+                        " vs " + std::to_string(g.cells()) + " cells)");
+  const auto deltas = model.delta_parts();
+  if (!deltas.empty() && !cosine)
+    throw ArgumentError("projection of '" + quoted_text(model.spec()) + "': a delta BRDF has no finite f; use the cosine-weighted form g");
+  if (proj.P.rows() != g.cells())
+    throw ArgumentError("projection: operator has " + std::to_string(proj.P.rows()) + " rows, grid has " + std::to_string(g.cells()) + " cells");
+  const int ch = model.channels();
+  const auto modes = proj.P.cols();
+  // An isotropic model on a D2-symmetric grid has F(s i, s r) = F(i, r) for each symmetry s, so row s i of
+  // F P is row i times the signs of the modes: only one incident cell per orbit is sampled (a quarter of
+  // the rows), and C = sum_s D_s X D_s with X = sum over representatives i of P_i^T (F P)_i / |stabilizer
+  // of i|, D_s the diagonal of mode signs. The sum over the four symmetries keeps 4 X_ab where modes a and b
+  // have the same signs under all of them and zeroes the rest (entries that vanish exactly by symmetry).
+  // (icobrdf/core/grid_symmetry.hpp)
+  const bool use_symmetry = model.is_isotropic() && has_d2_maps(g) && has_d2_maps(sg) && g.rotate_pi == sg.rotate_pi &&
+                            g.mirror_xz == sg.mirror_xz && g.mirror_yz == sg.mirror_yz && sampling_is_d2_symmetric(sg, sampling == LutSampling::CellCentre) &&
+                            rows_are_d2_equivariant(g, proj.P, kSymmetryTol);
+  // The symmetric sampling makes F itself D2-invariant; the orbits and the cell maps are those of sg, which
+  // equal g's (checked above).
+  if (model.is_reciprocal() && (!cosine || sampling == LutSampling::CellCentre)) {
+    auto out = reciprocal_projection(model, sg, proj, cosine, sampling, use_symmetry);
+    for (auto& x : out)
+      for (const auto& d : deltas) x += delta_projection(d, g, proj);
+    return out;
+  }
+  const auto incident = incident_rows(g, use_symmetry);
+  const std::vector<int>& row_cells = incident.first;
+  const std::vector<double>& row_weight = incident.second;
+  const int rows_total = static_cast<int>(row_cells.size());
+  const int blocks = (rows_total + kBlockRows - 1) / kBlockRows;
+  // Per block: X_b = P_rows^T diag(weight) (F_rows P), added in block order (an ordered region), so the
+  // result does not depend on the number of threads and one block's X_b per thread is alive at a time.
+  std::vector<Eigen::MatrixXd> sums(static_cast<size_t>(ch), Eigen::MatrixXd::Zero(modes, modes));
+  ProgressMeter progress("projecting", blocks);
+#pragma omp parallel
+  {
+    std::vector<Eigen::MatrixXd> rows, out;
+    Eigen::MatrixXd t, pr;
+#pragma omp for schedule(dynamic) ordered
+    for (int b = 0; b < blocks; ++b) {
+      const int r0 = b * kBlockRows, r1 = std::min(rows_total, r0 + kBlockRows);
+      const std::vector<int> block(row_cells.begin() + r0, row_cells.begin() + r1);
+      sample_lut_rows(model, sg, cosine, sampling, block, rows);
+      pr.resize(r1 - r0, modes);
+      for (int k = r0; k < r1; ++k) pr.row(k - r0) = row_weight[static_cast<size_t>(k)] * proj.P.row(row_cells[static_cast<size_t>(k)]);
+      out.clear();
+      for (int c = 0; c < ch; ++c) {
+        t.noalias() = rows[c] * proj.P;
+        out.push_back(pr.transpose() * t);
+      }
+#pragma omp ordered
+      {
+        for (int c = 0; c < ch; ++c) sums[static_cast<size_t>(c)] += out[static_cast<size_t>(c)];
+        progress.step();
+      }
+    }
+  }
+  std::vector<Eigen::MatrixXd> out;
+  for (int c = 0; c < ch; ++c) {
+    Eigen::MatrixXd x = std::move(sums[static_cast<size_t>(c)]);
+    if (use_symmetry) x = d2_average(x);
+    out.push_back(std::move(x));
+    for (const auto& d : deltas) out.back() += delta_projection(d, g, proj);
+  }
+  return out;
+}
+
+Eigen::MatrixXd delta_projection(const DeltaPart& part, const Grid& g, const ProjectionOperator& proj) {
+  const bool mirror = part.kind == DeltaPart::Kind::Mirror;
+  if (mirror && g.rotate_pi.size() != g.cells())
+    throw ArgumentError("mirror projection: grid of kind '" + std::string(to_string(g.kind)) + "' has no rotation-by-pi cell map");
+  // Row i of F has weight / Omega_r at r = image(i), so (F P)_i = weight / Omega_r P_r.
+  Eigen::MatrixXd t(g.cells(), proj.P.cols());
+  for (int i = 0; i < g.cells(); ++i) {
+    const int r = mirror ? g.rotate_pi[i] : i;
+    t.row(i) = part.weight / g.solid_angles[r] * proj.P.row(r);
+  }
+  return proj.P.transpose() * t;
+}
+
+}  // namespace icobrdf

@@ -1,0 +1,131 @@
+#include "icobrdf/io/atomic_write.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <mutex>
+#include <set>
+
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/io/output_path.hpp"
+
+namespace icobrdf {
+
+namespace {
+
+std::function<void(const std::string&)>& fault_hook() {
+  static std::function<void(const std::string&)> hook;
+  return hook;
+}
+
+[[noreturn]] void fail(const std::string& path, const std::string& what, int err) {
+  throw IoError(path + ": cannot write: " + what + ": " + std::strerror(err));
+}
+
+// fsync of a file or folder by path; returns 0 or an errno value.
+int sync_path(const std::string& p, bool folder) {
+  const int fd = ::open(p.c_str(), (folder ? O_RDONLY | O_DIRECTORY : O_RDWR) | O_CLOEXEC);
+  if (fd < 0) return errno;
+  int err = 0;
+  if (::fsync(fd) != 0) err = errno;
+  // Some file systems cannot fsync a folder (EINVAL); the rename is then as durable as they allow.
+  if (folder && err == EINVAL) err = 0;
+  if (::close(fd) != 0 && err == 0) err = errno;
+  return err;
+}
+
+// Temporaries of the atomic writes in progress (remove_unfinished_temporaries).
+std::mutex& temporaries_mutex() {
+  static std::mutex m;
+  return m;
+}
+std::set<std::string>& temporaries() {
+  static std::set<std::string> t;
+  return t;
+}
+
+// Registers a temporary for its lifetime.
+struct InFlight {
+  std::string path;
+  explicit InFlight(std::string p) : path(std::move(p)) {
+    std::lock_guard<std::mutex> lock(temporaries_mutex());
+    temporaries().insert(path);
+  }
+  ~InFlight() {
+    std::lock_guard<std::mutex> lock(temporaries_mutex());
+    temporaries().erase(path);
+  }
+};
+
+}  // namespace
+
+void remove_unfinished_temporaries() {
+  std::lock_guard<std::mutex> lock(temporaries_mutex());
+  for (const auto& t : temporaries()) ::unlink(t.c_str());
+  temporaries().clear();
+}
+
+std::string file_name(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+std::string parent_folder(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  if (slash == std::string::npos) return ".";
+  if (slash == 0) return "/";
+  return path.substr(0, slash);
+}
+
+void set_write_fault_hook(std::function<void(const std::string& point)> hook) { fault_hook() = std::move(hook); }
+
+void write_fault_point(const std::string& point) {
+  if (fault_hook()) fault_hook()(point);
+}
+
+void atomic_write(const std::string& path, const std::function<void(const std::string& temp_path)>& produce) {
+  check_output_target(path);  // a regular file or a new name in an existing folder
+  const std::string name = file_name(path), folder = parent_folder(path);
+
+  static std::atomic<unsigned> counter{0};
+  std::string temp;
+  int fd = -1;
+  for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
+    temp = folder + "/." + name + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0 && errno != EEXIST) fail(path, "cannot create a temporary in " + folder, errno);
+  }
+  if (fd < 0) fail(path, "cannot find a free temporary name in " + folder, EEXIST);
+  ::close(fd);
+
+  const InFlight in_flight(temp);
+  try {
+    produce(temp);
+    write_fault_point("atomic_write:produced");
+    if (const int err = sync_path(temp, false)) fail(path, "fsync of the temporary " + temp, err);
+    write_fault_point("atomic_write:synced");
+    check_output_target(path);  // again: the path may have changed while produce ran
+    if (::rename(temp.c_str(), path.c_str()) != 0) fail(path, "rename of the temporary " + temp, errno);
+  } catch (...) {
+    ::unlink(temp.c_str());
+    throw;
+  }
+  if (const int err = sync_path(folder, true))
+    throw IoError(path + ": written, but the fsync of its folder " + folder + " failed: " + std::strerror(err));
+}
+
+void atomic_write_text(const std::string& path, const std::string& text) {
+  atomic_write(path, [&](const std::string& temp) {
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    out.flush();
+    if (!out) throw IoError(path + ": cannot write: write to the temporary " + temp + " failed");
+  });
+}
+
+}  // namespace icobrdf

@@ -1,0 +1,137 @@
+#include "icobrdf/io/brdf_source.hpp"
+
+#include <sys/stat.h>
+
+#include <optional>
+
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/function_model.hpp"
+#include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/core/spectrum_ops.hpp"
+#include "icobrdf/io/measured_sources.hpp"
+#include "icobrdf/io/bank_file.hpp"
+#include "icobrdf/io/material_eval.hpp"
+#include "icobrdf/io/spectrum_file.hpp"
+
+namespace icobrdf {
+namespace {
+
+class ModelSource final : public BrdfSource {
+ public:
+  explicit ModelSource(std::unique_ptr<BrdfModel> m) : model_(std::move(m)) {}
+  std::string spec() const override { return "model:" + model_->spec(); }
+  int channels() const override { return model_->channels(); }
+  bool has_delta() const override { return !model_->delta_parts().empty(); }
+  std::vector<std::string> notes() const override {
+    std::vector<std::string> out;
+    for (const auto& part : model_->delta_parts())
+      out.push_back(std::string("values are the regular part only; the ") +
+                    (part.kind == DeltaPart::Mirror ? "mirror" : "retroreflector") + " delta part of weight " +
+                    format_parameter(part.weight) + " is not representable pointwise");
+    return out;
+  }
+  Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
+    Eigen::MatrixXd out(wi.rows(), model_->channels());
+    model_->eval(wi, wr, out);
+    return out;
+  }
+  Spectrum fit(const ProjectionContext& ctx, const FitOptions& o) const override {
+    Spectrum s = fit_model(*model_, ctx, o);
+    s.source = spec();
+    return s;
+  }
+
+ private:
+  std::unique_ptr<BrdfModel> model_;
+};
+
+// A stored material: modes, and for the representations "half-angle" and "hybrid" a half-angle lobe added
+// to them (icobrdf/io/spectrum_file.hpp).
+class SpectrumSource final : public BrdfSource {
+ public:
+  SpectrumSource(Spectrum s, std::optional<HalfAngleFactors> lobe, std::string text)
+      : s_(std::move(s)), lobe_(std::move(lobe)), text_(std::move(text)) {}
+  std::string spec() const override { return text_; }
+  int channels() const override { return s_.channel_count(); }
+  std::vector<std::string> channel_names() const override { return s_.channel_names; }
+  Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
+    return evaluate_material(s_, lobe_, wi, wr);
+  }
+  // Re-expansion of stored modes at another order is exact in the continuous basis: truncation to a lower
+  // order, zero padding to a higher one (no grid is involved). A lobe is projected on the context's grid
+  // like a model (its values sampled as the LUT rows).
+  Spectrum fit(const ProjectionContext& ctx, const FitOptions& o) const override {
+    if (lobe_) {
+      const FunctionModel model(
+          channels(), [this](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) { out = eval(wi, wr); },
+          text_, s_.isotropic && lobe_->isotropic, true);
+      Spectrum s = fit_model(model, ctx, o);
+      s.source = text_;
+      return s;
+    }
+    Spectrum s = s_;
+    const int m_new = hemisphere_basis_count(o.order), m_old = s_.modes(), k = std::min(m_new, m_old);
+    for (auto& c : s.channels) {
+      Eigen::MatrixXd r = Eigen::MatrixXd::Zero(m_new, m_new);
+      r.topLeftCorner(k, k) = c.topLeftCorner(k, k);
+      if (o.isotropic) r = isotropic_part(r, o.order);
+      if (o.filter.kind != LowPassFilter::Kind::None) r = filter_coefficients(r, o.order, o.filter);
+      c = std::move(r);
+    }
+    s.order = o.order;
+    s.isotropic = s_.isotropic || o.isotropic;
+    s.filter = o.filter.name();
+    s.source = text_;
+    (void)ctx;
+    return s;
+  }
+
+ private:
+  Spectrum s_;
+  std::optional<HalfAngleFactors> lobe_;
+  std::string text_;
+};
+
+bool is_regular_file(const std::string& path) {
+  struct stat st{};
+  return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
+}  // namespace
+
+std::vector<std::string> channel_column_names(int channels) {
+  if (channels == 1) return {"f"};
+  if (channels == 3) return {"f_r", "f_g", "f_b"};
+  std::vector<std::string> names;
+  for (int c = 0; c < channels; ++c) names.push_back("f_" + std::to_string(c));
+  return names;
+}
+
+std::vector<std::string> channel_column_names(const BrdfSource& source) {
+  std::vector<std::string> names = source.channel_names();
+  if (static_cast<int>(names.size()) != source.channels()) return channel_column_names(source.channels());
+  for (auto& n : names) n = "f_" + n;
+  return names;
+}
+
+std::unique_ptr<BrdfSource> spectrum_source(Spectrum spectrum) {
+  const std::string text = spectrum.source;
+  return std::make_unique<SpectrumSource>(std::move(spectrum), std::nullopt, text);
+}
+
+std::unique_ptr<BrdfSource> open_source(const std::string& text) {
+  if (is_model_source(text)) return std::make_unique<ModelSource>(parse_model_source(text));
+  if (auto measured = open_measured_source(text)) return measured;  // MERL, RGL, CSV samples, SCATMECH (icobrdf/io/measured_sources.hpp)
+  const auto [path, name] = split_material_ref(text);
+  if (path.size() > 3 && path.compare(path.size() - 3, 3, ".h5") == 0) {
+    if (!is_regular_file(path)) throw InputError(path + ": no such file (SOURCE '" + quoted_text(text) + "')");
+    ReadOptions ro;
+    ro.read_luts = false;
+    MaterialRecord rec = read_bank_material(path, name, ro);
+    return std::make_unique<SpectrumSource>(std::move(rec.spectrum), std::move(rec.lobe), text);
+  }
+  throw ArgumentError("unknown SOURCE '" + quoted_text(text) + "': expected model:NAME[:key=value,...] or FILE.h5[#MATERIAL]");
+}
+
+}  // namespace icobrdf

@@ -1,0 +1,91 @@
+#include "icobrdf/io/csv.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "icobrdf/core/error.hpp"
+
+namespace icobrdf {
+namespace {
+
+std::string trim(const std::string& s) {
+  size_t b = 0, e = s.size();
+  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
+  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
+  return s.substr(b, e - b);
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::string field;
+  std::istringstream ss(line);
+  while (std::getline(ss, field, ',')) out.push_back(trim(field));
+  if (!line.empty() && line.back() == ',') out.emplace_back();
+  return out;
+}
+
+std::string where(const std::string& path, int line) { return path + ":" + std::to_string(line); }
+
+}  // namespace
+
+CsvTable read_numeric_csv(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open for reading");
+  CsvTable t;
+  t.path = path;
+  std::string line;
+  int lineno = 0;
+  while (std::getline(in, line)) {
+    ++lineno;
+    if (lineno == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::string content = trim(line);
+    if (content.empty() || content[0] == '#') continue;
+    auto fields = split(content);
+    if (t.header.empty()) {
+      for (auto& f : fields) {
+        std::transform(f.begin(), f.end(), f.begin(), [](unsigned char c) { return std::tolower(c); });
+        if (f.empty()) throw InputError(where(path, lineno) + ": empty column name in header");
+      }
+      t.header = std::move(fields);
+      continue;
+    }
+    if (fields.size() != t.header.size())
+      throw InputError(where(path, lineno) + ": expected " + std::to_string(t.header.size()) + " fields, found " +
+                       std::to_string(fields.size()));
+    std::vector<double> row(fields.size());
+    for (size_t k = 0; k < fields.size(); ++k) {
+      const std::string& f = fields[k];
+      char* end = nullptr;
+      errno = 0;
+      const double v = f.empty() ? 0.0 : std::strtod(f.c_str(), &end);
+      if (f.empty() || end != f.c_str() + f.size() || errno == ERANGE)
+        throw InputError(where(path, lineno) + ": column '" + quoted_text(t.header[k]) +
+                         "' expected a number, found '" + quoted_text(f) + "'");
+      if (!std::isfinite(v))
+        throw InputError(where(path, lineno) + ": column '" + quoted_text(t.header[k]) +
+                         "' expected a finite number, found '" + quoted_text(f) + "'");
+      row[k] = v;
+    }
+    t.rows.push_back(std::move(row));
+    t.line_numbers.push_back(lineno);
+  }
+  if (t.header.empty()) throw InputError(path + ": empty file, expected a header row");
+  return t;
+}
+
+void require_columns(const CsvTable& t, const std::vector<std::string>& names) {
+  std::string expected, actual;
+  for (size_t k = 0; k < names.size(); ++k) expected += (k ? "," : "") + names[k];
+  for (size_t k = 0; k < t.header.size(); ++k) actual += (k ? "," : "") + t.header[k];
+  bool ok = t.header.size() >= names.size();
+  for (size_t k = 0; ok && k < names.size(); ++k) ok = t.header[k] == names[k];
+  if (!ok) throw InputError(t.path + ":1: expected header starting '" + expected + "', found '" + quoted_text(actual) + "'");
+}
+
+}  // namespace icobrdf

@@ -1,0 +1,396 @@
+#include "icobrdf/io/measured_sources.hpp"
+
+#include <sys/stat.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <mutex>
+#include <sstream>
+#include <vector>
+
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/projection.hpp"
+#include "icobrdf/core/sample_fit_selection.hpp"
+#include "icobrdf/core/spectrum_ops.hpp"
+#include "icobrdf/io/merl.hpp"
+#include "icobrdf/io/rgl_bsdf.hpp"
+#include "icobrdf/io/sample_csv.hpp"
+#include "icobrdf/io/scatmech_coefficients.hpp"
+
+namespace icobrdf {
+
+namespace {
+
+bool ends_with(const std::string& s, const std::string& tail) {
+  return s.size() > tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+bool starts_with(const std::string& s, const std::string& head) { return s.rfind(head, 0) == 0; }
+
+struct Options {
+  std::string path;
+  std::vector<std::pair<std::string, std::string>> kv;  // key, value ("" for flags)
+};
+
+// "PATH#k=v,flag" -> path and options.
+Options split_options(const std::string& text) {
+  Options o;
+  const auto hash = text.rfind('#');
+  o.path = hash == std::string::npos ? text : text.substr(0, hash);
+  if (hash == std::string::npos) return o;
+  std::stringstream ss(text.substr(hash + 1));
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    if (item.empty()) continue;
+    const auto eq = item.find('=');
+    o.kv.emplace_back(item.substr(0, eq), eq == std::string::npos ? "" : item.substr(eq + 1));
+  }
+  return o;
+}
+
+double number_option(const std::string& text, const std::string& key, const std::string& value) {
+  char* end = nullptr;
+  const double x = std::strtod(value.c_str(), &end);
+  if (value.empty() || *end != '\0' || !std::isfinite(x))
+    throw ArgumentError("SOURCE '" + quoted_text(text) + "': option " + key + " expected a finite number, found '" + quoted_text(value) + "'");
+  return x;
+}
+
+void require_file(const std::string& path, const std::string& text) {
+  struct stat st{};
+  if (::stat(path.c_str(), &st) != 0) throw InputError(path + ": no such file (SOURCE '" + quoted_text(text) + "')");
+}
+
+void check_fit_options(const FitOptions& o, const std::string& what) {
+  if (o.cosine)
+    throw UnsupportedError(what + ": --cosine is not supported (the fit uses the reciprocal modes of f; g = f cos(theta_i) is not reciprocal)");
+}
+
+double max_albedo_on(const ProjectionContext& ctx, const Spectrum& s) {
+  if (!ctx.grid) return std::numeric_limits<double>::quiet_NaN();
+  double m = 0;
+  for (const auto& c : s.channels) m = std::max(m, spectral_albedo(c, s.order, ctx.grid->directions).maxCoeff());
+  return m;
+}
+
+void finish(Spectrum& s, const FitOptions& o, const ProjectionContext& ctx) {
+  if (o.filter.kind != LowPassFilter::Kind::None)
+    for (auto& c : s.channels) c = filter_coefficients(c, s.order, o.filter);
+  s.filter = o.filter.name();
+  s.level = -1;
+  s.grid_kind.clear();
+  s.anisotropy_fraction = 0;
+  for (const auto& c : s.channels) s.anisotropy_fraction = std::max(s.anisotropy_fraction, anisotropic_energy_fraction(c));
+  s.max_albedo = max_albedo_on(ctx, s);
+}
+
+Spectrum spectrum_of(const CheckedSampleFit& c, const std::string& source, double tikhonov_power) {
+  const SampleFitResult& r = c.fit;
+  Spectrum s;
+  s.order = r.order;
+  s.isotropic = r.isotropic;
+  s.channels = r.channels;
+  s.source = source;
+  s.reciprocity_violation = 0;  // the modes are reciprocal by construction
+  SampleFitRecord f;
+  f.samples = r.samples;
+  f.unknowns = r.unknowns;
+  f.effective_rank = r.effective_rank;
+  f.condition = r.condition;
+  f.residual_rms.assign(r.residual_rms.data(), r.residual_rms.data() + r.residual_rms.size());
+  f.noise_sigma.assign(r.noise_sigma.data(), r.noise_sigma.data() + r.noise_sigma.size());
+  f.cv_rms = c.cv_rms;
+  f.cv_folds = c.cv_folds;
+  f.tikhonov = r.tikhonov;
+  f.tikhonov_power = tikhonov_power;
+  f.order_choice = c.order_choice;
+  f.tikhonov_choice = c.tikhonov_choice;
+  f.fallback = c.fallback;
+  f.solver = r.solver;
+  f.standard_error = r.standard_error.transpose();
+  s.sample_fit = std::move(f);
+  return s;
+}
+
+class SampleFitHolder {
+ public:
+  const CheckedSampleFit* last() const {
+    std::lock_guard<std::mutex> g(mu_);
+    return has_ ? &last_ : nullptr;
+  }
+  void store(const CheckedSampleFit& r) const {
+    std::lock_guard<std::mutex> g(mu_);
+    last_ = r;
+    has_ = true;
+  }
+
+ private:
+  mutable std::mutex mu_;
+  mutable CheckedSampleFit last_;
+  mutable bool has_ = false;
+};
+
+class MerlSource final : public BrdfSource, public SampleFitHolder {
+ public:
+  MerlSource(std::shared_ptr<const MerlTable> t, std::string text) : model_(std::move(t)), text_(std::move(text)) {}
+  std::string spec() const override { return text_; }
+  int channels() const override { return 3; }
+  Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
+    Eigen::MatrixXd out(wi.rows(), 3);
+    model_.eval(wi, wr, out);
+    return out;
+  }
+  Spectrum fit(const ProjectionContext& ctx, const FitOptions& o) const override {
+    check_fit_options(o, "MERL SOURCE '" + text_ + "'");
+    if (o.order < 0)
+      throw UnsupportedError("MERL SOURCE '" + text_ + "': give the order (--order); it is chosen automatically only for CSV samples");
+    const MerlSamples smp = merl_samples(model_.table());
+    SampleFitOptions so;
+    so.order = o.order;
+    so.isotropic = true;
+    so.progress = o.progress;
+    CheckedSampleFit c;
+    c.fit = fit_samples(smp.wi, smp.wr, smp.values, smp.weights, so);
+    c.cv_rms = std::numeric_limits<double>::quiet_NaN();  // not measured for MERL tables
+    store(c);
+    Spectrum s = spectrum_of(c, text_, so.tikhonov_power);
+    finish(s, o, ctx);
+    return s;
+  }
+  const MerlTable& table() const { return model_.table(); }
+
+ private:
+  MerlModel model_;
+  std::string text_;
+};
+
+class SampleCsvSource final : public BrdfSource, public SampleFitHolder {
+ public:
+  SampleCsvSource(BrdfSamples s, SampleFitOptions fo, bool tikhonov_auto, std::string text)
+      : samples_(std::move(s)), fit_options_(fo), tikhonov_auto_(tikhonov_auto), text_(std::move(text)) {}
+  std::string spec() const override { return text_; }
+  int channels() const override { return samples_.channels; }
+  Eigen::MatrixXd eval(const RowMatrix3d&, const RowMatrix3d&) const override {
+    throw ArgumentError("SOURCE '" + text_ + "' holds scattered samples, which have no value at arbitrary directions: " +
+                        "fit them first (icobrdf fit " + text_ + " ... -o SPECTRUM.h5) and evaluate the spectrum");
+  }
+  Spectrum fit(const ProjectionContext& ctx, const FitOptions& o) const override {
+    check_fit_options(o, "samples SOURCE '" + text_ + "'");
+    SampleFitPlan plan;
+    plan.options = fit_options_;
+    plan.options.order = std::max(o.order, 0);
+    plan.options.isotropic = o.isotropic;
+    plan.options.progress = o.progress;
+    plan.choose_order = o.order == kChooseOrder;
+    // An automatic order comes with an automatic lambda unless one was given.
+    plan.choose_tikhonov = tikhonov_auto_ || (plan.choose_order && !tikhonov_given());
+    const CheckedSampleFit c = fit_samples_checked(samples_.wi, samples_.wr, samples_.values, samples_.weights, plan);
+    store(c);
+    Spectrum s = spectrum_of(c, text_, fit_options_.tikhonov_power);
+    finish(s, o, ctx);
+    return s;
+  }
+
+ private:
+  bool tikhonov_given() const { return fit_options_.tikhonov > 0.0; }
+  BrdfSamples samples_;
+  SampleFitOptions fit_options_;
+  bool tikhonov_auto_ = false;
+  std::string text_;
+};
+
+class ScatmechSource final : public BrdfSource {
+ public:
+  ScatmechSource(Spectrum s, const ScatmechCoefficients& file, std::string text) : s_(std::move(s)), text_(std::move(text)) {
+    s_.source = text_;
+    if (file.polarized_rows > 0)
+      notes_.push_back(std::to_string(file.polarized_rows) + " row(s) of polarized Mueller elements (i, j) != (1, 1) ignored: the BRDF is the unpolarized element's " +
+                       std::to_string(file.unpolarized_rows) + " row(s)");
+    if (file.k_differs_rows > 0)
+      notes_.push_back(std::to_string(file.k_differs_rows) + " unpolarized row(s) with k != l: the azimuthal order is taken from l, as SCATMECH evaluates");
+  }
+  std::vector<std::string> notes() const override { return notes_; }
+  std::string spec() const override { return text_; }
+  int channels() const override { return 1; }
+  Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
+    Eigen::MatrixXd out(wi.rows(), 1);
+    out.col(0) = evaluate_coefficients(s_.channels[0], s_.order, wi, wr);
+    return out;
+  }
+  // Exact re-expansion: truncation to a lower order or zero padding to a higher one.
+  Spectrum fit(const ProjectionContext& ctx, const FitOptions& o) const override {
+    check_fit_options(o, "SCATMECH SOURCE '" + text_ + "'");
+    Spectrum s = s_;
+    const int m_new = hemisphere_basis_count(o.order), k = std::min(m_new, s_.modes());
+    Eigen::MatrixXd r = Eigen::MatrixXd::Zero(m_new, m_new);
+    r.topLeftCorner(k, k) = s_.channels[0].topLeftCorner(k, k);
+    s.channels[0] = r;
+    s.order = o.order;
+    finish(s, o, ctx);
+    return s;
+  }
+
+ private:
+  Spectrum s_;
+  std::string text_;
+  std::vector<std::string> notes_;
+};
+
+// f of an RGL material (icobrdf/io/rgl_bsdf.hpp): evaluated as Mitsuba's measured BSDF does, divided by cos(theta_r);
+// fitted like an analytic model (its values sampled on the context's grid, icobrdf/core/spectral_fit.hpp fit_model).
+class RglSource final : public BrdfSource {
+ public:
+  RglSource(std::shared_ptr<const RglBsdf> b, std::vector<double> lambdas, std::vector<std::string> names, std::string text)
+      : model_(std::move(b), std::move(lambdas), text), names_(std::move(names)), text_(std::move(text)) {}
+  std::string spec() const override { return text_; }
+  int channels() const override { return model_.channels(); }
+  std::vector<std::string> channel_names() const override { return names_; }
+  std::vector<std::string> notes() const override {
+    return {"measured data (not reciprocal): w_i is the illumination direction, the one that selects the measured slice"};
+  }
+  Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
+    Eigen::MatrixXd out(wi.rows(), model_.channels());
+    model_.eval(wi, wr, out);
+    return out;
+  }
+  Spectrum fit(const ProjectionContext& ctx, const FitOptions& o) const override {
+    if (channels() != 1 && channels() != 3)
+      throw UnsupportedError("RGL SOURCE '" + quoted_text(text_) + "' has " + std::to_string(channels()) +
+                             " wavelengths; a spectrum holds 1 or 3 channels: choose them with " + quoted_text(split_options(text_).path) +
+                             "#lambda=NM or #lambda=NM/NM/NM");
+    Spectrum s = fit_model(model_, ctx, o);
+    s.source = text_;
+    s.channel_names = names_;
+    return s;
+  }
+
+ private:
+  RglModel model_;
+  std::vector<std::string> names_;
+  std::string text_;
+};
+
+std::string wavelength_name(double nm) {
+  std::string t = format_parameter(nm);
+  return t + "nm";
+}
+
+std::unique_ptr<BrdfSource> open_rgl(const std::string& text, const std::string& body) {
+  const Options op = split_options(body);
+  require_file(op.path, text);
+  std::vector<double> lambdas;
+  bool chosen = false;
+  for (const auto& [k, v] : op.kv) {
+    if (k == "lambda") {
+      chosen = true;
+      std::stringstream ss(v);
+      std::string item;
+      while (std::getline(ss, item, '/')) lambdas.push_back(number_option(text, k, item));
+      if (lambdas.empty() || lambdas.size() > 3 || v.back() == '/')
+        throw ArgumentError("SOURCE '" + quoted_text(text) + "': option lambda expected 1 to 3 wavelengths in nm separated by '/', found '" + quoted_text(v) + "'");
+    } else {
+      throw ArgumentError("SOURCE '" + quoted_text(text) + "': unknown RGL option '" + quoted_text(k) + "', expected lambda=NM[/NM/NM] (spectral files)");
+    }
+  }
+  auto b = std::make_shared<const RglBsdf>(read_rgl_bsdf(op.path));
+  std::vector<std::string> names;
+  if (!b->spectral) {
+    if (chosen)
+      throw ArgumentError("SOURCE '" + quoted_text(text) + "': option lambda applies to spectral RGL files; " + op.path + " holds RGB values");
+    lambdas = {0, 1, 2};
+    names = {"r", "g", "b"};
+  } else {
+    if (!chosen) lambdas = b->wavelengths;
+    for (double l : lambdas) {
+      if (l < b->wavelengths.front() || l > b->wavelengths.back())
+        throw ArgumentError("SOURCE '" + quoted_text(text) + "': wavelength " + format_parameter(l) + " nm outside the file's range " +
+                            format_parameter(b->wavelengths.front()) + " .. " + format_parameter(b->wavelengths.back()) + " nm");
+      names.push_back(wavelength_name(l));
+    }
+  }
+  return std::make_unique<RglSource>(std::move(b), std::move(lambdas), std::move(names), text);
+}
+
+std::unique_ptr<BrdfSource> open_samples(const std::string& text, const std::string& body) {
+  const Options op = split_options(body);
+  require_file(op.path, text);
+  SampleCsvOptions co;
+  SampleFitOptions fo;
+  bool tikhonov_auto = false;
+  for (const auto& [k, v] : op.kv) {
+    if (k == "radians" && v.empty()) co.radians = true;
+    else if (k == "strict" && v.empty()) co.strict = true;
+    else if (k == "tikhonov" && v == "auto") tikhonov_auto = true;
+    else if (k == "tikhonov") fo.tikhonov = number_option(text, k, v);
+    else if (k == "power") fo.tikhonov_power = number_option(text, k, v);
+    else if (k == "rank-tol") fo.rank_tolerance = number_option(text, k, v);
+    else
+      throw ArgumentError("SOURCE '" + quoted_text(text) + "': unknown samples option '" + k + (v.empty() ? "" : "=" + v) +
+                          "', expected radians, strict, tikhonov=LAMBDA|auto, power=P or rank-tol=T");
+  }
+  if (fo.tikhonov < 0 || fo.tikhonov_power < 0)
+    throw ArgumentError("SOURCE '" + quoted_text(text) + "': tikhonov and power must be >= 0");
+  return std::make_unique<SampleCsvSource>(read_sample_csv(op.path, co), fo, tikhonov_auto, text);
+}
+
+std::unique_ptr<BrdfSource> open_scatmech(const std::string& text, const std::string& body) {
+  const Options op = split_options(body);
+  require_file(op.path, text);
+  ScatmechImportOptions io;
+  for (const auto& [k, v] : op.kv) {
+    if (k == "lambda") io.wavelength_um = number_option(text, k, v);
+    else if (k == "scale") io.scale = number_option(text, k, v);
+    else
+      throw ArgumentError("SOURCE '" + quoted_text(text) + "': unknown SCATMECH option '" + quoted_text(k) + "', expected lambda=UM or scale=R");
+  }
+  if (io.wavelength_um != -1.0 && !(io.wavelength_um > 0))
+    throw ArgumentError("SOURCE '" + quoted_text(text) + "': lambda must be > 0 (micrometres)");
+  const ScatmechCoefficients file = read_scatmech_coefficients(op.path);
+  return std::make_unique<ScatmechSource>(scatmech_to_spectrum(file, io), file, text);
+}
+
+}  // namespace
+
+std::unique_ptr<BrdfSource> open_measured_source(const std::string& text) {
+  const bool merl_prefix = starts_with(text, "merl:");
+  if (merl_prefix || ends_with(text, ".binary")) {
+    const std::string path = merl_prefix ? text.substr(5) : text;
+    return std::make_unique<MerlSource>(std::make_shared<const MerlTable>(read_merl(path)), text);
+  }
+  if (starts_with(text, "rgl:")) return open_rgl(text, text.substr(4));
+  if (starts_with(text, "scatmech:")) return open_scatmech(text, text.substr(9));
+  if (starts_with(text, "samples:")) return open_samples(text, text.substr(8));
+  const std::string path = split_options(text).path;
+  if (ends_with(path, ".bsdf")) return open_rgl(text, text);
+  if (ends_with(path, ".zernike.csv")) return open_scatmech(text, text);
+  // Other files by content: a SCATMECH coefficient file whatever its name (NIST's *.coeff.csv, *.coef.csv,
+  // *.txt), else a .csv is BRDF samples.
+  if (looks_like_scatmech_coefficients(path)) return open_scatmech(text, text);
+  if (ends_with(path, ".csv")) return open_samples(text, text);
+  return nullptr;
+}
+
+const SampleFitResult* last_sample_fit(const BrdfSource& source) {
+  const CheckedSampleFit* c = last_checked_sample_fit(source);
+  return c ? &c->fit : nullptr;
+}
+
+const CheckedSampleFit* last_checked_sample_fit(const BrdfSource& source) {
+  if (const auto* h = dynamic_cast<const SampleFitHolder*>(&source)) return h->last();
+  return nullptr;
+}
+
+bool chooses_order(const BrdfSource& source) { return dynamic_cast<const SampleCsvSource*>(&source) != nullptr; }
+
+const MerlTable* merl_table_of(const BrdfSource& source) {
+  if (const auto* m = dynamic_cast<const MerlSource*>(&source)) return &m->table();
+  return nullptr;
+}
+
+std::int64_t merl_missing_samples(const BrdfSource& source) {
+  const MerlTable* table = merl_table_of(source);
+  return table ? table->missing_total() : -1;
+}
+
+}  // namespace icobrdf

@@ -1,0 +1,64 @@
+#pragma once
+// SOURCE kinds for measured data (icobrdf/io/brdf_source.hpp's open_source dispatches to open_measured_source):
+//
+//   FILE.binary | merl:FILE                       MERL table (icobrdf/io/merl.hpp), 3 channels
+//   FILE.bsdf[#lambda=NM[/NM/NM]] | rgl:FILE[...]  RGL material (icobrdf/io/rgl_bsdf.hpp): RGB files give 3 channels
+//                                                 (r, g, b); spectral files one channel per wavelength of the
+//                                                 file, or the 1-3 wavelengths chosen (interpolated) by lambda
+//   FILE.csv[#OPTIONS] | samples:FILE[#OPTIONS]   BRDF samples (icobrdf/io/sample_csv.hpp); OPTIONS, comma-separated:
+//                                                 radians, strict, tikhonov=LAMBDA|auto, power=P, rank-tol=T
+//   FILE.zernike.csv[#OPTIONS] | scatmech:FILE[#OPTIONS] | any other FILE whose content is one
+//                                                 (icobrdf/io/scatmech_coefficients.hpp looks_like_scatmech_coefficients)
+//                                                 SCATMECH Zernike-expansion coefficients
+//                                                 (icobrdf/io/scatmech_coefficients.hpp); OPTIONS: lambda=UM, scale=R
+//
+// Fitting (fit()):
+//   * MERL: the table's valid nodes are scattered samples (icobrdf/io/merl.hpp merl_samples: node directions, bin
+//     solid-angle weights; nodes with a missing channel or a direction below the horizon are excluded),
+//     fitted by weighted least squares (icobrdf/core/sample_fit.hpp) on the isotropic modes of the requested order
+//     (a MERL table holds only isotropic BRDFs, so the spectrum is isotropic whatever --isotropic says).
+//     The grid of the context is not used for the fit (only for the max-albedo figure); the LUT sampling
+//     and projection kind do not apply.
+//   * CSV samples: weighted least squares of the samples (weights = duplicate counts) on the Helmholtz
+//     modes, or the isotropic modes with --isotropic, with the Tikhonov options above, through the checked
+//     fit of icobrdf/core/sample_fit_selection.hpp: order kChooseOrder = chosen by K-fold cross-validation (with
+//     lambda by GCV unless tikhonov=LAMBDA is given), tikhonov=auto = lambda by GCV, fallbacks when the
+//     samples do not determine the modes, UnsupportedError when the fit is not bounded by the samples.
+//     The grid is likewise unused except for the max-albedo figure. The spectrum carries the fit's record
+//     (Spectrum::sample_fit: standard errors, CV error, rank, condition, residual).
+//   * SCATMECH: the file's isotropic spectrum truncated or zero-padded to the requested order (exact, no grid).
+//   * RGL: like an analytic model (icobrdf/core/spectral_fit.hpp fit_model: f sampled on the context's grid, not
+//     reciprocal, not assumed isotropic); 1 or 3 channels only (a spectral file needs #lambda).
+//   MERL, CSV and SCATMECH refuse --cosine (UnsupportedError): their expansions are of f; a low-pass filter applies after the fit.
+// notes(): SCATMECH sources count the polarized rows (Mueller elements other than 11) and the k != l rows.
+// Evaluation (eval()): RGL as icobrdf/io/rgl_bsdf.hpp describes; MERL looks the table up (NaN at missing samples); SCATMECH evaluates its spectrum
+// at its own order; CSV samples throw ArgumentError (the samples must be fitted first).
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "icobrdf/core/sample_fit.hpp"
+#include "icobrdf/core/sample_fit_selection.hpp"
+#include "icobrdf/io/brdf_source.hpp"
+#include "icobrdf/io/merl.hpp"
+
+namespace icobrdf {
+
+// nullptr when `text` names none of the kinds above; otherwise the opened source (errors as documented
+// in the readers: InputError for bad files, ArgumentError for bad options).
+std::unique_ptr<BrdfSource> open_measured_source(const std::string& text);
+
+// Figures of the last sample fit of a MERL or CSV source (for reports): nullptr for other sources or
+// before fit() was called.
+const SampleFitResult* last_sample_fit(const BrdfSource& source);
+// The same with the choices, fallback and notes of the checked fit (CSV; MERL: the plain fit).
+const CheckedSampleFit* last_checked_sample_fit(const BrdfSource& source);
+// True for the sources that accept FitOptions::order = kChooseOrder (CSV samples).
+bool chooses_order(const BrdfSource& source);
+
+// Missing samples (all channels) of a MERL source's table; -1 for other sources.
+std::int64_t merl_missing_samples(const BrdfSource& source);
+// The table of a MERL SOURCE; nullptr for any other source.
+const MerlTable* merl_table_of(const BrdfSource& source);
+
+}  // namespace icobrdf

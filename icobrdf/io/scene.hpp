@@ -1,0 +1,82 @@
+#pragma once
+// Scenes: the TOML files that list the materials of a LUT bank (`icobrdf bank build SCENE.toml`).
+//
+//   [bank]                              all keys optional
+//   level = 4                           grid level of the bank's /grid and /basis operators
+//   levels = [3, 4, 5]                  tessellation levels tried for fitting, smallest first
+//   order_max = 16                      largest expansion order tried
+//   target = 0.02                       default accuracy target (relative L2 error, see below)
+//   metric = "f"                        default error metric: "f" or "cosine" (see below)
+//   sampling = "centre"                 LUT sampling during fits: "centre" or "average" (cell cubature)
+//   store_lut = false                   store each material's reconstructed LUT on the bank grid
+//   lut_float32 = true                  ... as float32 (its rounding error is recorded)
+//   holdout_pairs = 4096                direction pairs used to measure errors (never used in fitting)
+//   representations = ["modes", "half-angle", "hybrid"]   what the builder may choose from, per material the
+//                                       fewest bytes meeting the target (docs/glossy.md); default all three
+//
+//   [[material]]                        one table per material
+//   name = "glossy"                     [A-Za-z0-9_-], unique
+//   source = "model:ggx:alpha=0.3"      any SOURCE (icobrdf/io/brdf_source.hpp)
+//   target = 0.01                       relative L2 error over the direction pairs the scene uses
+//   metric = "f"                        "f": error of f itself; "cosine": of f cos(theta_i) cos(theta_r)
+//   isotropic = "auto"                  "auto" (from the measured anisotropy), true or false
+//   order = 8                           fix the order instead of searching (required for delta BRDFs)
+//   level = 4                           fix the fitting level instead of searching
+//   incidence = [0, 75]                 incidence range the scene uses [deg]; errors measured there only
+//   lights = [[30, 0], [60, 90]]        (theta, phi) [deg] of the scene's lights: errors over lights x cameras
+//   cameras = [[0, 0], [45, 180]]
+//   prune = true                        drop negligible coefficients while the target holds
+//
+// Relative L2 error: sqrt(sum w^2 (f_fit - f)^2 / sum w^2 f^2) over the held-out pairs, w = 1 ("f") or
+// cos(theta_i) cos(theta_r) ("cosine": reflected radiance per irradiance, as rendering weighs it): uniform in solid angle on
+// both hemispheres (within the incidence range), or every light x camera pair when both sets are given.
+// Errors in a scene are InputError naming the file, the material and the key.
+#include <string>
+#include <vector>
+
+#include "icobrdf/core/lut.hpp"
+
+namespace icobrdf {
+
+// Most direction pairs a material's error is measured on: holdout_pairs, and lights x cameras. A million
+// pairs is 1e6 evaluations per candidate (well under a second) and ~100 MB of pair data; 1e8 would be 10 GB.
+inline constexpr long long kMaxErrorPairs = 1000000;
+
+// The scene's words, parsed once by read_scene; to_string gives back the scene's text (resume keys use it).
+enum class ErrorMetric { F, Cosine };                 // "f" | "cosine"
+enum class IsotropicChoice { Auto, Always, Never };   // "auto" | true | false
+std::string to_string(ErrorMetric metric);
+std::string to_string(IsotropicChoice choice);        // "auto", "true", "false"
+std::string to_string(LutSampling sampling);          // "average", "centre"
+
+struct SceneMaterial {
+  std::string name, source;
+  double target = 0.02;
+  ErrorMetric metric = ErrorMetric::F;
+  IsotropicChoice isotropic = IsotropicChoice::Auto;
+  int order = -1, level = -1;      // -1: search
+  double incidence_min = 0.0, incidence_max = 90.0;  // degrees
+  std::vector<std::pair<double, double>> lights, cameras;  // (theta, phi) degrees
+  bool prune = true;
+};
+
+struct Scene {
+  std::string path;
+  int level = 4;
+  std::vector<int> levels{3, 4, 5};
+  int order_max = 16;
+  double target = 0.02;
+  ErrorMetric metric = ErrorMetric::F;
+  LutSampling sampling = LutSampling::CellCentre;  // "centre": one point per cell; "average": cell cubature
+  bool store_lut = false;
+  bool lut_float32 = true;
+  int holdout_pairs = 4096;
+  // Representations the builder may choose from, per material the one with the fewest bytes meeting the
+  // target: "modes", "half-angle", "hybrid" (icobrdf/pipeline/material_candidate.hpp).
+  std::vector<std::string> representations{"modes", "half-angle", "hybrid"};
+  std::vector<SceneMaterial> materials;
+};
+
+Scene read_scene(const std::string& path);
+
+}  // namespace icobrdf

@@ -1,0 +1,83 @@
+#include "icobrdf/pipeline/bank_resume.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+
+#include "icobrdf/pipeline/keys.hpp"
+
+namespace icobrdf {
+namespace {
+
+// Time between two rewrites of OUTPUT.partial over the duration of the last rewrite (at most
+// 1/(1 + ratio) = 9% of a build is spent on them; a SIGKILL loses at most ratio x that duration).
+constexpr double kCheckpointRatio = 10.0;
+
+}  // namespace
+
+std::string material_key(const Scene& s, const SceneMaterial& m) {
+  std::string t = "icobrdf-bank-material-v1|" + m.source + "|" + exact_decimal(m.target) + "|" + to_string(m.isotropic) + "|" +
+                  std::to_string(m.order) + "|" + std::to_string(m.level) + "|" + to_string(m.metric) + "|" + exact_decimal(m.incidence_min) +
+                  "|" + exact_decimal(m.incidence_max) + "|" + (m.prune ? "prune" : "keep");
+  for (const auto& d : m.lights) t += "|L" + exact_decimal(d.first) + "," + exact_decimal(d.second);
+  for (const auto& d : m.cameras) t += "|C" + exact_decimal(d.first) + "," + exact_decimal(d.second);
+  t += "|bank|" + std::to_string(s.level) + "|" + std::to_string(s.order_max) + "|" + to_string(s.sampling) + "|" +
+       std::to_string(s.holdout_pairs) + "|" + (s.store_lut ? "lut" : "nolut") + (s.lut_float32 ? "32" : "64");
+  for (int l : s.levels) t += "|" + std::to_string(l);
+  t += "|repr";
+  for (const auto& r : s.representations) t += "|" + r;
+  return fnv1a_hex(t);
+}
+
+std::optional<std::map<std::string, MaterialRecord>> read_resume_file(const std::string& partial_path) {
+  if (::access(partial_path.c_str(), F_OK) != 0) return std::nullopt;
+  std::map<std::string, MaterialRecord> previous;
+  for (auto& rec : read_bank(partial_path).materials) {
+    const auto it = rec.labels.find("key");
+    if (it != rec.labels.end()) previous.emplace(it->second, std::move(rec));
+  }
+  return previous;
+}
+
+void store_choice(MaterialRecord& rec, const MaterialReport& rep) {
+  rec.figures = {{"target", rep.target},         {"error_l2", rep.error_l2},     {"error_max", rep.error_max},
+                 {"kept_coefficients", rep.kept}, {"total_coefficients", rep.total}, {"bytes", static_cast<double>(rep.bytes)},
+                 {"seconds", rep.seconds},        {"fit_level", rep.level}};
+  rec.labels = {{"key", rep.key}, {"error_measured", rep.measured ? "yes" : "no (delta BRDF)"}};
+  // Named for a lobe only: a material of modes alone is stored as before (the material's group says the rest).
+  if (rep.representation != "modes") rec.labels["representation"] = rep.representation;
+}
+
+void report_from_record(const MaterialRecord& rec, MaterialReport& rep) {
+  rep.resumed = true;
+  rep.source = rec.spectrum.source;
+  rep.isotropic = rec.spectrum.isotropic && (!rec.lobe || rec.lobe->isotropic);
+  rep.representation = representation_name(rec);
+  rep.order = rec.spectrum.order;
+  auto fig = [&](const char* k) { return rec.figures.count(k) ? rec.figures.at(k) : std::nan(""); };
+  rep.level = static_cast<int>(fig("fit_level"));
+  rep.target = fig("target");
+  rep.error_l2 = fig("error_l2");
+  rep.error_max = fig("error_max");
+  rep.kept = static_cast<int>(fig("kept_coefficients"));
+  rep.total = static_cast<int>(fig("total_coefficients"));
+  rep.bytes = static_cast<long long>(fig("bytes"));
+  rep.seconds = fig("seconds");
+  rep.anisotropy = rec.spectrum.anisotropy_fraction;
+  rep.measured = !(rec.labels.count("error_measured") && rec.labels.at("error_measured") != "yes");
+}
+
+// The whole file is rewritten each time (atomically), so its cost grows with the materials finished; a
+// checkpoint is written once the time since the previous one reaches kCheckpointRatio times that one's
+// duration, which bounds the time spent on them to 1/(1 + kCheckpointRatio) of the build.
+void Checkpointer::maybe_write(const BankContents& done, bool force) {
+  if (done.materials.size() == saved_) return;
+  const auto t = std::chrono::steady_clock::now();
+  if (!force && std::chrono::duration<double>(t - last_end_).count() < kCheckpointRatio * last_write_s_) return;
+  write_bank(path_, done);
+  last_end_ = std::chrono::steady_clock::now();
+  last_write_s_ = std::chrono::duration<double>(last_end_ - t).count();
+  saved_ = done.materials.size();
+}
+
+}  // namespace icobrdf

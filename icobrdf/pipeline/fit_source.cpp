@@ -1,0 +1,67 @@
+#include "icobrdf/pipeline/fit_source.hpp"
+
+#include "icobrdf/mesh/tessellation.hpp"
+#include "icobrdf/pipeline/resource_estimate.hpp"
+
+namespace icobrdf {
+namespace {
+
+std::tuple<int, GridKind, bool> grid_key(const FitRequest& r) {
+  return {r.level, r.grid_kind, r.sampling == LutSampling::CellCentre};
+}
+
+}  // namespace
+
+std::shared_ptr<const Grid> FitContexts::grid(const FitRequest& request) {
+  auto& g = grids_[grid_key(request)];
+  if (!g)
+    g = std::make_shared<const Grid>(build_fitting_grid(request.level, request.grid_kind, request.sampling == LutSampling::CellCentre));
+  return g;
+}
+
+std::shared_ptr<const ProjectionContext> FitContexts::context(const FitRequest& request) {
+  auto& c = contexts_[{grid_key(request), request.order, request.gram_tolerance}];
+  // One channel: the channel terms are small beside the C x M matrices that decide whether it fits.
+  if (!c) require_model_fit_memory(request.level, request.order, 1, "a fit");
+  if (!c) c = std::make_shared<const ProjectionContext>(make_projection_context(grid(request), request.order, request.gram_tolerance));
+  return c;
+}
+
+int FitContexts::supported_order(const FitRequest& request) {
+  const ContextKey key{grid_key(request), request.order, request.gram_tolerance};
+  const auto it = supported_.find(key);
+  if (it != supported_.end()) return it->second;
+  // The basis is built at the largest order whose fit the memory holds: a search need not be refused for an
+  // order it may never reach, and orders beyond that one are never tried.
+  const int in_memory = largest_order_in_memory(request.level, request.order, 1);
+  if (in_memory < 0) require_model_fit_memory(request.level, 0, 1, "a fit");
+  return supported_[key] = largest_supported_order(build_discrete_basis(*grid(request), in_memory), request.gram_tolerance);
+}
+
+FitResult fit_source(const BrdfSource& source, const FitRequest& request) {
+  FitContexts contexts;
+  return fit_source(source, request, contexts);
+}
+
+FitResult fit_source(const BrdfSource& source, const FitRequest& request, FitContexts& contexts) {
+  FitResult r;
+  if (request.order == kChooseOrder) {
+    FitRequest grid_only = request;
+    grid_only.order = 0;
+    r.context = contexts.context(grid_only);
+  } else {
+    r.context = contexts.context(request);
+  }
+  FitOptions o;
+  o.order = request.order;
+  o.progress = request.progress;
+  o.isotropic = request.isotropic;
+  o.cosine = request.cosine;
+  o.filter = request.filter;
+  o.gram_tolerance = request.gram_tolerance;
+  o.sampling = LutSampling::CellAverage;  // over the context's cubature (one point per cell for centre sampling)
+  r.spectrum = source.fit(*r.context, o);
+  return r;
+}
+
+}  // namespace icobrdf

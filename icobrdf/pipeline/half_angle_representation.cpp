@@ -1,0 +1,430 @@
+#include "icobrdf/pipeline/half_angle_representation.hpp"
+
+#include <Eigen/QR>
+
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <random>
+
+#include "icobrdf/core/direction.hpp"
+#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/function_model.hpp"
+#include "icobrdf/core/half_angle_factors.hpp"
+#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/lobe_axes.hpp"
+#include "icobrdf/io/material_eval.hpp"
+#include "icobrdf/io/measured_sources.hpp"
+#include "icobrdf/pipeline/keys.hpp"
+#include "icobrdf/pipeline/modes_representation.hpp"
+
+namespace icobrdf {
+namespace {
+
+// Share of the target the isotropy defect may take before a lobe is fitted anisotropically: the isotropic
+// lobe then misses the azimuthal variation (about defect / sqrt 2), which leaves most of the target to the
+// factorization and the interpolation.
+constexpr double kIsotropyShare = 0.25;
+// Share of the target the weighted node error may take: the rest is left to the interpolation between nodes
+// (measured: the held-out error of a lobe is its node error plus an interpolation part of the same size on
+// the first grid fine enough).
+constexpr double kNodeShare = 0.5;
+// Pairs of the peak-sampled error check (peak_error): half uniform, half reflected about normals near h = n.
+constexpr int kPeakPairs = 20000;
+// Smallest target a lobe is fitted for: the finest grid of the ladder leaves interpolation errors of
+// 0.005-0.02 on the glossy scene's lobes (measured), so no grid meets a target below 1e-3, and trying all of
+// them at rank 8 costs seconds (minutes under the sanitizers); such targets are refused at once.
+constexpr double kSmallestLobeTarget = 1e-3;
+// Smallest ratio of a lobe's widths (icobrdf/core/lobe_axes.hpp) for which the h grid of an anisotropic lobe is
+// stretched: below it a stretch changes the interpolation error by less than the estimate's own spread.
+constexpr double kStretchRatio = 1.1;
+// Largest rank tried at one grid.
+constexpr int kMaxRank = 8;
+// ALS sweeps per rank, and the relative decrease of the objective below which they stop: the node error only
+// has to reach kNodeShare of the target, and the held-out error decides; tighter settings cost 4-10x the
+// time for changes in the third digit of the error (measured on the glossy scene).
+constexpr int kMaxSweeps = 60;
+constexpr double kSweepTolerance = 1e-4;
+// Bytes counted for a lobe beyond its doubles: the 8 numbers describing its grids (n_t, n_phi_h, n_theta_d,
+// n_phi_d, rank as int32; h_warp, cosine floor as float64; the quantity as one byte).
+constexpr long long kLobeHeaderBytes = 5 * 4 + 2 * 8 + 1;
+// Body orders of a hybrid (isotropic modes: 5 and 14 coefficients at orders 2 and 4): a body is worth its
+// bytes when it takes terms off the lobe (Lambert is rank 2 in the cosine quantity), which low orders do.
+constexpr int kHybridOrders[] = {2, 4};
+// Rounds of the alternation body <-> lobe (each a lobe fit); both steps minimize the metric's error, the body
+// at kBodyPairs pairs and the lobe at its nodes, so the rounds descend until the two estimates part; the
+// alternation stops at the first round without progress, or once the error is within kHybridSettled of the
+// target (a few rounds more would buy a digit the choice does not need).
+constexpr int kHybridRounds = 8;
+constexpr double kHybridSettled = 0.5;
+// Pairs of the body's least-squares fit: 14 unknowns at most per channel (order 4), so 20,000 pairs uniform in
+// solid angle leave a sampling error of ~1% of the body's own error.
+constexpr int kBodyPairs = 20000;
+// Lobe ranks a hybrid tries below the lobe alone's: a low-order body takes one or two terms off (Lambert is
+// rank 2 in the cosine quantity).
+constexpr int kHybridRankDrop = 2;
+
+struct LadderStep {
+  int n_t, n_phi_h, n_theta_d, n_phi_d;
+  bool centred = false;  // nodes at bin centres (HalfAngleFactors::centred)
+  double h_axis = 0.0, h_scale_1 = 1.0;  // stretch of an anisotropic h grid (set per material, fit_lobe)
+};
+// Grids in increasing size: isotropic (n_phi_h = 1) and anisotropic. theta_d starts fine: masking makes q
+// steep towards grazing, and 32 theta_d nodes leave held-out errors of 0.03-0.47 for GGX alpha 0.05-0.3
+// where 64 give 0.005-0.009 (measured, cosine metric); then resolution goes to theta_h (the lobe) and phi_d.
+constexpr LadderStep kIsotropicLadder[] = {{32, 1, 64, 16},  {64, 1, 64, 32},   {128, 1, 96, 32},
+                                           {256, 1, 128, 32}, {256, 1, 128, 64}, {512, 1, 128, 64}};
+// Anisotropic lobes: on an h grid stretched along the lobe's axes (icobrdf/core/lobe_axes.hpp) an elliptical lobe
+// needs few phi_h nodes (GGX alpha 0.1 x 0.3, held-out errors at ranks 4-6: 0.025 on 32 x 8 h nodes, 0.010 on
+// 48 x 16, against 0.035 at rank 8 on an unstretched 48 x 32; measured, mean-cosine quantity).
+constexpr LadderStep kAnisotropicLadder[] = {{32, 8, 64, 16}, {48, 16, 64, 16}, {64, 32, 64, 16}, {96, 32, 96, 32}};
+// A MERL table (icobrdf/io/merl.hpp) is fitted on its own nodes: theta_h = (pi/2) ((k+1/2)/90)^2 is the t^2 warp with
+// centred nodes, theta_d and phi_d are centred too; the fit samples the table's values as they are (a lookup
+// at a node returns that node's value), with no resampling, and missing samples (-1) are left out.
+constexpr LadderStep kMerlLadder[] = {{kMerlThetaHalfRes, 1, kMerlThetaDiffRes, kMerlPhiDiffRes, true}};
+
+// f of a source minus a term at pairs: what a representation must still fit.
+class ResidualSource final : public BrdfSource {
+ public:
+  using Term = std::function<Eigen::MatrixXd(const RowMatrix3d&, const RowMatrix3d&)>;
+  ResidualSource(const BrdfSource& source, Term term) : source_(source), term_(std::move(term)) {}
+  std::string spec() const override { return source_.spec() + " (residual)"; }
+  int channels() const override { return source_.channels(); }
+  Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
+    Eigen::MatrixXd f = source_.eval(wi, wr);
+    if (term_) f -= term_(wi, wr);
+    return f;
+  }
+  Spectrum fit(const ProjectionContext& ctx, const FitOptions& o) const override {
+    const FunctionModel model(
+        channels(), [this](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) { out = eval(wi, wr); },
+        spec(), o.isotropic, true);
+    return fit_model(model, ctx, o);
+  }
+
+ private:
+  const BrdfSource& source_;
+  Term term_;
+};
+
+bool lobe_is_isotropic(const MaterialProblem& p) {
+  if (p.material.isotropic == IsotropicChoice::Always) return true;
+  if (p.material.isotropic == IsotropicChoice::Never) return false;
+  const double defect = isotropy_defect(p.source, *p.errors);
+  const bool iso = defect <= kIsotropyShare * p.material.target;
+  p.say(p.material.name + ": isotropy defect " + exact_decimal(defect) + " -> " + (iso ? "isotropic" : "anisotropic") + " lobe");
+  return iso;
+}
+
+struct LobeFit {
+  HalfAngleFactors lobe;
+  HeldOutError error;
+};
+
+// The first grid of the ladder whose lobe, added to `body` at the held-out pairs, meets the target; nullopt
+// when none does (best error in *best).
+// Bytes of a lobe of rank 1 on a ladder step: no lobe on that step costs less.
+long long rank_one_bytes(const LadderStep& s, int channels) {
+  return 8LL * channels * (s.n_t * s.n_phi_h + s.n_theta_d * s.n_phi_d) + kLobeHeaderBytes;
+}
+
+// The error of body + lobe on pairs that see the specular peak: w_i as the held-out pairs draw it; w_r
+// uniform in solid angle (half the pairs) or the mirror of w_i about a normal h drawn with the density of the
+// t^2 warp of theta_h (t uniform: a density that grows as theta_h^-3/2 towards h = n, so lobes of every width
+// at the pole are sampled); each pair weighted by 1 / (mixture pdf of w_r). Uniform pairs see a lobe of
+// width alpha with probability ~alpha^2: for GGX alpha <= 0.05 the held-out pairs put the error at 0.01-0.02
+// where this estimate (and an independent one sampling GGX itself) gives 0.05-0.09 (measured). nullopt when
+// the scene gives lights x cameras (its pairs are then all there is) and for a MERL table (judged at its own
+// samples, icobrdf/pipeline/held_out.hpp: its lookup between them is a step function).
+std::optional<HeldOutError> peak_error(const MaterialProblem& p, const BrdfSource& residual, const HalfAngleFactors& lobe) {
+  const SceneMaterial& m = p.material;
+  if (!m.lights.empty()) return std::nullopt;
+  if (merl_table_of(p.source)) return std::nullopt;  // a table is judged at its samples (icobrdf/pipeline/held_out.hpp)
+  std::mt19937_64 rng(std::stoull(fnv1a_hex("peak|" + m.name).substr(0, 15), nullptr, 16));
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  const double zlo = std::cos(m.incidence_max * M_PI / 180), zhi = std::cos(m.incidence_min * M_PI / 180);
+  RowMatrix3d wi(kPeakPairs, 3), wr(kPeakPairs, 3);
+  Eigen::VectorXd pdf(kPeakPairs);
+  Eigen::Index n = 0;
+  for (int k = 0; k < kPeakPairs; ++k) {
+    const Eigen::Vector3d a = uniform_direction(rng, zlo, zhi);
+    Eigen::Vector3d b;
+    if (k % 2 == 0) {
+      b = uniform_direction(rng);
+    } else {
+      const double t = u01(rng), th = 0.5 * M_PI * t * t, ph = 2.0 * M_PI * u01(rng);
+      const Eigen::Vector3d h(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+      b = 2.0 * a.dot(h) * h - a;
+    }
+    if (b.z() <= 0.0) continue;  // the mirror fell below the horizon: f = 0 there, no contribution
+    const Eigen::Vector3d h = (a + b).normalized();
+    const double th = std::atan2(std::hypot(h.x(), h.y()), h.z()), t = std::sqrt(th / (0.5 * M_PI));
+    const double ph_density = (t > 0 && th > 0) ? 1.0 / (2.0 * M_PI * M_PI * t * std::sin(th)) : 0.0;  // per sr of h
+    pdf(n) = 0.5 / (2.0 * M_PI) + 0.5 * ph_density / (4.0 * std::abs(a.dot(h)));
+    wi.row(n) = a.transpose();
+    wr.row(n++) = b.transpose();
+  }
+  const RowMatrix3d pi = wi.topRows(n), pr = wr.topRows(n);
+  const Eigen::MatrixXd f = p.source.eval(pi, pr);
+  const Eigen::MatrixXd fit = add_lobe(f - residual.eval(pi, pr), lobe, pi, pr);
+  Eigen::VectorXd w = (1.0 / pdf.head(n).array()).sqrt();
+  if (m.metric == ErrorMetric::Cosine) w = w.cwiseProduct(pi.col(2)).cwiseProduct(pr.col(2));
+  const double ref = (w.asDiagonal() * f).norm(), ref_max = (w.asDiagonal() * f).cwiseAbs().maxCoeff();
+  const Eigen::MatrixXd d = w.asDiagonal() * (fit - f);
+  return HeldOutError{ref > 0 ? d.norm() / ref : d.norm(), ref_max > 0 ? d.cwiseAbs().maxCoeff() / ref_max : 0.0};
+}
+
+// The lobe of `residual` on one grid, its rank from the target, and its error: the larger of the held-out
+// error of body + lobe (body: values at the held-out pairs) and of the peak-sampled one (peak_error);
+// nullopt when the grid cannot reach the node target.
+std::optional<LobeFit> fit_lobe_at(const MaterialProblem& p, const BrdfSource& residual, const Eigen::MatrixXd& body, bool isotropic,
+                                   const LadderStep& s, int fixed_rank = 0) {
+  const PairSampler sampler = [&residual](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) {
+    out = residual.eval(wi, wr);
+  };
+  HalfAngleFitOptions o;
+  // Cosine metric: p = f (cos_i + cos_r) / 2, weighted so that the node error is the metric's (see
+  // icobrdf/core/half_angle_factors.hpp): smooth across the horizon and at grazing specular, where q = f cos_i cos_r
+  // (the metric's own quantity) drops to 0 within a node or two and the grazing Fresnel peak sits.
+  o.quantity = p.material.metric == ErrorMetric::Cosine ? HalfAngleQuantity::MeanCosine : HalfAngleQuantity::F;
+  o.isotropic = isotropic;
+  o.target = kNodeShare * p.material.target;
+  o.max_rank = kMaxRank;
+  o.max_sweeps = kMaxSweeps;
+  o.sweep_tolerance = kSweepTolerance;
+  o.n_t = s.n_t;
+  o.n_phi_h = s.n_phi_h;
+  o.n_theta_d = s.n_theta_d;
+  o.n_phi_d = s.n_phi_d;
+  o.centred = s.centred;
+  o.skip_missing = merl_table_of(p.source) != nullptr;  // measured data may have missing samples
+  o.h_axis = s.h_axis, o.h_scale_1 = s.h_scale_1;
+  o.fixed_rank = fixed_rank;
+  HalfAngleFit fit;
+  try {
+    fit = fit_half_angle(sampler, residual.channels(), o);
+  } catch (const UnsupportedError&) {
+    return std::nullopt;
+  }
+  const auto& pairs = p.errors->pairs();
+  HeldOutError e = p.errors->of_values(add_lobe(body, fit.factors, pairs.wi, pairs.wr));
+  const auto peak = peak_error(p, residual, fit.factors);
+  p.say(p.material.name + ": half-angle " + std::to_string(s.n_t) + "x" + std::to_string(s.n_phi_h) + " h, " +
+        std::to_string(s.n_theta_d) + "x" + std::to_string(s.n_phi_d) + " d, rank " + std::to_string(fit.factors.rank) +
+        ": error " + exact_decimal(e.l2) + (peak ? ", peak-sampled " + exact_decimal(peak->l2) : std::string()));
+  if (peak) e = {std::max(e.l2, peak->l2), std::max(e.max, peak->max)};
+  return LobeFit{std::move(fit.factors), e};
+}
+
+LadderStep step_of(const HalfAngleFactors& l) {
+  return {l.n_t, l.n_phi_h, l.n_theta_d, l.n_phi_d, l.centred, l.h_axis, l.h_scale_1};
+}
+
+// The first grid of the ladder whose lobe, added to `body` at the held-out pairs, meets the target; nullopt
+// when none does (best error in *best). Steps whose rank-1 lobe plus `body_bytes` cannot beat
+// p.bytes_to_beat are not tried.
+std::optional<LobeFit> fit_lobe(const MaterialProblem& p, const BrdfSource& residual, const Eigen::MatrixXd& body, bool isotropic,
+                                double* best, long long body_bytes = 0) {
+  const bool merl = merl_table_of(p.source) != nullptr;
+  const LadderStep* begin = merl ? std::begin(kMerlLadder) : isotropic ? std::begin(kIsotropicLadder) : std::begin(kAnisotropicLadder);
+  const LadderStep* end = merl ? std::end(kMerlLadder) : isotropic ? std::end(kIsotropicLadder) : std::end(kAnisotropicLadder);
+  // An anisotropic lobe's axes, once for every grid of the ladder.
+  LobeAxes axes;
+  if (!isotropic)
+    axes = estimate_lobe_axes([&residual](const RowMatrix3d& wi, const RowMatrix3d& wr,
+                                          Eigen::Ref<Eigen::MatrixXd> out) { out = residual.eval(wi, wr); },
+                              residual.channels());
+  const bool stretch = axes.found && axes.ratio() >= kStretchRatio;
+  for (const LadderStep* s = begin; s != end; ++s) {
+    if (p.bytes_to_beat >= 0 && body_bytes + rank_one_bytes(*s, residual.channels()) >= p.bytes_to_beat) break;
+    LadderStep step = *s;
+    if (stretch) step.h_axis = axes.axis, step.h_scale_1 = std::min(axes.ratio(), kMaxHScale);
+    auto fit = fit_lobe_at(p, residual, body, isotropic, step);
+    if (!fit) continue;  // this grid cannot reach the node target within kMaxRank; a finer one may
+    *best = std::min(*best, fit->error.l2);
+    if (fit->error.l2 <= p.material.target) return fit;
+  }
+  return std::nullopt;
+}
+
+// Numbers in messages: three significant digits (the progress lines keep every digit).
+std::string short_number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
+long long lobe_bytes(const HalfAngleFactors& lobe) { return static_cast<long long>(lobe.bytes()) + kLobeHeaderBytes; }
+
+void require_pointwise(const MaterialProblem& p, const char* what) {
+  if (!p.errors) throw UnsupportedError(std::string(what) + ": a delta BRDF has no pointwise values to factorize");
+  if (p.material.target < kSmallestLobeTarget)
+    throw UnsupportedError(std::string(what) + ": target " + short_number(p.material.target) + " is below " +
+                           short_number(kSmallestLobeTarget) + ", finer than linear interpolation on the lobe grids reaches");
+}
+
+MaterialCandidate lobe_candidate(const MaterialProblem& p, const char* representation, Spectrum body, LobeFit fit, int level,
+                                 long long body_bytes, int body_kept) {
+  MaterialCandidate c;
+  c.representation = representation;
+  c.record = modes_record(p.material.name, body);
+  c.record.lobe = std::move(fit.lobe);
+  c.bytes = body_bytes + lobe_bytes(*c.record.lobe);
+  c.error = fit.error;
+  c.isotropic = body.isotropic && c.record.lobe->isotropic;
+  c.level = level;
+  c.order = body.order > 0 ? body.order : -1;  // a lobe alone has no modes to speak of
+  c.anisotropy = body.anisotropy_fraction;
+  const int per_channel = c.record.lobe->rank * (c.record.lobe->h_nodes() + c.record.lobe->d_nodes());
+  c.kept = c.total = body_kept + per_channel;
+  return c;
+}
+
+// A zero spectrum of order 0: the modes part of a lobe alone.
+Spectrum zero_body(const MaterialProblem& p, bool isotropic) {
+  Spectrum s;
+  s.order = 0;
+  s.isotropic = isotropic;
+  s.channels.assign(static_cast<size_t>(p.source.channels()), Eigen::MatrixXd::Zero(1, 1));
+  s.source = p.source.spec();
+  return s;
+}
+
+// Pairs on which the body of a hybrid is fitted: uniform in solid angle (their own seed, apart from the
+// held-out pairs), with the metric's weights, the source's values and the isotropic modes up to the largest
+// body order there.
+struct BodyPairs {
+  RowMatrix3d wi, wr;
+  Eigen::VectorXd w;   // the metric's weight per pair
+  Eigen::MatrixXd f;   // pairs x channels
+  Eigen::MatrixXd modes;  // pairs x isotropic_mode_count(max order), library order (low orders first)
+};
+
+BodyPairs body_pairs(const MaterialProblem& p, int max_order) {
+  BodyPairs b;
+  uniform_pairs(kBodyPairs, std::stoull(fnv1a_hex("body|" + p.material.name).substr(0, 15), nullptr, 16), b.wi, b.wr);
+  b.w = p.material.metric == ErrorMetric::Cosine ? Eigen::VectorXd(b.wi.col(2).cwiseProduct(b.wr.col(2)))
+                                                : Eigen::VectorXd::Ones(kBodyPairs);
+  b.f = p.source.eval(b.wi, b.wr);
+  b.modes = isotropic_modes_eval(max_order, b.wi, b.wr);
+  return b;
+}
+
+// The body of a hybrid: isotropic modes of `order` minimizing the metric's error of body + lobe against f at
+// the body pairs (weighted linear least squares, per channel), the same error the lobe's fit minimizes at its
+// nodes, so that the alternation body <-> lobe descends one objective.
+Spectrum fit_body(const MaterialProblem& p, const BodyPairs& b, const HalfAngleFactors* lobe, int order) {
+  const int k = isotropic_mode_count(order);
+  Eigen::MatrixXd target = b.f;
+  if (lobe) target -= lobe->eval(b.wi, b.wr);
+  const Eigen::MatrixXd A = b.w.asDiagonal() * b.modes.leftCols(k);
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(A);
+  Spectrum s = zero_body(p, true);
+  s.order = order;
+  s.channels.clear();
+  for (Eigen::Index c = 0; c < target.cols(); ++c) {
+    const Eigen::VectorXd x = qr.solve(b.w.asDiagonal() * target.col(c));
+    s.channels.push_back(coefficients_from_ibsss(order, x));
+  }
+  return s;
+}
+
+}  // namespace
+
+double isotropy_defect(const BrdfSource& source, const HeldOutErrors& errors) {
+  const HeldOutPairs& h = errors.pairs();
+  std::mt19937_64 rng(0x5eed15070ULL);
+  std::uniform_real_distribution<double> angle(0.0, 2.0 * M_PI);
+  RowMatrix3d wi(h.wi.rows(), 3), wr(h.wr.rows(), 3);
+  for (Eigen::Index k = 0; k < h.wi.rows(); ++k) {
+    const double a = angle(rng), c = std::cos(a), s = std::sin(a);
+    wi.row(k) << c * h.wi(k, 0) - s * h.wi(k, 1), s * h.wi(k, 0) + c * h.wi(k, 1), h.wi(k, 2);
+    wr.row(k) << c * h.wr(k, 0) - s * h.wr(k, 1), s * h.wr(k, 0) + c * h.wr(k, 1), h.wr(k, 2);
+  }
+  const Eigen::MatrixXd rotated = source.eval(wi, wr);
+  const Eigen::VectorXd& w = errors.weights();
+  const double ref = (w.asDiagonal() * h.f).norm();
+  const double diff = (w.asDiagonal() * (rotated - h.f)).norm();
+  return ref > 0 ? diff / ref : diff;
+}
+
+// Refuses at once when even the smallest lobe (the first isotropic step, rank 1) cannot beat the bytes found.
+static void require_can_beat(const MaterialProblem& p, const char* what, long long body_bytes) {
+  if (p.bytes_to_beat >= 0 && body_bytes + rank_one_bytes(kIsotropicLadder[0], p.source.channels()) >= p.bytes_to_beat)
+    throw UnsupportedError(std::string(what) + ": no lobe is smaller than the " + std::to_string(p.bytes_to_beat) +
+                           " bytes already found");
+}
+
+MaterialCandidate fit_half_angle_candidate(const MaterialProblem& p) {
+  require_pointwise(p, "half-angle");
+  require_can_beat(p, "half-angle", 0);
+  const bool iso = lobe_is_isotropic(p);
+  const Eigen::MatrixXd none = Eigen::MatrixXd::Zero(p.errors->pairs().wi.rows(), p.source.channels());
+  double best = INFINITY;
+  auto fit = fit_lobe(p, p.source, none, iso, &best);
+  if (!fit)
+    throw UnsupportedError("half-angle: target " + short_number(p.material.target) + " not met: best relative L2 error " +
+                           short_number(best) + " up to the largest grid and rank " + std::to_string(kMaxRank));
+  return lobe_candidate(p, "half-angle", zero_body(p, iso), std::move(*fit), -1, 0, 0);
+}
+
+MaterialCandidate fit_hybrid_candidate(const MaterialProblem& p) {
+  require_pointwise(p, "hybrid");
+  require_can_beat(p, "hybrid", 0);
+  // The grid and rank of the half-angle candidate (or of the same ladder search when there is none) bound
+  // the lobe: a hybrid pays for its body by a lobe of lower rank on that grid. For each body order and each
+  // lower rank, body and lobe alternate: body = modes of f - lobe, lobe = rank-R fit of f - body, from
+  // body = modes of f.
+  std::optional<HalfAngleFactors> first;
+  if (p.earlier)
+    for (const auto& c : *p.earlier)
+      if (c.representation == "half-angle" && c.record.lobe) first = c.record.lobe;
+  if (!first) {
+    double alone = INFINITY;
+    const Eigen::MatrixXd none = Eigen::MatrixXd::Zero(p.errors->pairs().wi.rows(), p.source.channels());
+    auto fit = fit_lobe(p, p.source, none, lobe_is_isotropic(p), &alone);
+    if (!fit) throw UnsupportedError("hybrid: no lobe meets target " + short_number(p.material.target) + " (best " + short_number(alone) + ")");
+    first = std::move(fit->lobe);
+  }
+  double best = INFINITY;  // of the hybrids tried
+  if (first->rank < 2) throw UnsupportedError("hybrid: the lobe alone has rank 1, no body can lower it");
+  // An isotropic body cannot take a term off an anisotropic lobe, whose extra terms carry the azimuthal
+  // coupling of masking (measured: every body order and rank missed the target on GGX 0.1 x 0.3, at 40 s).
+  if (!first->isotropic) throw UnsupportedError("hybrid: not offered for anisotropic lobes");
+  const LadderStep step = step_of(*first);
+  std::optional<MaterialCandidate> chosen;
+  const BodyPairs pairs = body_pairs(p, std::min(p.scene.order_max, kHybridOrders[std::size(kHybridOrders) - 1]));
+  for (int order : kHybridOrders) {
+    if (order > p.scene.order_max) break;
+    const int kept = isotropic_mode_count(order);
+    // From one term fewer than the lobe alone down to kHybridRankDrop fewer, while the target is met.
+    for (int rank = first->rank - 1; rank >= std::max(1, first->rank - kHybridRankDrop); --rank) {
+      Spectrum body = fit_body(p, pairs, nullptr, order);
+      std::optional<LobeFit> lobe;  // the best pair over the rounds
+      Spectrum kept_body;
+      for (int round = 0; round < kHybridRounds; ++round) {
+        const Spectrum s = body;
+        const auto body_values = [s](const RowMatrix3d& wi, const RowMatrix3d& wr) { return evaluate_material(s, std::nullopt, wi, wr); };
+        auto next = fit_lobe_at(p, ResidualSource(p.source, body_values), p.errors->modes_values(s.channels, s.order),
+                                first->isotropic, step, rank);
+        if (!next) break;
+        const bool better = !lobe || next->error.l2 < lobe->error.l2;
+        if (better) lobe = next, kept_body = body;
+        if (!better || lobe->error.l2 <= kHybridSettled * p.material.target) break;  // no progress, or settled
+        body = fit_body(p, pairs, &next->lobe, order);
+      }
+      if (!lobe) break;
+      best = std::min(best, lobe->error.l2);
+      if (lobe->error.l2 > p.material.target) break;  // fewer terms will not do better
+      kept_body.source = p.source.spec();
+      MaterialCandidate c = lobe_candidate(p, "hybrid", kept_body, std::move(*lobe), -1, modes_bytes(kept_body, kept), kept);
+      if (!chosen || c.bytes < chosen->bytes) chosen = std::move(c);
+    }
+  }
+  if (!chosen)
+    throw UnsupportedError("hybrid: target " + short_number(p.material.target) + " not met below the lobe's rank " +
+                           std::to_string(first->rank) + ": best relative L2 error " + short_number(best));
+  return std::move(*chosen);
+}
+
+}  // namespace icobrdf

@@ -1,0 +1,32 @@
+#pragma once
+// The "half-angle" and "hybrid" representations: a specular lobe factorized in half-angle coordinates
+// (icobrdf/core/half_angle_factors.hpp), alone or added to a few Helmholtz modes that carry the body.
+//
+// half-angle
+//   1. isotropy: isotropic = true/false as the scene says; "auto" rotates the held-out pairs about the
+//      normal by an azimuth drawn per pair and compares f there (isotropy_defect): isotropic when the
+//      metric-weighted relative change is at most kIsotropyShare of the target;
+//   2. the quantity factorized is the metric's: q = f cos(theta_i) cos(theta_r) for "cosine", q = f for "f";
+//   3. grids from a ladder of increasing size (kIsotropicLadder, kAnisotropicLadder); at each, the rank grows until the weighted node
+//      error is within kNodeShare of the target; the first grid whose held-out error meets the target wins;
+//   4. the record: an all-zero C of order 0 and the lobe; bytes = the lobe's doubles x 8 + kLobeHeaderBytes.
+// hybrid
+//   lobe0 = the half-angle candidate's lobe (or the same ladder search when there is none); body = isotropic
+//   modes of a low order (kHybridOrders) fitted to f - lobe0 on the first level of the scene that supports
+//   it; lobe = half-angle fit of f - body on lobe0's grid, its rank from the target. The candidate is the
+//   body order with the fewest bytes meeting the target; bytes = the body's IBSSS coefficients (8 per
+//   channel + 12 for the indices) + the lobe's bytes. A lobe fitted first keeps the body free of the
+//   ringing a low order would take from the peak.
+// Both refuse (UnsupportedError) delta sources (no pointwise values) and targets they cannot meet.
+#include "icobrdf/pipeline/material_candidate.hpp"
+
+namespace icobrdf {
+
+// Metric-weighted relative L2 change of f when both directions of every held-out pair are rotated about the
+// normal by one azimuth drawn per pair (seeded: reproducible). 0 for an isotropic BRDF.
+double isotropy_defect(const BrdfSource& source, const HeldOutErrors& errors);
+
+MaterialCandidate fit_half_angle_candidate(const MaterialProblem& problem);
+MaterialCandidate fit_hybrid_candidate(const MaterialProblem& problem);
+
+}  // namespace icobrdf

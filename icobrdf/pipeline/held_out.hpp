@@ -1,0 +1,64 @@
+#pragma once
+// The direction pairs a material's errors are measured on, and the errors of a spectrum there.
+//
+// Held-out pairs are never used in fitting: every light x camera pair when the scene gives both, else
+// `holdout_pairs` pairs uniform in solid angle (incident directions within the material's incidence range),
+// seeded by the material's name so that a build is reproducible. The reference values f come from the
+// source itself. A MERL table is the exception: its pairs are its own samples, drawn by their measure
+// (held_out.cpp), since its lookup between samples is a step function; these pairs were fitted, so for such a
+// source the figure is the error at the data, not a held-out one.
+//
+// Errors are measured on w f with w = 1 (metric "f") or w = cos(theta_i) cos(theta_r) (metric "cosine": the
+// projected solid angle, i.e. the reflected radiance per unit irradiance as a renderer integrates it, which
+// does not let the grazing growth of microfacet BRDFs dominate):
+//   relative L2  = |w (f_fit - f)| / |w f|           over all pairs and channels
+//   relative max = max |w (f_fit - f)| / max |w f|
+#include <Eigen/Core>
+
+#include <utility>
+#include <vector>
+
+#include "icobrdf/core/grid.hpp"
+#include "icobrdf/io/brdf_source.hpp"
+#include "icobrdf/io/scene.hpp"
+
+namespace icobrdf {
+
+struct HeldOutPairs {
+  RowMatrix3d wi, wr;
+  Eigen::MatrixXd f;  // pairs x channels
+};
+
+// InputError when the source gives a non-finite value at a pair.
+HeldOutPairs held_out_pairs(const Scene& scene, const SceneMaterial& material, const BrdfSource& source);
+
+struct HeldOutError {
+  double l2 = 0.0;   // relative L2
+  double max = 0.0;  // relative max
+};
+
+// The errors of spectra of order <= max_order against held-out pairs, with the basis values at the pairs
+// computed once.
+class HeldOutErrors {
+ public:
+  HeldOutErrors(const HeldOutPairs& pairs, int max_order, ErrorMetric metric);
+  // `channels`: one coefficient matrix per channel; only its leading block of `order` is used.
+  HeldOutError operator()(const std::vector<Eigen::MatrixXd>& channels, int order) const;
+  // The values sum_ab C_ab K_a(w_i) K_b(w_r) of such a spectrum at the pairs: pairs x channels.
+  Eigen::MatrixXd modes_values(const std::vector<Eigen::MatrixXd>& channels, int order) const;
+  // The errors of fitted values f_fit (pairs x channels) of any representation.
+  HeldOutError of_values(const Eigen::MatrixXd& fit) const;
+  const HeldOutPairs& pairs() const { return *pairs_; }
+  const Eigen::VectorXd& weights() const { return w_; }  // the metric's w per pair
+
+ private:
+  Eigen::MatrixXd ki_, kr_;  // pairs x modes of max_order
+  const HeldOutPairs* pairs_;
+  Eigen::VectorXd w_;        // pairs
+  double ref_norm_ = 0.0, ref_max_ = 0.0;
+};
+
+// The leading block of each channel for `order` (the spectrum's truncation).
+std::vector<Eigen::MatrixXd> truncate_channels(const std::vector<Eigen::MatrixXd>& channels, int order);
+
+}  // namespace icobrdf

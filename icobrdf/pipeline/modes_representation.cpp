@@ -1,0 +1,97 @@
+#include "icobrdf/pipeline/modes_representation.hpp"
+
+#include <cmath>
+
+#include "icobrdf/core/helmholtz_modes.hpp"
+#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/pipeline/keys.hpp"
+#include "icobrdf/pipeline/level_order_search.hpp"
+#include "icobrdf/pipeline/pruning.hpp"
+
+namespace icobrdf {
+namespace {
+
+LevelOrderSearch search_for(const MaterialProblem& p) {
+  LevelOrderSearch s;
+  s.base.grid_kind = GridKind::EqualArea;
+  s.base.sampling = p.scene.sampling;  // LUT rows and B sampled with the same rule (exact for BRDFs in the span)
+  s.levels = p.material.level >= 0 ? std::vector<int>{p.material.level} : p.scene.levels;
+  s.order_max = p.scene.order_max;
+  s.fixed_order = p.material.order;
+  return s;
+}
+
+// isotropic = "auto": the chosen fit becomes isotropic when its isotropic projection still meets the target.
+void choose_isotropy(const MaterialProblem& p, LevelOrderChoice& c) {
+  std::vector<Eigen::MatrixXd> iso;
+  for (const auto& ch : c.spectrum.channels) iso.push_back(isotropic_part(ch, c.order));
+  const HeldOutError e = (*p.errors)(iso, c.order);
+  if (e.l2 <= p.material.target) {
+    c.spectrum.channels = std::move(iso);
+    c.spectrum.isotropic = true;
+    c.error = e;
+  }
+  p.say(p.material.name + ": anisotropic energy fraction " + exact_decimal(c.spectrum.anisotropy_fraction) + ", isotropic error " +
+        exact_decimal(e.l2) + " -> " + (c.spectrum.isotropic ? "isotropic" : "anisotropic"));
+}
+
+int coefficient_count(const Spectrum& s) {
+  return s.isotropic ? isotropic_mode_count(s.order) : static_cast<int>(helmholtz_mode_count(s.order));
+}
+
+}  // namespace
+
+MaterialRecord modes_record(const std::string& name, const Spectrum& spectrum) {
+  MaterialRecord rec;
+  rec.name = name;
+  rec.spectrum = spectrum;
+  if (!spectrum.isotropic) return rec;
+  const auto modes = isotropic_modes(spectrum.order);
+  rec.ibsss.resize(spectrum.channel_count(), static_cast<Eigen::Index>(modes.size()));
+  for (int c = 0; c < spectrum.channel_count(); ++c) rec.ibsss.row(c) = ibsss_from_coefficients(spectrum.channels[c]).transpose();
+  rec.ibsss_indices.resize(static_cast<Eigen::Index>(modes.size()), 3);
+  for (size_t k = 0; k < modes.size(); ++k) rec.ibsss_indices.row(static_cast<Eigen::Index>(k)) << modes[k].n, modes[k].m, modes[k].l;
+  return rec;
+}
+
+long long modes_bytes(const Spectrum& s, int kept) {
+  return static_cast<long long>(kept) * (8LL * s.channel_count() + (s.isotropic ? 12 : 16));
+}
+
+MaterialCandidate fit_modes_candidate(const MaterialProblem& p) {
+  const SceneMaterial& m = p.material;
+  LevelOrderSearch search = search_for(p);
+  MaterialCandidate c;
+  c.representation = "modes";
+  LevelOrderChoice choice;
+  if (!p.errors) {
+    search.base.isotropic = m.isotropic != IsotropicChoice::Never;
+    choice = fit_at_given_order(p.source, search, p.contexts);
+    c.measured = false;
+    c.isotropic = search.base.isotropic;
+  } else {
+    search.base.isotropic = m.isotropic == IsotropicChoice::Always;
+    const auto accept = [&](LevelOrderChoice& found) {
+      if (m.isotropic == IsotropicChoice::Auto) choose_isotropy(p, found);
+    };
+    choice = search_level_order(p.source, search, p.contexts, *p.errors, m.target, m.name, accept, p.say);
+    c.isotropic = choice.spectrum.isotropic;
+    if (m.prune) {
+      const PruneResult pr = prune_coefficients(choice.spectrum, *p.errors, m.target);
+      c.total = pr.total;
+      c.kept = pr.kept;
+      if (pr.pruned) choice.error = pr.error;
+    }
+  }
+  c.level = choice.level;
+  c.order = choice.order;
+  c.error = choice.error;
+  c.anisotropy = choice.spectrum.anisotropy_fraction;
+  c.record = modes_record(m.name, choice.spectrum);
+  if (c.total == 0) c.total = c.kept = coefficient_count(c.record.spectrum);
+  const Spectrum& s = c.record.spectrum;
+  c.bytes = modes_bytes(s, c.kept);
+  return c;
+}
+
+}  // namespace icobrdf

@@ -1,0 +1,43 @@
+#pragma once
+// A SOURCE made ready for a picture (`icobrdf plot slice|sphere`): a spectrum file as stored, or any other
+// SOURCE fitted through fit_source (icobrdf/pipeline/fit_source.hpp) the way `icobrdf fit` fits it (cell-averaged
+// sampling on the equal-area grid, g form when the source has delta parts), and a model without delta
+// parts also as itself. plot/ draws what it is given; cli/ turns these into plot's SliceSource and
+// SphereMaterial and words the flag errors.
+#include <Eigen/Core>
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/spectrum.hpp"
+
+namespace icobrdf {
+
+struct PictureMaterial {
+  std::string name;                  // the SOURCE as the user named it, or the bank's material name
+  std::optional<Spectrum> spectrum;  // stored or fitted; empty when only the model is asked for
+  // The model itself, values (pairs x channels) for incident/remitted directions; empty: none.
+  std::function<Eigen::MatrixXd(const RowMatrix3d& wi, const RowMatrix3d& wr)> exact;
+  int exact_channels = 1;            // columns of exact(wi, wr)
+};
+
+// `text` names a model without delta parts (opens it: ArgumentError for a bad model).
+bool is_exact_model(const std::string& text);
+
+// A spectrum file (FILE.h5[#material]) as stored, InputError when it is missing; any other SOURCE, and a
+// stored material with a half-angle lobe (then also `exact`: its values), fitted at `order` on the
+// equal-area grid of `level`. A model without delta parts also gets `exact`; with
+// `model_only` such a model is not fitted at all.
+PictureMaterial load_picture_material(const std::string& text, int order, int level, bool model_only = false);
+
+// The material names of BANK.h5 when `text` names a bank file (no '#') holding more than one material,
+// InputError when that file is missing; empty for any other SOURCE.
+std::vector<std::string> several_bank_materials(const std::string& text);
+// Material `name` of BANK.h5 `bank`: its spectrum as stored, or for a material with a half-angle lobe its
+// values as `exact` (no spectrum).
+PictureMaterial stored_bank_material(const std::string& bank, const std::string& name);
+
+}  // namespace icobrdf

@@ -1,0 +1,63 @@
+#include "icobrdf/pipeline/pruning.hpp"
+
+#include <algorithm>
+#include <numeric>
+#include <vector>
+
+#include "icobrdf/core/helmholtz_modes.hpp"
+#include "icobrdf/core/isotropic_modes.hpp"
+
+namespace icobrdf {
+namespace {
+
+// A spectrum's channels as mode coefficient vectors, ranked by magnitude; with_kept(k) rebuilds the channels
+// from the k largest.
+class RankedCoefficients {
+ public:
+  explicit RankedCoefficients(const Spectrum& s) : s_(s) {
+    for (const auto& c : s.channels) v_.push_back(s.isotropic ? ibsss_from_coefficients(c) : bsss_from_coefficients(c));
+    const Eigen::Index total = v_[0].size();
+    Eigen::VectorXd mag = Eigen::VectorXd::Zero(total);
+    for (const auto& v : v_) mag = mag.cwiseMax(v.cwiseAbs());
+    rank_.resize(static_cast<size_t>(total));
+    std::iota(rank_.begin(), rank_.end(), 0);
+    std::stable_sort(rank_.begin(), rank_.end(), [&](Eigen::Index a, Eigen::Index b) { return mag[a] > mag[b]; });
+  }
+  Eigen::Index total() const { return static_cast<Eigen::Index>(rank_.size()); }
+  std::vector<Eigen::MatrixXd> with_kept(Eigen::Index kept) const {
+    std::vector<Eigen::MatrixXd> out;
+    for (const auto& v : v_) {
+      Eigen::VectorXd w = Eigen::VectorXd::Zero(total());
+      for (Eigen::Index k = 0; k < kept; ++k) w[rank_[static_cast<size_t>(k)]] = v[rank_[static_cast<size_t>(k)]];
+      out.push_back(s_.isotropic ? coefficients_from_ibsss(s_.order, w) : coefficients_from_bsss(w));
+    }
+    return out;
+  }
+
+ private:
+  const Spectrum& s_;
+  std::vector<Eigen::VectorXd> v_;
+  std::vector<Eigen::Index> rank_;
+};
+
+}  // namespace
+
+PruneResult prune_coefficients(Spectrum& s, const HeldOutErrors& errors, double target) {
+  const RankedCoefficients ranked(s);
+  Eigen::Index lo = 0, hi = ranked.total();
+  while (lo < hi) {
+    const Eigen::Index mid = (lo + hi) / 2;
+    if (errors(ranked.with_kept(mid), s.order).l2 <= target) hi = mid;
+    else lo = mid + 1;
+  }
+  auto pruned = ranked.with_kept(hi);
+  PruneResult r;
+  r.error = errors(pruned, s.order);
+  r.total = static_cast<int>(ranked.total());
+  r.pruned = r.error.l2 <= target;
+  r.kept = r.pruned ? static_cast<int>(hi) : r.total;
+  if (r.pruned) s.channels = std::move(pruned);
+  return r;
+}
+
+}  // namespace icobrdf

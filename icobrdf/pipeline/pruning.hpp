@@ -1,0 +1,21 @@
+#pragma once
+// Pruning a spectrum: its coefficients (BSSS, or IBSSS when isotropic) dropped smallest first while the
+// held-out error stays within the target.
+#include "icobrdf/core/spectrum.hpp"
+#include "icobrdf/pipeline/held_out.hpp"
+
+namespace icobrdf {
+
+struct PruneResult {
+  int kept = 0, total = 0;  // coefficients kept / in the full (B|IB)SSS vector
+  bool pruned = false;      // the spectrum was replaced by its pruned version
+  HeldOutError error;       // of the pruned spectrum (when pruned)
+};
+
+// Smallest number of kept coefficients meeting `target`, by bisection on the (nearly monotone) error; the
+// result is verified, and the full spectrum (which meets the target) is the fallback. Coefficients rank by
+// their largest magnitude over the channels. `spectrum` is replaced by its pruned version when that meets the
+// target.
+PruneResult prune_coefficients(Spectrum& spectrum, const HeldOutErrors& errors, double target);
+
+}  // namespace icobrdf

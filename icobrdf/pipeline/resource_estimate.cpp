@@ -1,0 +1,74 @@
+#include "icobrdf/pipeline/resource_estimate.hpp"
+
+#include <omp.h>
+
+#include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/memory_budget.hpp"
+#include "icobrdf/io/spectrum_file.hpp"
+
+namespace icobrdf {
+namespace {
+
+constexpr double kDouble = 8.0;
+// Mirrors of the block sizes of icobrdf/core/discrete_basis.cpp (kGramBlocks partial Gram matrices) and
+// icobrdf/core/streaming_projection.cpp (kBlockRows incident cells per block and thread).
+constexpr double kGramBlocks = 16;
+constexpr double kBlockRows = 32;
+
+double context_bytes(double cells, double modes) { return kDouble * (3 * cells * modes + (kGramBlocks + 3) * modes * modes); }
+
+double cells_of(int level) { return static_cast<double>(equal_area_cells(level)); }
+double modes_of(int order) { return static_cast<double>(hemisphere_basis_count(order)); }
+
+}  // namespace
+
+int estimate_threads() { return omp_get_max_threads(); }
+
+double model_fit_bytes(int level, int order, int channels, int threads) {
+  const double c = cells_of(level), m = modes_of(order), ch = channels, t = threads;
+  return 2 * c * kGridBytesPerCell + context_bytes(c, m) +
+         kDouble * (2 * c * m + t * kBlockRows * c * ch + (2 * t + 4) * ch * m * m);
+}
+
+double lut_bytes(int level, int order, int channels, bool float32, int threads) {
+  const double c = cells_of(level), m = modes_of(order), ch = channels;
+  const double lut = kDouble * ch * c * c;
+  const double fit = context_bytes(c, m) + kDouble * (threads + 4) * ch * m * m;
+  return 2 * c * kGridBytesPerCell + lut * (float32 ? 1.5 : 2.0) + fit;
+}
+
+// The largest order <= order_max whose model fit at `level` needs at most `have` bytes (-1: none).
+int largest_order_within(int level, int order_max, int channels, double have) {
+  const int t = estimate_threads();
+  int n = order_max;
+  while (n >= 0 && model_fit_bytes(level, n, channels, t) > have) --n;
+  return n;
+}
+
+int largest_order_in_memory(int level, int order_max, int channels) {
+  return largest_order_within(level, order_max, channels, available_memory().bytes);
+}
+
+void require_model_fit_memory(int level, int order, int channels, const std::string& what) {
+  const double need = model_fit_bytes(level, order, channels, estimate_threads());
+  const MemoryAvailable have = available_memory();  // read once: it reads /proc and /sys
+  if (need <= have.bytes) return;
+  // Only the order is suggested: a lower level that fits in memory may not resolve the order at all.
+  const int n = largest_order_within(level, order, channels, have.bytes);
+  require_memory(need, have, what + " at level " + std::to_string(level) + ", order " + std::to_string(order),
+                 n >= 0 ? "order " + std::to_string(n) + " fits at level " + std::to_string(level) : "no order fits at this level");
+}
+
+void require_lut_memory(int level, int order, int channels, bool float32, const std::string& what) {
+  const int t = estimate_threads();
+  const double need = lut_bytes(level, order, channels, float32, t);
+  const MemoryAvailable have = available_memory();  // read once: it reads /proc and /sys
+  if (need <= have.bytes) return;
+  int l = level;
+  while (l >= 0 && lut_bytes(l, order, channels, float32, t) > have.bytes) --l;
+  const std::string cells = std::to_string(equal_area_cells(level));
+  require_memory(need, have, what + " (a " + cells + " x " + cells + " LUT)",
+                 l >= 0 ? "level " + std::to_string(l) + " fits" : "");
+}
+
+}  // namespace icobrdf

@@ -1,0 +1,42 @@
+#pragma once
+// Peak memory of a request, estimated from its sizes before anything is allocated, and the refusal of a
+// request that the machine cannot hold (icobrdf/core/memory_budget.hpp), naming the largest level or order that fits.
+//
+// Sizes: C = cells of the level (equal_area_cells, icobrdf/io/spectrum_file.hpp), M = hemisphere functions of order N
+// (hemisphere_basis_count, icobrdf/core/hemisphere_basis.hpp),
+// ch = channels, T = threads. The estimates count the arrays that grow with C and M, in doubles:
+//   grid                C x kGridBytesPerCell (directions, maps, a degree-9 cubature of ~37 points per cell)
+//   projection context  3 C M (B, P and the weighted basis alive while P is made) + (kGramBlocks + 3) M^2
+//   streaming fit       + 2 C M (P with its cosine-weighted copy side by side) + T (kBlockRows C ch) LUT rows
+//                       + (2 T + 4) ch M^2 partial and final sums, both parts of a cosine fit
+//   LUT                 ch C^2 (float64) + its row-major copy for writing (half of it for float32)
+// They are checked against the peak resident memory measured at several sizes in
+// tests/pipeline/test_resource_estimate.cpp: within kEstimateFactor of it, and never below it by more than
+// the process's fixed footprint (libraries, mesh), which the estimates leave out.
+#include <string>
+
+namespace icobrdf {
+
+// Bytes per cell of a grid that do not depend on the order: representative directions, solid angles, the
+// neighbour and symmetry maps, and the cubature (points and weights; 37 points per cell at degree 9).
+inline constexpr double kGridBytesPerCell = 1600.0;
+
+// Peak bytes of fitting an analytic model by streaming projection at (level, order): no LUT is materialized.
+double model_fit_bytes(int level, int order, int channels, int threads);
+// Peak bytes of sampling a LUT of a model at `level` and projecting it to `order` (the lut command), and of
+// smoothing or fitting a stored one: the LUT and its copy for writing dominate from level 4 on.
+double lut_bytes(int level, int order, int channels, bool float32, int threads);
+
+// The threads OpenMP will use (omp_get_max_threads), for the per-thread terms.
+int estimate_threads();
+
+// ResourceError (icobrdf/core/error.hpp) when a model fit at (level, order) needs more than available_memory(),
+// naming the largest order that fits at this level.
+void require_model_fit_memory(int level, int order, int channels, const std::string& what);
+// The same for a LUT of `level` (sampled, stored and projected to `order`).
+void require_lut_memory(int level, int order, int channels, bool float32, const std::string& what);
+
+// The largest order <= order_max whose model fit at `level` fits in available_memory() (-1: none).
+int largest_order_in_memory(int level, int order_max, int channels);
+
+}  // namespace icobrdf

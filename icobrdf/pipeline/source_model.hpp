@@ -1,0 +1,18 @@
+#pragma once
+// Any SOURCE as a BrdfModel, for what samples models (`icobrdf lut`): an analytic model (with or without the
+// "model:" prefix) as itself; any other SOURCE naming an existing file (a bank material of any
+// representation, measured data) through its values (icobrdf/core/function_model.hpp; not claimed reciprocal or
+// isotropic, so the LUT takes the full path). `label` receives the canonical SOURCE text and, when given,
+// `channel_names` the source's channel names (empty when it names none).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "icobrdf/core/brdf_model.hpp"
+
+namespace icobrdf {
+
+std::shared_ptr<const BrdfModel> model_of_source(const std::string& text, std::string* label,
+                                                 std::vector<std::string>* channel_names = nullptr);
+
+}  // namespace icobrdf

@@ -1,0 +1,93 @@
+#pragma once
+// The pictures of `icobrdf plot`: basis functions, slices, spectra and lit spheres, written as PNG
+// (atomically: a failed plot leaves no file). Every picture has a title, axis labels and a colour bar
+// with its unit. The returned layouts say where the disk / sphere rasters are (for checks by pixel).
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/lowpass_filter.hpp"
+#include "icobrdf/core/spectrum.hpp"
+
+namespace icobrdf::plot {
+
+// A square raster of `size` pixels placed with its top-left pixel at (x, y).
+struct PanelRect {
+  int x = 0, y = 0, size = 0;
+};
+
+// The BRDF itself: f [1/sr] at direction pairs (rows x 3 each), rows x channels (for example
+// BrdfSource::eval of a model without delta parts).
+using PairFunction = std::function<Eigen::MatrixXd(const RowMatrix3d& wi, const RowMatrix3d& wr)>;
+
+// Argument checks here throw ArgumentError with neutral wording; `icobrdf plot` checks its flags first
+// and words the same conditions after them (cli/cmd_plot.cpp).
+
+// Every K_n^l with n <= order on the Lambert disk (density in the diverging map + contours at multiples
+// of 0.2 max|K|, zero contour bold), as a pyramid: row n, l = -n..n step 2 left to right. Writes
+// DIR/basis.png and, when `separate`, DIR/K_<n>_<l>.png per function (with its colour bar in 1/sqrt(sr)).
+// Returns the files written. `order` in [0, 16]; `panel` = disk diameter in pixels (0: from the order).
+std::vector<std::string> plot_basis(int order, const std::string& dir, bool separate, int panel = 0);
+
+struct SliceRequest {
+  double theta_i = 0.785398163397448;  // radians
+  double phi_i = 0.0;
+  std::vector<int> orders{0, 1, 2, 4, 6, 8};
+  LowPassFilter filter;
+  int panel = 200;
+  bool exact = true;  // add the model itself as a last column (when SliceSource::exact is set)
+};
+// What a slice is drawn from, already loaded: a spectrum of order >= every requested order (truncated per
+// column; drawn as g = f cos(theta_i) when spectrum.cosine) and, optionally, the BRDF itself.
+struct SliceSource {
+  std::string label;   // the title (the SOURCE as the user named it)
+  Spectrum spectrum;
+  PairFunction exact;  // empty: no model column
+};
+struct SliceFigure {
+  std::vector<PanelRect> disks;  // one per column (orders, then the exact model when drawn)
+  double scale = 0.0;            // colour bar range [-scale, scale] in 1/sr
+  bool g_form = false;           // g = f cos(theta_i) is drawn instead of f
+  int width = 0, height = 0;
+};
+// Orders in [0, 32], at most 9 of them, none beyond the spectrum's; theta_i in [0, pi/2).
+SliceFigure plot_slice(const SliceSource& source, const SliceRequest& request, const std::string& path);
+
+struct SpectrumFigure {
+  int width = 0, height = 0;
+  bool matrix_drawn = false;
+};
+// The IBSSS layout of the paper's Fig. 3 (of the channel mean) and, for spectra not marked isotropic,
+// the coefficient matrix C as an image.
+SpectrumFigure plot_spectrum(const Spectrum& spectrum, const std::string& label, const std::string& path);
+
+struct SphereRequest {
+  double light_theta = 0.785398163397448, light_phi = 2.35619449019234;  // radians, camera frame
+  double sky = 0.0;        // sky radiance (0: none)
+  double exposure = 1.0;   // radiance shown as white
+  int size = 256;          // sphere diameter in pixels
+  // Auto: from the model when the material has one, else from its spectrum.
+  enum class Shading { Auto, Model, Spectrum } shading = Shading::Auto;
+};
+// One material of a sphere picture: its spectrum and/or the BRDF itself (a model without delta parts).
+struct SphereMaterial {
+  std::string name;
+  std::optional<Spectrum> spectrum;
+  PairFunction model;
+  int model_channels = 1;  // columns of model(wi, wr)
+};
+struct SphereFigure {
+  std::vector<PanelRect> spheres;
+  std::vector<std::string> names;
+  int width = 0, height = 0;
+};
+// One sphere titled `title`, or, for several materials, a grid of spheres titled "Materials of <title>" and
+// labelled with their names (captioned as shaded from stored spectra: meant for a bank's spectra). Each is
+// shaded as request.shading says: Model needs the material's `model`, Spectrum its `spectrum`, Auto takes
+// the model when there is one.
+SphereFigure plot_sphere(const std::string& title, const std::vector<SphereMaterial>& materials, const SphereRequest& request,
+                         const std::string& path);
+
+}  // namespace icobrdf::plot
