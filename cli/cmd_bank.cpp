@@ -7,15 +7,21 @@
 #include <atomic>
 #include <csignal>
 #include <iostream>
+#include <memory>
+#include <optional>
 
 #include "cli/commands.hpp"
 #include "cli/exit_codes.hpp"
+#include "icobrdf/cluster/launcher.hpp"
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/progress.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/half_angle_file.hpp"
 #include "icobrdf/io/scene.hpp"
 #include "icobrdf/pipeline/bank_builder.hpp"
+#ifdef ICOBRDF_WITH_MPI
+#include "icobrdf/cluster/distributed_bank.hpp"
+#endif
 
 namespace icobrdf::cli {
 namespace {
@@ -28,9 +34,41 @@ struct BuildArgs {
   bool resume = false, json = false, quiet = false, strict = false;
 };
 
+#ifdef ICOBRDF_WITH_MPI
+// Under mpirun: the scene is read on every rank; a rank that cannot read it ends the job on every rank
+// (nullopt: another rank failed, this one ends quietly).
+std::optional<Scene> read_scene_on_every_rank(const std::string& path, Cluster& cluster) {
+  Scene scene;
+  std::exception_ptr error;
+  try {
+    scene = read_scene(path);
+  } catch (...) {
+    error = std::current_exception();
+  }
+  const int failed = cluster.first_failed(!error);
+  if (error) std::rethrow_exception(error);
+  if (failed >= 0 && cluster.rank() == 0)
+    throw InputError(fmt::format("{}: rank {} could not read the scene (see its message)", path, failed));
+  if (failed >= 0) return std::nullopt;
+  return scene;
+}
+#endif
+
 // Exit code of a build that ended without error: 0, or the signal's conventional code.
 int run_build(const BuildArgs& a) {
+#ifdef ICOBRDF_WITH_MPI
+  std::unique_ptr<Cluster> cluster;
+  if (started_by_mpirun()) cluster = std::make_unique<Cluster>();
+  const std::optional<Scene> read = cluster ? read_scene_on_every_rank(a.scene, *cluster) : read_scene(a.scene);
+  if (!read) return kExitOk;  // another rank could not read the scene and says so
+  const Scene& scene = *read;
+#else
+  if (launcher_world_size() > 1)
+    throw UnsupportedError(fmt::format("bank build: started by mpirun with {} processes, but this icobrdf was built without MPI "
+                                       "(every process would build the whole bank); install libopenmpi-dev and rebuild, or run it without mpirun",
+                                       launcher_world_size()));
   const Scene scene = read_scene(a.scene);
+#endif
   struct sigaction sa {};
   sa.sa_handler = on_stop_signal;
   sigemptyset(&sa.sa_mask);
@@ -44,10 +82,23 @@ int run_build(const BuildArgs& a) {
   o.warnings = &std::cerr;
   if (!a.quiet) o.progress = [](const std::string& line) { std::cerr << line << std::endl; };
   if (a.quiet) set_progress_stream(nullptr);  // no lines from long projections either (icobrdf/core/progress.hpp)
+#ifdef ICOBRDF_WITH_MPI
+  BankBuildResult r;
+  if (cluster) {
+    if (cluster->rank() != 0) set_progress_stream(nullptr);  // progress lines from rank 0 only
+    auto d = build_bank_distributed(scene, o, *cluster);
+    if (d.worker) return kExitOk;  // rank 0 reports and writes
+    r = std::move(d.build);
+  } else {
+    r = build_bank(scene, o);
+  }
+#else
   const auto r = build_bank(scene, o);
+#endif
   nlohmann::json mats = nlohmann::json::array();
   for (const auto& m : r.materials) {
     nlohmann::json j{{"name", m.name}, {"source", m.source}, {"ok", m.ok}, {"resumed", m.resumed}};
+    if (m.rank >= 0) j["rank"] = m.rank;  // under mpirun: the rank that fitted it
     if (!m.ok) {
       j["error"] = m.error;
     } else {
@@ -68,7 +119,7 @@ int run_build(const BuildArgs& a) {
                              "level", "order", "target", "rel L2", "rel max", "kept/total", "bytes", "seconds");
     for (const auto& m : r.materials) {
       if (!m.ok) {
-        std::cout << fmt::format("{:<18} FAILED: {}\n", m.name, m.error);
+        std::cout << fmt::format("{:<18} FAILED{}: {}\n", m.name, m.rank >= 0 ? fmt::format(" on rank {}", m.rank) : "", m.error);
         continue;
       }
       const std::string l2 = m.measured ? fmt::format("{:.3g}", m.error_l2) : "n/a", mx = m.measured ? fmt::format("{:.3g}", m.error_max) : "n/a";
@@ -85,8 +136,14 @@ int run_build(const BuildArgs& a) {
   }
   if (!r.written) {
     size_t failed = 0;
-    for (const auto& m : r.materials) failed += !m.ok;
-    throw UnsupportedError(fmt::format("bank not written: {} material(s) failed (see above); {}", failed, kept_for_resume(r)));
+    const MaterialReport* first = nullptr;
+    for (const auto& m : r.materials) {
+      failed += !m.ok;
+      if (!m.ok && !first) first = &m;
+    }
+    // Under mpirun the line names the first failed material and its rank (a long build's table is far above).
+    const std::string which = first && first->rank >= 0 ? fmt::format("material '{}' failed on rank {}: {}; ", first->name, first->rank, message_line(first->error)) : "";
+    throw UnsupportedError(fmt::format("bank not written: {}{} material(s) failed (see above); {}", which, failed, kept_for_resume(r)));
   }
   return kExitOk;
 }

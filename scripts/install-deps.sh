@@ -8,6 +8,7 @@ packages=(
   python3 python3-numpy python3-h5py python3-matplotlib
   python3-dev pybind11-dev python3-pytest   # the Python module (python/) and its tests
   clang libclang-rt-14-dev libomp-dev llvm   # scripts/fuzz.sh: libFuzzer, sanitizer runtimes, OpenMP for clang, llvm-symbolizer
+  openmpi-bin libopenmpi-dev   # the MPI layer (icobrdf/cluster, docs/cluster.md): mpirun -np R icobrdf bank build
 )
 missing=()
 for p in "${packages[@]}"; do

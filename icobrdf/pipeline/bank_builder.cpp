@@ -64,75 +64,113 @@ MaterialRecord fit_material(const Scene& scene, const SceneMaterial& m, FitConte
   return rec;
 }
 
-// A material taken from the resume file or fitted; its report is filled in either way.
-MaterialRecord material_record(const Scene& scene, const SceneMaterial& m, const std::map<std::string, MaterialRecord>& previous,
-                               FitContexts& contexts, BankOperators& bank, MaterialReport& rep, const Say& say,
-                               const BankBuildOptions& opt) {
-  const auto prev = previous.find(rep.key);
-  if (prev == previous.end()) return fit_material(scene, m, contexts, bank, rep, say, opt);
-  MaterialRecord rec = prev->second;
-  rec.name = m.name;
-  report_from_record(rec, rep);
-  return rec;
-}
-
 }  // namespace
 
-BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& opt) {
-  if (opt.output.empty()) throw ArgumentError("bank build: an output path is required");
-  const Say say = [&](const std::string& line) {
-    if (opt.progress) opt.progress(line);
+MaterialFitter::MaterialFitter(const Scene& scene, const BankBuildOptions& opt)
+    : scene_(scene), options_(opt), contexts_(std::make_unique<FitContexts>()), bank_(std::make_unique<BankOperators>(scene)) {}
+
+MaterialFitter::~MaterialFitter() = default;
+
+MaterialRecord MaterialFitter::fit(std::size_t index, MaterialReport& rep) {
+  const Say say = [this](const std::string& line) {
+    if (options_.progress) options_.progress(line);
   };
-  const std::string partial_path = opt.output + ".partial";
+  return fit_material(scene_, scene_.materials.at(index), *contexts_, *bank_, rep, say, options_);
+}
+
+BankCollector::BankCollector(const Scene& scene, const BankBuildOptions& opt)
+    : scene_(scene), options_(opt), partial_path_(opt.output + ".partial"), reports_(scene.materials.size()) {
+  if (opt.output.empty()) throw ArgumentError("bank build: an output path is required");
   std::vector<std::string> inputs{scene.path};
   for (const auto& m : scene.materials) inputs.push_back(m.source);
   check_output_path(opt.output, inputs);  // before any work, the resume file read included
-  check_output_path(partial_path, inputs);
-  std::map<std::string, MaterialRecord> previous;  // key -> record
+  check_output_path(partial_path_, inputs);
   if (opt.resume) {
-    if (auto found = read_resume_file(partial_path)) {
-      previous = std::move(*found);
-      say("resuming: " + std::to_string(previous.size()) + " finished material(s) in " + partial_path);
+    if (auto found = read_resume_file(partial_path_)) {
+      previous_ = std::move(*found);
+      if (opt.progress) opt.progress("resuming: " + std::to_string(previous_.size()) + " finished material(s) in " + partial_path_);
     }
   }
-  FitContexts contexts;
-  BankOperators bank(scene);
+  checkpoint_ = std::make_unique<Checkpointer>(partial_path_);
+}
+
+BankCollector::~BankCollector() = default;
+
+MaterialReport new_material_report(const Scene& scene, std::size_t index) {
+  MaterialReport rep;
+  rep.name = scene.materials.at(index).name;
+  rep.key = material_key(scene, scene.materials[index]);
+  return rep;
+}
+
+bool BankCollector::take_resumed(std::size_t index) {
+  MaterialReport rep = new_material_report(scene_, index);
+  const auto prev = previous_.find(rep.key);
+  if (prev == previous_.end()) return false;
+  MaterialRecord rec = prev->second;
+  rec.name = rep.name;
+  report_from_record(rec, rep);
+  finished(index, std::move(rec), std::move(rep));
+  return true;
+}
+
+void BankCollector::finished(std::size_t index, MaterialRecord record, MaterialReport report) {
+  report.ok = true;
+  done_.materials.push_back(std::move(record));
+  done_index_.push_back(index);
+  reports_.at(index) = std::move(report);
+  checkpoint_->maybe_write(done_, false);
+}
+
+void BankCollector::failed(std::size_t index, MaterialReport report, const std::string& error) {
+  report.ok = false;
+  report.error = error;
+  failed_ = true;
+  if (options_.progress) options_.progress(report.name + ": FAILED: " + error);
+  reports_.at(index) = std::move(report);
+}
+
+BankBuildResult BankCollector::finish(BankOperators& operators, bool interrupted) {
   BankBuildResult result;
-  BankContents done;  // finished materials, in scene order
-  bool failed = false;
-  Checkpointer checkpoint(partial_path);
+  result.interrupted = interrupted;
+  for (auto& r : reports_)
+    if (r) result.materials.push_back(std::move(*r));
+  if (failed_ || interrupted || done_.materials.size() != scene_.materials.size()) {
+    checkpoint_->maybe_write(done_, true);  // every finished material is kept for --resume
+    result.resume_materials = checkpoint_->saved();
+    if (result.resume_materials > 0) result.resume_file = partial_path_;
+    return result;
+  }
+  std::vector<MaterialRecord> in_scene_order(done_.materials.size());
+  for (std::size_t k = 0; k < done_index_.size(); ++k) in_scene_order.at(done_index_[k]) = std::move(done_.materials[k]);
+  write_bank(options_.output, assemble_bank(operators, std::move(in_scene_order)));
+  ::unlink(partial_path_.c_str());
+  result.written = true;
+  return result;
+}
+
+BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& opt) {
+  BankCollector out(scene, opt);
+  MaterialFitter fitter(scene, opt);
+  bool interrupted = false;
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     const auto& m = scene.materials[i];
     if (opt.stop && opt.stop->load() != 0) {
-      result.interrupted = true;
+      interrupted = true;
       break;
     }
-    MaterialReport rep;
-    rep.name = m.name;
-    rep.key = material_key(scene, m);
-    say("[" + std::to_string(i + 1) + "/" + std::to_string(scene.materials.size()) + "] " + m.name + " (" + quoted_text(m.source) + ")");
+    if (opt.progress)
+      opt.progress("[" + std::to_string(i + 1) + "/" + std::to_string(scene.materials.size()) + "] " + m.name + " (" + quoted_text(m.source) + ")");
+    MaterialReport rep = new_material_report(scene, i);
     try {
-      done.materials.push_back(material_record(scene, m, previous, contexts, bank, rep, say, opt));
-      rep.ok = true;
-      checkpoint.maybe_write(done, false);
+      if (out.take_resumed(i)) continue;
+      MaterialRecord rec = fitter.fit(i, rep);
+      out.finished(i, std::move(rec), std::move(rep));
     } catch (const std::exception& e) {
-      rep.ok = false;
-      rep.error = e.what();
-      failed = true;
-      say(m.name + ": FAILED: " + rep.error);
+      out.failed(i, std::move(rep), e.what());
     }
-    result.materials.push_back(std::move(rep));
   }
-  if (failed || result.interrupted) {
-    checkpoint.maybe_write(done, true);  // every finished material is kept for --resume
-    result.resume_materials = checkpoint.saved();
-    if (result.resume_materials > 0) result.resume_file = partial_path;
-    return result;
-  }
-  write_bank(opt.output, assemble_bank(bank, std::move(done.materials)));
-  ::unlink(partial_path.c_str());
-  result.written = true;
-  return result;
+  return out.finish(fitter.operators(), interrupted);
 }
 
 std::string kept_for_resume(const BankBuildResult& r) {

@@ -25,9 +25,13 @@
 #include <atomic>
 #include <cstddef>
 #include <functional>
+#include <map>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/scene.hpp"
 
 namespace icobrdf {
@@ -48,6 +52,7 @@ struct MaterialReport {
   int kept = 0, total = 0;     // coefficients kept after pruning / in the full (B|IB)SSS vector
   long long bytes = 0;         // kept coefficients (8 bytes per channel) and their indices (4 bytes each)
   double seconds = 0.0;
+  int rank = -1;               // the MPI rank that fitted it (icobrdf/cluster/distributed_bank.hpp); -1 in one process
 };
 
 struct BankBuildOptions {
@@ -72,6 +77,62 @@ struct BankBuildResult {
 };
 
 BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& options);
+
+// The two halves of build_bank, for builds that spread the materials over processes
+// (icobrdf/cluster/distributed_bank.hpp); build_bank is these two in one loop.
+//
+// MaterialFitter: fits material `index` of the scene (its source, held-out pairs, representation, record with
+// its LUT); it keeps the fitting caches (level contexts, bank operators) from one material to the next.
+// Throws what the fit throws (the material failed).
+// The report of material `index` of the scene with its name and key (icobrdf/pipeline/bank_resume.hpp) filled in.
+MaterialReport new_material_report(const Scene& scene, std::size_t index);
+
+class BankOperators;
+class FitContexts;
+class MaterialFitter {
+ public:
+  MaterialFitter(const Scene& scene, const BankBuildOptions& options);
+  ~MaterialFitter();
+  MaterialRecord fit(std::size_t index, MaterialReport& report);
+  BankOperators& operators() { return *bank_; }
+
+ private:
+  const Scene& scene_;
+  const BankBuildOptions& options_;
+  std::unique_ptr<FitContexts> contexts_;
+  std::unique_ptr<BankOperators> bank_;
+};
+
+// BankCollector: the writing half. Its constructor checks both output paths and reads the resume file (with
+// options.resume); it then takes each material's outcome in any order, checkpoints the finished ones
+// (icobrdf/pipeline/bank_resume.hpp), and `finish` writes the bank, in scene order, when every material
+// succeeded.
+class Checkpointer;
+class BankCollector {
+ public:
+  BankCollector(const Scene& scene, const BankBuildOptions& options);
+  ~BankCollector();
+  std::size_t size() const { return scene_.materials.size(); }
+  // True when the resume file holds the material: its record and report are then taken as finished.
+  bool take_resumed(std::size_t index);
+  void finished(std::size_t index, MaterialRecord record, MaterialReport report);
+  void failed(std::size_t index, MaterialReport report, const std::string& error);
+  bool any_failed() const { return failed_; }
+  // Writes the bank (every material finished, not `interrupted`) and removes the resume file, or writes
+  // the resume file with every finished material. `operators` provides the bank's grid and basis.
+  BankBuildResult finish(BankOperators& operators, bool interrupted);
+
+ private:
+  const Scene& scene_;
+  const BankBuildOptions& options_;
+  std::string partial_path_;
+  std::map<std::string, MaterialRecord> previous_;  // key -> record, from the resume file
+  BankContents done_;                                // finished materials, in the order they finished
+  std::vector<std::size_t> done_index_;              // their scene indices
+  std::vector<std::optional<MaterialReport>> reports_;
+  bool failed_ = false;
+  std::unique_ptr<Checkpointer> checkpoint_;
+};
 
 // What a failed or interrupted build kept for --resume, for its message: "N finished material(s) kept in
 // OUTPUT.partial (use --resume)", naming the file only when this build wrote it, else "no material

@@ -41,6 +41,42 @@ inline std::string bank_bytes_without_timings(const std::string& path, std::stri
   return bytes;
 }
 
+// Several materials on levels 2 and 3 (fits search the level; bank operators at level 3 with P where
+// supported); isotropic and anisotropic, pruned and not; float32 or float64 LUTs. A build takes a fraction of
+// a second on one thread.
+inline std::string identity_scene(bool float32_luts) {
+  const std::string luts = float32_luts ? "lut_float32 = true\n" : "lut_float32 = false\n";
+  return R"(
+[bank]
+level = 3
+levels = [2, 3]
+order_max = 8
+store_lut = true
+)" + luts + R"(holdout_pairs = 1024
+
+[[material]]
+name = "matte"
+source = "model:lambert:albedo=0.2"
+
+[[material]]
+name = "moon"
+source = "model:minnaert:k=2"
+
+[[material]]
+name = "clay"
+source = "model:oren-nayar:sigma=30,albedo=0.7"
+isotropic = false
+order = 6
+target = 1.0
+prune = false
+
+[[material]]
+name = "glossy"
+source = "model:ggx:alpha=0.6"
+target = 0.5
+)";
+}
+
 inline ::testing::AssertionResult banks_identical(const std::string& a, const std::string& b) {
   std::string problem;
   const std::string x = bank_bytes_without_timings(a, &problem);

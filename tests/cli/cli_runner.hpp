@@ -32,16 +32,14 @@ inline std::string shell_quote(const std::string& s) {
   return q + "'";
 }
 
-// Runs `icobrdf args...` with stdout and stderr captured to temporary files.
-inline CliResult run_cli(const std::vector<std::string>& args) {
+// Runs a shell command line with stdout and stderr captured to temporary files (stdin is /dev/null).
+inline CliResult run_shell(const std::string& command) {
   char out_tmpl[] = "/tmp/icobrdf_cli_outXXXXXX";
   char err_tmpl[] = "/tmp/icobrdf_cli_errXXXXXX";
   const int fo = mkstemp(out_tmpl), fe = mkstemp(err_tmpl);
   close(fo);
   close(fe);
-  std::string cmd = shell_quote(ICOBRDF_CLI_PATH);
-  for (const auto& a : args) cmd += " " + shell_quote(a);
-  cmd += " >" + std::string(out_tmpl) + " 2>" + std::string(err_tmpl) + " </dev/null";
+  const std::string cmd = command + " >" + std::string(out_tmpl) + " 2>" + std::string(err_tmpl) + " </dev/null";
   const int status = std::system(cmd.c_str());
   CliResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -51,6 +49,17 @@ inline CliResult run_cli(const std::vector<std::string>& args) {
   std::remove(err_tmpl);
   return r;
 }
+
+// `icobrdf args...`, each argument quoted, after `prefix` (e.g. "mpirun -np 2").
+inline std::string cli_command(const std::vector<std::string>& args, const std::string& prefix = "") {
+  std::string cmd = prefix.empty() ? "" : prefix + " ";
+  cmd += shell_quote(ICOBRDF_CLI_PATH);
+  for (const auto& a : args) cmd += " " + shell_quote(a);
+  return cmd;
+}
+
+// Runs `icobrdf args...` with stdout and stderr captured.
+inline CliResult run_cli(const std::vector<std::string>& args) { return run_shell(cli_command(args)); }
 
 // The first value column of `icobrdf eval SOURCE --at PAIRS_CSV` (one value per pair); empty on failure.
 inline std::vector<double> eval_first_column(const std::string& source, const std::string& pairs_csv) {

@@ -15,46 +15,11 @@ using icobrdf::test::TempDir;
 
 namespace {
 
-// Several materials on levels 2 and 3 (fits search the level; bank operators at level 3 with P where
-// supported); isotropic and anisotropic, pruned and not, float32 and float64 LUTs in two scenes.
-const char* kScene = R"(
-[bank]
-level = 3
-levels = [2, 3]
-order_max = 8
-store_lut = true
-lut_float32 = %s
-holdout_pairs = 1024
-
-[[material]]
-name = "matte"
-source = "model:lambert:albedo=0.2"
-
-[[material]]
-name = "moon"
-source = "model:minnaert:k=2"
-
-[[material]]
-name = "clay"
-source = "model:oren-nayar:sigma=30,albedo=0.7"
-isotropic = false
-order = 6
-target = 1.0
-prune = false
-
-[[material]]
-name = "glossy"
-source = "model:ggx:alpha=0.6"
-target = 0.5
-)";
-
 void expect_thread_count_independent(bool float32) {
   setenv("SOURCE_DATE_EPOCH", "1700000000", 1);  // fixes the bank's `created` attribute
   TempDir d;
   const std::string scene = d.file("scene.toml"), one = d.file("one.h5"), two = d.file("two.h5");
-  char text[2048];
-  std::snprintf(text, sizeof text, kScene, float32 ? "true" : "false");
-  std::ofstream(scene) << text;
+  std::ofstream(scene) << icobrdf::test::identity_scene(float32);
   setenv("OMP_NUM_THREADS", "1", 1);
   const auto a = run_cli({"bank", "build", scene, "-o", one, "--quiet"});
   setenv("OMP_NUM_THREADS", "2", 1);

@@ -1,0 +1,71 @@
+#include "icobrdf/cluster/cluster.hpp"
+
+#include <mpi.h>
+
+#include <climits>
+#include <thread>
+
+#include "icobrdf/core/error.hpp"
+
+namespace icobrdf {
+
+Cluster::Cluster() {
+  int provided = MPI_THREAD_SINGLE;
+  MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  if (provided < MPI_THREAD_SERIALIZED) {
+    MPI_Finalize();
+    throw UnsupportedError("MPI: the library gives thread level " + std::to_string(provided) +
+                           ", expected at least MPI_THREAD_SERIALIZED (" + std::to_string(MPI_THREAD_SERIALIZED) + ")");
+  }
+}
+
+Cluster::~Cluster() {
+  MPI_Request barrier;
+  MPI_Ibarrier(MPI_COMM_WORLD, &barrier);
+  for (int done = 0;;) {
+    MPI_Test(&barrier, &done, MPI_STATUS_IGNORE);
+    if (done) break;
+    std::this_thread::sleep_for(kPollInterval);
+  }
+  MPI_Finalize();
+}
+
+int Cluster::first_failed(bool ok) {
+  const int mine = ok ? size_ : rank_;
+  int lowest = size_;
+  MPI_Allreduce(&mine, &lowest, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  return lowest < size_ ? lowest : -1;
+}
+
+void Cluster::send(int destination, int tag, const std::string& bytes) {
+  if (bytes.size() > static_cast<std::size_t>(INT_MAX))
+    throw ResourceError("MPI: a message of " + std::to_string(bytes.size()) + " bytes to rank " + std::to_string(destination) +
+                        ", expected at most " + std::to_string(INT_MAX) + " (MPI's count limit)");
+  MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, destination, tag, MPI_COMM_WORLD);
+}
+
+std::optional<Cluster::Message> Cluster::poll(int source) {
+  int flag = 0;
+  MPI_Status status;
+  MPI_Iprobe(source < 0 ? MPI_ANY_SOURCE : source, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status);
+  if (!flag) return std::nullopt;
+  int count = 0;
+  MPI_Get_count(&status, MPI_BYTE, &count);
+  Message m;
+  m.source = status.MPI_SOURCE;
+  m.tag = status.MPI_TAG;
+  m.bytes.resize(static_cast<std::size_t>(count));
+  MPI_Recv(m.bytes.data(), count, MPI_BYTE, status.MPI_SOURCE, status.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  return m;
+}
+
+Cluster::Message Cluster::wait(int source) {
+  for (;;) {
+    if (auto m = poll(source)) return std::move(*m);
+    std::this_thread::sleep_for(kPollInterval);
+  }
+}
+
+}  // namespace icobrdf

@@ -1,0 +1,40 @@
+#pragma once
+// `mpirun -np R icobrdf bank build SCENE.toml -o BANK.h5`: the materials of a scene spread over R ranks.
+//
+// Scheduling: a work queue on rank 0, dynamic because material costs differ by 1000x. Rank 0 keeps the list
+// of materials not yet handed out; a helper thread of rank 0 answers each request of another rank with the
+// next index (or "done"), while rank 0's main thread takes indices from the same list and fits them itself.
+// Each rank fits whole materials with the one-process code (icobrdf/pipeline/bank_builder.hpp, MaterialFitter,
+// its OpenMP threads included).
+//
+// What moves: rank 0 -> rank r: one 8-byte index per material. Rank r -> rank 0: per material a 10-byte
+// header and the finished record as a one-material icobrdf bank file (the format of the resume file,
+// written and read by the project's own writer and reader, so it round-trips exactly), or the failure's
+// message. docs/cluster.md gives the sizes.
+//
+// Writing: rank 0 alone, with the one-process writer (BankCollector): it checks the output paths and reads
+// the resume file before any rank starts, checkpoints OUTPUT.partial as results arrive (--resume works as in
+// one process; materials in the resume file are never handed out), and writes the bank atomically, in scene
+// order, so that the bank is byte-identical to a one-process build up to the `seconds` figures.
+//
+// Failures: a material that fails on any rank fails the build (no bank; the others are finished and kept for
+// --resume) and its report names the rank (MaterialReport::rank). A rank that dies makes mpirun end the
+// job: mpirun names the dead rank and sends SIGTERM to the others, and rank 0 prints at once one line naming
+// the material each rank was fitting. Progress lines come from rank 0 only (options.progress is called
+// there, from either of its threads, one line at a time).
+//
+// Call on every rank of `cluster` with the same scene; the other ranks return an empty result
+// (`worker` = true) once rank 0 has no more work for them.
+#include "icobrdf/cluster/cluster.hpp"
+#include "icobrdf/pipeline/bank_builder.hpp"
+
+namespace icobrdf {
+
+struct DistributedBankResult {
+  BankBuildResult build;  // rank 0: the build's result, as build_bank's
+  bool worker = false;    // ranks other than 0: nothing to report
+};
+
+DistributedBankResult build_bank_distributed(const Scene& scene, const BankBuildOptions& options, Cluster& cluster);
+
+}  // namespace icobrdf

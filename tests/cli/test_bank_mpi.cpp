@@ -1,0 +1,133 @@
+// `mpirun -np 2 --oversubscribe icobrdf bank build` (icobrdf/cluster/distributed_bank.hpp): the bank equals a
+// one-process build byte for byte (run-dependent `seconds` figures masked, tests/cli/bank_identity.hpp), both
+// ranks fit materials, a failing material fails the build naming its rank, and --resume works across runs.
+// Skipped when the MPI layer was not built (no MPI found at configure time).
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <stdlib.h>
+
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "tests/cli/bank_identity.hpp"
+#include "tests/cli/cli_runner.hpp"
+
+using icobrdf::test::banks_identical;
+using icobrdf::test::cli_command;
+using icobrdf::test::CliResult;
+using icobrdf::test::run_cli;
+using icobrdf::test::run_shell;
+using icobrdf::test::TempDir;
+using nlohmann::json;
+
+namespace {
+
+// Eight cheap materials (a second or less in all on one thread): the identity scene (isotropic and
+// anisotropic, pruned and not, levels 2 and 3) and four more, a delta part among them; enough that rank 0's
+// helper hands some to rank 1 while rank 0 fits.
+std::string scene_text() {
+  return icobrdf::test::identity_scene(false) + R"(
+[[material]]
+name = "stone"
+source = "model:0.9*lambert+0.1*mirror"
+order = 3
+
+[[material]]
+name = "dust"
+source = "model:lambert:albedo=0.6"
+
+[[material]]
+name = "moon2"
+source = "model:minnaert:k=1.5"
+target = 0.05
+
+[[material]]
+name = "sheen"
+source = "model:ggx:alpha=0.8"
+target = 0.5
+)";
+}
+
+// mpirun as CI runs it: as root (OpenMPI refuses root without these), two ranks on however many cores, -q (no
+// banner of its own beside our one-line errors),
+// one OpenMP thread per rank.
+CliResult run_mpi(const std::vector<std::string>& args) {
+  return run_shell("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1 " +
+                   cli_command(args, icobrdf::test::shell_quote(ICOBRDF_MPIEXEC) + " -q -np 2 --oversubscribe"));
+}
+
+std::string write(const TempDir& d, const std::string& name, const std::string& text) {
+  std::ofstream(d.file(name)) << text;
+  return d.file(name);
+}
+
+bool exists(const std::string& path) { return std::ifstream(path).good(); }
+
+const json& material(const json& report, const std::string& name) {
+  for (const auto& m : report["materials"])
+    if (m["name"] == name) return m;
+  throw std::runtime_error("no material " + name);
+}
+
+class BankMpi : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!ICOBRDF_MPI_BUILT) GTEST_SKIP() << "the MPI layer was not built (no MPI found by CMake; scripts/install-deps.sh installs OpenMPI)";
+    setenv("SOURCE_DATE_EPOCH", "1700000000", 1);  // fixes the bank's `created` attribute
+  }
+};
+
+}  // namespace
+
+TEST_F(BankMpi, TwoRanksGiveTheOneProcessBankAndBothRanksWork) {
+  TempDir d;
+  const std::string scene = write(d, "scene.toml", scene_text()), one = d.file("one.h5"), two = d.file("two.h5");
+  setenv("OMP_NUM_THREADS", "1", 1);
+  const auto a = run_cli({"bank", "build", scene, "-o", one, "--quiet"});
+  unsetenv("OMP_NUM_THREADS");
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const auto b = run_mpi({"bank", "build", scene, "-o", two, "--json"});
+  ASSERT_EQ(b.exit_code, 0) << b.err << b.out;
+  EXPECT_TRUE(banks_identical(one, two));
+  EXPECT_FALSE(exists(two + ".partial"));
+  // Every material was fitted by rank 0 or rank 1, and both ranks fitted some.
+  const json j = json::parse(b.out);
+  std::set<int> ranks;
+  for (const auto& m : j["materials"]) ranks.insert(m.at("rank").get<int>());
+  EXPECT_EQ(ranks, (std::set<int>{0, 1}));
+  // Progress lines come from rank 0 only: one hand-out line per material ("[k/8] name (...) on rank r").
+  size_t lines = 0;
+  std::istringstream err(b.err);
+  for (std::string line; std::getline(err, line);) lines += line.rfind("[", 0) == 0 && line.find(") on rank ") != std::string::npos;
+  EXPECT_EQ(lines, j["materials"].size()) << b.err;
+}
+
+TEST_F(BankMpi, AFailingMaterialFailsTheBuildNamingItsRankAndResumeFinishesIt) {
+  TempDir d;
+  std::string text = scene_text() + "\n[[material]]\nname = \"broken\"\nsource = \"model:nosuchmodel\"\n";
+  const std::string scene = write(d, "scene.toml", text), bank = d.file("bank.h5"), one = d.file("one.h5");
+  auto r = run_mpi({"bank", "build", scene, "-o", bank, "--quiet"});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_FALSE(exists(bank)) << "no bank after a failed material";
+  // One line from icobrdf names the material and the rank that fitted it (rank 0 or 1: the queue decides).
+  const auto at = r.err.find("icobrdf: error: bank not written: material 'broken' failed on rank ");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  const char rank = r.err[at + std::string("icobrdf: error: bank not written: material 'broken' failed on rank ").size()];
+  EXPECT_TRUE(rank == '0' || rank == '1') << r.err;
+  EXPECT_NE(r.err.find("nosuchmodel", at), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("8 finished material(s) kept in " + bank + ".partial (use --resume)", at), std::string::npos) << r.err;
+  // Fixed scene, --resume under mpirun: only the fixed material is fitted, and the bank is the one-process
+  // build's.
+  text.replace(text.find("model:nosuchmodel"), 17, "model:lambert:albedo=0.3");
+  write(d, "scene.toml", text);
+  r = run_mpi({"bank", "build", scene, "-o", bank, "--json", "--quiet", "--resume"});
+  ASSERT_EQ(r.exit_code, 0) << r.err << r.out;
+  const json j = json::parse(r.out);
+  for (const auto& m : j["materials"]) EXPECT_EQ(m["resumed"].get<bool>(), m["name"] != "broken") << m["name"];
+  setenv("OMP_NUM_THREADS", "1", 1);
+  const auto a = run_cli({"bank", "build", scene, "-o", one, "--quiet"});
+  unsetenv("OMP_NUM_THREADS");
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  EXPECT_TRUE(banks_identical(one, bank));
+}
