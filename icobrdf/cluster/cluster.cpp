@@ -21,7 +21,13 @@ Cluster::Cluster() {
   }
 }
 
+struct Cluster::Outgoing {
+  std::string bytes;
+  MPI_Request request = MPI_REQUEST_NULL;
+};
+
 Cluster::~Cluster() {
+  finish_sends();
   MPI_Request barrier;
   MPI_Ibarrier(MPI_COMM_WORLD, &barrier);
   for (int done = 0;;) {
@@ -39,11 +45,42 @@ int Cluster::first_failed(bool ok) {
   return lowest < size_ ? lowest : -1;
 }
 
-void Cluster::send(int destination, int tag, const std::string& bytes) {
-  if (bytes.size() > static_cast<std::size_t>(INT_MAX))
-    throw ResourceError("MPI: a message of " + std::to_string(bytes.size()) + " bytes to rank " + std::to_string(destination) +
+namespace {
+
+void check_count(std::size_t bytes, int destination) {
+  if (bytes > static_cast<std::size_t>(INT_MAX))
+    throw ResourceError("MPI: a message of " + std::to_string(bytes) + " bytes to rank " + std::to_string(destination) +
                         ", expected at most " + std::to_string(INT_MAX) + " (MPI's count limit)");
+}
+
+}  // namespace
+
+void Cluster::send(int destination, int tag, const std::string& bytes) {
+  check_count(bytes.size(), destination);
   MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, destination, tag, MPI_COMM_WORLD);
+}
+
+void Cluster::post(int destination, int tag, std::string bytes) {
+  check_count(bytes.size(), destination);
+  free_delivered();
+  auto o = std::make_unique<Outgoing>();
+  o->bytes = std::move(bytes);
+  MPI_Isend(o->bytes.data(), static_cast<int>(o->bytes.size()), MPI_BYTE, destination, tag, MPI_COMM_WORLD, &o->request);
+  outgoing_.push_back(std::move(o));
+}
+
+void Cluster::free_delivered() {
+  std::vector<std::unique_ptr<Outgoing>> pending;
+  for (auto& o : outgoing_) {
+    int done = 0;
+    MPI_Test(&o->request, &done, MPI_STATUS_IGNORE);
+    if (!done) pending.push_back(std::move(o));
+  }
+  outgoing_ = std::move(pending);
+}
+
+void Cluster::finish_sends() {
+  for (free_delivered(); !outgoing_.empty(); free_delivered()) std::this_thread::sleep_for(kPollInterval);
 }
 
 std::optional<Cluster::Message> Cluster::poll(int source) {

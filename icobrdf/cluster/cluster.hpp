@@ -12,8 +12,10 @@
 // which would take it from the fitting threads of the same node (mpirun --oversubscribe, OpenMP). The
 // destructor waits for every rank the same way (MPI_Ibarrier) before MPI_Finalize.
 #include <chrono>
+#include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace icobrdf {
 
@@ -25,7 +27,7 @@ class Cluster {
  public:
   // MPI_Init_thread; UnsupportedError when the MPI library cannot give MPI_THREAD_SERIALIZED.
   Cluster();
-  ~Cluster();  // every rank reaches it (polling barrier), then MPI_Finalize
+  ~Cluster();  // finish_sends(); every rank reaches it (polling barrier); MPI_Finalize
   Cluster(const Cluster&) = delete;
   Cluster& operator=(const Cluster&) = delete;
 
@@ -42,13 +44,21 @@ class Cluster {
   };
   // Blocking send of `bytes` (ResourceError above 2 GiB, MPI's count limit).
   void send(int destination, int tag, const std::string& bytes);
+  // Non-blocking send: returns at once, the bytes are kept until delivered (a large message waits for its
+  // receiver; the sender fits meanwhile). finish_sends() waits, polling, until every one was delivered.
+  void post(int destination, int tag, std::string bytes);
+  void finish_sends();
   // The next message from `source` (any rank when negative) if one has arrived, else nullopt.
   std::optional<Message> poll(int source = -1);
   // The next message from `source` (any rank when negative), waiting for it by polling.
   Message wait(int source = -1);
 
  private:
+  struct Outgoing;
+  // Completed posts are freed by the next post or finish_sends.
+  void free_delivered();
   int rank_ = 0, size_ = 1;
+  std::vector<std::unique_ptr<Outgoing>> outgoing_;
 };
 
 }  // namespace icobrdf

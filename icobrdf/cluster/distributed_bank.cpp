@@ -4,17 +4,13 @@
 
 #include <condition_variable>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <deque>
 #include <exception>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <sstream>
 #include <thread>
 
 #include "icobrdf/core/error.hpp"
@@ -30,8 +26,12 @@ namespace {
 constexpr int kReport = 1, kWork = 2, kDone = 3;
 
 // Header of a report: the material's index (int64, -1 when the report carries no material: the first
-// request), its outcome, and whether the rank asks for more work (0 when it was told to stop).
-enum class Outcome : std::uint8_t { none = 0, finished = 1, failed = 2 };
+// requests), its outcome, and whether the rank asks for more work (0 once it was told done or to stop).
+// `returned`: a material handed out but not fitted (the rank was stopped); rank 0 hands it out again.
+enum class Outcome : std::uint8_t { none = 0, finished = 1, failed = 2, returned = 3 };
+// Materials a rank holds beyond the one it fits: it asks for the next one before it finishes the current,
+// so that the round trip to rank 0 (a poll interval, more on a loaded node) never leaves it idle.
+constexpr int kAhead = 1;
 constexpr std::size_t kHeaderBytes = 10;
 
 std::string header(std::int64_t index, Outcome outcome, bool wants_more) {
@@ -48,53 +48,18 @@ std::int64_t index_of(const std::string& bytes) {
   return i;
 }
 
-// A private folder for the record files of this process, removed with its content.
-class ScratchFolder {
- public:
-  ScratchFolder() {
-    const char* tmp = std::getenv("TMPDIR");
-    std::string pattern = std::string(tmp && *tmp ? tmp : "/tmp") + "/icobrdf-mpi-XXXXXX";
-    if (!::mkdtemp(pattern.data())) throw IoError("MPI bank build: cannot create a scratch folder " + pattern + ": " + std::strerror(errno));
-    path_ = pattern;
-  }
-  ~ScratchFolder() {
-    ::unlink(file().c_str());
-    ::rmdir(path_.c_str());
-  }
-  std::string file() const { return path_ + "/record.h5"; }
-
- private:
-  std::string path_;
-};
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  if (!in && !in.eof()) throw IoError(path + ": cannot be read back");
-  return s.str();
-}
-
-// A record as the bytes of a one-material bank file (the resume file's format), and back.
-std::string record_bytes(MaterialRecord record, const ScratchFolder& scratch) {
+// A record as the bytes of a one-material bank file (the resume file's format), made and read in memory.
+std::string record_bytes(MaterialRecord record) {
   BankContents one;
+  const std::string name = "record of material '" + record.name + "'";
   one.materials.push_back(std::move(record));
-  write_bank(scratch.file(), one);
-  std::string bytes = slurp(scratch.file());
-  ::unlink(scratch.file().c_str());
-  return bytes;
+  return bank_image(one, name);
 }
 
-MaterialRecord record_from_bytes(const char* data, std::size_t size, const ScratchFolder& scratch) {
-  {
-    std::ofstream out(scratch.file(), std::ios::binary | std::ios::trunc);
-    out.write(data, static_cast<std::streamsize>(size));
-    if (!out) throw IoError(scratch.file() + ": cannot be written");
-  }
-  BankContents one = read_bank(scratch.file());
-  ::unlink(scratch.file().c_str());
+MaterialRecord record_from_bytes(const std::string& bytes, const std::string& name) {
+  BankContents one = read_bank_image(bytes, name);
   if (one.materials.size() != 1)
-    throw InputError("MPI bank build: a result holds " + std::to_string(one.materials.size()) + " materials, expected 1");
+    throw InputError(name + ": holds " + std::to_string(one.materials.size()) + " materials, expected 1");
   return std::move(one.materials.front());
 }
 
@@ -104,42 +69,61 @@ std::string progress_line(const Scene& scene, std::size_t handed, std::size_t in
          ") on rank " + std::to_string(rank);
 }
 
-// Ranks other than 0: ask, fit, send, until rank 0 says done (or this rank was told to stop).
+// Ranks other than 0: ask, fit, send, until rank 0 says done (or this rank was told to stop). The first
+// report asks for 1 + kAhead materials, every later one with wants_more = 1 for one; each is answered by a
+// kWork or kDone. The rank ends when it holds no material and every request was answered.
 void serve(const Scene& scene, const BankBuildOptions& options, Cluster& cluster) {
   BankBuildOptions quiet = options;
   quiet.progress = nullptr;
   MaterialFitter fitter(scene, quiet);
-  const ScratchFolder scratch;
-  cluster.send(0, kReport, header(-1, Outcome::none, true));
+  std::deque<std::int64_t> held;  // handed to this rank, not yet reported
+  int asked = 0;                  // requests not yet answered
+  bool done = false;              // told done, or stopped
+  cluster.post(0, kReport, header(-1, Outcome::none, true));  // the first request counts for 1 + kAhead
+  asked = 1 + kAhead;
   for (;;) {
-    const Cluster::Message m = cluster.wait(0);
-    if (m.tag != kWork) return;  // kDone
-    const std::int64_t index = index_of(m.bytes);
-    MaterialReport report = new_material_report(scene, static_cast<std::size_t>(index));
+    while (asked > 0) {  // the answers so far; wait for one only when nothing is held
+      auto m = held.empty() ? std::optional<Cluster::Message>(cluster.wait(0)) : cluster.poll(0);
+      if (!m) break;
+      --asked;
+      if (m->tag == kWork)
+        held.push_back(index_of(m->bytes));
+      else
+        done = true;
+    }
+    if (held.empty()) break;  // and asked == 0
+    const std::int64_t index = held.front();
+    held.pop_front();
+    done = done || (options.stop && options.stop->load() != 0);
     Outcome outcome = Outcome::finished;
     std::string payload;
-    try {
-      payload = record_bytes(fitter.fit(static_cast<std::size_t>(index), report), scratch);
-    } catch (const std::exception& e) {
-      outcome = Outcome::failed;
-      payload = e.what();
+    if (options.stop && options.stop->load() != 0) {
+      outcome = Outcome::returned;
+    } else {
+      MaterialReport report = new_material_report(scene, static_cast<std::size_t>(index));
+      try {
+        payload = record_bytes(fitter.fit(static_cast<std::size_t>(index), report));
+      } catch (const std::exception& e) {
+        outcome = Outcome::failed;
+        payload = e.what();
+      }
     }
-    const bool more = !(options.stop && options.stop->load() != 0);
-    cluster.send(0, kReport, header(index, outcome, more) + payload);
-    if (!more) return;
+    cluster.post(0, kReport, header(index, outcome, !done) + payload);
+    if (!done) ++asked;
   }
+  cluster.finish_sends();
 }
 
 // Rank 0's shared state: the materials not yet handed out, who fits what, and the reports received.
 struct Coordinator {
-  Coordinator(const Scene& s, const BankBuildOptions& o, int ranks) : scene(s), options(o), fitting(static_cast<std::size_t>(ranks), -1) {}
+  Coordinator(const Scene& s, const BankBuildOptions& o, int ranks) : scene(s), options(o), held(static_cast<std::size_t>(ranks)) {}
   const Scene& scene;
   const BankBuildOptions& options;
   std::mutex lock;
   std::condition_variable arrived;
   std::deque<std::size_t> todo;                 // not yet handed out, in scene order
   std::size_t handed = 0;                       // handed out so far (resumed ones counted), for progress lines
-  std::vector<std::int64_t> fitting;            // per rank: the index it fits, -1 when none
+  std::vector<std::deque<std::int64_t>> held;   // per rank: handed out, not yet reported (the first is being fitted)
   std::deque<Cluster::Message> inbox;           // reports with a material, for the main thread
   bool closing = false;                         // hand out nothing more (stop, or an error on rank 0)
   bool helper_done = false;                     // every other rank was told done
@@ -154,7 +138,7 @@ struct Coordinator {
     if (closing || stopped() || todo.empty()) return -1;
     const std::size_t i = todo.front();
     todo.pop_front();
-    fitting[static_cast<std::size_t>(rank)] = static_cast<std::int64_t>(i);
+    held[static_cast<std::size_t>(rank)].push_back(static_cast<std::int64_t>(i));
     const std::string line = progress_line(scene, ++handed, i, rank);
     g.unlock();
     say(line);
@@ -164,19 +148,46 @@ struct Coordinator {
   std::string in_progress() {
     std::lock_guard<std::mutex> g(lock);
     std::string s;
-    for (std::size_t r = 0; r < fitting.size(); ++r) {
-      if (fitting[r] < 0) continue;
-      s += (s.empty() ? "" : ", ") + std::string("'") + scene.materials[static_cast<std::size_t>(fitting[r])].name + "' on rank " + std::to_string(r);
+    for (std::size_t r = 0; r < held.size(); ++r) {
+      if (held[r].empty()) continue;
+      s += (s.empty() ? "" : ", ") + std::string("'") + scene.materials[static_cast<std::size_t>(held[r].front())].name + "' on rank " + std::to_string(r);
     }
     return s.empty() ? "no material" : s;
   }
+  // Material `index` reported by `rank`: no longer held; a returned one goes back to the front of the queue.
+  void reported(int rank, std::int64_t index, bool returned) {
+    std::lock_guard<std::mutex> g(lock);
+    auto& h = held[static_cast<std::size_t>(rank)];
+    for (auto it = h.begin(); it != h.end(); ++it)
+      if (*it == index) {
+        h.erase(it);
+        break;
+      }
+    if (returned) {
+      todo.push_front(static_cast<std::size_t>(index));
+      --handed;
+    }
+  }
+  bool holds(int rank) {
+    std::lock_guard<std::mutex> g(lock);
+    return !held[static_cast<std::size_t>(rank)].empty();
+  }
 };
 
-// Rank 0's helper thread: the only one that calls MPI while the build runs.
+// Rank 0's helper thread: the only one that calls MPI while the build runs. It answers every request at once;
+// a rank is finished once it holds no material and was told done or said it stops (wants_more = 0): its
+// first request came before any material, so every request it made was answered by then.
 void answer_requests(Coordinator& co, Cluster& cluster) {
-  int active = cluster.size() - 1;
+  const auto ranks = static_cast<std::size_t>(cluster.size());
+  std::vector<char> told_done(ranks, 0), leaving(ranks, 0);
+  const auto finished = [&](std::size_t r) { return (told_done[r] || leaving[r]) && !co.holds(static_cast<int>(r)); };
+  const auto all_finished = [&] {
+    for (std::size_t r = 1; r < ranks; ++r)
+      if (!finished(r)) return false;
+    return true;
+  };
   bool told_stop = false;
-  while (active > 0) {
+  while (!all_finished()) {
     if (!told_stop && co.stopped()) {
       told_stop = true;
       const std::string line = "icobrdf: stopping on signal " + std::to_string(co.options.stop->load()) +
@@ -190,26 +201,32 @@ void answer_requests(Coordinator& co, Cluster& cluster) {
       continue;
     }
     if (m->tag != kReport || m->bytes.size() < kHeaderBytes) continue;
+    const auto source = static_cast<std::size_t>(m->source);
     const auto outcome = static_cast<Outcome>(m->bytes[8]);
     const bool more = m->bytes[9] != 0;
-    {
-      std::lock_guard<std::mutex> g(co.lock);
-      co.fitting[static_cast<std::size_t>(m->source)] = -1;
-      if (outcome != Outcome::none) co.inbox.push_back(*m);
+    if (!more) leaving[source] = 1;
+    if (outcome != Outcome::none) {
+      co.reported(m->source, index_of(m->bytes), outcome == Outcome::returned);
+      if (outcome != Outcome::returned) {
+        {
+          std::lock_guard<std::mutex> g(co.lock);
+          co.inbox.push_back(std::move(*m));
+        }
+        co.arrived.notify_all();
+      }
     }
-    if (outcome != Outcome::none) co.arrived.notify_all();
-    if (!more) {
-      --active;
-      continue;
-    }
-    const std::int64_t next = co.take(m->source);
-    if (next >= 0) {
-      std::string bytes(8, '\0');
-      std::memcpy(bytes.data(), &next, 8);
-      cluster.send(m->source, kWork, bytes);
-    } else {
-      cluster.send(m->source, kDone, "");
-      --active;
+    if (!more) continue;
+    // The first request of a rank (no material) asks for 1 + kAhead answers, every later one for one.
+    for (int k = 0; k < (outcome == Outcome::none ? 1 + kAhead : 1); ++k) {
+      const std::int64_t next = co.take(static_cast<int>(source));
+      if (next >= 0) {
+        std::string bytes(8, '\0');
+        std::memcpy(bytes.data(), &next, 8);
+        cluster.send(static_cast<int>(source), kWork, bytes);
+      } else {
+        cluster.send(static_cast<int>(source), kDone, "");
+        told_done[source] = 1;
+      }
     }
   }
   {
@@ -220,7 +237,7 @@ void answer_requests(Coordinator& co, Cluster& cluster) {
 }
 
 // Rank 0's main thread: the reports received so far go to the collector.
-void take_reports(Coordinator& co, BankCollector& out, const ScratchFolder& scratch) {
+void take_reports(Coordinator& co, BankCollector& out) {
   for (;;) {
     Cluster::Message m;
     {
@@ -232,17 +249,16 @@ void take_reports(Coordinator& co, BankCollector& out, const ScratchFolder& scra
     const auto index = static_cast<std::size_t>(index_of(m.bytes));
     MaterialReport report = new_material_report(co.scene, index);
     report.rank = m.source;
-    const char* payload = m.bytes.data() + kHeaderBytes;
-    const std::size_t size = m.bytes.size() - kHeaderBytes;
+    const std::string payload = m.bytes.substr(kHeaderBytes);
     if (static_cast<Outcome>(m.bytes[8]) == Outcome::failed) {
-      out.failed(index, std::move(report), std::string(payload, size));
+      out.failed(index, std::move(report), payload);
       continue;
     }
     MaterialRecord record;
     try {
-      record = record_from_bytes(payload, size, scratch);
+      record = record_from_bytes(payload, "record of material '" + report.name + "' from rank " + std::to_string(m.source));
     } catch (const std::exception& e) {
-      out.failed(index, std::move(report), std::string("its record from rank ") + std::to_string(m.source) + " could not be read: " + e.what());
+      out.failed(index, std::move(report), e.what());
       continue;
     }
     report_from_record(record, report);
@@ -264,12 +280,10 @@ BankBuildResult coordinate(const Scene& scene, const BankBuildOptions& options, 
   bool interrupted = false;
   // Made after the helper started, so that the other ranks are answered (told done) whatever happens here.
   std::optional<MaterialFitter> fitter;
-  std::optional<ScratchFolder> scratch;
   try {
     fitter.emplace(scene, options);
-    scratch.emplace();
     for (;;) {
-      take_reports(co, out, *scratch);
+      take_reports(co, out);
       if (co.stopped()) {
         interrupted = true;
         break;
@@ -280,16 +294,10 @@ BankBuildResult coordinate(const Scene& scene, const BankBuildOptions& options, 
       report.rank = 0;
       try {
         MaterialRecord record = fitter->fit(static_cast<std::size_t>(i), report);
-        {
-          std::lock_guard<std::mutex> g(co.lock);
-          co.fitting[0] = -1;
-        }
+        co.reported(0, i, false);
         out.finished(static_cast<std::size_t>(i), std::move(record), std::move(report));
       } catch (const std::exception& e) {
-        {
-          std::lock_guard<std::mutex> g(co.lock);
-          co.fitting[0] = -1;
-        }
+        co.reported(0, i, false);
         out.failed(static_cast<std::size_t>(i), std::move(report), e.what());
       }
     }
@@ -308,7 +316,7 @@ BankBuildResult coordinate(const Scene& scene, const BankBuildOptions& options, 
     g.unlock();
     if (finished) break;
     if (!error) try {
-        take_reports(co, out, *scratch);
+        take_reports(co, out);
       } catch (...) {
         error = std::current_exception();
       }

@@ -9,7 +9,7 @@
 //
 // What moves: rank 0 -> rank r: one 8-byte index per material. Rank r -> rank 0: per material a 10-byte
 // header and the finished record as a one-material icobrdf bank file (the format of the resume file,
-// written and read by the project's own writer and reader, so it round-trips exactly), or the failure's
+// made and read in memory by the project's own writer and reader (bank_image), so it round-trips exactly), or the failure's
 // message. docs/cluster.md gives the sizes.
 //
 // Writing: rank 0 alone, with the one-process writer (BankCollector): it checks the output paths and reads

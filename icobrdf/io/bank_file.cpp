@@ -178,7 +178,10 @@ std::string iso8601_utc(long long seconds) {
   return buf;
 }
 
-void write_bank(const std::string& path, const BankContents& c) {
+namespace {
+
+// The checks write_bank makes before anything is written; ArgumentError naming `path`.
+void check_bank_contents(const std::string& path, const BankContents& c) {
   h5::init();
   check_contents(path, c);
   if (c.grid) {
@@ -188,38 +191,67 @@ void write_bank(const std::string& path, const BankContents& c) {
       throw ArgumentError(std::string("cannot write bank: ") + e.what());
     }
   }
+}
+
+// Everything of a bank but the final `complete` attribute (WriteFile::finish writes it).
+void write_bank_content(h5::WriteFile& f, const BankContents& c) {
   const std::string created = c.created.empty() ? now_iso8601() : c.created;
+  h5::Group root = f.root();
+  root.set_attr("format", bank_format::kName);
+  bool lobes = false, fits = false;
+  for (const auto& m : c.materials) {
+    lobes = lobes || m.lobe.has_value();
+    fits = fits || sample_fit_record_matches(m.spectrum);
+  }
+  root.set_attr("format_version", lobes ? (fits ? bank_format::kVersionSampleFit : bank_format::kVersion)
+                                        : (fits ? bank_format::kVersionModesOnlySampleFit : bank_format::kVersionModesOnly));
+  root.set_attr("creator", std::string("icobrdf ") + ICOBRDF_VERSION);
+  root.set_attr("created", created);
+  root.set_attr("conventions", bank_format::kConventions);
+  root.set_attr("axis_order", bank_format::kAxisOrder);
+  if (c.grid) write_grid(root, *c.grid, bank_format::kGridGroup);
+  write_basis(root, c.basis);
+  h5::Group mats = root.create_group(bank_format::kMaterialsGroup);
+  for (const auto& m : c.materials) {
+    write_material(mats, m);
+    write_fault_point("bank:material");
+  }
+}
+
+// The checks of the root attributes (format, major version, complete) that open_bank makes.
+h5::ReadFile checked_bank(h5::ReadFile f);
+
+// A whole bank from an open, checked file.
+BankContents read_bank_content(const h5::ReadFile& f, const ReadOptions& o);
+
+}  // namespace
+
+void write_bank(const std::string& path, const BankContents& c) {
+  check_bank_contents(path, c);
   atomic_write(path, [&](const std::string& temp) {
     h5::WriteFile f = h5::WriteFile::create(temp, path);
-    {
-      h5::Group root = f.root();
-      root.set_attr("format", bank_format::kName);
-      bool lobes = false, fits = false;
-      for (const auto& m : c.materials) {
-        lobes = lobes || m.lobe.has_value();
-        fits = fits || sample_fit_record_matches(m.spectrum);
-      }
-      root.set_attr("format_version", lobes ? (fits ? bank_format::kVersionSampleFit : bank_format::kVersion)
-                                            : (fits ? bank_format::kVersionModesOnlySampleFit : bank_format::kVersionModesOnly));
-      root.set_attr("creator", std::string("icobrdf ") + ICOBRDF_VERSION);
-      root.set_attr("created", created);
-      root.set_attr("conventions", bank_format::kConventions);
-      root.set_attr("axis_order", bank_format::kAxisOrder);
-      if (c.grid) write_grid(root, *c.grid, bank_format::kGridGroup);
-      write_basis(root, c.basis);
-      h5::Group mats = root.create_group(bank_format::kMaterialsGroup);
-      for (const auto& m : c.materials) {
-        write_material(mats, m);
-        write_fault_point("bank:material");
-      }
-    }
+    write_bank_content(f, c);
     write_fault_point("bank:before-complete");
     f.finish();
   });
 }
 
-h5::ReadFile open_bank(const std::string& path) {
-  h5::ReadFile f = h5::ReadFile::open(path);
+std::string bank_image(const BankContents& c, const std::string& name) {
+  check_bank_contents(name, c);
+  h5::WriteFile f = h5::WriteFile::create_in_memory(name);
+  write_bank_content(f, c);
+  return f.finish_image();
+}
+
+BankContents read_bank_image(const std::string& bytes, const std::string& name, const ReadOptions& o) {
+  return read_bank_content(checked_bank(h5::ReadFile::open_image(bytes, name)), o);
+}
+
+h5::ReadFile open_bank(const std::string& path) { return checked_bank(h5::ReadFile::open(path)); }
+
+namespace {
+
+h5::ReadFile checked_bank(h5::ReadFile f) {
   const h5::Group root = f.root();
   const std::string format = root.attr_string("format");
   if (format != bank_format::kName)
@@ -241,8 +273,7 @@ h5::ReadFile open_bank(const std::string& path) {
   return f;
 }
 
-BankContents read_bank(const std::string& path, const ReadOptions& o) {
-  const h5::ReadFile f = open_bank(path);
+BankContents read_bank_content(const h5::ReadFile& f, const ReadOptions& o) {
   const h5::Group root = f.root();
   root.check_links();
   const h5::ReadLimits lim = limits_of(o);
@@ -261,6 +292,10 @@ BankContents read_bank(const std::string& path, const ReadOptions& o) {
   for (const auto& name : mats.children()) b.materials.push_back(read_material(mats, name, lim, o.read_luts, gs));
   return b;
 }
+
+}  // namespace
+
+BankContents read_bank(const std::string& path, const ReadOptions& o) { return read_bank_content(open_bank(path), o); }
 
 MaterialRecord read_bank_material(const std::string& path, const std::string& name, const ReadOptions& o) {
   const h5::ReadFile f = open_bank(path);

@@ -56,6 +56,12 @@ void write_bank(const std::string& path, const BankContents& contents);
 // InputError for anything malformed, IoError when the file cannot be opened.
 BankContents read_bank(const std::string& path, const ReadOptions& options = {});
 
+// A bank as the bytes of its file, made and read in memory (no file system; e.g. to send a finished material
+// to another process, icobrdf/cluster/distributed_bank.hpp). The same checks and errors as write_bank and
+// read_bank; `name` stands for the file in messages.
+std::string bank_image(const BankContents& contents, const std::string& name);
+BankContents read_bank_image(const std::string& bytes, const std::string& name, const ReadOptions& options = {});
+
 // One material (and no other arrays); `name` empty = the first material in name order.
 MaterialRecord read_bank_material(const std::string& path, const std::string& name, const ReadOptions& options = {});
 

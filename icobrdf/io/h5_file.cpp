@@ -579,6 +579,35 @@ WriteFile WriteFile::create(const std::string& path, const std::string& display_
   return WriteFile(std::move(f), display_path);
 }
 
+// Bytes by which the core driver grows an in-memory file.
+constexpr std::size_t kCoreIncrement = std::size_t{1} << 20;
+
+WriteFile WriteFile::create_in_memory(const std::string& display_path) {
+  init();
+  Handle fapl = make_plist(H5P_FILE_ACCESS);
+  if (H5Pset_fapl_core(fapl.get(), kCoreIncrement, 0) < 0 || H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG) < 0)
+    fail_io(display_path, "/", "cannot set in-memory file access properties");
+  Handle f(H5Fcreate(display_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose);
+  if (!f.valid()) fail_io(display_path, "/", "cannot create an in-memory HDF5 file");
+  return WriteFile(std::move(f), display_path);
+}
+
+std::string WriteFile::finish_image() {
+  init();
+  if (H5Fflush(f_.get(), H5F_SCOPE_GLOBAL) < 0) fail_io(path_, "/", "cannot flush the file");
+  {
+    Group r = root();
+    r.set_attr("complete", true);
+  }
+  if (H5Fflush(f_.get(), H5F_SCOPE_GLOBAL) < 0) fail_io(path_, "/", "cannot flush the file");
+  const ssize_t size = H5Fget_file_image(f_.get(), nullptr, 0);
+  if (size < 0) fail_io(path_, "/", "cannot take the file's image");
+  std::string bytes(static_cast<std::size_t>(size), '\0');
+  if (H5Fget_file_image(f_.get(), bytes.data(), bytes.size()) != size) fail_io(path_, "/", "cannot take the file's image");
+  if (f_.close() < 0) fail_io(path_, "/", "cannot close the file");
+  return bytes;
+}
+
 Group WriteFile::root() {
   Handle g(H5Gopen2(f_.get(), "/", H5P_DEFAULT), H5Gclose);
   if (!g.valid()) fail_io(path_, "/", "cannot open the root group");
@@ -617,6 +646,20 @@ ReadFile ReadFile::open(const std::string& path) {
   Handle f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.get()), H5Fclose);
   if (!f.valid()) throw InputError(path + ": /: cannot open as HDF5 (" + take_error_detail() + ")");
   return ReadFile(std::move(f), path);
+}
+
+ReadFile ReadFile::open_image(const std::string& bytes, const std::string& display_path) {
+  init();
+  static const char kSignature[] = "\x89HDF\r\n\x1a\n";
+  if (bytes.size() < 8 || bytes.compare(0, 8, kSignature, 8) != 0)
+    throw InputError(display_path + ": /: expected an HDF5 file, found no HDF5 signature (" + std::to_string(bytes.size()) + " bytes)");
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  if (!fapl.valid() || H5Pset_fapl_core(fapl.get(), kCoreIncrement, 0) < 0 ||
+      H5Pset_file_image(fapl.get(), const_cast<char*>(bytes.data()), bytes.size()) < 0)
+    throw IoError(display_path + ": cannot set in-memory file access properties (" + take_error_detail() + ")");
+  Handle f(H5Fopen(display_path.c_str(), H5F_ACC_RDONLY, fapl.get()), H5Fclose);
+  if (!f.valid()) throw InputError(display_path + ": /: cannot open as HDF5 (" + take_error_detail() + ")");
+  return ReadFile(std::move(f), display_path);
 }
 
 Group ReadFile::root() const {

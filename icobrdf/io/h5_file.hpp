@@ -165,10 +165,15 @@ class Group {
 class WriteFile {
  public:
   static WriteFile create(const std::string& path, const std::string& display_path);
+  // A file in memory only (HDF5's core driver without a backing store): nothing touches the file system;
+  // finish_image() gives its bytes. `display_path` names it in messages.
+  static WriteFile create_in_memory(const std::string& display_path);
   Group root();
   // Flushes all buffers to the OS, then writes the root attribute complete = 1, then closes.
   // IoError on any failure (e.g. disk full).
   void finish();
+  // The same for a file made by create_in_memory: its complete bytes (what a file on disk would hold).
+  std::string finish_image();
   const std::string& path() const { return path_; }
 
  private:
@@ -182,6 +187,9 @@ class WriteFile {
 class ReadFile {
  public:
   static ReadFile open(const std::string& path);
+  // The bytes of a file (WriteFile::finish_image), read from memory with the same checks; `display_path`
+  // names it in messages. InputError when they are not an HDF5 file.
+  static ReadFile open_image(const std::string& bytes, const std::string& display_path);
   Group root() const;
   const std::string& path() const { return path_; }
 
