@@ -252,7 +252,9 @@ Group Group::create_group(const std::string& name) {
   H5Pset_obj_track_times(gcpl.get(), 0);  // no timestamps: identical content gives identical bytes
   Handle g(H5Gcreate2(id(), name.c_str(), H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), H5Gclose);
   if (!g.valid()) fail_io(file_, child_path(name), "cannot create group");
-  return Group(std::move(g), file_, child_path(name));
+  Group child(std::move(g), file_, child_path(name));
+  child.compress_ = compress_;
+  return child;
 }
 
 void Group::set_attr(const std::string& name, const std::string& value) {
@@ -302,7 +304,7 @@ void Group::write_raw(const std::string& name, Type type, const void* data, cons
       if (rest <= kChunkTargetBytes) break;
     }
     if (H5Pset_chunk(dcpl.get(), rank, chunk.data()) < 0) fail_io(file_, object, "cannot set chunking");
-    if (bytes >= kCompressMinBytes) {
+    if (compress_ && bytes >= kCompressMinBytes) {
       if (H5Pset_shuffle(dcpl.get()) < 0 || H5Pset_deflate(dcpl.get(), kDeflateLevel) < 0)
         fail_io(file_, object, "cannot set compression");
     }
@@ -589,7 +591,9 @@ WriteFile WriteFile::create_in_memory(const std::string& display_path) {
     fail_io(display_path, "/", "cannot set in-memory file access properties");
   Handle f(H5Fcreate(display_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose);
   if (!f.valid()) fail_io(display_path, "/", "cannot create an in-memory HDF5 file");
-  return WriteFile(std::move(f), display_path);
+  WriteFile w(std::move(f), display_path);
+  w.compress_ = false;
+  return w;
 }
 
 std::string WriteFile::finish_image() {
@@ -611,7 +615,9 @@ std::string WriteFile::finish_image() {
 Group WriteFile::root() {
   Handle g(H5Gopen2(f_.get(), "/", H5P_DEFAULT), H5Gclose);
   if (!g.valid()) fail_io(path_, "/", "cannot open the root group");
-  return Group(std::move(g), path_, "/");
+  Group r(std::move(g), path_, "/");
+  r.compress_ = compress_;
+  return r;
 }
 
 void WriteFile::finish() {

@@ -155,9 +155,11 @@ class Group {
   void read_raw(const std::string& name, Type type, bool allow_float32, const ShapePattern& pattern,
                 const ReadLimits& limits, Shape* shape, void* (*alloc)(void*, std::uint64_t), void* vec) const;
 
+  friend class WriteFile;
   Handle h_;
   std::string file_;
   std::string path_;
+  bool compress_ = true;  // deflate large datasets (false in in-memory files: WriteFile::create_in_memory)
 };
 
 // A file being written. Create it only on a fresh path you own (a temporary): it is truncated.
@@ -166,7 +168,8 @@ class WriteFile {
  public:
   static WriteFile create(const std::string& path, const std::string& display_path);
   // A file in memory only (HDF5's core driver without a backing store): nothing touches the file system;
-  // finish_image() gives its bytes. `display_path` names it in messages.
+  // finish_image() gives its bytes. `display_path` names it in messages. Its datasets are checksummed but not
+  // deflated: such a file is a message to another process, which spends less time on the bytes than deflate.
   static WriteFile create_in_memory(const std::string& display_path);
   Group root();
   // Flushes all buffers to the OS, then writes the root attribute complete = 1, then closes.
@@ -180,6 +183,7 @@ class WriteFile {
   WriteFile(Handle f, std::string path) : f_(std::move(f)), path_(std::move(path)) {}
   Handle f_;
   std::string path_;
+  bool compress_ = true;
 };
 
 // A file opened read-only. IoError when the file system refuses; InputError when it is not a readable
