@@ -19,9 +19,11 @@
 
 namespace icobrdf {
 
-// Sleep between two polls of a waiting rank: answers arrive within it, and 5,000 MPI_Iprobe calls a second
-// cost far less than the fits they wait for (a cheap material takes tens of milliseconds).
-inline constexpr std::chrono::microseconds kPollInterval{200};
+// Sleep between two polls of a waiting rank. Rank 0's helper polls all through a build, so this is its CPU
+// cost: 200 us cost 0.3-0.6 s of CPU per 1,000 cheap materials (benchmarks/RESULTS.md, "MPI bank build"),
+// 1 ms about a fifth of that. The latency it adds is hidden: every rank holds one material ahead
+// (icobrdf/cluster/distributed_bank.cpp), and a cheap material takes a few milliseconds.
+inline constexpr std::chrono::microseconds kPollInterval{1000};
 
 class Cluster {
  public:
