@@ -7,15 +7,16 @@
 
 namespace icobrdf {
 
-// The number of processes the launcher started: OMPI_COMM_WORLD_SIZE (OpenMPI's mpirun), else PMIX_SIZE or
-// PMI_SIZE (other launchers); 0 when the program was not started by one.
+// The number of processes the launcher started: OMPI_COMM_WORLD_SIZE (OpenMPI's mpirun) or PMI_SIZE (PMI-2
+// launchers such as srun --mpi=pmi2); 1 when only PMIX_RANK says a PMIx launcher (srun --mpi=pmix) started
+// the process (its size is not in the environment); 0 when no launcher did.
 inline int launcher_world_size() {
-  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_SIZE", "PMI_SIZE"})
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
     if (const char* v = std::getenv(name)) {
       const int n = std::atoi(v);
       if (n > 0) return n;
     }
-  return 0;
+  return std::getenv("PMIX_RANK") ? 1 : 0;
 }
 
 inline bool started_by_mpirun() { return launcher_world_size() > 0; }
