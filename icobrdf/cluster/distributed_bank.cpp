@@ -269,18 +269,23 @@ void take_reports(Coordinator& co, BankCollector& out) {
 
 BankBuildResult coordinate(const Scene& scene, const BankBuildOptions& options, Cluster& cluster, BankCollector& out) {
   Coordinator co(scene, options, cluster.size());
-  for (std::size_t i = 0; i < scene.materials.size(); ++i) {
-    if (out.take_resumed(i))
-      ++co.handed;
-    else
-      co.todo.push_back(i);
+  std::exception_ptr error;
+  try {  // taking a resumed material may write the resume file
+    for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+      if (out.take_resumed(i))
+        ++co.handed;
+      else
+        co.todo.push_back(i);
+    }
+  } catch (...) {
+    error = std::current_exception();
+    co.closing = true;  // the helper tells every rank done
   }
   std::thread helper([&co, &cluster] { answer_requests(co, cluster); });
-  std::exception_ptr error;
   bool interrupted = false;
   // Made after the helper started, so that the other ranks are answered (told done) whatever happens here.
   std::optional<MaterialFitter> fitter;
-  try {
+  if (!error) try {
     fitter.emplace(scene, options);
     for (;;) {
       take_reports(co, out);

@@ -64,12 +64,6 @@ std::string write(const TempDir& d, const std::string& name, const std::string& 
 
 bool exists(const std::string& path) { return std::ifstream(path).good(); }
 
-const json& material(const json& report, const std::string& name) {
-  for (const auto& m : report["materials"])
-    if (m["name"] == name) return m;
-  throw std::runtime_error("no material " + name);
-}
-
 class BankMpi : public ::testing::Test {
  protected:
   void SetUp() override {
