@@ -72,7 +72,8 @@ IncidentDistribution MaterialSampler::distribution(const Eigen::Vector3d& wi) co
       mass[k] = s;
     }
   }
-  const double total = mass.sum();
+  double total = 0;  // a plain loop: Eigen's AVX-512 sum trips gcc 12's -Wmaybe-uninitialized here
+  for (int k = 0; k < n; ++k) total += mass[k];
   if (!(total > 0))
     throw UnsupportedError(where + " cos(theta_r) is 0 at every one of the " + std::to_string(points) + " " +
                            (centre ? "cell centres" : "cubature points") + " of level " + std::to_string(level()) +
@@ -106,9 +107,7 @@ MaterialSamples MaterialSampler::sample(const IncidentDistribution& dist, const 
 }
 
 Eigen::VectorXd MaterialSampler::pdf(const IncidentDistribution& dist, const RowMatrix3d& wr) const {
-  Eigen::VectorXd out(wr.rows());
-  for (Eigen::Index i = 0; i < wr.rows(); ++i) out[i] = sampler_.pdf(dist.cells, wr.row(i).transpose());
-  return out;
+  return sampler_.pdf(dist.cells, wr);
 }
 
 }  // namespace icobrdf

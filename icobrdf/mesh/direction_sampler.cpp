@@ -99,4 +99,17 @@ double DirectionSampler::pdf(const CellDistribution& dist, const Eigen::Vector3d
   return dist.probability(k) / grid_.solid_angles[k];
 }
 
+Eigen::VectorXd DirectionSampler::pdf(const CellDistribution& dist, const RowMatrix3d& w) const {
+  check(dist);
+  RowMatrix3d lookup = w;  // rows below the horizon are looked up at the pole and given 0
+  for (Eigen::Index i = 0; i < w.rows(); ++i)
+    if (w(i, 2) < -kHorizonSlack) lookup.row(i) << 0, 0, 1;
+  Eigen::VectorXi cells;
+  locator_.locate(lookup, cells);  // ArgumentError for a non-unit row
+  Eigen::VectorXd out(w.rows());
+  for (Eigen::Index i = 0; i < w.rows(); ++i)
+    out[i] = w(i, 2) < -kHorizonSlack ? 0.0 : dist.probability(cells[i]) / grid_.solid_angles[cells[i]];
+  return out;
+}
+
 }  // namespace icobrdf

@@ -87,6 +87,8 @@ class DirectionSampler {
   DirectionSample sample(const CellDistribution& dist, double u1, double u2) const;
   // p_k / A_k at unit direction w (0 below the horizon; ArgumentError for a non-unit w).
   double pdf(const CellDistribution& dist, const Eigen::Vector3d& w) const;
+  // The same at each row of w (n x 3), with CellLocator's batch lookup: the same values, faster.
+  Eigen::VectorXd pdf(const CellDistribution& dist, const RowMatrix3d& w) const;
 
  private:
   void check(const CellDistribution& dist) const;

@@ -146,7 +146,7 @@ TEST(DirectionSampler, PdfIntegratesToOne) {
   const Grid fine = build_equal_area_grid(2, 9);
   double cub = 0;
   for (Eigen::Index q = 0; q < fine.cubature_points.rows(); ++q)
-    cub += fine.cubature_weights[q] * s.pdf(dist, fine.cubature_points.row(q).transpose());
+    cub += fine.cubature_weights[q] * s.pdf(dist, Eigen::Vector3d(fine.cubature_points.row(q).transpose()));
   EXPECT_NEAR(cub, 1.0, kCubatureSumTol);
   // Independent: midpoint rule in (cos theta, phi).
   const int nz = 1000, nphi = 2000;
@@ -216,4 +216,27 @@ TEST(CellDistribution, RefusesAllZeroNegativeAndNonFinite) {
   }
   const DirectionSampler s(0);
   EXPECT_THROW(s.sample(CellDistribution(Eigen::VectorXd::Ones(3), "x"), 0.5, 0.5), ArgumentError);
+}
+
+// The batch pdf (CellLocator's block lookup) gives the single-direction values, 0 below the horizon.
+TEST(DirectionSampler, BatchPdfEqualsSingle) {
+  const DirectionSampler s(4);
+  const CellDistribution dist(random_masses(s.cells(), 9), "test");
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  RowMatrix3d w(1000, 3);
+  for (int i = 0; i < 1000; ++i) {
+    Eigen::Vector3d d(u(rng), u(rng), u(rng));
+    w.row(i) = d.normalized().transpose();  // half of them below the horizon
+  }
+  const Eigen::VectorXd batch = s.pdf(dist, w);
+  int below = 0;
+  for (int i = 0; i < 1000; ++i) {
+    EXPECT_EQ(batch[i], s.pdf(dist, Eigen::Vector3d(w.row(i).transpose()))) << i;
+    if (w(i, 2) < 0) {
+      EXPECT_EQ(batch[i], 0.0);
+      ++below;
+    }
+  }
+  EXPECT_GT(below, 400);
 }
