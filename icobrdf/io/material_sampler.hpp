@@ -23,14 +23,17 @@
 // What the piecewise-constant density costs: within cell k the weight is
 //   W(w) = F f(w) cos(w) / (m_k / A_k),   F = sum_j m_j (the quadrature estimate of a(w_i)),
 // so it is constant (zero variance) only where f cos is constant over each cell. A Lambertian f = rho / pi
-// with centre values gives W = rho (S / pi) cos(w) / cos(theta_k), S = sum_j cos(theta_j) A_j: within a few
-// 1e-3 of rho except in the equator cells, where cos(w) / cos(theta_k) spans [0, about 2]. For a lobe
-// narrower than a cell (cells are about sqrt(4 pi / (20 4^L)) rad across: 1.4 degrees at level 5) the
-// ratio f(w) / f(c_k) inside the cell takes any value: the weights spread (the variance grows like the
-// lobe's peak over its cell average) and are bounded only by max f cos * F / min over drawn cells of
-// m_k / A_k. Raise the level (cells shrink by 4 per level, and so does the work per w_i) or use average
-// values for narrow lobes. Delta parts (mirror, retroreflector) are not part of f (BrdfSource::eval) and are
-// never sampled.
+// with centre values gives W = rho (S / pi) cos(w) / cos(theta_k), S = sum_j cos(theta_j) A_j: cos varies across
+// a cell of angular size d (about sqrt(4 pi / (20 4^L)) rad: 1.4 degrees at level 5) by about d tan(theta)
+// relatively, so the weights spread by about 2 % at 45 degrees, 14 % at 80, and over [0, about 3] rho in the
+// equator cells. Measured at level 5, theta_i = 30 deg, 4e5 draws: relative standard deviation 2.4 %, weights
+// in [0.76, 1.49] rho where cos(theta_r) > 0.05 and [0.01, 2.8] rho over all. A lobe is followed only cell by
+// cell: the same measurement for GGX (f0 0.04) gives a relative standard deviation of the weights of 2.8 % at
+// alpha 0.3, 7 % at 0.1, 14 % at 0.05, 36 % at 0.02 and 90 % at 0.01 (largest weight 7x the mean), and
+// average values change these by less than 5 %: a lobe narrower than a few cells needs a higher level
+// (cells shrink by 4 per level, and the work per w_i grows by 4). Weights are bounded by
+// max f cos * F / min over drawn cells of m_k / A_k. Delta parts (mirror, retroreflector) are not part of f
+// (BrdfSource::eval) and are never sampled.
 //
 // Refusals (one line each): UnsupportedError when some f(w_i, .) used for the masses is not finite (a
 // spectrum divides by cos(theta_i), infinite at the horizon) or when every mass is 0 (an all-zero row, a
