@@ -265,7 +265,7 @@ TEST(MaterialSampler, ChiSquaredFiveMaterialsFiveIncidences) {
       std::vector<Eigen::Vector3d> draws;
       for (Eigen::Index i = 0; i < s.directions.rows(); ++i) draws.push_back(s.directions.row(i).transpose());
       const auto r = test_support::chi_square_directions(
-          draws, [&](const Eigen::Vector3d& w) { return sampler.directions().pdf(dist.cells, w); }, 20, 40, 16);
+          draws, [&](const RowMatrix3d& w) { return sampler.pdf(dist, w); }, 20, 40, 16);
       EXPECT_GT(r.p_value, kSignificance) << m->spec() << " at " << theta << ": chi2 " << r.chi2 << ", dof " << r.dof;
       EXPECT_NEAR(r.expected_total, 1.0, kPdfQuadratureTol) << m->spec() << " at " << theta;
       // sample() reports the same pdf as pdf() at its draws

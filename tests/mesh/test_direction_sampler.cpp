@@ -150,12 +150,15 @@ TEST(DirectionSampler, PdfIntegratesToOne) {
   EXPECT_NEAR(cub, 1.0, kCubatureSumTol);
   // Independent: midpoint rule in (cos theta, phi).
   const int nz = 1000, nphi = 2000;
-  double total = 0;
+  RowMatrix3d w(nz * nphi, 3);
   for (int i = 0; i < nz; ++i)
     for (int j = 0; j < nphi; ++j) {
       const double z = (i + 0.5) / nz, phi = (j + 0.5) * 2 * M_PI / nphi, st = std::sqrt(1 - z * z);
-      total += s.pdf(dist, Eigen::Vector3d(st * std::cos(phi), st * std::sin(phi), z));
+      w.row(i * nphi + j) << st * std::cos(phi), st * std::sin(phi), z;
     }
+  const Eigen::VectorXd p = s.pdf(dist, w);  // the batch form (BatchPdfEqualsSingle: the same values)
+  double total = 0;
+  for (Eigen::Index i = 0; i < p.size(); ++i) total += p[i];
   total *= (1.0 / nz) * (2 * M_PI / nphi);
   EXPECT_NEAR(total, 1.0, kQuadratureTol);
 }
@@ -177,7 +180,7 @@ TEST(DirectionSampler, ChiSquaredAgainstPdf) {
       mismatched += d.pdf != s.pdf(dist, d.direction);
     }
     EXPECT_EQ(mismatched, 0);
-    const auto r = test_support::chi_square_directions(draws, [&](const Eigen::Vector3d& w) { return s.pdf(dist, w); }, 30, 60, 8);
+    const auto r = test_support::chi_square_directions(draws, [&](const RowMatrix3d& w) { return s.pdf(dist, w); }, 30, 60, 8);
     EXPECT_NEAR(r.expected_total, 1.0, kQuadratureTol);
     EXPECT_GT(r.p_value, kSignificance) << "seed " << seed << ": chi2 " << r.chi2 << ", dof " << r.dof;
   }

@@ -4,7 +4,7 @@
 //
 // Bins: nz x nphi equal cells of (cos theta, phi) in [0, 1] x [-pi, pi). Expected counts: n times the
 // integral of the density over each bin, by an independent midpoint rule of sub x sub points per bin
-// (dOmega = dcos dphi); the density is called only at those points. Bins whose expected count is below
+// (dOmega = dcos dphi); the density is called once, on all those points (rows of a RowMatrix3d). Bins whose expected count is below
 // kMinExpected are pooled into one bin (the chi-squared approximation needs about 5 per bin); draws where
 // the density integrates to 0 make the statistic infinite. The statistic has (bins used - 1)
 // degrees of freedom; the p-value is the regularized upper incomplete gamma function Q(dof / 2, chi2 / 2).
@@ -16,6 +16,8 @@
 #include <limits>
 #include <numeric>
 #include <vector>
+
+#include "icobrdf/core/grid.hpp"
 
 namespace icobrdf::test_support {
 
@@ -59,7 +61,7 @@ struct ChiSquareResult {
 inline constexpr double kMinExpected = 5.0;
 
 inline ChiSquareResult chi_square_directions(const std::vector<Eigen::Vector3d>& samples,
-                                             const std::function<double(const Eigen::Vector3d&)>& density, int nz,
+                                             const std::function<Eigen::VectorXd(const RowMatrix3d&)>& density, int nz,
                                              int nphi, int sub) {
   const int bins = nz * nphi;
   std::vector<double> observed(bins, 0.0), expected(bins, 0.0);
@@ -71,18 +73,20 @@ inline ChiSquareResult chi_square_directions(const std::vector<Eigen::Vector3d>&
     observed[iz * nphi + ip] += 1;
   }
   const double dz = 1.0 / (nz * sub), dphi = 2 * M_PI / (nphi * sub);
+  const int rows = nz * sub, cols = nphi * sub;
+  RowMatrix3d points(static_cast<Eigen::Index>(rows) * cols, 3);
+  for (int a = 0; a < rows; ++a)
+    for (int b = 0; b < cols; ++b) {
+      const double z = (a + 0.5) * dz, phi = -M_PI + (b + 0.5) * dphi, st = std::sqrt(std::max(0.0, 1 - z * z));
+      points.row(static_cast<Eigen::Index>(a) * cols + b) << st * std::cos(phi), st * std::sin(phi), z;
+    }
+  const Eigen::VectorXd values = density(points);
   ChiSquareResult r;
-  for (int iz = 0; iz < nz; ++iz)
-    for (int ip = 0; ip < nphi; ++ip) {
-      double s = 0;
-      for (int a = 0; a < sub; ++a)
-        for (int b = 0; b < sub; ++b) {
-          const double z = (iz * sub + a + 0.5) * dz, phi = -M_PI + (ip * sub + b + 0.5) * dphi;
-          const double st = std::sqrt(std::max(0.0, 1 - z * z));
-          s += density(Eigen::Vector3d(st * std::cos(phi), st * std::sin(phi), z));
-        }
-      expected[iz * nphi + ip] = s * dz * dphi;
-      r.expected_total += s * dz * dphi;
+  for (int a = 0; a < rows; ++a)
+    for (int b = 0; b < cols; ++b) {
+      const double m = values[static_cast<Eigen::Index>(a) * cols + b] * dz * dphi;
+      expected[(a / sub) * nphi + b / sub] += m;
+      r.expected_total += m;
     }
   const double n = static_cast<double>(samples.size());
   std::vector<int> order(bins);
