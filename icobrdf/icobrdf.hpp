@@ -58,6 +58,7 @@
 // mesh
 #include "icobrdf/mesh/cell_locator.hpp"
 #include "icobrdf/mesh/cubature_symmetry.hpp"
+#include "icobrdf/mesh/direction_sampler.hpp"
 #include "icobrdf/mesh/gnomonic_projection.hpp"
 #include "icobrdf/mesh/grid_obj.hpp"
 #include "icobrdf/mesh/hemi_lattice.hpp"
@@ -80,6 +81,7 @@
 #include "icobrdf/io/half_angle_file.hpp"
 #include "icobrdf/io/lut_file.hpp"
 #include "icobrdf/io/material_eval.hpp"
+#include "icobrdf/io/material_sampler.hpp"
 #include "icobrdf/io/measured_sources.hpp"
 #include "icobrdf/io/merl.hpp"
 #include "icobrdf/io/output_path.hpp"

@@ -27,6 +27,7 @@
 #include "icobrdf/core/spectrum_ops.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/brdf_source.hpp"
+#include "icobrdf/io/material_sampler.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 #include "icobrdf/pipeline/fit_source.hpp"
@@ -107,6 +108,23 @@ std::vector<Eigen::MatrixXd> lut_of(const std::string& model_spec, const Grid& g
   return build_lut(*model, grid, cosine || !model->delta_parts().empty(), *s).channels;
 }
 
+// Importance sampling from a source: the MaterialSampler plus the source it keeps alive.
+struct PySampler {
+  MaterialSampler sampler;
+};
+
+PySampler make_sampler(const PySource& src, int level, const std::string& cell_value) {
+  const auto s = lut_sampling_named(cell_value);
+  if (!s) throw ArgumentError("cell_value: expected 'centre' or 'average', found '" + quoted_text(cell_value) + "'");
+  py::gil_scoped_release release;
+  return PySampler{MaterialSampler(src.source, level, *s)};
+}
+
+Eigen::Vector3d incident_direction(const Eigen::Ref<const Eigen::VectorXd>& wi) {
+  if (wi.size() != 3) throw ArgumentError("wi: expected a unit vector of 3 values, found " + std::to_string(wi.size()) + " values");
+  return wi;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(icobrdf, m) {
@@ -179,6 +197,39 @@ PYBIND11_MODULE(icobrdf, m) {
       .def("eval", [](const PySource& s, const DirArray& wi, const DirArray& wr) { return eval_source(*s.source, wi, wr); },
            py::arg("wi"), py::arg("wr"), "f [1/sr] at n direction pairs: n x channels")
       .def("__repr__", [](const PySource& s) { return "<icobrdf.Source " + s.source->spec() + ">"; });
+  py::class_<PySampler>(m, "Sampler",
+                        "Importance sampling of reflected directions from a Source (icobrdf/io/material_sampler.hpp): "
+                        "p_k proportional to max(f, 0) cos A_k over the equal-area cells of `level`, uniform in solid "
+                        "angle inside the drawn cell")
+      .def(py::init(&make_sampler), py::arg("source"), py::arg("level") = kDefaultSamplingLevel, py::arg("cell_value") = "centre",
+           "cell_value: 'centre' (f at each cell's direction) or 'average' (degree-2 cubature over each cell)")
+      .def_property_readonly("level", [](const PySampler& s) { return s.sampler.level(); })
+      .def(
+          "sample",
+          [](const PySampler& s, const Eigen::Ref<const Eigen::VectorXd>& wi, const Eigen::VectorXd& u1, const Eigen::VectorXd& u2) {
+            const Eigen::Vector3d w = incident_direction(wi);
+            MaterialSamples out;
+            {
+              py::gil_scoped_release release;
+              out = s.sampler.sample(w, u1, u2);
+            }
+            return py::make_tuple(Eigen::MatrixXd(out.directions), out.pdf, out.weight);
+          },
+          py::arg("wi"), py::arg("u1"), py::arg("u2"),
+          "Draws for incident direction wi (3,) from uniform numbers u1, u2 (n,) in [0, 1]: (wr (n, 3), pdf (n,) [1/sr], "
+          "weight (n, channels) = f cos(theta_r) / pdf)")
+      .def(
+          "pdf",
+          [](const PySampler& s, const Eigen::Ref<const Eigen::VectorXd>& wi, const DirArray& wr) {
+            const Eigen::Vector3d w = incident_direction(wi);
+            const RowMatrix3d r = directions(wr, "wr");
+            py::gil_scoped_release release;
+            return s.sampler.pdf(w, r);
+          },
+          py::arg("wi"), py::arg("wr"), "The sampling density [1/sr] at directions wr (n, 3) for incident direction wi (3,)")
+      .def("__repr__", [](const PySampler& s) {
+        return "<icobrdf.Sampler level " + std::to_string(s.sampler.level()) + " of " + s.sampler.source().spec() + ">";
+      });
   m.def("models", [] {
     std::vector<std::string> names;
     for (const auto& info : model_registry()) names.push_back(info.name);

@@ -20,7 +20,6 @@ namespace {
 
 // Cells per block of the Gram product: each block adds (W^1/2 B)_block^T (W^1/2 B)_block; blocks are summed
 // in a fixed order so G does not depend on the number of threads.
-constexpr int kGramBlocks = 16;
 // Off-block entries of G (between modes of different D2 symmetry classes) at most this fraction of
 // max|G|: G is then treated as block diagonal for its eigenvalues; by Weyl's inequality this moves each
 // eigenvalue by at most the Frobenius norm of the dropped part (<= modes x this x max|G|, ~1e-12 at
@@ -257,10 +256,10 @@ DiscreteBasis build_discrete_basis(const Grid& grid, int order) {
   const int n_rows = static_cast<int>(rows.size());
   Eigen::MatrixXd wb(n_rows, modes);
   for (int k = 0; k < n_rows; ++k) wb.row(k) = std::sqrt(weight[k]) * d.B.row(rows[static_cast<size_t>(k)]);
-  const int per_block = (n_rows + kGramBlocks - 1) / kGramBlocks;
-  std::vector<Eigen::MatrixXd> partial(kGramBlocks);
+  const int per_block = (n_rows + kGramPartialSums - 1) / kGramPartialSums;
+  std::vector<Eigen::MatrixXd> partial(kGramPartialSums);
 #pragma omp parallel for schedule(dynamic)
-  for (int k = 0; k < kGramBlocks; ++k) {
+  for (int k = 0; k < kGramPartialSums; ++k) {
     const int r0 = std::min(n_rows, k * per_block), r1 = std::min(n_rows, r0 + per_block);
     partial[static_cast<size_t>(k)] = Eigen::MatrixXd::Zero(modes, modes);
     if (r1 > r0) partial[static_cast<size_t>(k)].selfadjointView<Eigen::Lower>().rankUpdate(wb.middleRows(r0, r1 - r0).transpose());

@@ -32,6 +32,11 @@ struct DiscreteBasis {
   int modes() const { return static_cast<int>(B.cols()); }
 };
 
+// The Gram matrix G = B^T W B is summed as this many partial products over blocks of cells, added in block
+// order (the same bits for any thread count); they are alive together, kGramPartialSums M^2 doubles
+// (icobrdf/pipeline/resource_estimate.hpp counts them).
+inline constexpr int kGramPartialSums = 16;
+
 // Cell-averaged sampling of K_j, j < M, with the grid's cubature. Threads over cells; the result does not
 // depend on the number of threads.
 // On a grid with the D2 maps (icobrdf/core/grid_symmetry.hpp) whose cubature is equivariant (each cell's image

@@ -12,8 +12,6 @@
 namespace icobrdf {
 namespace {
 
-// Incident cells per block: each thread holds block x cells doubles per channel (2.6 MB at level 5).
-constexpr int kBlockRows = 32;
 // Tolerance of the check that P is D2-equivariant (the sampling's own check is sampling_is_d2_symmetric,
 // icobrdf/core/grid_symmetry.hpp): a grid built symmetric matches to rounding, 1e-12 leaves room for a few ulps of
 // the mesh construction and of G^-1 while rejecting any grid that is symmetric only up to discretization.
@@ -110,7 +108,7 @@ std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const
     if (cosine) pq.row(k).tail(modes) = sg.directions(c, 2) * proj.P.row(c);
   }
   const int rows_total = static_cast<int>(row_cells.size());
-  const int blocks = (rows_total + kBlockRows - 1) / kBlockRows;
+  const int blocks = (rows_total + kStreamingBlockRows - 1) / kStreamingBlockRows;
   // Per block and channel: X1 = sum w_i Q_i (F P)_i and X2 = sum w_i P_i (F Q)_i over the block's rows,
   // added to the sums in block order (an ordered region), so the result does not depend on the number of
   // threads and only one block's partial sums per thread are alive (not one per block: at level 6, order
@@ -126,7 +124,7 @@ std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const
     std::vector<Eigen::MatrixXd> out;
 #pragma omp for schedule(dynamic) ordered
     for (int b = 0; b < blocks; ++b) {
-      const int r0 = b * kBlockRows, r1 = std::min(rows_total, r0 + kBlockRows);
+      const int r0 = b * kStreamingBlockRows, r1 = std::min(rows_total, r0 + kStreamingBlockRows);
       block.clear();
       for (int k = r0; k < r1; ++k) block.push_back(pos[static_cast<size_t>(row_cells[static_cast<size_t>(k)])]);
       int col_end = 0;  // the longest prefix any row of the block needs
@@ -217,7 +215,7 @@ std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const 
   const std::vector<int>& row_cells = incident.first;
   const std::vector<double>& row_weight = incident.second;
   const int rows_total = static_cast<int>(row_cells.size());
-  const int blocks = (rows_total + kBlockRows - 1) / kBlockRows;
+  const int blocks = (rows_total + kStreamingBlockRows - 1) / kStreamingBlockRows;
   // Per block: X_b = P_rows^T diag(weight) (F_rows P), added in block order (an ordered region), so the
   // result does not depend on the number of threads and one block's X_b per thread is alive at a time.
   std::vector<Eigen::MatrixXd> sums(static_cast<size_t>(ch), Eigen::MatrixXd::Zero(modes, modes));
@@ -228,7 +226,7 @@ std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const 
     Eigen::MatrixXd t, pr;
 #pragma omp for schedule(dynamic) ordered
     for (int b = 0; b < blocks; ++b) {
-      const int r0 = b * kBlockRows, r1 = std::min(rows_total, r0 + kBlockRows);
+      const int r0 = b * kStreamingBlockRows, r1 = std::min(rows_total, r0 + kStreamingBlockRows);
       const std::vector<int> block(row_cells.begin() + r0, row_cells.begin() + r1);
       sample_lut_rows(model, sg, cosine, sampling, block, rows);
       pr.resize(r1 - r0, modes);

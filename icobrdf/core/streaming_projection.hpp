@@ -17,6 +17,10 @@
 
 namespace icobrdf {
 
+// Incident cells per block of the streaming projection: each thread holds kStreamingBlockRows x cells doubles
+// per channel of LUT rows (2.6 MB at level 5; icobrdf/pipeline/resource_estimate.hpp counts them).
+inline constexpr int kStreamingBlockRows = 32;
+
 // One M x M coefficient matrix per model channel. Delta parts are added exactly in g form.
 // `sampling_grid`, when given, supplies the cubature used for the cell averages of the LUT rows: the same
 // cells as `grid` (same count and solid angles) with a cheaper rule, since each LUT entry averages over the

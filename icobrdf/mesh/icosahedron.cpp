@@ -87,4 +87,10 @@ const std::vector<HemiFace>& hemi_icosahedron_faces() {
   return f;
 }
 
+std::array<Eigen::Vector3d, 3> hemi_face_corners(int face) {
+  const auto& v = icosahedron_vertices();
+  const HemiFace& f = hemi_icosahedron_faces().at(static_cast<size_t>(face));
+  return {v[f.v[0]], v[f.v[1]], v[f.v[2]]};
+}
+
 }  // namespace icobrdf

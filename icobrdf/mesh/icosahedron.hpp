@@ -33,5 +33,7 @@ struct HemiFace {
 // of the centre in [0, 2 pi). Whole faces start at their lowest vertex id; bisected faces at their
 // equatorial vertex.
 const std::vector<HemiFace>& hemi_icosahedron_faces();
+// The unit corner vectors of hemi-icosahedron face `face` (0..11), in the order of HemiFace::v.
+std::array<Eigen::Vector3d, 3> hemi_face_corners(int face);
 
 }  // namespace icobrdf

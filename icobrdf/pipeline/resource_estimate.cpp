@@ -2,18 +2,19 @@
 
 #include <omp.h>
 
+#include "icobrdf/core/discrete_basis.hpp"
 #include "icobrdf/core/hemisphere_basis.hpp"
 #include "icobrdf/core/memory_budget.hpp"
+#include "icobrdf/core/streaming_projection.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 
 namespace icobrdf {
 namespace {
 
 constexpr double kDouble = 8.0;
-// Mirrors of the block sizes of icobrdf/core/discrete_basis.cpp (kGramBlocks partial Gram matrices) and
-// icobrdf/core/streaming_projection.cpp (kBlockRows incident cells per block and thread).
-constexpr double kGramBlocks = 16;
-constexpr double kBlockRows = 32;
+// The block sizes of the code whose memory is estimated (partial Gram matrices; LUT rows per thread).
+constexpr double kGramBlocks = kGramPartialSums;
+constexpr double kBlockRows = kStreamingBlockRows;
 
 double context_bytes(double cells, double modes) { return kDouble * (3 * cells * modes + (kGramBlocks + 3) * modes * modes); }
 

@@ -45,7 +45,9 @@ TEST(ChandrasekharH, MomentIdentities) {
       lo = hi;
     }
     EXPECT_NEAR(a0, 2.0 / w * (1.0 - std::sqrt(1.0 - w)), kIdentityTol) << w;
-    if (w == 1.0) EXPECT_NEAR(a1, 2.0 / std::sqrt(3.0), kIdentityTol);
+    if (w == 1.0) {
+      EXPECT_NEAR(a1, 2.0 / std::sqrt(3.0), kIdentityTol);
+    }
   }
 }
 

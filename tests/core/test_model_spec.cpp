@@ -44,7 +44,9 @@ TEST(ModelSpec, RegistryListsTheIssueNamesWithSaneParameters) {
       EXPECT_LE(p.min, p.default_value) << info.name << "." << p.name;
       EXPECT_LE(p.default_value, p.max) << info.name << "." << p.name;
       EXPECT_FALSE(p.meaning.empty()) << info.name << "." << p.name;
-      if (!p.choices.empty()) EXPECT_EQ(p.max, static_cast<double>(p.choices.size() - 1));
+      if (!p.choices.empty()) {
+        EXPECT_EQ(p.max, static_cast<double>(p.choices.size() - 1));
+      }
     }
   }
 }

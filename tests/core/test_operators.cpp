@@ -53,7 +53,7 @@ struct ConstantModel final : BrdfModel {
   double value;
   explicit ConstantModel(double v) : value(v) {}
   using BrdfModel::eval;
-  void eval(const RowMatrix3d& wi, const RowMatrix3d&, Eigen::Ref<Eigen::MatrixXd> out) const override {
+  void eval(const RowMatrix3d&, const RowMatrix3d&, Eigen::Ref<Eigen::MatrixXd> out) const override {
     out.setConstant(value);
   }
   std::string spec() const override { return "constant"; }
@@ -83,7 +83,7 @@ struct DeltaModel final : BrdfModel {
   DeltaPart part;
   explicit DeltaModel(DeltaPart p) : part(p) {}
   using BrdfModel::eval;
-  void eval(const RowMatrix3d& wi, const RowMatrix3d&, Eigen::Ref<Eigen::MatrixXd> out) const override { out.setZero(); }
+  void eval(const RowMatrix3d&, const RowMatrix3d&, Eigen::Ref<Eigen::MatrixXd> out) const override { out.setZero(); }
   std::vector<DeltaPart> delta_parts() const override { return {part}; }
   std::string spec() const override { return "delta"; }
 };

@@ -103,7 +103,9 @@ TEST(SimdTargets, TheDispatchedTargetIsTheBestCompiledOneThisCpuRuns) {
 
 TEST(SimdTargets, ATargetThisCpuCannotRunIsRefused) {
   for (const auto& t : compiled_simd_targets())
-    if (!t.runs_here) EXPECT_THROW(ScopedSimdTarget{t}, UnsupportedError) << t.name;
+    if (!t.runs_here) {
+      EXPECT_THROW(ScopedSimdTarget{t}, UnsupportedError) << t.name;
+    }
   SimdTarget unknown;
   unknown.bits = 0;
   unknown.name = "none";

@@ -219,7 +219,7 @@ TEST(PlotSphere, SkyAddsSkyRadianceTimesAlbedo) {
 }
 
 TEST(PlotSphere, LocalFrameIsOrthonormalAndRightHanded) {
-  for (const Eigen::Vector3d n : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0.6, 0.0, 0.8), Eigen::Vector3d(0.0, 0.6, 0.8),
+  for (const Eigen::Vector3d& n : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0.6, 0.0, 0.8), Eigen::Vector3d(0.0, 0.6, 0.8),
                                   Eigen::Vector3d(0.3, -0.4, std::sqrt(0.75))}) {
     const Eigen::Matrix3d f = sphere_local_frame(n);
     constexpr double kRounding = 1e-14;  // a few ulps of unit vectors
