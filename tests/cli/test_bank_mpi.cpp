@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <stdlib.h>
 
+#include <cstdio>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -81,14 +82,24 @@ TEST_F(BankMpi, TwoRanksGiveTheOneProcessBankAndBothRanksWork) {
   const auto a = run_cli({"bank", "build", scene, "-o", one, "--quiet"});
   unsetenv("OMP_NUM_THREADS");
   ASSERT_EQ(a.exit_code, 0) << a.err;
-  const auto b = run_mpi({"bank", "build", scene, "-o", two, "--json"});
-  ASSERT_EQ(b.exit_code, 0) << b.err << b.out;
-  EXPECT_TRUE(banks_identical(one, two));
-  EXPECT_FALSE(exists(two + ".partial"));
-  // Every material was fitted by rank 0 or rank 1, and both ranks fitted some.
-  const json j = json::parse(b.out);
+  // Every material is fitted by rank 0 or rank 1, and both ranks fit some. Which rank gets which material
+  // depends on timing: on a loaded machine (CI runs tests two at a time on 2 cores) rank 1 can start so late
+  // that rank 0 has fitted all 8 materials alone. That run is still checked for identity; it is repeated,
+  // up to kRunsForBothRanks times, until rank 1 has worked.
+  constexpr int kRunsForBothRanks = 3;
   std::set<int> ranks;
-  for (const auto& m : j["materials"]) ranks.insert(m.at("rank").get<int>());
+  icobrdf::test::CliResult b;
+  json j;
+  for (int run = 0; run < kRunsForBothRanks && ranks.size() < 2; ++run) {
+    std::remove(two.c_str());
+    b = run_mpi({"bank", "build", scene, "-o", two, "--json"});
+    ASSERT_EQ(b.exit_code, 0) << b.err << b.out;
+    EXPECT_TRUE(banks_identical(one, two));
+    EXPECT_FALSE(exists(two + ".partial"));
+    j = json::parse(b.out);
+    ranks.clear();
+    for (const auto& m : j["materials"]) ranks.insert(m.at("rank").get<int>());
+  }
   EXPECT_EQ(ranks, (std::set<int>{0, 1}));
   // Progress lines come from rank 0 only: one hand-out line per material ("[k/8] name (...) on rank r").
   size_t lines = 0;
