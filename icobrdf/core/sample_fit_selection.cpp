@@ -13,6 +13,7 @@
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/helmholtz_modes.hpp"
 #include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/scramble.hpp"
 
 namespace icobrdf {
 
@@ -221,12 +222,7 @@ double max_abs_over_domain(const SampleFitResult& r) {
 }  // namespace
 
 int cross_validation_fold(long long index, int folds) {
-  // splitmix64 finalizer: a fixed, platform-independent scramble of the index.
-  std::uint64_t z = static_cast<std::uint64_t>(index) + 0x9e3779b97f4a7c15ULL;
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  z ^= z >> 31;
-  return static_cast<int>(z % static_cast<std::uint64_t>(folds));
+  return static_cast<int>(splitmix64(static_cast<std::uint64_t>(index)) % static_cast<std::uint64_t>(folds));
 }
 
 OrderCrossValidation cross_validate_order(const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,

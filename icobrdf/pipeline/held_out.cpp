@@ -9,6 +9,7 @@
 #include "icobrdf/core/direction.hpp"
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/scramble.hpp"
 #include "icobrdf/io/measured_sources.hpp"
 #include "icobrdf/pipeline/keys.hpp"
 
@@ -62,18 +63,20 @@ void draw_merl(const Scene& s, const SceneMaterial& m, const MerlTable& table, D
   d.merl = true;
 }
 
-// CSV samples: the held_out_sample_count samples with the smallest hash of (material name, index) among those
-// whose incidence lies in the material's range; a merged sample (weight = rows merged) is one pair per row.
+// CSV samples: the held_out_sample_count samples with the smallest splitmix64(seed + index) among those whose
+// incidence lies in the material's range, seed = FNV-1a of "holdout|NAME"; a merged sample (weight = rows
+// merged) is one pair per row. (Ranking FNV-1a of "holdout|NAME|INDEX" itself held out runs of 100
+// consecutive samples: its high bits hardly depend on the last digits.)
 void draw_csv(const Scene& s, const SceneMaterial& m, const BrdfSamples& smp, const std::string& spec, Drawn& d) {
   if (!m.lights.empty())
     throw ArgumentError("material '" + m.name + "': SOURCE '" + quoted_text(spec) +
                         "' holds scattered samples, which have no values at the scene's light x camera pairs: remove lights and cameras, its errors are measured on held-out samples");
   const double zlo = std::cos(m.incidence_max * M_PI / 180), zhi = std::cos(m.incidence_min * M_PI / 180);
   const Eigen::Index n = smp.wi.rows();
+  const std::uint64_t seed = std::stoull(fnv1a_hex("holdout|" + m.name), nullptr, 16);
   std::vector<std::pair<std::uint64_t, Eigen::Index>> eligible;
   for (Eigen::Index k = 0; k < n; ++k)
-    if (smp.wi(k, 2) >= zlo && smp.wi(k, 2) <= zhi)
-      eligible.emplace_back(std::stoull(fnv1a_hex("holdout|" + m.name + "|" + std::to_string(k)), nullptr, 16), k);
+    if (smp.wi(k, 2) >= zlo && smp.wi(k, 2) <= zhi) eligible.emplace_back(splitmix64(seed + static_cast<std::uint64_t>(k)), k);
   const long long count = held_out_sample_count(n, s.holdout_pairs);
   if (count < 1 || eligible.empty())
     throw InputError("material '" + m.name + "': SOURCE '" + quoted_text(spec) + "' has " + std::to_string(n) + " sample(s), " +

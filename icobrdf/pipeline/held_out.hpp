@@ -9,9 +9,10 @@
 //   * a MERL table (no lights x cameras given): `holdout_pairs` of its own samples, drawn by their solid-angle
 //     measure (held_out.cpp), since its lookup between samples is a step function; every bin drawn is
 //     missing from the training table;
-//   * CSV samples: held_out_sample_count of the samples whose incidence is in the range, chosen by the
-//     smallest FNV-1a hash of "holdout|NAME|INDEX" (deterministic, no random state; INDEX is the sample's
-//     position after duplicates are merged); the fits use all others. A merged sample counts as one pair per
+//   * CSV samples: held_out_sample_count of the samples whose incidence is in the range, those with the
+//     smallest splitmix64(S + INDEX) (icobrdf/core/scramble.hpp), S the FNV-1a hash of "holdout|NAME" read as
+//     a 64-bit integer, INDEX the sample's position after duplicates are merged (deterministic, no random
+//     state, spread over the file whatever its order); the fits use all others. A merged sample counts as one pair per
 //     row it merged. Lights x cameras are refused (ArgumentError): samples have no value there.
 //
 // Errors are measured on w f with w = 1 (metric "f") or w = cos(theta_i) cos(theta_r) (metric "cosine": the

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/model_spec.hpp"
@@ -79,6 +80,28 @@ TEST(HeldOutSplit, CsvSamplesSplitOneInFiveReproduciblyBySeed) {
   const HeldOutSplit hn = held_out_split(s, narrow, *src);
   for (Eigen::Index k = 0; k < hn.pairs.wi.rows(); ++k) EXPECT_GE(hn.pairs.wi(k, 2), std::cos(10.0 * M_PI / 180) - 1e-15);
   EXPECT_EQ(samples_of(*hn.training)->wi.rows(), 60 - hn.pairs.wi.rows());
+}
+
+// A file in scan order is held out evenly, not by runs of neighbouring samples: in every run of 100
+// consecutive samples of 2,000, one in five held out gives 20 on average, with a standard deviation of 4 (binomial,
+// 100 x 0.2 x 0.8); a split by runs gives 0 or 100.
+TEST(HeldOutSplit, HeldOutSamplesAreSpreadOverTheFile) {
+  constexpr int kSamples = 2000, kRun = 100, kLeast = 20 - 5 * 4, kMost = 20 + 5 * 4;  // five standard deviations
+  Scratch d;
+  {
+    std::ofstream out(d.file("scan.csv"));
+    out << "theta_i,phi_i,theta_r,phi_r,value\n";
+    for (int k = 0; k < kSamples; ++k) out << 1 + (k / 40) * 1.5 << "," << 0 << "," << 1 + (k % 40) * 2 << ",180," << k + 1 << "\n";
+  }
+  const auto src = open_source(d.file("scan.csv"));
+  const HeldOutSplit h = held_out_split(Scene{}, material("a", src->spec()), *src);
+  ASSERT_EQ(h.pairs.f.rows(), kSamples / kHeldOutShare);
+  std::vector<int> per_run(kSamples / kRun, 0);
+  for (Eigen::Index k = 0; k < h.pairs.f.rows(); ++k) ++per_run[static_cast<size_t>((std::lround(h.pairs.f(k, 0)) - 1) / kRun)];
+  for (size_t r = 0; r < per_run.size(); ++r) {
+    EXPECT_GE(per_run[r], kLeast) << "samples " << r * kRun << ".." << (r + 1) * kRun - 1;
+    EXPECT_LE(per_run[r], kMost) << "samples " << r * kRun << ".." << (r + 1) * kRun - 1;
+  }
 }
 
 TEST(HeldOutSplit, MerlBinsHeldOutAreMissingFromTheTrainingTable) {
