@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "icobrdf/core/build_isa.hpp"  // every program that uses icobrdf checks its CPU once
+
 namespace icobrdf {
 
 // A call's arguments are invalid (m > n, negative order, unknown model name, ...).
