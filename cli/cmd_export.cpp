@@ -1,9 +1,14 @@
 // icobrdf export SPECTRUM.h5[#MATERIAL] --format scatmech [--channel C] [--isotropic] -o FILE.csv [--json]
+// icobrdf export SPECTRUM.h5[#MATERIAL] --format scatmech --wavelength-degree P [--wavelengths UM,UM,...] [--isotropic] -o FILE.csv
 // Writes a spectrum in another program's format. Formats:
 //   scatmech   coefficient file of NIST SCATMECH's ZernikeExpansion_BRDF_Model (icobrdf/io/scatmech_coefficients.hpp):
 //              rows 1,1,n,m,l,l,0,a of the unpolarized element; f spectra only; an anisotropic spectrum is
 //              refused unless --isotropic (then its isotropic projection is written and the dropped
 //              anisotropic energy fraction reported). A 3-channel spectrum needs --channel.
+//              With --wavelength-degree P (0..4): every channel is the BRDF at one wavelength (its name, like
+//              "550nm", or --wavelengths in micrometres, one per channel); the coefficients are fitted by a
+//              polynomial of degree P in lambda [um] and written as rows 1,1,n,m,l,l,p,a for p = 0..P
+//              (icobrdf/io/scatmech_coefficients.hpp write_scatmech_polynomial); the misfit is reported.
 // The output is written atomically (nothing is written on error). Figures: rows written, order, channel,
 // anisotropic energy fraction; --json prints them as JSON.
 #include <fmt/core.h>
@@ -12,6 +17,7 @@
 #include <iostream>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cli/commands.hpp"
 #include "icobrdf/core/error.hpp"
@@ -26,14 +32,42 @@ namespace {
 struct ExportArgs {
   std::string input, output, format;
   int channel = -1;
+  int wavelength_degree = -1;
+  std::vector<double> wavelengths;  // um
   bool isotropic = false, json = false;
 };
+
+void run_polynomial_export(const ExportArgs& a, const Spectrum& s) {
+  if (a.channel >= 0) throw ArgumentError("export: --channel and --wavelength-degree exclude each other (every channel is a wavelength)");
+  const std::vector<double> lambdas = a.wavelengths.empty() ? channel_wavelengths_um(s, "export " + a.input) : a.wavelengths;
+  const ScatmechPolynomialExport e = write_scatmech_polynomial(a.output, s, lambdas, a.wavelength_degree, a.isotropic, a.input);
+  const nlohmann::json j{{"input", a.input},
+                         {"output", a.output},
+                         {"format", a.format},
+                         {"order", s.order},
+                         {"wavelengths_um", lambdas},
+                         {"degree", a.wavelength_degree},
+                         {"rows", e.rows},
+                         {"misfit", e.misfit},
+                         {"anisotropic_fraction", e.anisotropic_fraction},
+                         {"projected", e.anisotropic_fraction > kScatmechIsotropyTolerance}};
+  if (a.json) {
+    std::cout << j.dump(2) << "\n";
+    return;
+  }
+  std::cout << fmt::format("{} -> {} (SCATMECH coefficients, polynomial in wavelength)\n", a.input, a.output)
+            << fmt::format("  order {}, {} wavelength(s), degree {}, {} rows, relative misfit {:.3g}, anisotropic energy fraction {:.3g}{}\n",
+                           s.order, lambdas.size(), a.wavelength_degree, e.rows, e.misfit, e.anisotropic_fraction,
+                           e.anisotropic_fraction > kScatmechIsotropyTolerance ? " (dropped: isotropic projection)" : "");
+}
 
 void run_export(const ExportArgs& a) {
   if (a.format != "scatmech") throw ArgumentError("--format: expected 'scatmech', found '" + a.format + "'");
   check_output_path(a.output, {a.input});
   const MaterialRef ref = split_material_ref(a.input);
   const Spectrum s = read_spectrum_file(ref.path, ref.name);
+  if (a.wavelength_degree >= 0) return run_polynomial_export(a, s);
+  if (!a.wavelengths.empty()) throw ArgumentError("export: --wavelengths needs --wavelength-degree");
   int channel = a.channel;
   if (channel < 0) {
     if (s.channel_count() != 1)
@@ -66,6 +100,11 @@ void add_export_command(CLI::App& app) {
   cmd->add_option("spectrum", a->input, "SPECTRUM.h5[#MATERIAL]")->required();
   cmd->add_option("--format", a->format, "Output format: scatmech")->required();
   cmd->add_option("--channel", a->channel, "Channel of a 3-channel spectrum (0, 1, 2)")->check(CLI::Range(0, 2));
+  cmd->add_option("--wavelength-degree", a->wavelength_degree,
+                  "Fit the channels, one per wavelength, by a polynomial of this degree in lambda (SCATMECH's p column)")
+      ->check(CLI::Range(0, kMaxScatmechPower));
+  cmd->add_option("--wavelengths", a->wavelengths, "Wavelength of each channel in micrometres (default: from channel names like 550nm)")
+      ->delimiter(',');
   cmd->add_flag("--isotropic", a->isotropic, "Export the isotropic projection of an anisotropic spectrum");
   cmd->add_option("-o,--output", a->output, "Output file")->required();
   cmd->add_flag("--json", a->json, "Print the figures as JSON");

@@ -48,6 +48,7 @@
 #include "icobrdf/core/reflection.hpp"
 #include "icobrdf/core/sample_fit.hpp"
 #include "icobrdf/core/sample_fit_selection.hpp"
+#include "icobrdf/core/scramble.hpp"
 #include "icobrdf/core/simd_target.hpp"
 #include "icobrdf/core/spectral_fit.hpp"
 #include "icobrdf/core/spectrum.hpp"

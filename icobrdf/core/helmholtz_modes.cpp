@@ -89,14 +89,22 @@ Eigen::MatrixXd coefficients_from_bsss(const Eigen::VectorXd& bsss) {
 }
 
 Eigen::MatrixXd helmholtz_modes_eval(int order, const RowMatrix3d& wi, const RowMatrix3d& wr) {
+  Eigen::MatrixXd out(wi.rows(), helmholtz_mode_count(order));
+  helmholtz_modes_eval(order, wi, wr, out);
+  return out;
+}
+
+void helmholtz_modes_eval(int order, const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) {
   if (wi.rows() != wr.rows())
     throw ArgumentError("Helmholtz modes: wi has " + std::to_string(wi.rows()) + " rows but wr has " +
                         std::to_string(wr.rows()));
   const long long count = helmholtz_mode_count(order);
+  if (out.rows() != wi.rows() || out.cols() != count)
+    throw ArgumentError("Helmholtz modes: output " + std::to_string(out.rows()) + " x " + std::to_string(out.cols()) + ", expected " +
+                        std::to_string(wi.rows()) + " x " + std::to_string(count));
   const Eigen::MatrixXd ki = hemisphere_basis_matrix(order, wi);  // rows x M
   const Eigen::MatrixXd kr = hemisphere_basis_matrix(order, wr);
   const Eigen::Index m = ki.cols();
-  Eigen::MatrixXd out(wi.rows(), count);
 #pragma omp parallel for schedule(dynamic, 8) if (wi.rows() * count > 200000)
   for (Eigen::Index b = 0; b < m; ++b) {
     Eigen::Index k = b * (b + 1) / 2;
@@ -104,7 +112,6 @@ Eigen::MatrixXd helmholtz_modes_eval(int order, const RowMatrix3d& wi, const Row
       out.col(k) = (ki.col(a).cwiseProduct(kr.col(b)) + ki.col(b).cwiseProduct(kr.col(a))) * M_SQRT1_2;
     out.col(k) = ki.col(b).cwiseProduct(kr.col(b));
   }
-  return out;
 }
 
 }  // namespace icobrdf

@@ -51,5 +51,8 @@ Eigen::MatrixXd coefficients_from_bsss(const Eigen::VectorXd& bsss);
 // rows x helmholtz_mode_count(order): the value of every mode at each direction pair (w_i row r, w_r row r),
 // unit vectors with z >= 0, in 1/sr. wi and wr must have the same number of rows (ArgumentError).
 Eigen::MatrixXd helmholtz_modes_eval(int order, const RowMatrix3d& wi, const RowMatrix3d& wr);
+// The same written into `out` (rows x helmholtz_mode_count(order), ArgumentError otherwise), for callers that
+// reuse one buffer over many blocks of pairs.
+void helmholtz_modes_eval(int order, const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out);
 
 }  // namespace icobrdf

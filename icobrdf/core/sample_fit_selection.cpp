@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -12,6 +13,7 @@
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/helmholtz_modes.hpp"
 #include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/scramble.hpp"
 
 namespace icobrdf {
 
@@ -92,6 +94,10 @@ struct OrderScore {
   double mse_se = kNaN;  // standard error over folds
 };
 
+// Below this many multiply-adds (a fold's Cholesky factorization, unknowns^3 / 3) the folds are factored one
+// after the other: a parallel region costs more than it saves.
+constexpr double kParallelFoldMinWork = 5e7;
+
 OrderScore score_order(const Folds& f, int order, double tikhonov, double power) {
   const int k = sample_fit_unknowns(order, f.isotropic);
   const auto channels = f.total.rhs.cols();
@@ -99,22 +105,39 @@ OrderScore score_order(const Folds& f, int order, double tikhonov, double power)
   if (tikhonov > 0.0) d = tikhonov * tikhonov_penalties(order, f.isotropic, power);
   const double max_cond_g = kMaxDeterminedCondition * kMaxDeterminedCondition;
   OrderScore s;
-  double sse_total = 0.0, w_total = 0.0;
-  std::vector<double> fold_mse;
-  for (const NormalEquations& hold : f.fold) {
+  // The folds' training factorizations are independent: one thread each (a thread per fold when the
+  // factorization is worth a parallel region), results summed in fold order below whatever the threads.
+  const auto folds = static_cast<int>(f.fold.size());
+  std::vector<double> sse_of(static_cast<size_t>(folds), 0.0);
+  std::vector<char> failed(static_cast<size_t>(folds), 0);
+  const bool parallel = static_cast<double>(k) * k * k / 3.0 >= kParallelFoldMinWork;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(1, std::min(folds, omp_get_max_threads()))) if (parallel)
+  for (int i = 0; i < folds; ++i) {
+    const NormalEquations& hold = f.fold[static_cast<size_t>(i)];
     if (hold.samples == 0) continue;
     Eigen::MatrixXd gt = f.total.gram.topLeftCorner(k, k) - hold.gram.topLeftCorner(k, k);
     gt.diagonal() += d;
     const Eigen::LLT<Eigen::MatrixXd> llt(gt);
-    if (llt.info() != Eigen::Success || !(llt.rcond() * max_cond_g >= 1.0)) return s;  // undetermined
+    if (llt.info() != Eigen::Success || !(llt.rcond() * max_cond_g >= 1.0)) {  // undetermined
+      failed[static_cast<size_t>(i)] = 1;
+      continue;
+    }
     const Eigen::MatrixXd x = llt.solve(f.total.rhs.topRows(k) - hold.rhs.topRows(k));
     const Eigen::MatrixXd gx = hold.gram.topLeftCorner(k, k) * x;
     double sse = 0.0;
     for (Eigen::Index c = 0; c < channels; ++c)
       sse += std::max(0.0, hold.yy[c] - 2.0 * x.col(c).dot(hold.rhs.col(c).head(k)) + x.col(c).dot(gx.col(c)));
-    sse_total += sse;
+    sse_of[static_cast<size_t>(i)] = sse;
+  }
+  double sse_total = 0.0, w_total = 0.0;
+  std::vector<double> fold_mse;
+  for (int i = 0; i < folds; ++i) {
+    const NormalEquations& hold = f.fold[static_cast<size_t>(i)];
+    if (hold.samples == 0) continue;
+    if (failed[static_cast<size_t>(i)]) return s;
+    sse_total += sse_of[static_cast<size_t>(i)];
     w_total += hold.weight_sum * static_cast<double>(channels);
-    fold_mse.push_back(sse / (hold.weight_sum * static_cast<double>(channels)));
+    fold_mse.push_back(sse_of[static_cast<size_t>(i)] / (hold.weight_sum * static_cast<double>(channels)));
   }
   if (fold_mse.empty() || !(w_total > 0.0)) return s;
   s.determined = true;
@@ -199,12 +222,7 @@ double max_abs_over_domain(const SampleFitResult& r) {
 }  // namespace
 
 int cross_validation_fold(long long index, int folds) {
-  // splitmix64 finalizer: a fixed, platform-independent scramble of the index.
-  std::uint64_t z = static_cast<std::uint64_t>(index) + 0x9e3779b97f4a7c15ULL;
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  z ^= z >> 31;
-  return static_cast<int>(z % static_cast<std::uint64_t>(folds));
+  return static_cast<int>(splitmix64(static_cast<std::uint64_t>(index)) % static_cast<std::uint64_t>(folds));
 }
 
 OrderCrossValidation cross_validate_order(const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,

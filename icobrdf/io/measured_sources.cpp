@@ -4,11 +4,13 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <mutex>
 #include <sstream>
 #include <vector>
 
 #include "icobrdf/core/error.hpp"
+#include "icobrdf/core/helmholtz_modes.hpp"
 #include "icobrdf/core/hemisphere_basis.hpp"
 #include "icobrdf/core/isotropic_modes.hpp"
 #include "icobrdf/core/projection.hpp"
@@ -133,7 +135,7 @@ class SampleFitHolder {
 
 class MerlSource final : public BrdfSource, public SampleFitHolder {
  public:
-  MerlSource(std::shared_ptr<const MerlTable> t, std::string text) : model_(std::move(t)), text_(std::move(text)) {}
+  MerlSource(std::shared_ptr<const MerlTable> t, std::string text) : table_(t), model_(std::move(t)), text_(std::move(text)) {}
   std::string spec() const override { return text_; }
   int channels() const override { return 3; }
   Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
@@ -159,8 +161,10 @@ class MerlSource final : public BrdfSource, public SampleFitHolder {
     return s;
   }
   const MerlTable& table() const { return model_.table(); }
+  std::shared_ptr<const MerlTable> shared_table() const { return table_; }
 
  private:
+  std::shared_ptr<const MerlTable> table_;
   MerlModel model_;
   std::string text_;
 };
@@ -190,6 +194,29 @@ class SampleCsvSource final : public BrdfSource, public SampleFitHolder {
     Spectrum s = spectrum_of(c, text_, fit_options_.tikhonov_power);
     finish(s, o, ctx);
     return s;
+  }
+
+  const BrdfSamples& samples() const { return samples_; }
+  // The same source on the samples whose `held_out` entry is false.
+  std::unique_ptr<BrdfSource> without(const std::vector<bool>& held_out) const {
+    BrdfSamples kept = samples_;
+    Eigen::Index n = 0;
+    for (Eigen::Index k = 0; k < samples_.wi.rows(); ++k) {
+      if (held_out[static_cast<size_t>(k)]) continue;
+      kept.wi.row(n) = samples_.wi.row(k);
+      kept.wr.row(n) = samples_.wr.row(k);
+      kept.values.row(n) = samples_.values.row(k);
+      kept.weights(n) = samples_.weights(k);
+      kept.lines[static_cast<size_t>(n)] = samples_.lines[static_cast<size_t>(k)];
+      ++n;
+    }
+    if (n == 0) throw ArgumentError("samples SOURCE '" + quoted_text(text_) + "': no sample is left to fit once the held-out ones are set aside");
+    kept.wi.conservativeResize(n, 3);
+    kept.wr.conservativeResize(n, 3);
+    kept.values.conservativeResize(n, Eigen::NoChange);
+    kept.weights.conservativeResize(n);
+    kept.lines.resize(static_cast<size_t>(n));
+    return std::make_unique<SampleCsvSource>(std::move(kept), fit_options_, tikhonov_auto_, text_);
   }
 
  private:
@@ -379,6 +406,51 @@ const SampleFitResult* last_sample_fit(const BrdfSource& source) {
 const CheckedSampleFit* last_checked_sample_fit(const BrdfSource& source) {
   if (const auto* h = dynamic_cast<const SampleFitHolder*>(&source)) return h->last();
   return nullptr;
+}
+
+const BrdfSamples* samples_of(const BrdfSource& source) {
+  if (const auto* c = dynamic_cast<const SampleCsvSource*>(&source)) return &c->samples();
+  return nullptr;
+}
+
+std::unique_ptr<BrdfSource> samples_source_without(const BrdfSource& source, const std::vector<bool>& held_out) {
+  const auto* c = dynamic_cast<const SampleCsvSource*>(&source);
+  if (!c) throw ArgumentError("SOURCE '" + quoted_text(source.spec()) + "' does not hold scattered samples");
+  if (held_out.size() != static_cast<size_t>(c->samples().wi.rows()))
+    throw ArgumentError("samples_source_without: " + std::to_string(held_out.size()) + " flags for " +
+                        std::to_string(c->samples().wi.rows()) + " samples");
+  return c->without(held_out);
+}
+
+std::unique_ptr<BrdfSource> merl_source_without(const BrdfSource& source, const std::vector<std::int64_t>& held_out) {
+  const auto* m = dynamic_cast<const MerlSource*>(&source);
+  if (!m) throw ArgumentError("SOURCE '" + quoted_text(source.spec()) + "' is not a MERL table");
+  auto t = std::make_shared<MerlTable>(m->table());
+  for (const std::int64_t flat : held_out) {
+    if (flat < 0 || flat >= kMerlSamplesPerChannel) throw ArgumentError("merl_source_without: bin " + std::to_string(flat) + " out of range");
+    for (int c = 0; c < 3; ++c) {
+      double& v = t->f[static_cast<size_t>(c * kMerlSamplesPerChannel + flat)];
+      if (!std::isnan(v)) ++t->missing[static_cast<size_t>(c)];
+      v = std::numeric_limits<double>::quiet_NaN();
+    }
+  }
+  return std::make_unique<MerlSource>(std::move(t), m->spec());
+}
+
+int largest_sample_order(const BrdfSource& source, bool isotropic) {
+  // A table's fits are isotropic whatever is asked, and its million samples are never the bound.
+  if (merl_table_of(source)) return kMaxAutoOrderIsotropic;
+  const BrdfSamples* s = samples_of(source);
+  if (!s) return -1;
+  const long long samples = s->wi.rows();
+  const int cap = isotropic ? kMaxAutoOrderIsotropic : kMaxAutoOrderGeneral;
+  int best = -1;
+  for (int n = 0; n <= cap; ++n) {
+    const long long unknowns = isotropic ? isotropic_mode_count(n) : helmholtz_mode_count(n);
+    if (unknowns * kMinSamplesPerUnknown > samples) break;
+    best = n;
+  }
+  return best;
 }
 
 bool chooses_order(const BrdfSource& source) { return dynamic_cast<const SampleCsvSource*>(&source) != nullptr; }

@@ -32,15 +32,18 @@
 //   MERL, CSV and SCATMECH refuse --cosine (UnsupportedError): their expansions are of f; a low-pass filter applies after the fit.
 // notes(): SCATMECH sources count the polarized rows (Mueller elements other than 11) and the k != l rows.
 // Evaluation (eval()): RGL as icobrdf/io/rgl_bsdf.hpp describes; MERL looks the table up (NaN at missing samples); SCATMECH evaluates its spectrum
-// at its own order; CSV samples throw ArgumentError (the samples must be fitted first).
+// at its own order; CSV samples throw ArgumentError (the samples must be fitted first; a bank fits them, split
+// into training and held-out samples by icobrdf/pipeline/held_out.hpp).
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "icobrdf/core/sample_fit.hpp"
 #include "icobrdf/core/sample_fit_selection.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/io/merl.hpp"
+#include "icobrdf/io/sample_csv.hpp"
 
 namespace icobrdf {
 
@@ -55,6 +58,20 @@ const SampleFitResult* last_sample_fit(const BrdfSource& source);
 const CheckedSampleFit* last_checked_sample_fit(const BrdfSource& source);
 // True for the sources that accept FitOptions::order = kChooseOrder (CSV samples).
 bool chooses_order(const BrdfSource& source);
+
+// Sources of scattered samples, and their held-out splits (the bank builder, icobrdf/pipeline/held_out.hpp):
+// the samples of a CSV source (nullptr for other sources; such a source has no value between its samples);
+const BrdfSamples* samples_of(const BrdfSource& source);
+// the CSV source fitted on the samples whose `held_out` entry is false (same text and options; size of
+// held_out = samples), ArgumentError when none is left;
+std::unique_ptr<BrdfSource> samples_source_without(const BrdfSource& source, const std::vector<bool>& held_out);
+// the MERL source whose table has the bins `held_out` (MerlBin::flat) missing: its fits leave them out and its
+// lookup there is NaN.
+std::unique_ptr<BrdfSource> merl_source_without(const BrdfSource& source, const std::vector<std::int64_t>& held_out);
+// The largest order of the modes (isotropic or general) a fit of the source's samples can determine: at least
+// kMinSamplesPerUnknown samples per unknown, at most the kMaxAutoOrder* bound (icobrdf/core/sample_fit_selection.hpp);
+// MERL tables only isotropic ones. -1 for sources without samples; ArgumentError...never.
+int largest_sample_order(const BrdfSource& source, bool isotropic);
 
 // Missing samples (all channels) of a MERL source's table; -1 for other sources.
 std::int64_t merl_missing_samples(const BrdfSource& source);

@@ -308,6 +308,7 @@ MerlSamples merl_samples(const MerlTable& t) {
     s.weights[k] = w[static_cast<size_t>(k)];
     for (int c = 0; c < 3; ++c) s.values(k, c) = t.f[static_cast<size_t>(c * kMerlSamplesPerChannel + keep[static_cast<size_t>(k)])];
   }
+  s.bins = std::move(keep);
   return s;
 }
 

@@ -106,6 +106,7 @@ struct MerlSamples {
   RowMatrix3d wi, wr;          // S x 3 at the nodes, phi_h = 0
   Eigen::MatrixXd values;      // S x 3 [1/sr]
   Eigen::VectorXd weights;     // S [sr^2]
+  std::vector<std::int64_t> bins;  // S: the node's bin (MerlBin::flat)
   std::int64_t below_horizon = 0;  // nodes skipped because a direction is below the horizon
   std::int64_t missing = 0;        // nodes skipped because a channel is missing
 };

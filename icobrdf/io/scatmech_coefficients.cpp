@@ -9,6 +9,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <Eigen/QR>
+
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/finite_values.hpp"
 #include "icobrdf/core/isotropic_modes.hpp"
@@ -197,28 +199,60 @@ ScatmechCoefficients read_scatmech_coefficients(const std::string& path) {
   return f;
 }
 
+namespace {
+
+// The IBSSS vector of every mode, summed from the rows of power p (scaled, SCATMECH's basis factor applied).
+ScatmechWavelengthPolynomial polynomial_of(const ScatmechCoefficients& file, double scale) {
+  ScatmechWavelengthPolynomial poly;
+  poly.order = file.order;
+  for (const auto& r : file.rows) {
+    if (r.i != 1 || r.j != 1) continue;
+    while (static_cast<int>(poly.ibsss.size()) <= r.p) poly.ibsss.push_back(Eigen::VectorXd::Zero(isotropic_mode_count(file.order)));
+    poly.ibsss[static_cast<size_t>(r.p)][isotropic_mode_index(std::max(r.n, r.m), std::min(r.n, r.m), std::abs(r.l))] +=
+        r.a * scale * scatmech_basis_factor(r.n, r.m, r.l);
+  }
+  return poly;
+}
+
+// Finite coefficients can still sum (or scale with lambda^p) beyond the double range.
+void require_finite_modes(const std::string& path, int order, const Eigen::VectorXd& b) {
+  for (Eigen::Index k = 0; k < b.size(); ++k)
+    if (!std::isfinite(b[k])) {
+      const auto md = isotropic_modes(order)[static_cast<size_t>(k)];
+      throw InputError(path + ": the rows of mode (N, M, L) = (" + std::to_string(md.n) + ", " + std::to_string(md.m) +
+                       ", " + std::to_string(md.l) + ") sum to " + g17(b[k]) + ", expected a finite coefficient");
+    }
+}
+
+void require_scale(double scale) {
+  if (!std::isfinite(scale) || scale < 0)
+    throw ArgumentError("SCATMECH import: scale r(lambda) must be finite and >= 0, got " + g17(scale));
+}
+
+}  // namespace
+
+Eigen::VectorXd ScatmechWavelengthPolynomial::at(double lambda_um) const {
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(isotropic_mode_count(order));
+  for (size_t p = 0; p < ibsss.size(); ++p) b += (p == 0 ? 1.0 : std::pow(lambda_um, static_cast<double>(p))) * ibsss[p];
+  return b;
+}
+
+ScatmechWavelengthPolynomial scatmech_wavelength_polynomial(const ScatmechCoefficients& file, double scale) {
+  require_scale(scale);
+  ScatmechWavelengthPolynomial poly = polynomial_of(file, scale);
+  for (const auto& b : poly.ibsss) require_finite_modes(file.path, poly.order, b);
+  return poly;
+}
+
 Spectrum scatmech_to_spectrum(const ScatmechCoefficients& file, const ScatmechImportOptions& o) {
-  if (!std::isfinite(o.scale) || o.scale < 0)
-    throw ArgumentError("SCATMECH import: scale r(lambda) must be finite and >= 0, got " + g17(o.scale));
+  require_scale(o.scale);
   const bool have_lambda = o.wavelength_um > 0 && std::isfinite(o.wavelength_um);
   if (file.wavelength_dependent && !have_lambda)
     throw ArgumentError(file.path + ": coefficients with wavelength powers p != 0 need the wavelength: add #lambda=UM " +
                         "(micrometres) to the SOURCE");
   const int order = file.order;
-  Eigen::VectorXd b = Eigen::VectorXd::Zero(isotropic_mode_count(order));
-  for (const auto& r : file.rows) {
-    if (r.i != 1 || r.j != 1) continue;
-    const double power = r.p == 0 ? 1.0 : std::pow(o.wavelength_um, r.p);
-    const int L = std::abs(r.l);
-    b[isotropic_mode_index(std::max(r.n, r.m), std::min(r.n, r.m), L)] += r.a * power * o.scale * scatmech_basis_factor(r.n, r.m, r.l);
-  }
-  // Finite coefficients can still sum (or scale with lambda^p) beyond the double range.
-  for (Eigen::Index k = 0; k < b.size(); ++k)
-    if (!std::isfinite(b[k])) {
-      const auto md = isotropic_modes(order)[static_cast<size_t>(k)];
-      throw InputError(file.path + ": the rows of mode (N, M, L) = (" + std::to_string(md.n) + ", " + std::to_string(md.m) +
-                       ", " + std::to_string(md.l) + ") sum to " + g17(b[k]) + ", expected a finite coefficient");
-    }
+  const Eigen::VectorXd b = polynomial_of(file, o.scale).at(have_lambda ? o.wavelength_um : 1.0);
+  require_finite_modes(file.path, order, b);
   Spectrum s;
   s.order = order;
   s.isotropic = true;
@@ -231,6 +265,68 @@ Spectrum scatmech_to_spectrum(const ScatmechCoefficients& file, const ScatmechIm
   s.reciprocity_violation = 0.0;
   return s;
 }
+
+ScatmechWavelengthPolynomial fit_wavelength_polynomial(const std::vector<double>& lambdas_um, const std::vector<Eigen::VectorXd>& ibsss,
+                                                       int order, int degree) {
+  if (degree < 0 || degree > kMaxScatmechPower)
+    throw ArgumentError("wavelength polynomial: degree expected in 0.." + std::to_string(kMaxScatmechPower) + " (SCATMECH's p range), found " +
+                        std::to_string(degree));
+  if (lambdas_um.size() != ibsss.size())
+    throw ArgumentError("wavelength polynomial: " + std::to_string(lambdas_um.size()) + " wavelengths for " + std::to_string(ibsss.size()) + " spectra");
+  if (static_cast<int>(lambdas_um.size()) <= degree)
+    throw ArgumentError("wavelength polynomial: degree " + std::to_string(degree) + " needs at least " + std::to_string(degree + 1) +
+                        " wavelengths, found " + std::to_string(lambdas_um.size()));
+  const auto w = static_cast<Eigen::Index>(lambdas_um.size());
+  const Eigen::Index k = isotropic_mode_count(order);
+  Eigen::MatrixXd v(w, degree + 1), y(w, k);
+  for (Eigen::Index r = 0; r < w; ++r) {
+    const double l = lambdas_um[static_cast<size_t>(r)];
+    if (!(l > 0) || !std::isfinite(l)) throw ArgumentError("wavelength polynomial: wavelength " + g17(l) + " um, expected > 0");
+    if (ibsss[static_cast<size_t>(r)].size() != k)
+      throw ArgumentError("wavelength polynomial: spectrum " + std::to_string(r) + " has " + std::to_string(ibsss[static_cast<size_t>(r)].size()) +
+                          " isotropic coefficients, expected " + std::to_string(k));
+    for (int p = 0; p <= degree; ++p) v(r, p) = p == 0 ? 1.0 : std::pow(l, p);
+    y.row(r) = ibsss[static_cast<size_t>(r)].transpose();
+  }
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(v);
+  if (qr.rank() < degree + 1)
+    throw ArgumentError("wavelength polynomial: the wavelengths do not determine a polynomial of degree " + std::to_string(degree) +
+                        " (repeated wavelengths?)");
+  const Eigen::MatrixXd x = qr.solve(y);  // (degree + 1) x k
+  ScatmechWavelengthPolynomial poly;
+  poly.order = order;
+  for (int p = 0; p <= degree; ++p) poly.ibsss.push_back(x.row(p).transpose());
+  return poly;
+}
+
+std::string format_scatmech_polynomial(const ScatmechWavelengthPolynomial& poly, const std::string& source) {
+  const auto modes = isotropic_modes(poly.order);
+  std::ostringstream os;
+  os << "; SCATMECH ZernikeExpansion_BRDF_Model coefficients written by icobrdf\n"
+     << "; source: " << source << ", order " << poly.order << ", f in 1/sr = sum over p of a lambda^p, lambda in micrometres\n"
+     << "; columns: i,j,n,m,k,l,p,a (unpolarized element i = j = 1; n >= m, k = l)\n";
+  for (size_t p = 0; p < poly.ibsss.size(); ++p) {
+    require_finite(poly.ibsss[p], "SCATMECH export of '" + source + "'", "the coefficients of lambda^" + std::to_string(p));
+    for (size_t k = 0; k < modes.size(); ++k) {
+      const auto& md = modes[k];
+      os << "1,1," << md.n << "," << md.m << "," << md.l << "," << md.l << "," << p << "," << g17(poly.ibsss[p][static_cast<Eigen::Index>(k)]) << "\n";
+    }
+  }
+  return os.str();
+}
+
+namespace {
+
+void write_coefficient_file(const std::string& path, const std::string& text) {
+  atomic_write(path, [&](const std::string& tmp) {
+    std::ofstream o(tmp, std::ios::binary | std::ios::trunc);
+    o << text;
+    o.flush();
+    if (!o) throw IoError(tmp + ": write failed (coefficient file for " + path + ")");
+  });
+}
+
+}  // namespace
 
 ScatmechExport format_scatmech_coefficients(const Spectrum& s, int channel, bool project_isotropic) {
   if (s.cosine)
@@ -269,13 +365,49 @@ ScatmechExport write_scatmech_coefficients(const std::string& path, const Spectr
   const std::string where = path + ": SCATMECH export of material '" + material + "' channel " + std::to_string(channel);
   require_finite(e.anisotropic_fraction, where, "the anisotropic energy fraction of C");
   require_finite(e.coefficients, where, "the conversion of C to SCATMECH coefficients a");
-  atomic_write(path, [&](const std::string& tmp) {
-    std::ofstream o(tmp, std::ios::binary | std::ios::trunc);
-    o << e.text;
-    o.flush();
-    if (!o) throw IoError(tmp + ": write failed (coefficient file for " + path + ")");
-  });
+  write_coefficient_file(path, e.text);
   return e;
+}
+
+std::vector<double> channel_wavelengths_um(const Spectrum& s, const std::string& what) {
+  std::vector<double> out;
+  for (int c = 0; c < s.channel_count(); ++c) {
+    const std::string name = c < static_cast<int>(s.channel_names.size()) ? s.channel_names[static_cast<size_t>(c)] : "";
+    char* end = nullptr;
+    const double nm = std::strtod(name.c_str(), &end);
+    if (name.empty() || end == name.c_str() || std::string(end) != "nm" || !(nm > 0) || !std::isfinite(nm))
+      throw ArgumentError(what + ": channel " + std::to_string(c) + " is named '" + name +
+                          "', not a wavelength like '550nm'; give the channels' wavelengths with --wavelengths");
+    out.push_back(nm / 1000.0);
+  }
+  return out;
+}
+
+ScatmechPolynomialExport write_scatmech_polynomial(const std::string& path, const Spectrum& s, const std::vector<double>& lambdas_um,
+                                                   int degree, bool project_isotropic, const std::string& material) {
+  const std::string where = path + ": SCATMECH export of material '" + material + "'";
+  if (static_cast<int>(lambdas_um.size()) != s.channel_count())
+    throw ArgumentError(where + ": " + std::to_string(lambdas_um.size()) + " wavelength(s) for " + std::to_string(s.channel_count()) +
+                        " channel(s)");
+  ScatmechPolynomialExport out;
+  std::vector<Eigen::VectorXd> at;
+  for (int c = 0; c < s.channel_count(); ++c) {
+    const ScatmechExport e = format_scatmech_coefficients(s, c, project_isotropic);
+    require_finite(e.coefficients, where, "the conversion of C to SCATMECH coefficients a");
+    out.anisotropic_fraction = std::max(out.anisotropic_fraction, e.anisotropic_fraction);
+    at.push_back(e.coefficients);
+  }
+  out.polynomial = fit_wavelength_polynomial(lambdas_um, at, s.order, degree);
+  double scale = 0.0;
+  for (size_t k = 0; k < at.size(); ++k) {
+    out.misfit = std::max(out.misfit, (out.polynomial.at(lambdas_um[k]) - at[k]).cwiseAbs().maxCoeff());
+    scale = std::max(scale, at[k].cwiseAbs().maxCoeff());
+  }
+  if (scale > 0) out.misfit /= scale;
+  const std::string text = format_scatmech_polynomial(out.polynomial, s.source.empty() ? material : s.source);
+  out.rows = static_cast<long long>(out.polynomial.ibsss.size()) * isotropic_mode_count(s.order);
+  write_coefficient_file(path, text);
+  return out;
 }
 
 }  // namespace icobrdf

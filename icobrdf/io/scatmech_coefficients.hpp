@@ -23,6 +23,8 @@
 // Strictness (InputError with file:line): fields not 8, non-integer indices, i or j outside 1..4, i > j,
 // p outside 0..4 (SCATMECH's own range check), and for the 11 element n or m outside [0, kMaxScatmechOrder],
 // |l| > min(n, m) or n - l, m - l odd (R_n^l undefined or the term identically zero).
+#include <Eigen/Core>
+
 #include <string>
 #include <vector>
 
@@ -64,6 +66,32 @@ struct ScatmechImportOptions {
   double scale = 1.0;           // SCATMECH's `scale` parameter r(lambda) (finite, >= 0)
 };
 
+// Wavelength dependence (the p column): f = r sum_p lambda^p sum_modes b_p I_NM^L, lambda in micrometres.
+// The coefficients of each power, exact (the rows of power p summed as scatmech_to_spectrum sums them), so that
+// a file's polynomial can be evaluated at any wavelength, refitted, and written back.
+inline constexpr int kMaxScatmechPower = 4;  // SCATMECH's own range check on p
+struct ScatmechWavelengthPolynomial {
+  int order = 0;                       // total order N of the isotropic modes
+  std::vector<Eigen::VectorXd> ibsss;  // ibsss[p]: IBSSS coefficients (Table 2 order) of lambda^p [1/sr um^-p]
+  // sum_p lambda^p ibsss[p]: the IBSSS vector at lambda [um].
+  Eigen::VectorXd at(double lambda_um) const;
+};
+// InputError as scatmech_to_spectrum for sums that overflow; ArgumentError for a bad scale.
+ScatmechWavelengthPolynomial scatmech_wavelength_polynomial(const ScatmechCoefficients& file, double scale = 1.0);
+
+// Least-squares polynomial of `degree` (0..kMaxScatmechPower) in lambda [um] through the IBSSS vectors of
+// isotropic spectra of `order` at the given wavelengths, coefficient by coefficient (column-pivoted QR of the
+// Vandermonde matrix; exact interpolation when there are degree + 1 wavelengths). ArgumentError for fewer
+// wavelengths than degree + 1, repeated ones, wavelengths <= 0 or vectors of another length.
+ScatmechWavelengthPolynomial fit_wavelength_polynomial(const std::vector<double>& lambdas_um, const std::vector<Eigen::VectorXd>& ibsss,
+                                                       int order, int degree);
+
+// Rows "1,1,N,M,L,L,p,a" for p = 0..P and every isotropic mode (Table 2 order within each p), ';' comment
+// lines first, 17 significant digits, LF line ends: read back by read_scatmech_coefficients +
+// scatmech_wavelength_polynomial to the last bits (the basis factor is 1 for n >= m). UnsupportedError
+// (icobrdf/core/finite_values.hpp require_finite) for a non-finite coefficient.
+std::string format_scatmech_polynomial(const ScatmechWavelengthPolynomial& polynomial, const std::string& source);
+
 // sqrt(A_{max(n,m) min(n,m) |l|} / A^S_{nml}): the factor from SCATMECH's basis function to ours.
 double scatmech_basis_factor(int n, int m, int l);
 
@@ -92,5 +120,22 @@ inline constexpr double kScatmechIsotropyTolerance = 1e-20;
 // near 1e308) is refused with an UnsupportedError naming `path`, `material` and the step; nothing is written.
 ScatmechExport write_scatmech_coefficients(const std::string& path, const Spectrum& spectrum, int channel,
                                            bool project_isotropic, const std::string& material = "");
+
+// Wavelength-dependent export: channel c of `spectrum` is the BRDF at lambdas_um[c]; each channel's
+// isotropic coefficients (the rules of format_scatmech_coefficients: f only, anisotropic spectra refused unless
+// `project_isotropic`) are fitted by a polynomial of `degree` in lambda (fit_wavelength_polynomial) and
+// written atomically as format_scatmech_polynomial. `misfit`: the largest |polynomial - coefficient| over the
+// wavelengths, relative to the largest |coefficient| (0 to rounding when degree + 1 = channels).
+struct ScatmechPolynomialExport {
+  ScatmechWavelengthPolynomial polynomial;
+  long long rows = 0;
+  double anisotropic_fraction = 0;  // largest over the channels (dropped when projecting)
+  double misfit = 0;
+};
+ScatmechPolynomialExport write_scatmech_polynomial(const std::string& path, const Spectrum& spectrum, const std::vector<double>& lambdas_um,
+                                                   int degree, bool project_isotropic, const std::string& material = "");
+// The wavelengths [um] of channels named like "550nm" (RGL spectral fits name theirs so); ArgumentError naming
+// `what` when a channel has no such name.
+std::vector<double> channel_wavelengths_um(const Spectrum& spectrum, const std::string& what);
 
 }  // namespace icobrdf

@@ -43,13 +43,17 @@ MaterialRecord fit_material(const Scene& scene, const SceneMaterial& m, FitConte
   const auto src = open_source(m.source);
   rep.source = src->spec();
   rep.target = m.target;
-  std::optional<HeldOutPairs> held;
+  std::optional<HeldOutSplit> held;
   std::optional<HeldOutErrors> errors;
   if (!src->has_delta()) {
-    held = held_out_pairs(scene, m, *src);
-    errors.emplace(*held, m.order >= 0 ? m.order : scene.order_max, m.metric);
+    held = held_out_split(scene, m, *src);
+    errors.emplace(held->pairs, m.order >= 0 ? m.order : scene.order_max, m.metric);
+    if (held->training)
+      say(m.name + ": " + std::to_string(held->pairs.wi.rows()) + " measured sample(s) held out, the fits use the rest");
   }
-  const MaterialProblem problem{scene, m, *src, errors ? &*errors : nullptr, contexts, say};
+  // Sources of samples are fitted on the samples not held out.
+  const BrdfSource& fitted = held && held->training ? *held->training : *src;
+  const MaterialProblem problem{scene, m, fitted, errors ? &*errors : nullptr, contexts, say};
   MaterialCandidate chosen = choose_representation(problem);
   report_candidate(chosen, rep);
   chosen.record.name = m.name;

@@ -258,6 +258,8 @@ long long lobe_bytes(const HalfAngleFactors& lobe) { return static_cast<long lon
 
 void require_pointwise(const MaterialProblem& p, const char* what) {
   if (!p.errors) throw UnsupportedError(std::string(what) + ": a delta BRDF has no pointwise values to factorize");
+  if (samples_of(p.source))
+    throw UnsupportedError(std::string(what) + ": scattered samples have no values between them to factorize (the modes fit them)");
   if (p.material.target < kSmallestLobeTarget)
     throw UnsupportedError(std::string(what) + ": target " + short_number(p.material.target) + " is below " +
                            short_number(kSmallestLobeTarget) + ", finer than linear interpolation on the lobe grids reaches");
@@ -306,6 +308,12 @@ BodyPairs body_pairs(const MaterialProblem& p, int max_order) {
   b.w = p.material.metric == ErrorMetric::Cosine ? Eigen::VectorXd(b.wi.col(2).cwiseProduct(b.wr.col(2)))
                                                 : Eigen::VectorXd::Ones(kBodyPairs);
   b.f = p.source.eval(b.wi, b.wr);
+  // Measured data may miss samples (a MERL table's missing and held-out bins are NaN): such pairs weigh 0.
+  for (Eigen::Index k = 0; k < b.f.rows(); ++k)
+    if (!b.f.row(k).allFinite()) {
+      b.w(k) = 0.0;
+      b.f.row(k).setZero();
+    }
   b.modes = isotropic_modes_eval(max_order, b.wi, b.wr);
   return b;
 }
@@ -332,6 +340,9 @@ Spectrum fit_body(const MaterialProblem& p, const BodyPairs& b, const HalfAngleF
 }  // namespace
 
 double isotropy_defect(const BrdfSource& source, const HeldOutErrors& errors) {
+  // A MERL table's lookup depends on the half-difference angles alone, which a turn about the normal keeps
+  // (and its held-out bins are missing from the table the builder fits).
+  if (merl_table_of(source)) return 0.0;
   const HeldOutPairs& h = errors.pairs();
   std::mt19937_64 rng(0x5eed15070ULL);
   std::uniform_real_distribution<double> angle(0.0, 2.0 * M_PI);

@@ -17,13 +17,15 @@
 //   body order with the fewest bytes meeting the target; bytes = the body's IBSSS coefficients (8 per
 //   channel + 12 for the indices) + the lobe's bytes. A lobe fitted first keeps the body free of the
 //   ringing a low order would take from the peak.
-// Both refuse (UnsupportedError) delta sources (no pointwise values) and targets they cannot meet.
+// Both refuse (UnsupportedError) delta sources and CSV samples (no pointwise values) and targets they cannot
+// meet. Missing samples of measured data (a MERL table's, its held-out bins included) weigh 0 in the body fit.
 #include "icobrdf/pipeline/material_candidate.hpp"
 
 namespace icobrdf {
 
 // Metric-weighted relative L2 change of f when both directions of every held-out pair are rotated about the
-// normal by one azimuth drawn per pair (seeded: reproducible). 0 for an isotropic BRDF.
+// normal by one azimuth drawn per pair (seeded: reproducible). 0 for an isotropic BRDF, and for a MERL table
+// (isotropic by its format; its held-out pairs are missing from the table fitted).
 double isotropy_defect(const BrdfSource& source, const HeldOutErrors& errors);
 
 MaterialCandidate fit_half_angle_candidate(const MaterialProblem& problem);

@@ -4,9 +4,16 @@
 // Held-out pairs are never used in fitting: every light x camera pair when the scene gives both, else
 // `holdout_pairs` pairs uniform in solid angle (incident directions within the material's incidence range),
 // seeded by the material's name so that a build is reproducible. The reference values f come from the
-// source itself. A MERL table is the exception: its pairs are its own samples, drawn by their measure
-// (held_out.cpp), since its lookup between samples is a step function; these pairs were fitted, so for such a
-// source the figure is the error at the data, not a held-out one.
+// source itself. Sources of measured samples are split instead, and their representations are fitted on
+// the rest (HeldOutSplit::training):
+//   * a MERL table (no lights x cameras given): `holdout_pairs` of its own samples, drawn by their solid-angle
+//     measure (held_out.cpp), since its lookup between samples is a step function; every bin drawn is
+//     missing from the training table;
+//   * CSV samples: held_out_sample_count of the samples whose incidence is in the range, those with the
+//     smallest splitmix64(S + INDEX) (icobrdf/core/scramble.hpp), S the FNV-1a hash of "holdout|NAME" read as
+//     a 64-bit integer, INDEX the sample's position after duplicates are merged (deterministic, no random
+//     state, spread over the file whatever its order); the fits use all others. A merged sample counts as one pair per
+//     row it merged. Lights x cameras are refused (ArgumentError): samples have no value there.
 //
 // Errors are measured on w f with w = 1 (metric "f") or w = cos(theta_i) cos(theta_r) (metric "cosine": the
 // projected solid angle, i.e. the reflected radiance per unit irradiance as a renderer integrates it, which
@@ -15,6 +22,7 @@
 //   relative max = max |w (f_fit - f)| / max |w f|
 #include <Eigen/Core>
 
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -29,7 +37,20 @@ struct HeldOutPairs {
   Eigen::MatrixXd f;  // pairs x channels
 };
 
-// InputError when the source gives a non-finite value at a pair.
+// Held-out CSV samples: one in kHeldOutShare (one fold of the 5-fold cross-validation `icobrdf fit` uses), at
+// most the scene's holdout_pairs.
+inline constexpr int kHeldOutShare = 5;
+long long held_out_sample_count(long long samples, int holdout_pairs);
+
+struct HeldOutSplit {
+  HeldOutPairs pairs;
+  std::unique_ptr<BrdfSource> training;  // the source without the held-out samples; nullptr: the source itself
+};
+
+// InputError when the source gives a non-finite value at a pair, or has too few samples to split (fewer
+// than kHeldOutShare, or none in the incidence range).
+HeldOutSplit held_out_split(const Scene& scene, const SceneMaterial& material, const BrdfSource& source);
+// The pairs alone.
 HeldOutPairs held_out_pairs(const Scene& scene, const SceneMaterial& material, const BrdfSource& source);
 
 struct HeldOutError {

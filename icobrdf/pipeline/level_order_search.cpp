@@ -28,24 +28,35 @@ int top_order(const LevelOrderSearch& search, FitContexts& contexts, int level, 
 struct BestSoFar {
   double error = INFINITY;
   std::string where;
+  void see(double l2, int level, int order) {
+    if (!(l2 < error)) return;
+    error = l2;
+    where = "level " + std::to_string(level) + " order " + std::to_string(order);
+  }
 };
 
-// The smallest order n in [first, top] of `level` whose own fit meets the target; `all` (the fit at top)
-// gives the errors of the truncations.
+// The smallest order n in [first, top] of `level` whose own fit meets the target. With `all` (the fit at top)
+// the errors of its truncations choose the orders worth fitting; without it (refit_each_order) every order is
+// fitted, and an order whose fit is refused (UnsupportedError) is skipped.
 std::optional<LevelOrderChoice> first_order_meeting(const BrdfSource& source, const LevelOrderSearch& search, FitContexts& contexts,
-                                                    const HeldOutErrors& errors, double target, int level, int top, const Spectrum& all,
-                                                    BestSoFar& best) {
-  const int first = search.fixed_order >= 0 ? search.fixed_order : 0;
+                                                    const HeldOutErrors& errors, double target, int level, int first, int top,
+                                                    const Spectrum* all, BestSoFar& best) {
   for (int n = first; n <= top; ++n) {
-    const double l2 = errors(truncate_channels(all.channels, n), n).l2;
-    if (l2 < best.error) {
-      best.error = l2;
-      best.where = "level " + std::to_string(level) + " order " + std::to_string(n);
+    if (all) {
+      const double l2 = errors(truncate_channels(all->channels, n), n).l2;
+      best.see(l2, level, n);
+      if (l2 > target) continue;
     }
-    if (l2 > target) continue;
     LevelOrderChoice c;
-    c.spectrum = n == top ? all : fit_source(source, at(search, level, n), contexts).spectrum;
+    try {
+      c.spectrum = all && n == top ? *all : fit_source(source, at(search, level, n), contexts).spectrum;
+    } catch (const UnsupportedError& e) {
+      if (all) throw;
+      if (best.where.empty()) best.where = "order " + std::to_string(n) + " (its fit refused: " + e.what() + ")";
+      continue;
+    }
     c.error = errors(c.spectrum.channels, n);
+    if (!all) best.see(c.error.l2, level, n);
     if (c.error.l2 > target) continue;
     c.level = level;
     c.order = n;
@@ -78,16 +89,22 @@ LevelOrderChoice search_level_order(const BrdfSource& source, const LevelOrderSe
                                     const std::function<void(const std::string&)>& say) {
   const int max_order = search.fixed_order >= 0 ? search.fixed_order : search.order_max;
   BestSoFar best;
+  const int lowest = search.fixed_order >= 0 ? search.fixed_order : 0;
+  int tried = -1;  // refit_each_order: orders up to this one were fitted on an earlier level
   for (int level : search.levels) {
     const int top = top_order(search, contexts, level, max_order);
     if (top < 0) continue;
-    const Spectrum all = fit_source(source, at(search, level, top), contexts).spectrum;
-    auto choice = first_order_meeting(source, search, contexts, errors, target, level, top, all, best);
+    std::optional<Spectrum> all;
+    if (!search.refit_each_order) all = fit_source(source, at(search, level, top), contexts).spectrum;
+    const int first = search.refit_each_order ? std::max(tried + 1, lowest) : lowest;
+    auto choice = first_order_meeting(source, search, contexts, errors, target, level, first, top, all ? &*all : nullptr, best);
+    tried = std::max(tried, top);
     if (choice) accept(*choice);
-    say(name + ": level " + std::to_string(level) + " up to order " + std::to_string(top) + (choice ? ": target met" : ": target not met"));
+    say(name + ": level " + std::to_string(level) + " up to order " + std::to_string(top) + (all ? "" : " (each order fitted)") +
+        (choice ? ": target met" : ": target not met"));
     if (choice) return std::move(*choice);
   }
-  char buf[256];
+  char buf[1024];
   std::snprintf(buf, sizeof buf, "target %.3g not met: best relative L2 error %.3g at %s (order_max %d, levels tried up to %d)", target,
                 best.error, best.where.c_str(), search.order_max, search.levels.back());
   throw UnsupportedError(buf);

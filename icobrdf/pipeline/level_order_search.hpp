@@ -5,6 +5,11 @@
 // (icobrdf/core/discrete_basis.hpp, capped by order_max or the fixed order); its truncations give the held-out error
 // of every lower order. The smallest order meeting the target is then fitted on its own and verified (at the
 // top order the fit just made is reused).
+// With refit_each_order (scattered samples: the modes are not orthogonal over the samples, so the truncation of
+// a least-squares fit is not the fit of the lower order, and a high order the samples cannot bound may fail
+// where a lower one succeeds) every order is fitted on its own instead, ascending, from the first order the
+// previous levels did not try (the grid only caps the order of such fits); an order whose fit is refused
+// (UnsupportedError) is skipped.
 // Sources with delta parts have no pointwise error: they are fitted at the fixed order (or the largest order
 // allowed) on the first level that supports it.
 #include <functional>
@@ -21,6 +26,7 @@ struct LevelOrderSearch {
   std::vector<int> levels;  // tried in this order
   int order_max = 16;
   int fixed_order = -1;     // >= 0: only this order
+  bool refit_each_order = false;  // fit every order instead of truncating the top one
 };
 
 struct LevelOrderChoice {

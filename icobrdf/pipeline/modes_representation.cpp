@@ -1,9 +1,11 @@
 #include "icobrdf/pipeline/modes_representation.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "icobrdf/core/helmholtz_modes.hpp"
 #include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/io/measured_sources.hpp"
 #include "icobrdf/pipeline/keys.hpp"
 #include "icobrdf/pipeline/level_order_search.hpp"
 #include "icobrdf/pipeline/pruning.hpp"
@@ -18,6 +20,14 @@ LevelOrderSearch search_for(const MaterialProblem& p) {
   s.levels = p.material.level >= 0 ? std::vector<int>{p.material.level} : p.scene.levels;
   s.order_max = p.scene.order_max;
   s.fixed_order = p.material.order;
+  // Scattered samples: no order beyond what they determine (unless the scene fixes it), each order fitted.
+  if (samples_of(p.source)) {
+    s.refit_each_order = true;
+    const int cap = largest_sample_order(p.source, p.material.isotropic == IsotropicChoice::Always);
+    if (s.fixed_order < 0 && cap >= 0) s.order_max = std::min(s.order_max, cap);
+  } else if (merl_table_of(p.source)) {
+    s.order_max = std::min(s.order_max, largest_sample_order(p.source, true));
+  }
   return s;
 }
 

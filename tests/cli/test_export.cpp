@@ -10,6 +10,8 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "cli_runner.hpp"
 
@@ -192,6 +194,44 @@ TEST(CliMeasured, ScatmechSourceRoundTrip) {
   r = run_cli({"fit", d.file("t.zernike.csv"), "--order", "2", "--level", "2", "-o", d.file("u.h5")});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("need the wavelength"), std::string::npos) << r.err;
+}
+
+// Three channels, one per wavelength, exported as a polynomial in lambda and read back at another wavelength.
+// Channel c holds the constant f_c [1/sr] (fitted at order 0: exact to rounding); the quadratic through
+// (0.45, 0.3), (0.55, 0.5), (0.65, 0.6) at 0.5 um is, by Lagrange's weights 0.375, 0.75, -0.125 (by hand),
+// 0.4125, and at 0.55 um it is 0.5.
+TEST(CliMeasured, WavelengthPolynomialExportRoundTripsThroughScatmech) {
+  // The Vandermonde system of 0.45 .. 0.65 um has condition ~1e3: the coefficients carry ~1e3 eps.
+  constexpr double kPolynomialTol = 1e-12;
+  TempDir d;
+  {
+    std::ofstream o(d.file("s.csv"));
+    o << "theta_i,phi_i,theta_r,phi_r,a,b,c\n";
+    for (int k = 0; k < 40; ++k)
+      o << 2 * k << "," << 9 * k << "," << 80 - 2 * k << "," << 200 - 7 * k << ",0.3e0,0.5e0,0.6e0\n";
+  }
+  auto r = run_cli({"fit", d.file("s.csv"), "--order", "0", "--level", "2", "--isotropic", "-o", d.file("s.h5")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_cli({"export", d.file("s.h5"), "--format", "scatmech", "--wavelength-degree", "2", "--wavelengths", "0.45,0.55,0.65",
+               "-o", d.file("w.csv"), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["rows"], 3);  // one mode, powers 0, 1, 2
+  EXPECT_LT(j["misfit"].get<double>(), kPolynomialTol);
+  std::ofstream(d.file("pairs.csv")) << "theta_i,phi_i,theta_r,phi_r\n30,0,50,120\n";
+  for (const auto& [lambda, expected] : std::vector<std::pair<std::string, double>>{{"0.5", 0.4125}, {"0.55", 0.5}}) {
+    const auto v = icobrdf::test::eval_first_column(d.file("w.csv") + "#lambda=" + lambda, d.file("pairs.csv"));
+    ASSERT_EQ(v.size(), 1u) << lambda;
+    EXPECT_NEAR(v[0], expected, kPolynomialTol) << "lambda " << lambda;
+  }
+  // Refused, nothing written: more unknowns than wavelengths; --channel with it; channels not named as wavelengths.
+  r = run_cli({"export", d.file("s.h5"), "--format", "scatmech", "--wavelength-degree", "3", "--wavelengths", "0.45,0.55,0.65", "-o", d.file("x.csv")});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("degree 3 needs at least 4 wavelengths"), std::string::npos) << r.err;
+  r = run_cli({"export", d.file("s.h5"), "--format", "scatmech", "--wavelength-degree", "1", "-o", d.file("x.csv")});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("not a wavelength like '550nm'"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::ifstream(d.file("x.csv")).good());
 }
 
 TEST(CliMeasured, ExportRefusesUnknownFormat) {

@@ -1,0 +1,17 @@
+#pragma once
+// splitmix64's finalizer (Steele, Lea & Flood, "Fast splittable pseudorandom number generators", OOPSLA
+// 2014): a fixed, platform-independent bijection of 64-bit integers whose every output bit depends on every
+// input bit. Used to deal samples into folds and held-out sets by their index: consecutive indices land
+// far apart, so files in scan order are not split into runs of neighbouring measurements.
+#include <cstdint>
+
+namespace icobrdf {
+
+inline std::uint64_t splitmix64(std::uint64_t x) {
+  std::uint64_t z = x + 0x9e3779b97f4a7c15ULL;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+}  // namespace icobrdf
