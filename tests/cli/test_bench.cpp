@@ -59,7 +59,7 @@ TEST(CliBench, ProjectOfASymmetricLutAgreesWithTheGeneralProduct) {
   const double performed = 2.0 * 6 * 168 * 168 + 2.0 * 2.0 * 6 * 168 * 6;
   EXPECT_NEAR(j["performed_gflops"].get<double>(), performed / j["seconds"].get<double>() / 1e9, 1e-9 * j["performed_gflops"].get<double>());
   EXPECT_LT(j["relative_difference_to_blas"].get<double>(), kSameProductTol);
-  if (!j["blas_best"].contains("error")) EXPECT_LT(j["blas_best"]["relative_difference"].get<double>(), kSameProductTol);
+  if (!j["blas_best"].contains("error")) { EXPECT_LT(j["blas_best"]["relative_difference"].get<double>(), kSameProductTol); }
 }
 
 TEST(CliBench, ProjectTakesTheGivenPeakAndCanSkipTheChildRun) {

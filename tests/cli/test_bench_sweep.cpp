@@ -360,8 +360,8 @@ void expect_refused(const std::vector<std::string>& extra, int code, const std::
   ASSERT_FALSE(r.err.empty());
   EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;  // one line
   EXPECT_TRUE(r.out.empty()) << r.out;
-  if (output_override.empty()) EXPECT_FALSE(exists(out));
-  if (report_override.empty()) EXPECT_FALSE(exists(rep));
+  if (output_override.empty()) { EXPECT_FALSE(exists(out)); }
+  if (report_override.empty()) { EXPECT_FALSE(exists(rep)); }
   // Nothing at all (no staging folder, no temporary) in the folder the outputs would have gone to.
   const auto listing = run_python("import os, sys\nprint(len(os.listdir(sys.argv[1])))", t.path);
   EXPECT_EQ(std::stoi(listing), 0);
