@@ -279,13 +279,7 @@ TEST(MaterialSampler, PdfIntegratesToOne) {
   const MaterialSampler sampler(open("model:ggx:alpha=0.3"), 4);
   for (double theta : {0.0, 60.0}) {
     const IncidentDistribution dist = sampler.distribution(incident(theta));
-    const int nz = 1000, nphi = 2000;
-    RowMatrix3d wr(nz * nphi, 3);
-    for (int i = 0; i < nz; ++i)
-      for (int j = 0; j < nphi; ++j) {
-        const double z = (i + 0.5) / nz, phi = (j + 0.5) * 2 * M_PI / nphi, st = std::sqrt(1 - z * z);
-        wr.row(i * nphi + j) << st * std::cos(phi), st * std::sin(phi), z;
-      }
+    const RowMatrix3d wr = test_support::midpoint_directions(1000, 2000);
     const double total = mean_of(sampler.pdf(dist, wr)) * 2 * M_PI;
     EXPECT_NEAR(total, 1.0, kPdfQuadratureTol) << theta;
   }

@@ -150,12 +150,7 @@ TEST(DirectionSampler, PdfIntegratesToOne) {
   EXPECT_NEAR(cub, 1.0, kCubatureSumTol);
   // Independent: midpoint rule in (cos theta, phi).
   const int nz = 1000, nphi = 2000;
-  RowMatrix3d w(nz * nphi, 3);
-  for (int i = 0; i < nz; ++i)
-    for (int j = 0; j < nphi; ++j) {
-      const double z = (i + 0.5) / nz, phi = (j + 0.5) * 2 * M_PI / nphi, st = std::sqrt(1 - z * z);
-      w.row(i * nphi + j) << st * std::cos(phi), st * std::sin(phi), z;
-    }
+  const RowMatrix3d w = test_support::midpoint_directions(nz, nphi);
   const Eigen::VectorXd p = s.pdf(dist, w);  // the batch form (BatchPdfEqualsSingle: the same values)
   double total = 0;
   for (Eigen::Index i = 0; i < p.size(); ++i) total += p[i];

@@ -60,6 +60,19 @@ struct ChiSquareResult {
 
 inline constexpr double kMinExpected = 5.0;
 
+// rows x cols directions at the midpoints of equal cells in (cos theta, phi), phi from -pi, row-major: the
+// midpoint rule on the upper hemisphere, each point standing for the solid angle 2 pi / (rows cols).
+inline RowMatrix3d midpoint_directions(int rows, int cols) {
+  const double dz = 1.0 / rows, dphi = 2 * M_PI / cols;
+  RowMatrix3d points(static_cast<Eigen::Index>(rows) * cols, 3);
+  for (int a = 0; a < rows; ++a)
+    for (int b = 0; b < cols; ++b) {
+      const double z = (a + 0.5) * dz, phi = -M_PI + (b + 0.5) * dphi, st = std::sqrt(std::max(0.0, 1 - z * z));
+      points.row(static_cast<Eigen::Index>(a) * cols + b) << st * std::cos(phi), st * std::sin(phi), z;
+    }
+  return points;
+}
+
 inline ChiSquareResult chi_square_directions(const std::vector<Eigen::Vector3d>& samples,
                                              const std::function<Eigen::VectorXd(const RowMatrix3d&)>& density, int nz,
                                              int nphi, int sub) {
@@ -74,13 +87,7 @@ inline ChiSquareResult chi_square_directions(const std::vector<Eigen::Vector3d>&
   }
   const double dz = 1.0 / (nz * sub), dphi = 2 * M_PI / (nphi * sub);
   const int rows = nz * sub, cols = nphi * sub;
-  RowMatrix3d points(static_cast<Eigen::Index>(rows) * cols, 3);
-  for (int a = 0; a < rows; ++a)
-    for (int b = 0; b < cols; ++b) {
-      const double z = (a + 0.5) * dz, phi = -M_PI + (b + 0.5) * dphi, st = std::sqrt(std::max(0.0, 1 - z * z));
-      points.row(static_cast<Eigen::Index>(a) * cols + b) << st * std::cos(phi), st * std::sin(phi), z;
-    }
-  const Eigen::VectorXd values = density(points);
+  const Eigen::VectorXd values = density(midpoint_directions(rows, cols));
   ChiSquareResult r;
   for (int a = 0; a < rows; ++a)
     for (int b = 0; b < cols; ++b) {
