@@ -42,7 +42,7 @@ FitProgress progress_printer(std::chrono::steady_clock::time_point start) {
   return [start, last](const char* stage, double fraction) {
     std::ostream* out = progress_stream();
     const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (!out || t < kProgressDelaySeconds || (*last >= 0.0 && t - *last < kProgressIntervalSeconds)) return;
+    if (!out || t < progress_delay() || (*last >= 0.0 && t - *last < kProgressIntervalSeconds)) return;
     *last = t;
     *out << fmt::format("fit: {} {:.0f}% after {:.0f} s", stage, 100.0 * std::clamp(fraction, 0.0, 1.0), t) << std::endl;
   };

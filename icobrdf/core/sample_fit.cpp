@@ -12,6 +12,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/helmholtz_modes.hpp"
@@ -30,16 +31,14 @@ Eigen::MatrixXd modes_at(int order, bool isotropic, const RowMatrix3d& wi, const
   return isotropic ? isotropic_modes_eval(order, wi, wr) : helmholtz_modes_eval(order, wi, wr);
 }
 
-// Rows per chunk: keeps the chunk's design block near 4 million doubles (32 MB).
+// Rows per chunk (of the QR path) and per panel (of the normal-equation assembly): keeps the design block
+// near 4 million doubles (32 MB), so that a panel's rank-k update is one large matrix product.
 Eigen::Index chunk_rows(int unknowns) { return std::max<Eigen::Index>(64, 4'000'000 / std::max(unknowns, 1)); }
 
 // Rows per block of the normal-equation passes: a block of the design near 1 million doubles (8 MB, within
 // the L3 cache of one socket), and at least 64 rows so that the rank updates run as matrix products.
 Eigen::Index block_rows(int unknowns) { return std::clamp<Eigen::Index>(1'000'000 / std::max(unknowns, 1), 64, 4096); }
 
-// A partial G per thread costs unknowns^2 doubles each; above this many unknowns (128 MB per copy) one
-// thread accumulates.
-constexpr int kThreadLocalGramMaxUnknowns = 4096;
 
 // Power-iteration steps for the extreme eigenvalues of G (Rayleigh quotients of a symmetric matrix converge
 // quadratically in the angle; the condition figure needs two digits).
@@ -94,6 +93,26 @@ std::vector<Eigen::Index> positive_rows(const Eigen::VectorXd& weights, const st
   return idx;
 }
 
+// Writes rows [lo, lo + m) of the rows `idx` into ab (W^(1/2) A: the modes at the samples times the square
+// roots of the weights), yb (W^(1/2) Y) and w (the weights); ab, yb and w have m rows.
+void design_rows(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
+                 const Eigen::VectorXd& weights, const std::vector<Eigen::Index>& idx, Eigen::Index lo, Eigen::Index m,
+                 Eigen::Ref<Eigen::MatrixXd> ab, Eigen::Ref<Eigen::MatrixXd> yb, Eigen::Ref<Eigen::VectorXd> w) {
+  RowMatrix3d a(m, 3), c(m, 3);
+  for (Eigen::Index t = 0; t < m; ++t) {
+    const Eigen::Index i = idx[static_cast<size_t>(lo + t)];
+    a.row(t) = wi.row(i);
+    c.row(t) = wr.row(i);
+    w[t] = weights[i];
+    yb.row(t) = values.row(i);
+  }
+  if (isotropic) ab = isotropic_modes_eval(order, a, c);
+  else helmholtz_modes_eval(order, a, c, ab);
+  const Eigen::ArrayXd sw = w.array().sqrt();
+  ab.array().colwise() *= sw;
+  yb.array().colwise() *= sw;
+}
+
 // Calls fn(thread, W^(1/2) A_block, W^(1/2) Y_block, weights_block) for blocks of the rows `idx`, in parallel
 // (one thread when `threads` is 1); progress (if any) from the calling thread. The design block is written
 // into one buffer per thread, kept over the blocks: a fresh 8 MB block per call faults page by page again
@@ -111,36 +130,50 @@ void for_each_block(int order, bool isotropic, const RowMatrix3d& wi, const RowM
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (Eigen::Index b = 0; b < blocks; ++b) {
     const Eigen::Index lo = b * step, m = std::min(n, lo + step) - lo;
-    RowMatrix3d a(m, 3), c(m, 3);
-    Eigen::VectorXd sw(m), w(m);
-    Eigen::MatrixXd y(m, values.cols());
-    for (Eigen::Index t = 0; t < m; ++t) {
-      const Eigen::Index i = idx[static_cast<size_t>(lo + t)];
-      a.row(t) = wi.row(i);
-      c.row(t) = wr.row(i);
-      w[t] = weights[i];
-      sw[t] = std::sqrt(weights[i]);
-      y.row(t) = values.row(i);
-    }
+    Eigen::VectorXd w(m);
+    Eigen::MatrixXd yb(m, values.cols());
     Eigen::MatrixXd& buffer = buffers[static_cast<size_t>(omp_get_thread_num())];
     if (buffer.rows() != step || buffer.cols() != k) buffer.resize(step, k);
     auto ab = buffer.topRows(m);
-    if (isotropic) ab = isotropic_modes_eval(order, a, c);
-    else helmholtz_modes_eval(order, a, c, ab);
-    ab.array().colwise() *= sw.array();
-    const Eigen::MatrixXd yb = sw.asDiagonal() * y;
+    design_rows(order, isotropic, wi, wr, values, weights, idx, lo, m, ab, yb, w);
     fn(omp_get_thread_num(), ab, yb, w);
     const Eigen::Index d = ++done;
     if (progress && omp_get_thread_num() == 0) progress(stage, static_cast<double>(d) / static_cast<double>(blocks));
   }
 }
 
-// Below this many multiply-adds (rows x unknowns^2) one thread assembles: a parallel region costs more than
-// it saves (and much more on a loaded machine, where waiting threads spin).
+// Calls fn(W^(1/2) A_panel, W^(1/2) Y_panel, weights_panel) on the calling thread for consecutive panels of
+// the rows `idx` (chunk_rows(unknowns) rows each), whose design rows `threads` threads evaluate in blocks
+// first: fn then works on a panel with one large matrix product (itself parallel), and the sums run in the
+// order of the rows whatever the threads.
+template <class Fn>
+void for_each_panel(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
+                    const Eigen::VectorXd& weights, const std::vector<Eigen::Index>& idx, int threads, const char* stage,
+                    const FitProgress& progress, Fn fn) {
+  const int k = unknown_count(order, isotropic);
+  const auto n = static_cast<Eigen::Index>(idx.size());
+  const Eigen::Index panel = std::min(chunk_rows(k), std::max<Eigen::Index>(n, 1));
+  const Eigen::Index step = std::min(block_rows(k), panel);
+  Eigen::MatrixXd ab(panel, k), yb(panel, values.cols());
+  Eigen::VectorXd w(panel);
+  for (Eigen::Index p0 = 0; p0 < n; p0 += panel) {
+    const Eigen::Index m = std::min(n, p0 + panel) - p0, blocks = (m + step - 1) / step;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (Eigen::Index b = 0; b < blocks; ++b) {
+      const Eigen::Index lo = b * step, mb = std::min(m, lo + step) - lo;
+      design_rows(order, isotropic, wi, wr, values, weights, idx, p0 + lo, mb, ab.middleRows(lo, mb), yb.middleRows(lo, mb),
+                  w.segment(lo, mb));
+    }
+    fn(ab.topRows(m), yb.topRows(m), w.head(m));
+    if (progress) progress(stage, static_cast<double>(p0 + m) / static_cast<double>(n));
+  }
+}
+
+// Below this many multiply-adds (rows x unknowns^2) one thread evaluates the design rows: a parallel region
+// costs more than it saves (and much more on a loaded machine, where waiting threads spin).
 constexpr double kParallelAssemblyMinWork = 5e7;
 
 int assembly_threads(int unknowns, size_t rows) {
-  if (unknowns > kThreadLocalGramMaxUnknowns) return 1;
   if (static_cast<double>(rows) * unknowns * unknowns < kParallelAssemblyMinWork) return 1;
   return std::max(1, std::min<int>(omp_get_max_threads(), static_cast<int>(rows / 64) + 1));
 }
@@ -204,15 +237,9 @@ void finish_uncertainty(SampleFitResult& out, const Eigen::VectorXd& unit_se, co
   for (Eigen::Index c = 0; c < rss.size(); ++c) out.standard_error.col(c) = unit_se * out.noise_sigma[c];
 }
 
-struct Probe {
-  NormalEquationsDeterminacy determinacy;
-  double tolerance = 0.0, s1 = 0.0;
-  std::optional<Eigen::LLT<Eigen::MatrixXd>> llt;
-};
-
 // Unseen modes (column norm <= tol s_1), the Cholesky factor and cond(W^(1/2) A) when it exists.
-Probe probe(const NormalEquations& ne, double rank_tolerance) {
-  Probe p;
+NormalEquationsProbe probe(const NormalEquations& ne, double rank_tolerance, const DenseKernels* kernels) {
+  NormalEquationsProbe p;
   const Eigen::MatrixXd& g = ne.gram;
   const Eigen::Index k = g.rows();
   const double eps = std::numeric_limits<double>::epsilon();
@@ -225,9 +252,10 @@ Probe probe(const NormalEquations& ne, double rank_tolerance) {
   }
   for (Eigen::Index j = 0; j < k; ++j)
     if (!(std::sqrt(std::max(g(j, j), 0.0)) > p.tolerance * p.s1)) ++p.determinacy.unseen;
-  p.llt.emplace(g);
-  if (p.llt->info() != Eigen::Success) return p;
-  const double lmin = smallest_eigenvalue(*p.llt, k);
+  auto llt = std::make_shared<const Eigen::LLT<Eigen::MatrixXd>>(cholesky(kernels, g));
+  if (llt->info() != Eigen::Success) return p;
+  p.llt = llt;
+  const double lmin = smallest_eigenvalue(*llt, k);
   if (!(lmin > 0.0)) return p;
   p.determinacy.factored = true;
   p.determinacy.condition = p.s1 / std::sqrt(lmin);
@@ -238,10 +266,10 @@ Probe probe(const NormalEquations& ne, double rank_tolerance) {
 std::optional<SampleFitResult> solve_normal_equations(const SampleFitOptions& options, const NormalEquations& ne,
                                                       const RowMatrix3d& wi, const RowMatrix3d& wr,
                                                       const Eigen::MatrixXd& values, const Eigen::VectorXd& weights,
-                                                      const std::vector<Eigen::Index>& idx) {
+                                                      const std::vector<Eigen::Index>& idx, const NormalEquationsProbe* probed) {
   const Eigen::MatrixXd& g = ne.gram;
   const Eigen::Index k = g.rows(), channels = ne.rhs.cols();
-  const Probe pr = probe(ne, options.rank_tolerance);
+  const NormalEquationsProbe pr = probed ? *probed : probe(ne, options.rank_tolerance, options.kernels);
   if (!pr.determinacy.factored || pr.determinacy.unseen > 0) return std::nullopt;
   const double cond = pr.determinacy.condition, tol = pr.tolerance, s1 = pr.s1;
   if (!(cond <= kNormalEquationsMaxCondition) || !(cond * tol < 1.0)) return std::nullopt;
@@ -263,9 +291,13 @@ std::optional<SampleFitResult> solve_normal_equations(const SampleFitOptions& op
 
   Eigen::VectorXd d = Eigen::VectorXd::Zero(k);
   if (options.tikhonov > 0.0) d = options.tikhonov * tikhonov_penalties(options.order, options.isotropic, options.tikhonov_power);
-  Eigen::MatrixXd gl = g;
-  gl.diagonal() += d;
-  const Eigen::LLT<Eigen::MatrixXd> lltl = options.tikhonov > 0.0 ? Eigen::LLT<Eigen::MatrixXd>(gl) : llt;
+  std::optional<Eigen::LLT<Eigen::MatrixXd>> penalized;
+  if (options.tikhonov > 0.0) {
+    Eigen::MatrixXd gl = g;
+    gl.diagonal() += d;
+    penalized.emplace(cholesky(options.kernels, std::move(gl)));
+  }
+  const Eigen::LLT<Eigen::MatrixXd>& lltl = penalized ? *penalized : llt;
   Eigen::MatrixXd x = lltl.solve(ne.rhs);
 
   // One refinement step: c = A^T W (y - A x) and the weighted RSS, from the samples.
@@ -315,7 +347,11 @@ std::optional<SampleFitResult> solve_normal_equations(const SampleFitOptions& op
 int sample_fit_unknowns(int order, bool isotropic) { return unknown_count(order, isotropic); }
 
 NormalEquationsDeterminacy normal_equations_determinacy(const NormalEquations& ne, double rank_tolerance) {
-  return probe(ne, rank_tolerance).determinacy;
+  return probe(ne, rank_tolerance, nullptr).determinacy;
+}
+
+NormalEquationsProbe probe_normal_equations(const NormalEquations& ne, double rank_tolerance, const DenseKernels* kernels) {
+  return probe(ne, rank_tolerance, kernels);
 }
 
 void check_sample_fit_input(const SampleFitOptions& options, const RowMatrix3d& wi, const RowMatrix3d& wr,
@@ -326,37 +362,23 @@ void check_sample_fit_input(const SampleFitOptions& options, const RowMatrix3d& 
 
 NormalEquations assemble_normal_equations(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr,
                                           const Eigen::MatrixXd& values, const Eigen::VectorXd& weights,
-                                          const std::vector<Eigen::Index>& rows, const FitProgress& progress) {
+                                          const std::vector<Eigen::Index>& rows, const FitProgress& progress,
+                                          const DenseKernels* kernels) {
   const int k = unknown_count(order, isotropic);
   const Eigen::Index channels = values.cols();
   const std::vector<Eigen::Index> idx = positive_rows(weights, rows);
-  const int threads = assembly_threads(k, idx.size());
-  std::vector<Eigen::MatrixXd> g(static_cast<size_t>(threads)), r(static_cast<size_t>(threads));
-  std::vector<Eigen::VectorXd> yy(static_cast<size_t>(threads), Eigen::VectorXd::Zero(channels));
-  std::vector<double> ws(static_cast<size_t>(threads), 0.0);
-  for (int t = 0; t < threads; ++t) {
-    g[static_cast<size_t>(t)] = Eigen::MatrixXd::Zero(k, k);
-    r[static_cast<size_t>(t)] = Eigen::MatrixXd::Zero(k, channels);
-  }
-  for_each_block(order, isotropic, wi, wr, values, weights, idx, threads, "assembling", progress,
-                 [&](int t, const Eigen::Ref<const Eigen::MatrixXd>& ab, const Eigen::MatrixXd& yb, const Eigen::VectorXd& w) {
-                   const auto ts = static_cast<size_t>(t);
-                   g[ts].selfadjointView<Eigen::Lower>().rankUpdate(ab.transpose());
-                   r[ts].noalias() += ab.transpose() * yb;
-                   yy[ts] += yb.colwise().squaredNorm().transpose();
-                   ws[ts] += w.sum();
-                 });
   NormalEquations ne;
-  ne.gram = std::move(g[0]);
-  ne.rhs = std::move(r[0]);
-  ne.yy = yy[0];
-  ne.weight_sum = ws[0];
-  for (int t = 1; t < threads; ++t) {
-    ne.gram += g[static_cast<size_t>(t)];
-    ne.rhs += r[static_cast<size_t>(t)];
-    ne.yy += yy[static_cast<size_t>(t)];
-    ne.weight_sum += ws[static_cast<size_t>(t)];
-  }
+  ne.gram = Eigen::MatrixXd::Zero(k, k);
+  ne.rhs = Eigen::MatrixXd::Zero(k, channels);
+  ne.yy = Eigen::VectorXd::Zero(channels);
+  for_each_panel(order, isotropic, wi, wr, values, weights, idx, assembly_threads(k, idx.size()), "assembling", progress,
+                 [&](const Eigen::Ref<const Eigen::MatrixXd>& ab, const Eigen::Ref<const Eigen::MatrixXd>& yb,
+                     const Eigen::Ref<const Eigen::VectorXd>& w) {
+                   rank_update_lower(kernels, ne.gram, ab);
+                   ne.rhs.noalias() += ab.transpose() * yb;
+                   ne.yy += yb.colwise().squaredNorm().transpose();
+                   ne.weight_sum += w.sum();
+                 });
   fill_upper(ne.gram);
   ne.samples = static_cast<long long>(idx.size());
   return ne;
@@ -522,17 +544,18 @@ SampleFitResult SampleFitAccumulator::solve() const {
 
 SampleFitResult fit_samples(const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
                             const Eigen::VectorXd& weights, const SampleFitOptions& options,
-                            const NormalEquations* assembled) {
+                            const NormalEquations* assembled, const NormalEquationsProbe* probed) {
   const Eigen::VectorXd w = weights.size() == 0 ? Eigen::VectorXd::Ones(wi.rows()).eval() : weights;
   check_sample_fit_input(options, wi, wr, values, w);
   const std::vector<Eigen::Index> idx = positive_rows(w, {});
   if (idx.empty()) throw ArgumentError("sample fit: no sample with positive weight");
   NormalEquations own;
-  if (!assembled) own = assemble_normal_equations(options.order, options.isotropic, wi, wr, values, w, {}, options.progress);
+  if (!assembled) own = assemble_normal_equations(options.order, options.isotropic, wi, wr, values, w, {}, options.progress, options.kernels);
+  if (!assembled) probed = nullptr;  // a probe of other normal equations
   const NormalEquations& ne = assembled ? *assembled : own;
   if (ne.gram.rows() != unknown_count(options.order, options.isotropic) || ne.samples != static_cast<long long>(idx.size()))
     throw ArgumentError("sample fit: the assembled normal equations do not match the samples and modes");
-  if (auto fast = solve_normal_equations(options, ne, wi, wr, values, w, idx)) return *fast;
+  if (auto fast = solve_normal_equations(options, ne, wi, wr, values, w, idx, probed)) return *fast;
   SampleFitAccumulator acc(options, static_cast<int>(values.cols()));
   acc.add(wi, wr, values, w);
   return acc.solve();

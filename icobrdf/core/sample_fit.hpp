@@ -26,9 +26,10 @@
 // weighted residual RMS per channel, sqrt(sum_s w_s (A x - y)_s^2 / sum_s w_s).
 // Accuracy: data in the span of the modes are recovered to ~ cond(W^(1/2) A) * 1e-16 relative.
 //
-// Fast path (fit_samples). The normal equations G = A^T W A, A^T W Y are assembled in blocks of rows
-// (the modes evaluated per block, rank-k updates of G, one partial G per thread), which costs S k^2 flops
-// instead of the QR's 2 S k^2 and needs no restacking. When every mode is seen and the Cholesky factor of
+// Fast path (fit_samples). The normal equations G = A^T W A, A^T W Y are assembled in panels of rows
+// (the modes of a panel evaluated by all threads, then one rank-k update of G by SampleFitOptions::kernels:
+// Eigen's by default, OpenBLAS's dsyrk from icobrdf/io), which costs S k^2 flops instead of the QR's
+// 2 S k^2 and needs no restacking. When every mode is seen and the Cholesky factor of
 // G exists with cond(W^(1/2) A) = sqrt(lambda_max(G) / lambda_min(G)) <= kNormalEquationsMaxCondition
 // (extreme eigenvalues by power and inverse iteration) and <= 1 / rank tolerance, the fit solves
 // (G + lambda D) x = A^T W y by Cholesky and applies one step of iterative refinement with the residual
@@ -46,10 +47,14 @@
 // describe the spread of the minimum-norm estimate only: the undetermined combinations have no error bar.
 #include <Eigen/Core>
 
+#include <Eigen/Cholesky>
+
 #include <functional>
 #include <limits>
+#include <memory>
 #include <vector>
 
+#include "icobrdf/core/dense_kernels.hpp"
 #include "icobrdf/core/grid.hpp"
 
 namespace icobrdf {
@@ -70,6 +75,9 @@ struct SampleFitOptions {
   double tikhonov_power = 1.0;  // p >= 0
   double rank_tolerance = -1.0;  // relative tol on singular values; < 0: max(S, unknowns) * eps
   FitProgress progress;          // optional
+  // The rank-k update and Cholesky kernels of the normal-equation path (icobrdf/core/dense_kernels.hpp);
+  // null: Eigen's. Not owned; must outlive the fit.
+  const DenseKernels* kernels = nullptr;
 };
 
 struct SampleFitResult {
@@ -98,7 +106,9 @@ struct SampleFitResult {
 
 // Weighted normal equations of the modes at samples: gram = A^T W A (unknowns x unknowns, both triangles),
 // rhs = A^T W Y (unknowns x channels), yy = diag(Y^T W Y) per channel, over the rows listed in `rows`
-// (all rows when empty) whose weight is > 0. Assembled in blocks of rows, a partial G per thread.
+// (all rows when empty) whose weight is > 0. Assembled in panels of rows (the modes of a panel evaluated by
+// all threads, then one rank-k update by `kernels`, Eigen's when null), so the sums run in the order of the
+// rows whatever the thread count.
 struct NormalEquations {
   Eigen::MatrixXd gram;
   Eigen::MatrixXd rhs;
@@ -108,7 +118,8 @@ struct NormalEquations {
 };
 NormalEquations assemble_normal_equations(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr,
                                           const Eigen::MatrixXd& values, const Eigen::VectorXd& weights,
-                                          const std::vector<Eigen::Index>& rows = {}, const FitProgress& progress = {});
+                                          const std::vector<Eigen::Index>& rows = {}, const FitProgress& progress = {},
+                                          const DenseKernels* kernels = nullptr);
 
 // What the normal equations say about determinacy before any solve: modes with column norm <= tol s_1
 // (tol: the rank tolerance, negative for the default), whether G has a Cholesky factor, and then
@@ -119,6 +130,17 @@ struct NormalEquationsDeterminacy {
   double condition = std::numeric_limits<double>::quiet_NaN();
 };
 NormalEquationsDeterminacy normal_equations_determinacy(const NormalEquations& ne, double rank_tolerance = -1.0);
+
+// The same figures with what the solve reuses: the tolerance, s_1 = sqrt(lambda_max(G)) and the Cholesky
+// factor of G (null when G has none, or when a mode is unseen). `kernels` factor G (Eigen's when null).
+struct NormalEquationsProbe {
+  NormalEquationsDeterminacy determinacy;
+  double tolerance = 0.0;  // relative rank tolerance used
+  double s1 = 0.0;         // largest singular value of W^(1/2) A
+  std::shared_ptr<const Eigen::LLT<Eigen::MatrixXd>> llt;
+};
+NormalEquationsProbe probe_normal_equations(const NormalEquations& ne, double rank_tolerance = -1.0,
+                                            const DenseKernels* kernels = nullptr);
 
 // Number of unknowns of the modes of total order N (general: M(M+1)/2, isotropic: isotropic_mode_count).
 int sample_fit_unknowns(int order, bool isotropic);
@@ -151,10 +173,11 @@ class SampleFitAccumulator {
 };
 
 // One-shot fit (fast path above, QR otherwise); weights empty means all 1. Same errors as the accumulator.
-// `assembled`, when given, must be the normal equations of these samples (all rows) for these modes.
+// `assembled`, when given, must be the normal equations of these samples (all rows) for these modes;
+// `probed`, when given, probe_normal_equations(*assembled, options.rank_tolerance) (saves a factorization).
 SampleFitResult fit_samples(const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
                             const Eigen::VectorXd& weights, const SampleFitOptions& options,
-                            const NormalEquations* assembled = nullptr);
+                            const NormalEquations* assembled = nullptr, const NormalEquationsProbe* probed = nullptr);
 
 // The checks of the accumulator's constructor and add() (ArgumentError), for callers that work on the
 // samples before fitting them.

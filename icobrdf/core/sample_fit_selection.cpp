@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/helmholtz_modes.hpp"
@@ -39,10 +40,11 @@ struct Folds {
   bool isotropic = false;
   std::vector<NormalEquations> fold;
   NormalEquations total;
+  const DenseKernels* kernels = nullptr;  // of the training factorizations (Eigen's when null)
 };
 
 Folds assemble_folds(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
-                     const Eigen::VectorXd& weights, int folds, const FitProgress& progress) {
+                     const Eigen::VectorXd& weights, int folds, const FitProgress& progress, const DenseKernels* kernels) {
   std::vector<std::vector<Eigen::Index>> rows(static_cast<size_t>(folds));
   long long index = 0;
   for (Eigen::Index i = 0; i < weights.size(); ++i)
@@ -50,6 +52,7 @@ Folds assemble_folds(int order, bool isotropic, const RowMatrix3d& wi, const Row
   Folds f;
   f.order = order;
   f.isotropic = isotropic;
+  f.kernels = kernels;
   for (int k = 0; k < folds; ++k) {
     FitProgress p;
     if (progress)
@@ -64,7 +67,7 @@ Folds assemble_folds(int order, bool isotropic, const RowMatrix3d& wi, const Row
       f.fold.push_back(std::move(z));
       continue;
     }
-    f.fold.push_back(assemble_normal_equations(order, isotropic, wi, wr, values, weights, rows[static_cast<size_t>(k)], p));
+    f.fold.push_back(assemble_normal_equations(order, isotropic, wi, wr, values, weights, rows[static_cast<size_t>(k)], p, kernels));
   }
   f.total = f.fold[0];
   for (int k = 1; k < folds; ++k) {
@@ -106,18 +109,19 @@ OrderScore score_order(const Folds& f, int order, double tikhonov, double power)
   const double max_cond_g = kMaxDeterminedCondition * kMaxDeterminedCondition;
   OrderScore s;
   // The folds' training factorizations are independent: one thread each (a thread per fold when the
-  // factorization is worth a parallel region), results summed in fold order below whatever the threads.
+  // factorization is worth a parallel region and the kernels are not threaded themselves), results summed in
+  // fold order below whatever the threads.
   const auto folds = static_cast<int>(f.fold.size());
   std::vector<double> sse_of(static_cast<size_t>(folds), 0.0);
   std::vector<char> failed(static_cast<size_t>(folds), 0);
-  const bool parallel = static_cast<double>(k) * k * k / 3.0 >= kParallelFoldMinWork;
+  const bool parallel = static_cast<double>(k) * k * k / 3.0 >= kParallelFoldMinWork && !(f.kernels && f.kernels->threaded);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(1, std::min(folds, omp_get_max_threads()))) if (parallel)
   for (int i = 0; i < folds; ++i) {
     const NormalEquations& hold = f.fold[static_cast<size_t>(i)];
     if (hold.samples == 0) continue;
     Eigen::MatrixXd gt = f.total.gram.topLeftCorner(k, k) - hold.gram.topLeftCorner(k, k);
     gt.diagonal() += d;
-    const Eigen::LLT<Eigen::MatrixXd> llt(gt);
+    const Eigen::LLT<Eigen::MatrixXd> llt = cholesky(f.kernels, std::move(gt));
     if (llt.info() != Eigen::Success || !(llt.rcond() * max_cond_g >= 1.0)) {  // undetermined
       failed[static_cast<size_t>(i)] = 1;
       continue;
@@ -239,7 +243,7 @@ OrderCrossValidation cross_validate_order(const RowMatrix3d& wi, const RowMatrix
   o.tikhonov_power = tikhonov_power;
   const Eigen::VectorXd w = weights.size() == 0 ? Eigen::VectorXd::Ones(wi.rows()).eval() : weights;
   check_sample_fit_input(o, wi, wr, values, w);
-  const Folds f = assemble_folds(max_order, isotropic, wi, wr, values, w, folds, progress);
+  const Folds f = assemble_folds(max_order, isotropic, wi, wr, values, w, folds, progress, nullptr);
   return score_orders(f, min_order, max_order, tikhonov, tikhonov_power, progress);
 }
 
@@ -334,7 +338,7 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
     const double training = static_cast<double>(positive) * (plan.folds - 1) / plan.folds;
     int top = 0;
     while (top < cap && sample_fit_unknowns(top + 1, o.isotropic) * kMinSamplesPerUnknown <= training) ++top;
-    folds = assemble_folds(top, o.isotropic, wi, wr, values, w, plan.folds, o.progress);
+    folds = assemble_folds(top, o.isotropic, wi, wr, values, w, plan.folds, o.progress, o.kernels);
     out.order_cv = score_orders(folds, 0, top, o.tikhonov, o.tikhonov_power, o.progress);
     if (out.order_cv.chosen < 0)
       throw UnsupportedError("sample fit: the " + std::to_string(positive) + " samples determine no order of the " +
@@ -347,7 +351,7 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
                         fmt_g(out.order_cv.rms[at]) + " +- " + fmt_g(out.order_cv.rms_se[at], 2) +
                         " 1/sr; lowest order within 0.5% of the best mean square)");
   } else {
-    folds = assemble_folds(o.order, o.isotropic, wi, wr, values, w, plan.folds, o.progress);
+    folds = assemble_folds(o.order, o.isotropic, wi, wr, values, w, plan.folds, o.progress, o.kernels);
   }
   NormalEquations total = leading(folds.total, sample_fit_unknowns(o.order, o.isotropic));
 
@@ -365,7 +369,8 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
   // equations already show undetermined (unseen modes, no Cholesky factor, condition too large) are not
   // solved (their rank-revealing QR would be the slowest step and its result is not used).
   std::string why;
-  const NormalEquationsDeterminacy pre = normal_equations_determinacy(total, o.rank_tolerance);
+  const NormalEquationsProbe probed = probe_normal_equations(total, o.rank_tolerance, o.kernels);
+  const NormalEquationsDeterminacy& pre = probed.determinacy;
   const bool pre_undetermined =
       o.tikhonov == 0.0 && (pre.unseen > 0 || !pre.factored || !(pre.condition <= kMaxDeterminedCondition));
   if (!o.isotropic && pre_undetermined) {
@@ -374,7 +379,7 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
           (pre.unseen > 0 ? std::to_string(pre.unseen) + " unseen, " : std::string()) +
           (pre.factored ? "condition " + fmt_g(pre.condition) : std::string("A^T W A singular")) + ")";
   } else {
-    out.fit = fit_samples(wi, wr, values, w, o, &total);
+    out.fit = fit_samples(wi, wr, values, w, o, &total, &probed);
     if (!determined(out.fit))
       why = "the samples do not determine the " + std::to_string(out.fit.unknowns) + " " + modes_name(o.isotropic) +
             " of order " + std::to_string(o.order) + " (" + determinacy_text(out.fit) + ")";
@@ -383,7 +388,7 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
     bool done = false;
     if (!o.isotropic) {
       o.isotropic = true;
-      folds = assemble_folds(o.order, true, wi, wr, values, w, plan.folds, o.progress);
+      folds = assemble_folds(o.order, true, wi, wr, values, w, plan.folds, o.progress, o.kernels);
       total = folds.total;
       out.fit = fit_samples(wi, wr, values, w, o, &total);
       if (determined(out.fit)) {

@@ -1,5 +1,7 @@
 #include "icobrdf/io/measured_sources.hpp"
 
+#include "icobrdf/io/blas_dense_kernels.hpp"
+
 #include <sys/stat.h>
 
 #include <cmath>
@@ -152,6 +154,7 @@ class MerlSource final : public BrdfSource, public SampleFitHolder {
     so.order = o.order;
     so.isotropic = true;
     so.progress = o.progress;
+    so.kernels = &blas_dense_kernels();
     CheckedSampleFit c;
     c.fit = fit_samples(smp.wi, smp.wr, smp.values, smp.weights, so);
     c.cv_rms = std::numeric_limits<double>::quiet_NaN();  // not measured for MERL tables
@@ -186,6 +189,7 @@ class SampleCsvSource final : public BrdfSource, public SampleFitHolder {
     plan.options.order = std::max(o.order, 0);
     plan.options.isotropic = o.isotropic;
     plan.options.progress = o.progress;
+    plan.options.kernels = &blas_dense_kernels();
     plan.choose_order = o.order == kChooseOrder;
     // An automatic order comes with an automatic lambda unless one was given.
     plan.choose_tikhonov = tikhonov_auto_ || (plan.choose_order && !tikhonov_given());

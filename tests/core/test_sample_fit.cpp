@@ -3,6 +3,9 @@
 
 #include <Eigen/Cholesky>
 
+#include <omp.h>
+
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -237,6 +240,38 @@ TEST(SampleFit, RejectsBadArguments) {
   Eigen::MatrixXd v = Eigen::MatrixXd::Ones(3, 1);
   v(2, 0) = std::nan("");
   EXPECT_THROW(acc.add(p.wi, p.wr, v, Eigen::VectorXd::Ones(3)), ArgumentError);
+}
+
+TEST(SampleFit, AGivenProbeGivesTheSameFitAsProbingAgain) {
+  // The probe handed to fit_samples is the one it would compute itself: the result is bitwise the same.
+  const Pairs p = random_pairs(800, 21);
+  const Eigen::MatrixXd y = helmholtz_modes_eval(3, p.wi, p.wr) * Eigen::VectorXd::LinSpaced(helmholtz_mode_count(3), -1.0, 1.0);
+  SampleFitOptions o;
+  o.order = 3;
+  const Eigen::VectorXd w = Eigen::VectorXd::Ones(800);
+  const NormalEquations ne = assemble_normal_equations(3, false, p.wi, p.wr, y, w);
+  const NormalEquationsProbe probe = probe_normal_equations(ne, o.rank_tolerance);
+  ASSERT_TRUE(probe.llt);
+  EXPECT_EQ(probe.determinacy.unseen, 0);
+  const SampleFitResult a = fit_samples(p.wi, p.wr, y, w, o, &ne, &probe), b = fit_samples(p.wi, p.wr, y, w, o, &ne);
+  EXPECT_EQ((a.modes - b.modes).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(a.condition, b.condition);
+  EXPECT_EQ((a.standard_error - b.standard_error).cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(SampleFit, AssemblyDoesNotDependOnTheThreadCount) {
+  // Panels are summed in the order of the rows whatever the threads that evaluate them.
+  const Pairs p = random_pairs(5000, 22);
+  const Eigen::MatrixXd y = Eigen::MatrixXd::Ones(5000, 1);
+  const Eigen::VectorXd w = Eigen::VectorXd::Ones(5000);
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const NormalEquations one = assemble_normal_equations(6, false, p.wi, p.wr, y, w);
+  omp_set_num_threads(std::max(2, saved));
+  const NormalEquations many = assemble_normal_equations(6, false, p.wi, p.wr, y, w);
+  omp_set_num_threads(saved);
+  EXPECT_EQ((one.gram - many.gram).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((one.rhs - many.rhs).cwiseAbs().maxCoeff(), 0.0);
 }
 
 }  // namespace

@@ -1,0 +1,77 @@
+#include "icobrdf/core/dense_kernels.hpp"
+
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "icobrdf/core/error.hpp"
+
+namespace icobrdf {
+
+namespace {
+
+void eigen_rank_update(double* g, Eigen::Index k, const double* a, Eigen::Index rows, Eigen::Index lda) {
+  Eigen::Map<Eigen::MatrixXd> gm(g, k, k);
+  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> am(a, rows, k, Eigen::OuterStride<>(lda));
+  gm.selfadjointView<Eigen::Lower>().rankUpdate(am.transpose());
+}
+
+bool eigen_cholesky_lower(double* g, Eigen::Index k) {
+  Eigen::Map<Eigen::MatrixXd> gm(g, k, k);
+  return Eigen::internal::llt_inplace<double, Eigen::Lower>::blocked(gm) == -1;
+}
+
+// An Eigen::LLT whose factor was computed elsewhere: Eigen 3.4 keeps the factor, the L1 norm of the matrix
+// (for rcond) and the status in protected members, which a derived class may set. It adds no member, so the
+// object converts to a plain Eigen::LLT without loss.
+class FactoredLlt : public Eigen::LLT<Eigen::MatrixXd> {
+ public:
+  FactoredLlt(Eigen::MatrixXd factor, double l1_norm, bool ok) {
+    m_matrix = std::move(factor);
+    m_l1_norm = l1_norm;
+    m_isInitialized = true;
+    m_info = ok ? Eigen::Success : Eigen::NumericalIssue;
+  }
+};
+
+// The L1 norm (largest absolute column sum) of the symmetric matrix whose lower triangle g holds, as
+// Eigen::LLT::compute computes it; read column by column: g(i, j), i > j, counts in columns j and i.
+double symmetric_l1_norm(const Eigen::MatrixXd& g) {
+  const Eigen::Index k = g.rows();
+  if (k == 0) return 0.0;
+  Eigen::ArrayXd sums = Eigen::ArrayXd::Zero(k);
+  for (Eigen::Index j = 0; j < k; ++j) {
+    const Eigen::ArrayXd c = g.col(j).tail(k - j).array().abs();
+    sums[j] += c.sum();
+    sums.tail(k - j - 1) += c.tail(k - j - 1);
+  }
+  return sums.maxCoeff();
+}
+
+}  // namespace
+
+const DenseKernels& eigen_dense_kernels() {
+  static const DenseKernels k{"Eigen", &eigen_rank_update, &eigen_cholesky_lower, false};
+  return k;
+}
+
+void rank_update_lower(const DenseKernels* kernels, Eigen::MatrixXd& g, const Eigen::Ref<const Eigen::MatrixXd>& a) {
+  if (g.rows() != g.cols() || g.cols() != a.cols())
+    throw ArgumentError("rank update: G is " + std::to_string(g.rows()) + " x " + std::to_string(g.cols()) + ", A has " +
+                        std::to_string(a.cols()) + " columns");
+  if (a.rows() == 0 || a.cols() == 0) return;
+  const DenseKernels& k = kernels ? *kernels : eigen_dense_kernels();
+  k.rank_update(g.data(), g.rows(), a.data(), a.rows(), a.outerStride());
+}
+
+Eigen::LLT<Eigen::MatrixXd> cholesky(const DenseKernels* kernels, Eigen::MatrixXd g) {
+  if (g.rows() != g.cols())
+    throw ArgumentError("Cholesky factorization: the matrix is " + std::to_string(g.rows()) + " x " + std::to_string(g.cols()) +
+                        ", expected square");
+  if (!kernels || kernels->cholesky_lower == eigen_dense_kernels().cholesky_lower) return Eigen::LLT<Eigen::MatrixXd>(g);
+  const double l1 = symmetric_l1_norm(g);
+  const bool ok = g.rows() == 0 || kernels->cholesky_lower(g.data(), g.rows());
+  return FactoredLlt(std::move(g), l1, ok);
+}
+
+}  // namespace icobrdf

@@ -1,0 +1,37 @@
+#pragma once
+// The two dense kernels whose speed decides a large least-squares fit (icobrdf/core/sample_fit.hpp): the
+// symmetric rank-k update G += A^T A and the Cholesky factorization G = L L^T. icobrdf_core computes them with
+// Eigen (about 0.6 of the FP64 peak for the update, 0.25 for the factorization, measured at 2,211 unknowns on
+// AVX-512); a layer linked with an optimized BLAS/LAPACK hands faster ones to the fits through
+// SampleFitOptions::kernels (icobrdf/io/blas_dense_kernels.hpp). Both kernels compute the same mathematical
+// result; they differ in the order of the sums, so results agree to rounding, not bitwise.
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+namespace icobrdf {
+
+struct DenseKernels {
+  const char* name = "";
+  // g (k x k, column-major, leading dimension k) += a^T a on the lower triangle (the strict upper triangle is
+  // left as it was); a: rows x k, column-major, leading dimension lda >= rows.
+  void (*rank_update)(double* g, Eigen::Index k, const double* a, Eigen::Index rows, Eigen::Index lda) = nullptr;
+  // Overwrites the lower triangle of g (k x k, column-major) with L, G = L L^T, reading only the lower
+  // triangle; returns false when G is not (numerically) positive definite.
+  bool (*cholesky_lower)(double* g, Eigen::Index k) = nullptr;
+  // True when the kernels spread one call over all cores themselves: callers then call them from one thread
+  // at a time instead of running several calls in parallel threads.
+  bool threaded = false;
+};
+
+// Eigen's kernels (the default when a fit is given none).
+const DenseKernels& eigen_dense_kernels();
+
+// g += a^T a on g's lower triangle, with `kernels` (Eigen's when null). g must be square with a's columns.
+void rank_update_lower(const DenseKernels* kernels, Eigen::MatrixXd& g, const Eigen::Ref<const Eigen::MatrixXd>& a);
+
+// The Cholesky factorization of the symmetric g (lower triangle read) as an Eigen::LLT, computed by `kernels`
+// (Eigen's when null): solve(), matrixL(), rcond() and info() behave as for Eigen::LLT(g). g is taken by value
+// (move a temporary in: the factor is computed in its storage).
+Eigen::LLT<Eigen::MatrixXd> cholesky(const DenseKernels* kernels, Eigen::MatrixXd g);
+
+}  // namespace icobrdf

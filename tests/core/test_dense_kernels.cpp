@@ -1,0 +1,107 @@
+// The dense kernels of the sample fits (icobrdf/core/dense_kernels.hpp): Eigen's, and the Eigen::LLT built
+// from a factor computed elsewhere.
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+
+#include <cmath>
+
+#include "icobrdf/core/dense_kernels.hpp"
+#include "icobrdf/core/error.hpp"
+#include "tests/support/random_matrix.hpp"
+
+namespace icobrdf {
+namespace {
+
+constexpr double kEps = 2.220446049250313e-16;
+// A sum of n products of values in [-1, 1] differs between two summation orders by at most 2 n eps times
+// the sum of the absolute products (standard forward error bound, gamma_n for each order).
+constexpr double kOrderBoundFactor = 2.0;
+// Two Cholesky factors of a matrix of condition ~1e2 agree entrywise to about cond * k eps; 1e-11 leaves
+// a margin of ~50 over that at k = 60.
+constexpr double kFactorTol = 1e-11;
+
+using test_support::random_matrix;
+
+// A right-looking, unblocked Cholesky written out (L_jj = sqrt(G_jj - sum_k L_jk^2), ...): an independent
+// stand-in for an optimized LAPACK, to check how cholesky() wraps a foreign factor.
+bool textbook_cholesky(double* g, Eigen::Index k) {
+  Eigen::Map<Eigen::MatrixXd> a(g, k, k);
+  for (Eigen::Index j = 0; j < k; ++j) {
+    double d = a(j, j);
+    for (Eigen::Index p = 0; p < j; ++p) d -= a(j, p) * a(j, p);
+    if (!(d > 0.0)) return false;
+    a(j, j) = std::sqrt(d);
+    for (Eigen::Index i = j + 1; i < k; ++i) {
+      double s = a(i, j);
+      for (Eigen::Index p = 0; p < j; ++p) s -= a(i, p) * a(j, p);
+      a(i, j) = s / a(j, j);
+    }
+  }
+  return true;
+}
+
+const DenseKernels kTextbook{"textbook", eigen_dense_kernels().rank_update, &textbook_cholesky, false};
+
+TEST(DenseKernels, EigenRankUpdateAddsATransposeAOnTheLowerTriangleOnly) {
+  const Eigen::MatrixXd a = random_matrix(300, 40, 1);
+  Eigen::MatrixXd g = Eigen::MatrixXd::Constant(40, 40, 7.0);
+  rank_update_lower(nullptr, g, a);
+  const Eigen::MatrixXd abs_sum = a.cwiseAbs().transpose() * a.cwiseAbs();
+  for (Eigen::Index j = 0; j < 40; ++j)
+    for (Eigen::Index i = 0; i < 40; ++i) {
+      if (i < j) {
+        EXPECT_EQ(g(i, j), 7.0) << "upper triangle changed at " << i << "," << j;
+        continue;
+      }
+      const double exact = 7.0 + a.col(i).dot(a.col(j));
+      EXPECT_NEAR(g(i, j), exact, kOrderBoundFactor * 300 * kEps * (abs_sum(i, j) + 7.0)) << i << "," << j;
+    }
+}
+
+TEST(DenseKernels, RankUpdateOfAStridedBlockUsesOnlyItsRows) {
+  const Eigen::MatrixXd a = random_matrix(100, 12, 2);
+  Eigen::MatrixXd g1 = Eigen::MatrixXd::Zero(12, 12), g2 = Eigen::MatrixXd::Zero(12, 12);
+  rank_update_lower(nullptr, g1, a.middleRows(30, 50));
+  const Eigen::MatrixXd copy = a.middleRows(30, 50);
+  rank_update_lower(nullptr, g2, copy);
+  EXPECT_EQ((g1 - g2).cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(DenseKernels, ShapeMismatchIsRefused) {
+  Eigen::MatrixXd g = Eigen::MatrixXd::Zero(5, 5);
+  EXPECT_THROW(rank_update_lower(nullptr, g, Eigen::MatrixXd::Zero(10, 4)), ArgumentError);
+  EXPECT_THROW(cholesky(nullptr, Eigen::MatrixXd::Zero(3, 4)), ArgumentError);
+}
+
+TEST(DenseKernels, AForeignFactorBehavesAsEigensLlt) {
+  const Eigen::MatrixXd a = random_matrix(400, 60, 3);
+  const Eigen::MatrixXd g = a.transpose() * a;
+  const Eigen::LLT<Eigen::MatrixXd> ref(g);
+  const Eigen::LLT<Eigen::MatrixXd> ours = cholesky(&kTextbook, g);
+  ASSERT_EQ(ours.info(), Eigen::Success);
+  const Eigen::MatrixXd l_ref = ref.matrixL(), l_ours = ours.matrixL();
+  EXPECT_LT((l_ref - l_ours).cwiseAbs().maxCoeff(), kFactorTol * l_ref.cwiseAbs().maxCoeff());
+  const Eigen::MatrixXd b = random_matrix(60, 3, 4);
+  const Eigen::MatrixXd x_ref = ref.solve(b), x = ours.solve(b);
+  EXPECT_LT((x - x_ref).norm(), kFactorTol * x_ref.norm());
+  // rcond: the same L1 norm of G and the same estimator on the same factor (to rounding).
+  EXPECT_NEAR(ours.rcond(), ref.rcond(), kFactorTol * ref.rcond() * 100);
+}
+
+TEST(DenseKernels, AForeignFactorOfAnIndefiniteMatrixReportsNumericalIssue) {
+  Eigen::MatrixXd g = Eigen::MatrixXd::Identity(4, 4);
+  g(2, 2) = -1.0;
+  EXPECT_EQ(cholesky(&kTextbook, g).info(), Eigen::NumericalIssue);
+  EXPECT_EQ(cholesky(nullptr, g).info(), Eigen::NumericalIssue);
+}
+
+TEST(DenseKernels, EigensCholeskyIsEigensLlt) {
+  const Eigen::MatrixXd a = random_matrix(50, 8, 5);
+  const Eigen::MatrixXd g = a.transpose() * a;
+  const Eigen::MatrixXd l1 = cholesky(nullptr, g).matrixL(), l2 = Eigen::LLT<Eigen::MatrixXd>(g).matrixL();
+  EXPECT_EQ((l1 - l2).cwiseAbs().maxCoeff(), 0.0);
+}
+
+}  // namespace
+}  // namespace icobrdf
