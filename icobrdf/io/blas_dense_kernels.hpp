@@ -2,13 +2,44 @@
 // The dense kernels of the least-squares fits (icobrdf/core/dense_kernels.hpp) from OpenBLAS: dsyrk for the
 // rank-k updates of the normal equations and LAPACK's dpotrf for the Cholesky factorizations. Each call runs
 // on OpenBLAS's own threads (all cores unless OPENBLAS_NUM_THREADS says otherwise), so `threaded` is set and
-// the fits call them from one thread at a time. Measured on AVX-512 (2 cores, 2,211 unknowns): the update at
-// about 0.85 of the FP64 peak against Eigen's 0.6 (benchmarks/RESULTS.md, "The 20,000-sample order-10 fit").
-// Results agree with Eigen's kernels to rounding (the sums run in another order).
+// the fits call them from one thread at a time. Results agree with Eigen's kernels to rounding (the sums run
+// in another order).
+//
+// Which set a fit uses: fit_dense_kernels(). OpenBLAS picks its kernel when the library loads, from the CPU
+// it recognizes (or OPENBLAS_CORETYPE). A CPU newer than the OpenBLAS build gets a generic fallback: Debian's
+// OpenBLAS 0.3.21 runs its SSE3 "Prescott" kernel on a Sapphire Rapids CPU, where dsyrk at 2,211 unknowns
+// measured 14 GFLOP/s on 2 threads against Eigen's AVX-512 code at 46 and OpenBLAS's own SkylakeX kernel at 72
+// (benchmarks/RESULTS.md, "Dense kernels of the sample fits"). So OpenBLAS serves the fits only when its kernel
+// uses vectors at least as wide as Eigen's in this build; otherwise Eigen's kernels do. The choice depends
+// only on the build, the CPU and the environment, never on a timing, so fits stay reproducible on a machine.
+#include <string>
+#include <string_view>
+
 #include "icobrdf/core/dense_kernels.hpp"
 
 namespace icobrdf {
 
 const DenseKernels& blas_dense_kernels();
+
+// The FP64 vector width (bits) of the DGEMM kernel of an OpenBLAS core name (openblas_get_corename(), any
+// case): 512 for the AVX-512 kernels (SkylakeX, Cooperlake, SapphireRapids), 256 for the AVX2 + FMA kernels
+// (Haswell, Zen, Excavator), 128 for the SSE and first-generation AVX ones (Prescott ... Sandybridge,
+// Bulldozer, Piledriver, Steamroller: no FMA3 in their DGEMM kernels), 0 for a name not known here.
+int blas_kernel_vector_bits(std::string_view core_name);
+
+// The vector width (bits) Eigen's matrix products use in this build (its compile-time ISA): 512, 256 or 128.
+int eigen_vector_bits();
+
+struct FitKernelChoice {
+  const DenseKernels* kernels = nullptr;  // blas_dense_kernels() or eigen_dense_kernels()
+  std::string reason;                     // one line: which, and why (names OpenBLAS's core)
+};
+
+// The rule above for the running process (OpenBLAS's core as loaded, Eigen's width as built); computed once.
+const FitKernelChoice& fit_kernel_choice();
+// The rule for given inputs (tests): OpenBLAS when blas_kernel_vector_bits(core_name) >= eigen_bits > 0.
+FitKernelChoice choose_fit_kernels(std::string_view core_name, int eigen_bits);
+// fit_kernel_choice().kernels.
+const DenseKernels& fit_dense_kernels();
 
 }  // namespace icobrdf

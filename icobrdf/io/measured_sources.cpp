@@ -154,7 +154,7 @@ class MerlSource final : public BrdfSource, public SampleFitHolder {
     so.order = o.order;
     so.isotropic = true;
     so.progress = o.progress;
-    so.kernels = &blas_dense_kernels();
+    so.kernels = &fit_dense_kernels();
     CheckedSampleFit c;
     c.fit = fit_samples(smp.wi, smp.wr, smp.values, smp.weights, so);
     c.cv_rms = std::numeric_limits<double>::quiet_NaN();  // not measured for MERL tables
@@ -189,7 +189,7 @@ class SampleCsvSource final : public BrdfSource, public SampleFitHolder {
     plan.options.order = std::max(o.order, 0);
     plan.options.isotropic = o.isotropic;
     plan.options.progress = o.progress;
-    plan.options.kernels = &blas_dense_kernels();
+    plan.options.kernels = &fit_dense_kernels();
     plan.choose_order = o.order == kChooseOrder;
     // An automatic order comes with an automatic lambda unless one was given.
     plan.choose_tikhonov = tikhonov_auto_ || (plan.choose_order && !tikhonov_given());

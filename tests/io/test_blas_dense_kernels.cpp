@@ -13,6 +13,8 @@
 #include "tests/core/sample_pairs.hpp"
 #include "tests/support/random_matrix.hpp"
 
+extern "C" char* openblas_get_corename();
+
 namespace icobrdf {
 namespace {
 
@@ -82,6 +84,47 @@ TEST(BlasDenseKernels, SampleFitAgreesWithEigensKernels) {
   EXPECT_LT((blas_fit.modes - eigen_fit.modes).norm(), kFitTol * truth.norm());
   EXPECT_LT((blas_fit.modes.col(0) - truth).norm(), kFitTol * truth.norm());
   EXPECT_NEAR(blas_fit.condition, eigen_fit.condition, 1e-6 * eigen_fit.condition);
+}
+
+// The kernel widths come from OpenBLAS's kernel sources per core (kernel/x86_64/KERNEL.<CORE>: the SkylakeX and
+// Cooperlake DGEMM kernels are AVX-512, Haswell's and Zen's AVX2 + FMA, Prescott's and Sandybridge's SSE2/AVX
+// without FMA); names are matched in any case, as openblas_get_corename spells them.
+TEST(FitKernelChoice, OpenBlasCoreNamesMapToTheirKernelWidths) {
+  EXPECT_EQ(blas_kernel_vector_bits("SkylakeX"), 512);
+  EXPECT_EQ(blas_kernel_vector_bits("Cooperlake"), 512);
+  EXPECT_EQ(blas_kernel_vector_bits("sapphirerapids"), 512);
+  EXPECT_EQ(blas_kernel_vector_bits("Haswell"), 256);
+  EXPECT_EQ(blas_kernel_vector_bits("Zen"), 256);
+  EXPECT_EQ(blas_kernel_vector_bits("Prescott"), 128);
+  EXPECT_EQ(blas_kernel_vector_bits("Sandybridge"), 128);
+  EXPECT_EQ(blas_kernel_vector_bits("NoSuchCore"), 0);
+  EXPECT_EQ(blas_kernel_vector_bits(""), 0);
+}
+
+TEST(FitKernelChoice, OpenBlasServesOnlyWhenItsKernelIsAsWideAsEigens) {
+  // The case that made the rule: a CPU newer than the OpenBLAS build gets the SSE3 fallback.
+  EXPECT_EQ(choose_fit_kernels("Prescott", 512).kernels, &eigen_dense_kernels());
+  EXPECT_EQ(choose_fit_kernels("Haswell", 512).kernels, &eigen_dense_kernels());  // OPENBLAS_CORETYPE=Haswell on AVX-512
+  EXPECT_EQ(choose_fit_kernels("SkylakeX", 512).kernels, &blas_dense_kernels());
+  EXPECT_EQ(choose_fit_kernels("Cooperlake", 256).kernels, &blas_dense_kernels());
+  EXPECT_EQ(choose_fit_kernels("Haswell", 256).kernels, &blas_dense_kernels());
+  EXPECT_EQ(choose_fit_kernels("Unknown", 128).kernels, &eigen_dense_kernels());
+  const FitKernelChoice c = choose_fit_kernels("Prescott", 512);
+  EXPECT_NE(c.reason.find("Prescott"), std::string::npos) << c.reason;
+  EXPECT_EQ(c.reason.find('\n'), std::string::npos) << "one line";
+}
+
+TEST(FitKernelChoice, EigensWidthIsTheBuildsAndTheProcessChoiceFollowsTheRule) {
+#if defined(__AVX512F__)
+  EXPECT_EQ(eigen_vector_bits(), 512);
+#elif defined(__AVX__)
+  EXPECT_EQ(eigen_vector_bits(), 256);
+#else
+  EXPECT_EQ(eigen_vector_bits(), 128);
+#endif
+  const FitKernelChoice& c = fit_kernel_choice();
+  EXPECT_EQ(c.kernels, choose_fit_kernels(openblas_get_corename(), eigen_vector_bits()).kernels) << c.reason;
+  EXPECT_EQ(&fit_dense_kernels(), c.kernels);
 }
 
 }  // namespace
