@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -51,14 +52,21 @@ void drain(int out_fd, int err_fd, std::string& out, std::string& err) {
 
 std::string own_executable() { return std::filesystem::read_symlink("/proc/self/exe").string(); }
 
-ChildResult run_child(const std::vector<std::string>& argv, const std::vector<std::string>& removed) {
+ChildResult run_child(const std::vector<std::string>& argv, const std::vector<std::string>& removed,
+                      const std::vector<std::string>& added) {
   if (argv.empty()) throw ArgumentError("child process: no program given");
+  for (const auto& a : added) {
+    const auto eq = a.find('=');
+    if (eq == std::string::npos || eq == 0 || std::find(removed.begin(), removed.end(), a.substr(0, eq)) == removed.end())
+      throw ArgumentError("child process: added variable '" + a + "' is not NAME=VALUE with NAME among the removed ones");
+  }
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
   std::vector<char*> env;
   for (char** e = environ; *e != nullptr; ++e)
     if (!is_removed(*e, removed)) env.push_back(*e);
+  for (const auto& a : added) env.push_back(const_cast<char*>(a.c_str()));
   env.push_back(nullptr);
 
   int out_pipe[2], err_pipe[2];

@@ -15,8 +15,11 @@ struct ChildResult {
 };
 
 // Runs argv[0] (a path, not searched on PATH) with arguments argv[1..] and the parent's environment minus
-// every variable named in `removed`; waits for it. IoError when the program cannot be started.
-ChildResult run_child(const std::vector<std::string>& argv, const std::vector<std::string>& removed);
+// every variable named in `removed`, plus the "NAME=VALUE" entries of `added` (whose names must be among
+// `removed`, so that each is set once); waits for it. IoError when the program cannot be started,
+// ArgumentError for an `added` entry that is not NAME=VALUE with NAME in `removed`.
+ChildResult run_child(const std::vector<std::string>& argv, const std::vector<std::string>& removed,
+                      const std::vector<std::string>& added = {});
 
 // Path of the running program (/proc/self/exe).
 std::string own_executable();

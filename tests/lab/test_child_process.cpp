@@ -26,6 +26,19 @@ TEST(ChildProcess, RemovesOnlyTheNamedVariablesAndOnlyInTheChild) {
   EXPECT_STREQ(std::getenv("ICOBRDF_TEST_CHILD_REMOVED"), "gone");
 }
 
+TEST(ChildProcess, AddedVariablesReplaceTheRemovedOnesOnlyInTheChild) {
+  ASSERT_EQ(::setenv("ICOBRDF_TEST_CHILD_SET", "parent", 1), 0);
+  const ChildResult r = run_child({"/usr/bin/env"}, {"ICOBRDF_TEST_CHILD_SET"}, {"ICOBRDF_TEST_CHILD_SET=child"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("ICOBRDF_TEST_CHILD_SET=child\n"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("ICOBRDF_TEST_CHILD_SET=parent"), std::string::npos) << "set once, not twice";
+  EXPECT_STREQ(std::getenv("ICOBRDF_TEST_CHILD_SET"), "parent") << "the parent's environment must not change";
+  // An added name must be removed first (else the child would see it twice), and must be NAME=VALUE.
+  EXPECT_THROW(run_child({"/usr/bin/env"}, {}, {"ICOBRDF_TEST_CHILD_SET=child"}), ArgumentError);
+  EXPECT_THROW(run_child({"/usr/bin/env"}, {"ICOBRDF_TEST_CHILD_SET"}, {"ICOBRDF_TEST_CHILD_SET"}), ArgumentError);
+  EXPECT_THROW(run_child({"/usr/bin/env"}, {"ICOBRDF_TEST_CHILD_SET"}, {"=child"}), ArgumentError);
+}
+
 TEST(ChildProcess, CapturesBothStreamsAndTheExitStatus) {
   const ChildResult r = run_child({"/bin/sh", "-c", "echo out; echo err >&2; exit 3"}, {});
   EXPECT_EQ(r.exit_code, 3);
