@@ -12,6 +12,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/option_checks.hpp"
+#include "icobrdf/io/blas_dense_kernels.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/io/measured_sources.hpp"
 #include "icobrdf/io/output_path.hpp"
@@ -119,6 +120,7 @@ void run_fit(const FitArgs& a) {
                        {"rank_threshold", sf->rank_threshold},
                        {"condition_of_kept_part", sf->condition},
                        {"solver", sf->solver},
+                       {"dense_kernels", std::string(sf->solver) == "normal equations" ? fit_kernel_choice().reason : std::string("none")},
                        {"tikhonov", sf->tikhonov},
                        {"tikhonov_choice", cf->tikhonov_choice},
                        {"order_choice", cf->order_choice},
@@ -159,6 +161,7 @@ void run_fit(const FitArgs& a) {
                              "condition {:.3g}, residual RMS {:.3g} 1/sr (worst channel), {}\n",
                              sf->samples, sf->effective_rank, sf->unknowns, sf->null_space_dimension, sf->unseen_modes,
                              sf->condition, worst, sf->solver);
+    if (std::string(sf->solver) == "normal equations") std::cout << "  dense kernels: " << fit_kernel_choice().reason << "\n";
     std::cout << fmt::format("  order {} ({}), Tikhonov lambda {:.3g} ({}), {}-fold CV RMS {:.3g} 1/sr\n", s.order,
                              cf->order_choice, sf->tikhonov, cf->tikhonov_choice, cf->cv_folds, cf->cv_rms);
     for (const auto& n : cf->notes) std::cout << "  " << n << "\n";

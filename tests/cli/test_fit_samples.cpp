@@ -113,6 +113,12 @@ TEST(CliFitSamples, AutomaticOrderAndLambdaAreReportedAndStored) {
   EXPECT_NE(r.out.find("chosen by generalized cross-validation"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("grid level -1"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("Gram error"), std::string::npos) << r.out;
+  // The normal equations say which dense kernels solved them (icobrdf/io/blas_dense_kernels.hpp), in one line.
+  const auto k = r.out.find("  dense kernels: ");
+  ASSERT_NE(k, std::string::npos) << r.out;
+  const std::string kernels = r.out.substr(k + 17, r.out.find('\n', k) - k - 17);
+  EXPECT_TRUE(kernels.rfind("Eigen: ", 0) == 0 || kernels.rfind("OpenBLAS: ", 0) == 0) << kernels;
+  EXPECT_NE(kernels.find("OpenBLAS's "), std::string::npos) << "names OpenBLAS's kernel: " << kernels;
   const auto t = run_cli({"spectrum", d.file("s.h5")});
   ASSERT_EQ(t.exit_code, 0) << t.err;
   EXPECT_NE(t.out.find("sample fit: 3000 samples"), std::string::npos) << t.out;
