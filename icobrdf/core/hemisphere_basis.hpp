@@ -67,6 +67,9 @@ void hemisphere_basis_weighted_sum(int order, Eigen::Index n, const double* dirs
 // Validation for batch callers: the first row of dirs that is not a finite direction with z >= -z_slack,
 // or -1 when all are (threads over rows for large inputs; the answer does not depend on threads).
 Eigen::Index first_invalid_direction(const RowMatrix3d& dirs, double z_slack = kHorizonSlack);
+// The same for n directions stored as (x, y, z) triples from `dirs` (one thread; for a block that is about to
+// be evaluated, while it is in cache).
+Eigen::Index first_invalid_direction(const double* dirs, Eigen::Index n, double z_slack = kHorizonSlack);
 
 // dirs.rows() x hemisphere_basis_count(order): row r holds every K_j at direction r.
 Eigen::MatrixXd hemisphere_basis_matrix(int order, const RowMatrix3d& dirs);

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <algorithm>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "icobrdf/core/error.hpp"
@@ -28,20 +29,18 @@ Eigen::VectorXd evaluate_coefficients(const Eigen::MatrixXd& c, int order, const
                         ", expected " + std::to_string(m) + " x " + std::to_string(m) + " for order " + std::to_string(order));
   if (wi.rows() != wr.rows()) throw ArgumentError("evaluate: incident and remitted direction counts differ");
   const Eigen::Index n = wi.rows();
-  for (const RowMatrix3d* d : {&wi, &wr})
-    if (const Eigen::Index r = first_invalid_direction(*d); r >= 0)
-      throw ArgumentError(std::string("evaluate: ") + (d == &wi ? "incident" : "remitted") + " direction " + std::to_string(r) +
-                          " is not a finite direction with z >= 0");
   // Blocks of kEvalBlock pairs: K(w_i) and K(w_r) (block x M, column-major, by the block basis kernel), then
   // f = rowwise dot(K(w_i) C, K(w_r)) by the dispatched tile (icobrdf/core/spectrum_tile.hpp), which never stores
   // K(w_i) C. Threads take blocks; each pair's value depends only on its own directions, so results do not
-  // depend on threads.
+  // depend on threads. Each block's directions are checked just before they are evaluated (one pass over
+  // memory instead of two); the first invalid row of each side is reported after the loop.
   const PackedSpectrum packed = pack_spectrum(c, order);
   const Eigen::Index kr_cols = spectrum_tile_columns(packed);
   Eigen::VectorXd out(n);
   advise_huge_pages(out.data(), sizeof(double) * static_cast<size_t>(n));
   const Eigen::Index blocks = (n + kEvalBlock - 1) / kEvalBlock;
-#pragma omp parallel if (n > 4 * kEvalBlock)
+  Eigen::Index bad_i = n, bad_r = n;
+#pragma omp parallel if (n > 4 * kEvalBlock) reduction(min : bad_i, bad_r)
   {
     // Zeroed once: kr's padding columns must be finite, and rows past a short last block too.
     Eigen::MatrixXd ki = Eigen::MatrixXd::Zero(kEvalBlock, m), kr = Eigen::MatrixXd::Zero(kEvalBlock, kr_cols);
@@ -49,12 +48,17 @@ Eigen::VectorXd evaluate_coefficients(const Eigen::MatrixXd& c, int order, const
 #pragma omp for schedule(static)
     for (Eigen::Index b = 0; b < blocks; ++b) {
       const Eigen::Index p0 = b * kEvalBlock, np = std::min(kEvalBlock, n - p0);
+      if (const Eigen::Index r = first_invalid_direction(wi.data() + 3 * p0, np); r >= 0) bad_i = std::min(bad_i, p0 + r);
+      if (const Eigen::Index r = first_invalid_direction(wr.data() + 3 * p0, np); r >= 0) bad_r = std::min(bad_r, p0 + r);
       hemisphere_basis_block(order, np, wi.data() + 3 * p0, ki.data(), kEvalBlock);
       hemisphere_basis_block(order, np, wr.data() + 3 * p0, kr.data(), kEvalBlock);
       spectrum_tile(packed, np, ki.data(), kr.data(), kEvalBlock, f.data());
       out.segment(p0, np) = f.head(np);
     }
   }
+  for (const auto& [side, r] : {std::pair<const char*, Eigen::Index>{"incident", bad_i}, {"remitted", bad_r}})
+    if (r < n)
+      throw ArgumentError(std::string("evaluate: ") + side + " direction " + std::to_string(r) + " is not a finite direction with z >= 0");
   return out;
 }
 

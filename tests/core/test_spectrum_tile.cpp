@@ -11,6 +11,8 @@
 #include <omp.h>
 
 #include <cmath>
+#include <limits>
+#include <string>
 #include <random>
 #include <vector>
 
@@ -168,6 +170,32 @@ TEST(SpectrumTile, OneCouplingEntryMakesTheDensePath) {
   c(5, 4) = 1e-300;
   EXPECT_FALSE(pack_spectrum(c, order).sparse);
   EXPECT_THROW(pack_spectrum(Eigen::MatrixXd::Zero(m, m + 1), order), ArgumentError);
+}
+
+TEST(SpectrumEvaluation, TheFirstInvalidDirectionOfEachSideIsReportedOnAnyNumberOfThreads) {
+  const int order = 2, m = hemisphere_basis_count(order), n = 1000;
+  const Eigen::MatrixXd c = Eigen::MatrixXd::Identity(m, m);
+  RowMatrix3d wi = directions(n, 1), wr = directions(n, 2);
+  wi(900, 2) = -0.5;                                   // below the horizon, in a later block
+  wi(300, 0) = std::numeric_limits<double>::infinity();  // the first bad incident row
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    try {
+      evaluate_coefficients(c, order, wi, wr);
+      ADD_FAILURE() << "no error for invalid incident directions";
+    } catch (const ArgumentError& e) {
+      EXPECT_NE(std::string(e.what()).find("incident direction 300 "), std::string::npos) << e.what();
+    }
+    RowMatrix3d ok = directions(n, 1), bad = wr;
+    bad(777, 1) = std::nan("");
+    try {
+      evaluate_coefficients(c, order, ok, bad);
+      ADD_FAILURE() << "no error for an invalid remitted direction";
+    } catch (const ArgumentError& e) {
+      EXPECT_NE(std::string(e.what()).find("remitted direction 777 "), std::string::npos) << e.what();
+    }
+  }
+  omp_set_num_threads(2);
 }
 
 }  // namespace
