@@ -5,7 +5,7 @@
 //   icobrdf::io        <icobrdf/io/...>        HDF5 banks and spectra, SOURCEs, measured-data readers
 //   icobrdf::pipeline  <icobrdf/pipeline/...>  fitting a SOURCE, building banks
 // icobrdf::plot (<icobrdf/plot/...>, cairo) is not included here: include its headers directly.
-// Internal helpers of the hot loops (icobrdf/core/simd4.hpp, icobrdf/core/fast_atan2.hpp) are left out.
+// Internal helpers of the hot loops (icobrdf/core/fast_atan2.hpp) are left out.
 #pragma once
 
 // core
