@@ -22,6 +22,7 @@
 #include <cstring>
 
 #include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/isotropic_evaluation.hpp"
 #include "icobrdf/core/zernike.hpp"
 
 #ifndef ICOBRDF_HEMISPHERE_BASIS_BLOCK_ONCE
@@ -38,6 +39,9 @@ inline const std::array<double, kMaxZernikeOrder + 1>& norms() {
   }();
   return t;
 }
+// Radial rows R_n^m (m = n % 2, ..., n) of all n <= order, row after row: row n starts at radial_offset(n).
+inline int radial_offset(int n) { return (n / 2) * (n / 2 + 1) + (n % 2) * (n / 2 + 1); }
+inline int radial_table_size(int order) { return radial_offset(order + 1); }
 }  // namespace icobrdf::basis_block_detail
 #endif
 
@@ -46,6 +50,8 @@ namespace icobrdf {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 using basis_block_detail::kChunk;
+using basis_block_detail::radial_offset;
+using basis_block_detail::radial_table_size;
 
 using D = hn::ScalableTag<double>;
 using Vec = hn::Vec<D>;
@@ -53,11 +59,11 @@ constexpr int kL = static_cast<int>(HWY_LANES(double));  // lanes of one vector 
 constexpr int kMaxV = kChunk / kL;                       // vectors of the largest chunk
 
 // Per-thread workspace (doubles, aligned): azimuthal factors (2 order + 1) chunks, three radial rows of
-// (order / 2 + 1) chunks, accumulators (one vector per mode) for weighted sums, and a chunk of directions
-// and of outputs for partial chunks.
+// (order / 2 + 1) chunks, accumulators (one vector per mode) for weighted sums, a chunk of directions and of
+// outputs for partial chunks, and all radial rows of two chunks (the isotropic form).
 struct Workspace {
-  hwy::AlignedFreeUniquePtr<double[]> az, rows, acc, tail, dirs;
-  size_t az_n = 0, rows_n = 0, acc_n = 0, tail_n = 0;
+  hwy::AlignedFreeUniquePtr<double[]> az, rows, acc, tail, dirs, radial;
+  size_t az_n = 0, rows_n = 0, acc_n = 0, tail_n = 0, radial_n = 0;
 };
 
 void ensure(hwy::AlignedFreeUniquePtr<double[]>& p, size_t& have, size_t need) {
@@ -73,6 +79,7 @@ Workspace& workspace(int order) {
   ensure(ws.rows, ws.rows_n, 3 * (static_cast<size_t>(order) / 2 + 1) * kChunk);
   ensure(ws.acc, ws.acc_n, m * kL);
   ensure(ws.tail, ws.tail_n, m * kChunk);
+  ensure(ws.radial, ws.radial_n, 2 * static_cast<size_t>(radial_table_size(order)) * kChunk);
   if (!ws.dirs) ws.dirs = hwy::AllocateAligned<double>(4 * kChunk);
   return ws;
 }
@@ -142,6 +149,43 @@ struct AccumulateSink {
   }
 };
 
+// The Zernike rows of a chunk, R_n^m for m = n % 2, n % 2 + 2, ..., n (entry i holds m = 2 i + n % 2, one chunk
+// quantity each), by the Shakibaei-Paramesran recurrence, row after row: row_at(n) says where row n goes (rows
+// n - 1 and n - 2 must still be there when row n is computed), emit_row(n, row) is called once it is complete.
+template <int V, class RowAt, class EmitRow>
+HWY_INLINE void radial_rows(int order, const Chunk<V>& ch, const RowAt& row_at, const EmitRow& emit_row) {
+  const D d;
+  constexpr int kStride = V * kL;
+  for (int v = 0; v < V; ++v) hn::Store(hn::Set(d, 1.0), d, row_at(0) + kL * v);  // R_0^0
+  emit_row(0, row_at(0));
+  if (order == 0) return;
+  for (int v = 0; v < V; ++v) hn::Store(ch.rho[v], d, row_at(1) + kL * v);  // R_1^1
+  emit_row(1, row_at(1));
+  const Vec two = hn::Set(d, 2.0);
+  for (int n = 2; n <= order; ++n) {
+    double* HWY_RESTRICT cur = row_at(n);
+    const double* HWY_RESTRICT prev = row_at(n - 1);
+    const double* HWY_RESTRICT prev2 = row_at(n - 2);
+    const int last = n / 2;
+    auto at = [&](const double* row, int i, int v) { return hn::Load(d, row + i * kStride + kL * v); };
+    if (n % 2 == 0) {
+      // l = 2i from l' = 2i - 1, 2i + 1 of row n - 1 (indices i - 1, i); at l = 0, |l - 1| = 1.
+      for (int v = 0; v < V; ++v) hn::Store(hn::MulSub(hn::Mul(two, ch.rho[v]), at(prev, 0, v), at(prev2, 0, v)), d, cur + kL * v);
+      for (int i = 1; i < last; ++i)
+        for (int v = 0; v < V; ++v)
+          hn::Store(hn::MulSub(ch.rho[v], hn::Add(at(prev, i - 1, v), at(prev, i, v)), at(prev2, i, v)), d, cur + i * kStride + kL * v);
+      for (int v = 0; v < V; ++v) hn::Store(hn::Mul(ch.rho[v], at(prev, last - 1, v)), d, cur + last * kStride + kL * v);
+    } else {
+      // l = 2i + 1 from l' = 2i, 2i + 2 (indices i, i + 1).
+      for (int i = 0; i < last; ++i)
+        for (int v = 0; v < V; ++v)
+          hn::Store(hn::MulSub(ch.rho[v], hn::Add(at(prev, i, v), at(prev, i + 1, v)), at(prev2, i, v)), d, cur + i * kStride + kL * v);
+      for (int v = 0; v < V; ++v) hn::Store(hn::Mul(ch.rho[v], at(prev, last, v)), d, cur + last * kStride + kL * v);
+    }
+    emit_row(n, cur);
+  }
+}
+
 // All K_n^l of one chunk, row n after row n of the Zernike recurrence, handed to the sink.
 template <int V, bool Weighted, class Sink>
 HWY_INLINE void eval_chunk(int order, const Chunk<V>& ch, Workspace& ws, const Sink& sink) {
@@ -187,34 +231,7 @@ HWY_INLINE void eval_chunk(int order, const Chunk<V>& ch, Workspace& ws, const S
       }
     }
   };
-  for (int v = 0; v < V; ++v) hn::Store(hn::Set(d, 1.0), d, buf[0] + kL * v);  // R_0^0
-  emit_row(0, buf[0]);
-  if (order == 0) return;
-  for (int v = 0; v < V; ++v) hn::Store(ch.rho[v], d, buf[1] + kL * v);  // R_1^1
-  emit_row(1, buf[1]);
-  const Vec two = hn::Set(d, 2.0);
-  for (int n = 2; n <= order; ++n) {
-    double* HWY_RESTRICT cur = buf[n % 3];
-    const double* HWY_RESTRICT prev = buf[(n - 1) % 3];
-    const double* HWY_RESTRICT prev2 = buf[(n - 2) % 3];
-    const int last = n / 2;
-    auto at = [&](const double* row, int i, int v) { return hn::Load(d, row + i * kStride + kL * v); };
-    if (n % 2 == 0) {
-      // l = 2i from l' = 2i - 1, 2i + 1 of row n - 1 (indices i - 1, i); at l = 0, |l - 1| = 1.
-      for (int v = 0; v < V; ++v) hn::Store(hn::MulSub(hn::Mul(two, ch.rho[v]), at(prev, 0, v), at(prev2, 0, v)), d, cur + kL * v);
-      for (int i = 1; i < last; ++i)
-        for (int v = 0; v < V; ++v)
-          hn::Store(hn::MulSub(ch.rho[v], hn::Add(at(prev, i - 1, v), at(prev, i, v)), at(prev2, i, v)), d, cur + i * kStride + kL * v);
-      for (int v = 0; v < V; ++v) hn::Store(hn::Mul(ch.rho[v], at(prev, last - 1, v)), d, cur + last * kStride + kL * v);
-    } else {
-      // l = 2i + 1 from l' = 2i, 2i + 2 (indices i, i + 1).
-      for (int i = 0; i < last; ++i)
-        for (int v = 0; v < V; ++v)
-          hn::Store(hn::MulSub(ch.rho[v], hn::Add(at(prev, i, v), at(prev, i + 1, v)), at(prev2, i, v)), d, cur + i * kStride + kL * v);
-      for (int v = 0; v < V; ++v) hn::Store(hn::Mul(ch.rho[v], at(prev, last, v)), d, cur + last * kStride + kL * v);
-    }
-    emit_row(n, cur);
-  }
+  radial_rows<V>(order, ch, [&](int n) { return buf[n % 3]; }, emit_row);
 }
 
 // n <= V L directions into out[j * ld + r]; a partial chunk goes through the tail buffer.
@@ -230,6 +247,61 @@ void block_chunk(int order, int n, const double* dirs, double* out, std::ptrdiff
   const int m = (order + 1) * (order + 2) / 2;
   for (int j = 0; j < m; ++j)
     std::memcpy(out + static_cast<std::ptrdiff_t>(j) * ld, ws.tail.get() + static_cast<size_t>(j) * V * kL, sizeof(double) * static_cast<size_t>(n));
+}
+
+// The isotropic form (icobrdf/core/isotropic_evaluation.hpp) at n <= V L pairs: f[r] for r < n.
+template <int V>
+void isotropic_chunk(int order, const double* blocks, int n, const double* wi, const double* wr, Workspace& ws, double* f) {
+  const D d;
+  constexpr int kStride = V * kL;
+  Chunk<V> ci, cr;
+  prepare<V>(wi, n, nullptr, ws, ci);
+  prepare<V>(wr, n, nullptr, ws, cr);
+  double* ti = ws.radial.get();
+  double* tr = ti + static_cast<size_t>(radial_table_size(order)) * kChunk;
+  const auto none = [](int, const double*) {};
+  radial_rows<V>(order, ci, [&](int nn) { return ti + radial_offset(nn) * kStride; }, none);
+  radial_rows<V>(order, cr, [&](int nn) { return tr + radial_offset(nn) * kStride; }, none);
+  // cos(L dphi), sin(L dphi) of dphi = phi_i - phi_r, by repeated complex multiplication.
+  Vec cd[V], sd[V], cl[V], sl[V], fv[V];
+  for (int v = 0; v < V; ++v) {
+    cd[v] = hn::MulAdd(ci.c1[v], cr.c1[v], hn::Mul(ci.s1[v], cr.s1[v]));
+    sd[v] = hn::MulSub(ci.s1[v], cr.c1[v], hn::Mul(ci.c1[v], cr.s1[v]));
+    cl[v] = hn::Set(d, 1.0);
+    sl[v] = hn::Zero(d);
+    fv[v] = hn::Zero(d);
+  }
+  const double* blk = blocks;
+  for (int l = 0; l <= order; ++l) {
+    if (l > 0)
+      for (int v = 0; v < V; ++v) {
+        const Vec cn = hn::MulSub(cl[v], cd[v], hn::Mul(sl[v], sd[v]));
+        sl[v] = hn::MulAdd(sl[v], cd[v], hn::Mul(cl[v], sd[v]));
+        cl[v] = cn;
+      }
+    const int count = (order - l) / 2 + 1;
+    Vec acc[V];
+    for (int v = 0; v < V; ++v) acc[v] = hn::Zero(d);
+    for (int b = 0; b < count; ++b) {
+      Vec t[V];
+      for (int v = 0; v < V; ++v) t[v] = hn::Zero(d);
+      for (int a = 0; a < count; ++a, ++blk) {
+        const Vec c = hn::Set(d, *blk);
+        const double* r = ti + (radial_offset(l + 2 * a) + l / 2) * kStride;
+        for (int v = 0; v < V; ++v) t[v] = hn::MulAdd(hn::Load(d, r + kL * v), c, t[v]);
+      }
+      const double* r = tr + (radial_offset(l + 2 * b) + l / 2) * kStride;
+      for (int v = 0; v < V; ++v) acc[v] = hn::MulAdd(t[v], hn::Load(d, r + kL * v), acc[v]);
+    }
+    for (int v = 0; v < V; ++v) fv[v] = l == 0 ? hn::Add(fv[v], acc[v]) : hn::MulAdd(acc[v], cl[v], fv[v]);
+  }
+  if (n == V * kL) {
+    for (int v = 0; v < V; ++v) hn::StoreU(fv[v], d, f + kL * v);
+  } else {
+    double* tail = ws.tail.get();
+    for (int v = 0; v < V; ++v) hn::Store(fv[v], d, tail + kL * v);
+    std::memcpy(f, tail, sizeof(double) * static_cast<size_t>(n));
+  }
 }
 
 template <int V>
@@ -264,6 +336,13 @@ void BasisBlock(int order, std::ptrdiff_t n, const double* dirs, double* out, st
   });
 }
 
+void IsotropicForm(int order, const double* blocks, std::ptrdiff_t n, const double* wi, const double* wr, double* f) {
+  Workspace& ws = workspace(order);
+  for_chunks(n, [&](std::ptrdiff_t r0, int count, auto vectors) {
+    isotropic_chunk<decltype(vectors)::value>(order, blocks, count, wi + 3 * r0, wr + 3 * r0, ws, f + r0);
+  });
+}
+
 void BasisWeightedSum(int order, std::ptrdiff_t n, const double* dirs, const double* w, double* out) {
   const D d;
   Workspace& ws = workspace(order);
@@ -292,6 +371,7 @@ namespace icobrdf {
 
 HWY_EXPORT(BasisBlock);
 HWY_EXPORT(BasisWeightedSum);
+HWY_EXPORT(IsotropicForm);
 
 void hemisphere_basis_block(int order, Eigen::Index n, const double* dirs, double* out, Eigen::Index ld) {
   HWY_DYNAMIC_DISPATCH(BasisBlock)(order, n, dirs, out, ld);
@@ -299,6 +379,10 @@ void hemisphere_basis_block(int order, Eigen::Index n, const double* dirs, doubl
 
 void hemisphere_basis_weighted_sum(int order, Eigen::Index n, const double* dirs, const double* w, double* out) {
   HWY_DYNAMIC_DISPATCH(BasisWeightedSum)(order, n, dirs, w, out);
+}
+
+void isotropic_form_block(int order, const double* blocks, Eigen::Index n, const double* wi, const double* wr, double* f) {
+  HWY_DYNAMIC_DISPATCH(IsotropicForm)(order, blocks, n, wi, wr, f);
 }
 
 }  // namespace icobrdf

@@ -8,6 +8,7 @@
 
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/isotropic_evaluation.hpp"
 #include "icobrdf/core/spectrum_tile.hpp"
 #include "icobrdf/core/huge_pages.hpp"
 
@@ -50,6 +51,10 @@ Eigen::VectorXd evaluate_coefficients(const Eigen::MatrixXd& c, int order, const
       const Eigen::Index p0 = b * kEvalBlock, np = std::min(kEvalBlock, n - p0);
       if (const Eigen::Index r = first_invalid_direction(wi.data() + 3 * p0, np); r >= 0) bad_i = std::min(bad_i, p0 + r);
       if (const Eigen::Index r = first_invalid_direction(wr.data() + 3 * p0, np); r >= 0) bad_r = std::min(bad_r, p0 + r);
+      if (packed.isotropic) {
+        isotropic_form_block(order, packed.radial_blocks.data(), np, wi.data() + 3 * p0, wr.data() + 3 * p0, out.data() + p0);
+        continue;
+      }
       hemisphere_basis_block(order, np, wi.data() + 3 * p0, ki.data(), kEvalBlock);
       hemisphere_basis_block(order, np, wr.data() + 3 * p0, kr.data(), kEvalBlock);
       spectrum_tile(packed, np, ki.data(), kr.data(), kEvalBlock, f.data());

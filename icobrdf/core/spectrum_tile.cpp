@@ -136,6 +136,7 @@ void SparseSpectrum(int groups, const int* start, const int* index, std::ptrdiff
 HWY_AFTER_NAMESPACE();
 
 #if HWY_ONCE
+#include <cmath>
 #include <string>
 
 #include "icobrdf/core/error.hpp"
@@ -168,6 +169,21 @@ PackedSpectrum pack_spectrum(const Eigen::MatrixXd& c, int order, bool allow_spa
       }
   if (block_diagonal) {
     p.sparse = true;
+    // Isotropic: the block of -l equals that of l, entry by entry.
+    p.isotropic = true;
+    for (int l = 1; l <= order && p.isotropic; ++l)
+      for (int n = l; n <= order && p.isotropic; n += 2)
+        for (int k = l; k <= order; k += 2)
+          if (c(ansi_index(n, l), ansi_index(k, l)) != c(ansi_index(n, -l), ansi_index(k, -l))) {
+            p.isotropic = false;
+            break;
+          }
+    if (p.isotropic)
+      for (int l = 0; l <= order; ++l)
+        for (int k = l; k <= order; k += 2)
+          for (int n = l; n <= order; n += 2)
+            p.radial_blocks.push_back(c(ansi_index(n, l), ansi_index(k, l)) * std::sqrt((n + 1) / M_PI) * std::sqrt((k + 1) / M_PI) *
+                                      (l == 0 ? 0.5 : 1.0));
     p.group_start.push_back(0);
     for (int l = -order; l <= order; ++l) {
       for (int j = 0; j < p.m; ++j)

@@ -16,7 +16,9 @@
 // under the mirror phi -> -phi, which flips the sign of K_n^-l and so kills the l_a = -l_b couplings).
 // Then f = sum_l K_i[p, S_l] C(S_l, S_l) K_r[p, S_l]^T over the 2 N + 1 index sets S_l of equal l, which at
 // order 8 is 145 of the 2025 entries of C. pack_spectrum detects the structure exactly (every coupling
-// entry == 0.0), so skipping them changes the sum only by the order of its terms.
+// entry == 0.0), so skipping them changes the sum only by the order of its terms. When moreover every block of
+// -l equals that of l (exactly), C is isotropic and evaluate_coefficients skips the basis altogether
+// (icobrdf/core/isotropic_evaluation.hpp: radial rows and cos(l dphi) only).
 //
 // Rounding (both paths): each value is a sum of at most M^2 products K_i[k] C_kj K_r[j] formed by FMA, in
 // an order fixed by the target and path (not by the thread count or the position of the pair in a block):
@@ -32,6 +34,8 @@ struct PackedSpectrum {
   std::vector<double> storage;  // the packed values
   int m = 0;                    // modes (rows and columns of C)
   bool sparse = false;          // azimuthally block-diagonal: the sparse path
+  bool isotropic = false;       // also equal blocks of l and -l: isotropic_form_block with radial_blocks
+  std::vector<double> radial_blocks;  // D^0 .. D^N of icobrdf/core/isotropic_evaluation.hpp
   Eigen::Index lanes = 0;       // vector lanes of the target it was packed for
   int cols = 0;                 // dense path: columns per panel
   int panels = 0;               // dense path: panels of `cols` columns (the last one zero-padded)
