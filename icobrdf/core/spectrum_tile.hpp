@@ -22,7 +22,9 @@
 //
 // Rounding (both paths): each value is a sum of at most M^2 products K_i[k] C_kj K_r[j] formed by FMA, in
 // an order fixed by the target and path (not by the thread count or the position of the pair in a block):
-// |f - exact| <= (2 M + 2) eps sum_kj |K_i[k]| |C_kj| |K_r[j]| (tests/core/test_spectrum_tile.cpp).
+// |f - exact| <= (2 M + 4) u sum_kj |K_i[k]| |C_kj| |K_r[j]|, u = 2^-53, for the given K rows; the K rows
+// themselves carry the basis kernel's rounding (tests/core/test_spectrum_tile.cpp checks both together
+// against the plain definition, on every compiled target).
 #include <Eigen/Core>
 #include <cstddef>
 #include <vector>
