@@ -344,7 +344,6 @@ void IsotropicForm(int order, const double* blocks, std::ptrdiff_t n, const doub
 }
 
 void BasisWeightedSum(int order, std::ptrdiff_t n, const double* dirs, const double* w, double* out) {
-  const D d;
   Workspace& ws = workspace(order);
   const int m = (order + 1) * (order + 2) / 2;
   std::fill(ws.acc.get(), ws.acc.get() + static_cast<size_t>(m) * kL, 0.0);
@@ -359,7 +358,6 @@ void BasisWeightedSum(int order, std::ptrdiff_t n, const double* dirs, const dou
         for (int i = 0; i + step < kL; i += 2 * step) a[i] += a[i + step];
       out[j] = norm[static_cast<size_t>(nn)] * a[0];
     }
-  (void)d;
 }
 
 }  // namespace HWY_NAMESPACE
