@@ -75,7 +75,7 @@ void run_blas_only(const BenchArgs& a, int threads) {
 }
 
 // The OpenBLAS kernel name for the widest vectors this CPU runs, with their width: OpenBLAS falls back to a
-// generic kernel on a CPU newer than its build (Debian's 0.3.21 runs "Prescott", SSE3, on Sapphire Rapids),
+// generic kernel on a CPU newer than its build (Debian's 0.3.21 runs "Prescott", SSE3, on an Emerald Rapids Xeon),
 // so its own choice is not always its best. Empty when the CPU has neither AVX-512 nor AVX2 + FMA.
 std::pair<std::string, int> widest_blas_kernel() {
   if (cpu_supports("avx512f") && cpu_supports("avx512bw") && cpu_supports("avx512dq") && cpu_supports("avx512vl")) return {"SkylakeX", 512};

@@ -5,7 +5,7 @@
 //   icobrdf::io        <icobrdf/io/...>        HDF5 banks and spectra, SOURCEs, measured-data readers
 //   icobrdf::pipeline  <icobrdf/pipeline/...>  fitting a SOURCE, building banks
 // icobrdf::plot (<icobrdf/plot/...>, cairo) is not included here: include its headers directly.
-// Internal helpers of the hot loops (icobrdf/core/simd4.hpp, icobrdf/core/fast_atan2.hpp) are left out.
+// Internal helpers of the hot loops (icobrdf/core/fast_atan2.hpp) are left out.
 #pragma once
 
 // core
@@ -29,6 +29,7 @@
 #include "icobrdf/core/hemisphere_basis.hpp"
 #include "icobrdf/core/horizon.hpp"
 #include "icobrdf/core/huge_pages.hpp"
+#include "icobrdf/core/isotropic_evaluation.hpp"
 #include "icobrdf/core/isotropic_modes.hpp"
 #include "icobrdf/core/lambert_map.hpp"
 #include "icobrdf/core/lambert_models.hpp"
@@ -53,6 +54,7 @@
 #include "icobrdf/core/spectral_fit.hpp"
 #include "icobrdf/core/spectrum.hpp"
 #include "icobrdf/core/spectrum_ops.hpp"
+#include "icobrdf/core/spectrum_tile.hpp"
 #include "icobrdf/core/streaming_projection.hpp"
 #include "icobrdf/core/zernike.hpp"
 

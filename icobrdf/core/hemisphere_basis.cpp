@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cfloat>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -179,13 +180,37 @@ void hemisphere_basis_eval(int order, const Eigen::Vector3d& unit_dir, double* o
   eval_unchecked(order, unit_dir, out);
 }
 
+Eigen::Index first_invalid_direction(const double* dirs, Eigen::Index n, double z_slack) {
+  // Blocks of rows are checked without branches (|v| <= DBL_MAX is false for inf and NaN, and so is
+  // z >= -slack for NaN); only a block that holds a bad row is searched row by row.
+  constexpr Eigen::Index kBlock = 256;
+  auto bad = [&](Eigen::Index r) {
+    const double x = dirs[3 * r], y = dirs[3 * r + 1], z = dirs[3 * r + 2];
+    return !(std::abs(x) <= DBL_MAX && std::abs(y) <= DBL_MAX && std::abs(z) <= DBL_MAX && z >= -z_slack);
+  };
+  for (Eigen::Index r0 = 0; r0 < n; r0 += kBlock) {
+    const Eigen::Index r1 = std::min(n, r0 + kBlock);
+    int any = 0;
+    for (Eigen::Index r = r0; r < r1; ++r) any |= static_cast<int>(bad(r));
+    if (any)
+      for (Eigen::Index r = r0; r < r1; ++r)
+        if (bad(r)) return r;
+  }
+  return -1;
+}
+
 Eigen::Index first_invalid_direction(const RowMatrix3d& dirs, double z_slack) {
   const Eigen::Index rows = dirs.rows();
+  constexpr Eigen::Index kBlock = 4096;
+  const Eigen::Index blocks = (rows + kBlock - 1) / kBlock;
   Eigen::Index first = rows;
 #pragma omp parallel for schedule(static) reduction(min : first) if (rows > 100000)
-  for (Eigen::Index r = 0; r < rows; ++r)
-    if (r < first && !(std::isfinite(dirs(r, 0)) && std::isfinite(dirs(r, 1)) && std::isfinite(dirs(r, 2)) && dirs(r, 2) >= -z_slack))
-      first = r;
+  for (Eigen::Index b = 0; b < blocks; ++b) {
+    const Eigen::Index r0 = b * kBlock;
+    if (r0 >= first) continue;
+    const Eigen::Index r = first_invalid_direction(dirs.data() + 3 * r0, std::min(kBlock, rows - r0), z_slack);
+    if (r >= 0) first = std::min(first, r0 + r);
+  }
   return first < rows ? first : -1;
 }
 

@@ -51,7 +51,8 @@ int hemisphere_basis_lanes_scratch(int order);
 void hemisphere_basis_eval_lanes(int order, const double* x, const double* y, const double* z, const double* scale,
                                  double* scratch, double* out, bool accumulate = false);
 
-// Block form for batch code, the directions innermost (vectorized over directions in chunks of up to 32):
+// Block form for batch code, the directions innermost (vectorized over directions in chunks of up to 32, at
+// the widest vectors the CPU has: run-time dispatch, icobrdf/core/simd_target.hpp):
 //   out[j * ld + r] = K_j(direction r)   for r < n, j < hemisphere_basis_count(order),
 // i.e. a column-major n x count block with leading dimension ld >= n. dirs holds the n directions as
 // (x, y, z) triples (row-major, e.g. RowMatrix3d::data()). No checks (batch callers validate): order in
@@ -61,12 +62,15 @@ void hemisphere_basis_block(int order, Eigen::Index n, const double* dirs, doubl
 
 // Weighted sum over directions (a cell's cubature): out[j] = sum_r w[r] K_j(direction r), j < count(order).
 // Same layout of dirs and preconditions as hemisphere_basis_block; the summation order is fixed (it depends
-// only on n), so results do not depend on threads.
+// only on n and on the dispatched target's vector width), so results do not depend on threads.
 void hemisphere_basis_weighted_sum(int order, Eigen::Index n, const double* dirs, const double* w, double* out);
 
 // Validation for batch callers: the first row of dirs that is not a finite direction with z >= -z_slack,
 // or -1 when all are (threads over rows for large inputs; the answer does not depend on threads).
 Eigen::Index first_invalid_direction(const RowMatrix3d& dirs, double z_slack = kHorizonSlack);
+// The same for n directions stored as (x, y, z) triples from `dirs` (one thread; for a block that is about to
+// be evaluated, while it is in cache).
+Eigen::Index first_invalid_direction(const double* dirs, Eigen::Index n, double z_slack = kHorizonSlack);
 
 // dirs.rows() x hemisphere_basis_count(order): row r holds every K_j at direction r.
 Eigen::MatrixXd hemisphere_basis_matrix(int order, const RowMatrix3d& dirs);

@@ -1,106 +1,123 @@
 // Block evaluation of the hemisphere basis K_n^l with the directions innermost (icobrdf/core/hemisphere_basis.hpp:
-// hemisphere_basis_block, hemisphere_basis_weighted_sum).
+// hemisphere_basis_block, hemisphere_basis_weighted_sum), compiled once per SIMD target (Highway
+// foreach_target) and dispatched at run time to the widest vectors the CPU has (icobrdf/core/simd_target.hpp).
 //
-// Directions are taken in chunks of 4 V (V vectors of four doubles; one AVX register each). Every step of
-// the recurrences (radial rows, azimuthal powers, products) is then V full vector operations on data
-// that stays in L1, instead of one short loop per direction. The arithmetic is that of
+// Directions are taken in chunks of V vectors of L lanes (L = 8 on AVX-512, 4 on AVX2; up to 32 directions
+// per chunk). Every step of the recurrences (radial rows, azimuthal powers, products) is then V full vector
+// operations on data that stays in L1, instead of one short loop per direction. The arithmetic is that of
 // hemisphere_basis_eval: Lambert radius rho^2 = (x^2 + y^2) / (1 + z), unit azimuth (x, y) / |(x, y)|,
 // cos(l phi) + i sin(l phi) by repeated complex multiplication, the Zernike rows by the Shakibaei-Paramesran
-// recurrence (icobrdf/core/zernike.hpp), K = (sqrt((n + 1) / pi) R) az. Only the radial rows n - 1, n - 2 are kept,
-// so the workspace is O(order) per direction, not O(order^2).
+// recurrence (icobrdf/core/zernike.hpp), K = (sqrt((n + 1) / pi) R) az. Only the radial rows n - 1, n - 2 are
+// kept, so the workspace is O(order) per direction, not O(order^2).
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "icobrdf/core/hemisphere_basis_block.cpp"
+#include <hwy/foreach_target.h>  // re-includes this file once per target
+#include <hwy/aligned_allocator.h>
+#include <hwy/highway.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
-#include <type_traits>
-#include <vector>
-
-#if defined(__AVX__)
-#include <immintrin.h>
-#endif
 
 #include "icobrdf/core/hemisphere_basis.hpp"
-#include "icobrdf/core/simd4.hpp"
+#include "icobrdf/core/isotropic_evaluation.hpp"
 #include "icobrdf/core/zernike.hpp"
 
-
-namespace icobrdf {
-
-namespace {
-
-using simd4::v4d;
-using simd4::v4l;
-using simd4::splat;
-using simd4::storeu;
-constexpr int kLanes = 4;
-constexpr int kMaxVectors = 8;  // largest chunk: 32 directions
-
-inline v4d select(v4l mask, v4d a, v4d b) { return (v4d)((mask & (v4l)a) | (~mask & (v4l)b)); }
-inline v4d vsqrt(v4d a) {
-#if defined(__AVX__)
-  return (v4d)_mm256_sqrt_pd((__m256d)a);
-#else
-  return v4d{std::sqrt(a[0]), std::sqrt(a[1]), std::sqrt(a[2]), std::sqrt(a[3])};
-#endif
-}
-
+#ifndef ICOBRDF_HEMISPHERE_BASIS_BLOCK_ONCE
+#define ICOBRDF_HEMISPHERE_BASIS_BLOCK_ONCE
+namespace icobrdf::basis_block_detail {
+// Largest chunk: 32 directions (4 AVX-512 vectors, 8 AVX2 vectors).
+constexpr int kChunk = 32;
 // sqrt((n + 1) / pi) for n <= 128.
-const std::array<double, kMaxZernikeOrder + 1> kNorm = [] {
-  std::array<double, kMaxZernikeOrder + 1> t{};
-  for (int n = 0; n <= kMaxZernikeOrder; ++n) t[static_cast<size_t>(n)] = std::sqrt((n + 1) / M_PI);
+inline const std::array<double, kMaxZernikeOrder + 1>& norms() {
+  static const std::array<double, kMaxZernikeOrder + 1> t = [] {
+    std::array<double, kMaxZernikeOrder + 1> v{};
+    for (int n = 0; n <= kMaxZernikeOrder; ++n) v[static_cast<size_t>(n)] = std::sqrt((n + 1) / M_PI);
+    return v;
+  }();
   return t;
-}();
+}
+// Radial rows R_n^m (m = n % 2, ..., n) of all n <= order, row after row: row n starts at radial_offset(n).
+inline int radial_offset(int n) { return (n / 2) * (n / 2 + 1) + (n % 2) * (n / 2 + 1); }
+inline int radial_table_size(int order) { return radial_offset(order + 1); }
+}  // namespace icobrdf::basis_block_detail
+#endif
 
-// Per-thread workspace (vectors): azimuthal factors (2 order + 1) V, three radial rows (order / 2 + 1) V,
-// accumulators (one per mode) for weighted sums, and a tail buffer for partial chunks.
+HWY_BEFORE_NAMESPACE();
+namespace icobrdf {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+using basis_block_detail::kChunk;
+using basis_block_detail::radial_offset;
+using basis_block_detail::radial_table_size;
+
+using D = hn::ScalableTag<double>;
+using Vec = hn::Vec<D>;
+constexpr int kL = static_cast<int>(HWY_LANES(double));  // lanes of one vector on this target
+constexpr int kMaxV = kChunk / kL;                       // vectors of the largest chunk
+
+// Per-thread workspace (doubles, aligned): azimuthal factors (2 order + 1) chunks, three radial rows of
+// (order / 2 + 1) chunks, accumulators (one vector per mode) for weighted sums, a chunk of directions and of
+// outputs for partial chunks, and all radial rows of two chunks (the isotropic form).
 struct Workspace {
-  std::vector<v4d> az, rows, acc;
-  std::vector<double> tail;
+  hwy::AlignedFreeUniquePtr<double[]> az, rows, acc, tail, dirs, radial;
+  size_t az_n = 0, rows_n = 0, acc_n = 0, tail_n = 0, radial_n = 0;
 };
+
+void ensure(hwy::AlignedFreeUniquePtr<double[]>& p, size_t& have, size_t need) {
+  if (have >= need) return;
+  p = hwy::AllocateAligned<double>(need);
+  have = need;
+}
 
 Workspace& workspace(int order) {
   thread_local Workspace ws;
-  const size_t v = kMaxVectors, m = static_cast<size_t>((order + 1) * (order + 2) / 2);
-  if (ws.az.size() < (2 * static_cast<size_t>(order) + 1) * v) ws.az.resize((2 * static_cast<size_t>(order) + 1) * v);
-  if (ws.rows.size() < 3 * (static_cast<size_t>(order) / 2 + 1) * v) ws.rows.resize(3 * (static_cast<size_t>(order) / 2 + 1) * v);
-  if (ws.acc.size() < m) ws.acc.resize(m);
-  if (ws.tail.size() < m * kLanes * v) ws.tail.resize(m * kLanes * v);
+  const size_t m = static_cast<size_t>((order + 1) * (order + 2) / 2);
+  ensure(ws.az, ws.az_n, (2 * static_cast<size_t>(order) + 1) * kChunk);
+  ensure(ws.rows, ws.rows_n, 3 * (static_cast<size_t>(order) / 2 + 1) * kChunk);
+  ensure(ws.acc, ws.acc_n, m * kL);
+  ensure(ws.tail, ws.tail_n, m * kChunk);
+  ensure(ws.radial, ws.radial_n, 2 * static_cast<size_t>(radial_table_size(order)) * kChunk);
+  if (!ws.dirs) ws.dirs = hwy::AllocateAligned<double>(4 * kChunk);
   return ws;
 }
 
 // Lane quantities of one chunk: Lambert radius, unit azimuth (c1, s1) and weight.
 template <int V>
 struct Chunk {
-  v4d rho[V], c1[V], s1[V], w[V];
+  Vec rho[V], c1[V], s1[V], w[V];
 };
 
-// Directions dirs[3 r .. 3 r + 2] for r < n (n <= 4 V); the remaining lanes are the pole with weight 0.
+// Directions dirs[3 r .. 3 r + 2] for r < n (n <= V L); the remaining lanes are the pole with weight 0.
 template <int V>
-void prepare(const double* dirs, int n, const double* w, Chunk<V>& ch) {
-  alignas(32) double x[kLanes * V], y[kLanes * V], z[kLanes * V], ww[kLanes * V];
-  for (int r = 0; r < kLanes * V; ++r) {
-    const bool in = r < n;
-    x[r] = in ? dirs[3 * r] : 0.0;
-    y[r] = in ? dirs[3 * r + 1] : 0.0;
-    z[r] = in ? dirs[3 * r + 2] : 1.0;
-    ww[r] = !in ? 0.0 : (w ? w[r] : 1.0);
+HWY_INLINE void prepare(const double* dirs, int n, const double* w, Workspace& ws, Chunk<V>& ch) {
+  const D d;
+  const double* src = dirs;
+  double* ww = ws.dirs.get() + 3 * kChunk;
+  if (n < V * kL) {
+    double* pad = ws.dirs.get();
+    std::memcpy(pad, dirs, sizeof(double) * 3 * static_cast<size_t>(n));
+    for (int r = n; r < V * kL; ++r) pad[3 * r] = 0.0, pad[3 * r + 1] = 0.0, pad[3 * r + 2] = 1.0;
+    src = pad;
   }
-  const v4d zero = splat(0.0), one = splat(1.0);
+  for (int r = 0; r < V * kL; ++r) ww[r] = r >= n ? 0.0 : (w ? w[r] : 1.0);
+  const Vec zero = hn::Zero(d), one = hn::Set(d, 1.0);
   for (int v = 0; v < V; ++v) {
-    v4d xv, yv, zv;
-    std::memcpy(&xv, x + kLanes * v, sizeof xv);
-    std::memcpy(&yv, y + kLanes * v, sizeof yv);
-    std::memcpy(&zv, z + kLanes * v, sizeof zv);
-    std::memcpy(&ch.w[v], ww + kLanes * v, sizeof zv);
-    const v4d zc = select(zv < zero, zero, zv);  // z down to -kHorizonSlack is the horizon
-    const v4d h2 = xv * xv + yv * yv;
-    const v4d r2 = h2 / (one + zc);  // rho^2 = 1 - cos(theta), without cancellation (icobrdf/core/lambert_map.hpp)
-    ch.rho[v] = vsqrt(select(r2 > one, one, r2));
-    const v4d s = vsqrt(h2);
-    const v4l pos = s > zero;
-    const v4d safe = select(pos, s, one);  // the pole: azimuth 0, every l != 0 vanishes there anyway
-    ch.c1[v] = select(pos, xv / safe, one);
-    ch.s1[v] = select(pos, yv / safe, zero);
+    Vec x, y, z;
+    hn::LoadInterleaved3(d, src + 3 * kL * v, x, y, z);
+    ch.w[v] = hn::Load(d, ww + kL * v);
+    const Vec zc = hn::Max(z, zero);  // z down to -kHorizonSlack is the horizon
+    const Vec h2 = hn::MulAdd(x, x, hn::Mul(y, y));
+    // rho^2 = 1 - cos(theta) = h2 / (1 + z), without cancellation (icobrdf/core/lambert_map.hpp).
+    const Vec r2 = hn::Div(h2, hn::Add(one, zc));
+    ch.rho[v] = hn::Sqrt(hn::Min(r2, one));
+    const Vec s = hn::Sqrt(h2);
+    const auto pos = hn::Gt(s, zero);
+    const Vec safe = hn::IfThenElse(pos, s, one);  // the pole: azimuth 0, every l != 0 vanishes there anyway
+    ch.c1[v] = hn::IfThenElse(pos, hn::Div(x, safe), one);
+    ch.s1[v] = hn::IfThenElse(pos, hn::Div(y, safe), zero);
   }
 }
 
@@ -109,156 +126,262 @@ template <int V>
 struct StoreSink {
   static constexpr bool kScaleRows = true;  // values times sqrt((n + 1) / pi) as they are emitted
   double* out;
-  Eigen::Index ld;
-  void emit(int j, const v4d* rs, const v4d* a) const {
-    double* o = out + static_cast<Eigen::Index>(j) * ld;
-    for (int v = 0; v < V; ++v) storeu(o + kLanes * v, rs[v] * a[v]);
+  std::ptrdiff_t ld;
+  HWY_INLINE void emit(int j, const Vec* rs, const double* a) const {
+    const D d;
+    double* o = out + static_cast<std::ptrdiff_t>(j) * ld;
+    for (int v = 0; v < V; ++v) hn::StoreU(hn::Mul(rs[v], hn::Load(d, a + kL * v)), d, o + kL * v);
   }
 };
 
-// Adds sum over lanes of R a (weights are inside a) to acc[j]; the normalization is applied at the end.
+// Adds sum over the chunk's vectors of R a (weights are inside a) to acc[j]; the normalization is applied at
+// the end.
 template <int V>
 struct AccumulateSink {
   static constexpr bool kScaleRows = false;
-  v4d* acc;
-  void emit(int j, const v4d* r, const v4d* a) const {
-    v4d t = r[0] * a[0];
-    for (int v = 1; v < V; ++v) t += r[v] * a[v];
-    acc[j] += t;
+  double* acc;
+  HWY_INLINE void emit(int j, const Vec* r, const double* a) const {
+    const D d;
+    Vec t = hn::Mul(r[0], hn::Load(d, a));
+    for (int v = 1; v < V; ++v) t = hn::MulAdd(r[v], hn::Load(d, a + kL * v), t);
+    double* p = acc + static_cast<std::ptrdiff_t>(j) * kL;
+    hn::Store(hn::Add(hn::Load(d, p), t), d, p);
   }
 };
 
-// All K_n^l of one chunk, row n after row n of the Zernike recurrence, handed to the sink.
-template <int V, bool Weighted, class Sink>
-void eval_chunk(int order, const Chunk<V>& ch, Workspace& ws, const Sink& sink) {
-  v4d* __restrict az = ws.az.data();
-  // az[(order + l) V + v] = w az_l(phi): az_0 = 1/sqrt(2), az_l = cos(l phi), az_-l = sin(l phi).
-  {
-    v4d c[V], s[V];
-    for (int v = 0; v < V; ++v) {
-      az[order * V + v] = Weighted ? ch.w[v] * splat(M_SQRT1_2) : splat(M_SQRT1_2);
-      c[v] = splat(1.0);
-      s[v] = splat(0.0);
-    }
-    for (int l = 1; l <= order; ++l)
-      for (int v = 0; v < V; ++v) {
-        const v4d cn = c[v] * ch.c1[v] - s[v] * ch.s1[v];
-        s[v] = s[v] * ch.c1[v] + c[v] * ch.s1[v];
-        c[v] = cn;
-        az[(order + l) * V + v] = Weighted ? ch.w[v] * c[v] : c[v];
-        az[(order - l) * V + v] = Weighted ? ch.w[v] * s[v] : s[v];
-      }
-  }
-  const v4d* centre = az + order * V;
-  const int row_len = (order / 2 + 1) * V;
-  v4d* buf[3] = {ws.rows.data(), ws.rows.data() + row_len, ws.rows.data() + 2 * row_len};
-  auto emit_row = [&](int n, const v4d* r) {
-    const int j0 = n * (n + 1) / 2, p = n % 2;
-    const v4d nn = splat(kNorm[static_cast<size_t>(n)]);
-    for (int i = 0; i <= n / 2; ++i) {
-      const int m = 2 * i + p;  // |l|
-      v4d rs[V];
-      for (int v = 0; v < V; ++v) rs[v] = Sink::kScaleRows ? nn * r[i * V + v] : r[i * V + v];
-      if (m == 0) {
-        sink.emit(j0 + n / 2, rs, centre);
-      } else {
-        sink.emit(j0 + (n - m) / 2, rs, centre - m * V);  // l = -m
-        sink.emit(j0 + (n + m) / 2, rs, centre + m * V);  // l = +m
-      }
-    }
-  };
-  for (int v = 0; v < V; ++v) buf[0][v] = splat(1.0);  // R_0^0
-  emit_row(0, buf[0]);
+// The Zernike rows of a chunk, R_n^m for m = n % 2, n % 2 + 2, ..., n (entry i holds m = 2 i + n % 2, one chunk
+// quantity each), by the Shakibaei-Paramesran recurrence, row after row: row_at(n) says where row n goes (rows
+// n - 1 and n - 2 must still be there when row n is computed), emit_row(n, row) is called once it is complete.
+template <int V, class RowAt, class EmitRow>
+HWY_INLINE void radial_rows(int order, const Chunk<V>& ch, const RowAt& row_at, const EmitRow& emit_row) {
+  const D d;
+  constexpr int kStride = V * kL;
+  for (int v = 0; v < V; ++v) hn::Store(hn::Set(d, 1.0), d, row_at(0) + kL * v);  // R_0^0
+  emit_row(0, row_at(0));
   if (order == 0) return;
-  for (int v = 0; v < V; ++v) buf[1][v] = ch.rho[v];  // R_1^1
-  emit_row(1, buf[1]);
+  for (int v = 0; v < V; ++v) hn::Store(ch.rho[v], d, row_at(1) + kL * v);  // R_1^1
+  emit_row(1, row_at(1));
+  const Vec two = hn::Set(d, 2.0);
   for (int n = 2; n <= order; ++n) {
-    v4d* __restrict cur = buf[n % 3];
-    const v4d* __restrict prev = buf[(n - 1) % 3];
-    const v4d* __restrict prev2 = buf[(n - 2) % 3];
+    double* HWY_RESTRICT cur = row_at(n);
+    const double* HWY_RESTRICT prev = row_at(n - 1);
+    const double* HWY_RESTRICT prev2 = row_at(n - 2);
     const int last = n / 2;
+    auto at = [&](const double* row, int i, int v) { return hn::Load(d, row + i * kStride + kL * v); };
     if (n % 2 == 0) {
       // l = 2i from l' = 2i - 1, 2i + 1 of row n - 1 (indices i - 1, i); at l = 0, |l - 1| = 1.
-      for (int v = 0; v < V; ++v) cur[v] = splat(2.0) * ch.rho[v] * prev[v] - prev2[v];
+      for (int v = 0; v < V; ++v) hn::Store(hn::MulSub(hn::Mul(two, ch.rho[v]), at(prev, 0, v), at(prev2, 0, v)), d, cur + kL * v);
       for (int i = 1; i < last; ++i)
-        for (int v = 0; v < V; ++v) cur[i * V + v] = ch.rho[v] * (prev[(i - 1) * V + v] + prev[i * V + v]) - prev2[i * V + v];
-      for (int v = 0; v < V; ++v) cur[last * V + v] = ch.rho[v] * prev[(last - 1) * V + v];
+        for (int v = 0; v < V; ++v)
+          hn::Store(hn::MulSub(ch.rho[v], hn::Add(at(prev, i - 1, v), at(prev, i, v)), at(prev2, i, v)), d, cur + i * kStride + kL * v);
+      for (int v = 0; v < V; ++v) hn::Store(hn::Mul(ch.rho[v], at(prev, last - 1, v)), d, cur + last * kStride + kL * v);
     } else {
       // l = 2i + 1 from l' = 2i, 2i + 2 (indices i, i + 1).
       for (int i = 0; i < last; ++i)
-        for (int v = 0; v < V; ++v) cur[i * V + v] = ch.rho[v] * (prev[i * V + v] + prev[(i + 1) * V + v]) - prev2[i * V + v];
-      for (int v = 0; v < V; ++v) cur[last * V + v] = ch.rho[v] * prev[last * V + v];
+        for (int v = 0; v < V; ++v)
+          hn::Store(hn::MulSub(ch.rho[v], hn::Add(at(prev, i, v), at(prev, i + 1, v)), at(prev2, i, v)), d, cur + i * kStride + kL * v);
+      for (int v = 0; v < V; ++v) hn::Store(hn::Mul(ch.rho[v], at(prev, last, v)), d, cur + last * kStride + kL * v);
     }
     emit_row(n, cur);
   }
 }
 
-// n <= 4 V directions into out[j * ld + r]; a partial chunk goes through the tail buffer.
+// All K_n^l of one chunk, row n after row n of the Zernike recurrence, handed to the sink.
+template <int V, bool Weighted, class Sink>
+HWY_INLINE void eval_chunk(int order, const Chunk<V>& ch, Workspace& ws, const Sink& sink) {
+  const D d;
+  double* HWY_RESTRICT az = ws.az.get();
+  constexpr int kStride = V * kL;  // doubles of one chunk quantity
+  // az[(order + l) kStride + lane] = w az_l(phi): az_0 = 1/sqrt(2), az_l = cos(l phi), az_-l = sin(l phi).
+  {
+    Vec c[V], s[V];
+    for (int v = 0; v < V; ++v) {
+      hn::Store(Weighted ? hn::Mul(ch.w[v], hn::Set(d, M_SQRT1_2)) : hn::Set(d, M_SQRT1_2), d, az + order * kStride + kL * v);
+      c[v] = hn::Set(d, 1.0);
+      s[v] = hn::Zero(d);
+    }
+    for (int l = 1; l <= order; ++l)
+      for (int v = 0; v < V; ++v) {
+        const Vec cn = hn::MulSub(c[v], ch.c1[v], hn::Mul(s[v], ch.s1[v]));
+        s[v] = hn::MulAdd(s[v], ch.c1[v], hn::Mul(c[v], ch.s1[v]));
+        c[v] = cn;
+        hn::Store(Weighted ? hn::Mul(ch.w[v], c[v]) : c[v], d, az + (order + l) * kStride + kL * v);
+        hn::Store(Weighted ? hn::Mul(ch.w[v], s[v]) : s[v], d, az + (order - l) * kStride + kL * v);
+      }
+  }
+  const double* centre = az + order * kStride;
+  const int row_len = (order / 2 + 1) * kStride;
+  double* buf[3] = {ws.rows.get(), ws.rows.get() + row_len, ws.rows.get() + 2 * row_len};
+  const auto& norm = basis_block_detail::norms();
+  auto emit_row = [&](int n, const double* r) {
+    const int j0 = n * (n + 1) / 2, p = n % 2;
+    const Vec nn = hn::Set(d, norm[static_cast<size_t>(n)]);
+    for (int i = 0; i <= n / 2; ++i) {
+      const int m = 2 * i + p;  // |l|
+      Vec rs[V];
+      for (int v = 0; v < V; ++v) {
+        const Vec rv = hn::Load(d, r + i * kStride + kL * v);
+        rs[v] = Sink::kScaleRows ? hn::Mul(nn, rv) : rv;
+      }
+      if (m == 0) {
+        sink.emit(j0 + n / 2, rs, centre);
+      } else {
+        sink.emit(j0 + (n - m) / 2, rs, centre - m * kStride);  // l = -m
+        sink.emit(j0 + (n + m) / 2, rs, centre + m * kStride);  // l = +m
+      }
+    }
+  };
+  radial_rows<V>(order, ch, [&](int n) { return buf[n % 3]; }, emit_row);
+}
+
+// n <= V L directions into out[j * ld + r]; a partial chunk goes through the tail buffer.
 template <int V>
-void block_chunk(int order, int n, const double* dirs, double* out, Eigen::Index ld, Workspace& ws) {
+void block_chunk(int order, int n, const double* dirs, double* out, std::ptrdiff_t ld, Workspace& ws) {
   Chunk<V> ch;
-  prepare<V>(dirs, n, nullptr, ch);
-  if (n == kLanes * V) {
+  prepare<V>(dirs, n, nullptr, ws, ch);
+  if (n == V * kL) {
     eval_chunk<V, false>(order, ch, ws, StoreSink<V>{out, ld});
     return;
   }
-  eval_chunk<V, false>(order, ch, ws, StoreSink<V>{ws.tail.data(), kLanes * V});
+  eval_chunk<V, false>(order, ch, ws, StoreSink<V>{ws.tail.get(), V * kL});
   const int m = (order + 1) * (order + 2) / 2;
   for (int j = 0; j < m; ++j)
-    std::memcpy(out + static_cast<Eigen::Index>(j) * ld, ws.tail.data() + static_cast<size_t>(j) * kLanes * V,
-                sizeof(double) * static_cast<size_t>(n));
+    std::memcpy(out + static_cast<std::ptrdiff_t>(j) * ld, ws.tail.get() + static_cast<size_t>(j) * V * kL, sizeof(double) * static_cast<size_t>(n));
+}
+
+// The isotropic form (icobrdf/core/isotropic_evaluation.hpp) at n <= V L pairs: f[r] for r < n.
+template <int V>
+void isotropic_chunk(int order, const double* blocks, int n, const double* wi, const double* wr, Workspace& ws, double* f) {
+  const D d;
+  constexpr int kStride = V * kL;
+  Chunk<V> ci, cr;
+  prepare<V>(wi, n, nullptr, ws, ci);
+  prepare<V>(wr, n, nullptr, ws, cr);
+  double* ti = ws.radial.get();
+  double* tr = ti + static_cast<size_t>(radial_table_size(order)) * kChunk;
+  const auto none = [](int, const double*) {};
+  radial_rows<V>(order, ci, [&](int nn) { return ti + radial_offset(nn) * kStride; }, none);
+  radial_rows<V>(order, cr, [&](int nn) { return tr + radial_offset(nn) * kStride; }, none);
+  // cos(L dphi), sin(L dphi) of dphi = phi_i - phi_r, by repeated complex multiplication.
+  Vec cd[V], sd[V], cl[V], sl[V], fv[V];
+  for (int v = 0; v < V; ++v) {
+    cd[v] = hn::MulAdd(ci.c1[v], cr.c1[v], hn::Mul(ci.s1[v], cr.s1[v]));
+    sd[v] = hn::MulSub(ci.s1[v], cr.c1[v], hn::Mul(ci.c1[v], cr.s1[v]));
+    cl[v] = hn::Set(d, 1.0);
+    sl[v] = hn::Zero(d);
+    fv[v] = hn::Zero(d);
+  }
+  const double* blk = blocks;
+  for (int l = 0; l <= order; ++l) {
+    if (l > 0)
+      for (int v = 0; v < V; ++v) {
+        const Vec cn = hn::MulSub(cl[v], cd[v], hn::Mul(sl[v], sd[v]));
+        sl[v] = hn::MulAdd(sl[v], cd[v], hn::Mul(cl[v], sd[v]));
+        cl[v] = cn;
+      }
+    const int count = (order - l) / 2 + 1;
+    Vec acc[V];
+    for (int v = 0; v < V; ++v) acc[v] = hn::Zero(d);
+    for (int b = 0; b < count; ++b) {
+      Vec t[V];
+      for (int v = 0; v < V; ++v) t[v] = hn::Zero(d);
+      for (int a = 0; a < count; ++a, ++blk) {
+        const Vec c = hn::Set(d, *blk);
+        const double* r = ti + (radial_offset(l + 2 * a) + l / 2) * kStride;
+        for (int v = 0; v < V; ++v) t[v] = hn::MulAdd(hn::Load(d, r + kL * v), c, t[v]);
+      }
+      const double* r = tr + (radial_offset(l + 2 * b) + l / 2) * kStride;
+      for (int v = 0; v < V; ++v) acc[v] = hn::MulAdd(t[v], hn::Load(d, r + kL * v), acc[v]);
+    }
+    for (int v = 0; v < V; ++v) fv[v] = l == 0 ? hn::Add(fv[v], acc[v]) : hn::MulAdd(acc[v], cl[v], fv[v]);
+  }
+  if (n == V * kL) {
+    for (int v = 0; v < V; ++v) hn::StoreU(fv[v], d, f + kL * v);
+  } else {
+    double* tail = ws.tail.get();
+    for (int v = 0; v < V; ++v) hn::Store(fv[v], d, tail + kL * v);
+    std::memcpy(f, tail, sizeof(double) * static_cast<size_t>(n));
+  }
 }
 
 template <int V>
 void sum_chunk(int order, int n, const double* dirs, const double* w, Workspace& ws) {
   Chunk<V> ch;
-  prepare<V>(dirs, n, w, ch);
-  eval_chunk<V, true>(order, ch, ws, AccumulateSink<V>{ws.acc.data()});
+  prepare<V>(dirs, n, w, ws, ch);
+  eval_chunk<V, true>(order, ch, ws, AccumulateSink<V>{ws.acc.get()});
 }
 
-// Chunks of 32 directions, then one chunk of the smallest V that holds the rest.
-template <class Fn>
-void for_chunks(Eigen::Index n, Fn&& fn) {
-  constexpr Eigen::Index full = kLanes * kMaxVectors;
-  Eigen::Index r0 = 0;
-  for (; r0 + full <= n; r0 += full) fn(r0, static_cast<int>(full), std::integral_constant<int, kMaxVectors>{});
-  const int rest = static_cast<int>(n - r0);
-  switch ((rest + kLanes - 1) / kLanes) {
-    case 0: break;
-    case 1: fn(r0, rest, std::integral_constant<int, 1>{}); break;
-    case 2: fn(r0, rest, std::integral_constant<int, 2>{}); break;
-    case 3: fn(r0, rest, std::integral_constant<int, 3>{}); break;
-    case 4: fn(r0, rest, std::integral_constant<int, 4>{}); break;
-    case 5: fn(r0, rest, std::integral_constant<int, 5>{}); break;
-    case 6: fn(r0, rest, std::integral_constant<int, 6>{}); break;
-    case 7: fn(r0, rest, std::integral_constant<int, 7>{}); break;
-    default: fn(r0, rest, std::integral_constant<int, 8>{}); break;
+// Chunks of kChunk directions, then one chunk of the smallest V (1, 2, 4, ... vectors) that holds the rest.
+template <int V = 1, class Fn>
+HWY_INLINE void rest_chunk(std::ptrdiff_t r0, int rest, Fn&& fn) {
+  if constexpr (V >= kMaxV) {
+    fn(r0, rest, std::integral_constant<int, kMaxV>{});
+  } else {
+    if (rest <= V * kL) return fn(r0, rest, std::integral_constant<int, V>{});
+    rest_chunk<2 * V>(r0, rest, fn);
   }
 }
 
-}  // namespace
+template <class Fn>
+HWY_INLINE void for_chunks(std::ptrdiff_t n, Fn&& fn) {
+  std::ptrdiff_t r0 = 0;
+  for (; r0 + kChunk <= n; r0 += kChunk) fn(r0, kChunk, std::integral_constant<int, kMaxV>{});
+  if (r0 < n) rest_chunk(r0, static_cast<int>(n - r0), fn);
+}
 
-void hemisphere_basis_block(int order, Eigen::Index n, const double* dirs, double* out, Eigen::Index ld) {
+void BasisBlock(int order, std::ptrdiff_t n, const double* dirs, double* out, std::ptrdiff_t ld) {
   Workspace& ws = workspace(order);
-  for_chunks(n, [&](Eigen::Index r0, int count, auto vectors) {
+  for_chunks(n, [&](std::ptrdiff_t r0, int count, auto vectors) {
     block_chunk<decltype(vectors)::value>(order, count, dirs + 3 * r0, out + r0, ld, ws);
   });
 }
 
-void hemisphere_basis_weighted_sum(int order, Eigen::Index n, const double* dirs, const double* w, double* out) {
+void IsotropicForm(int order, const double* blocks, std::ptrdiff_t n, const double* wi, const double* wr, double* f) {
+  Workspace& ws = workspace(order);
+  for_chunks(n, [&](std::ptrdiff_t r0, int count, auto vectors) {
+    isotropic_chunk<decltype(vectors)::value>(order, blocks, count, wi + 3 * r0, wr + 3 * r0, ws, f + r0);
+  });
+}
+
+void BasisWeightedSum(int order, std::ptrdiff_t n, const double* dirs, const double* w, double* out) {
   Workspace& ws = workspace(order);
   const int m = (order + 1) * (order + 2) / 2;
-  std::fill(ws.acc.begin(), ws.acc.begin() + m, splat(0.0));
-  for_chunks(n, [&](Eigen::Index r0, int count, auto vectors) {
+  std::fill(ws.acc.get(), ws.acc.get() + static_cast<size_t>(m) * kL, 0.0);
+  for_chunks(n, [&](std::ptrdiff_t r0, int count, auto vectors) {
     sum_chunk<decltype(vectors)::value>(order, count, dirs + 3 * r0, w + r0, ws);
   });
-  for (int nn = 0, j = 0; nn <= order; ++nn) {
-    const double norm = kNorm[static_cast<size_t>(nn)];
+  const auto& norm = basis_block_detail::norms();
+  for (int nn = 0, j = 0; nn <= order; ++nn)
     for (int e = 0; e <= nn; ++e, ++j) {
-      const v4d a = ws.acc[static_cast<size_t>(j)];
-      out[j] = norm * ((a[0] + a[1]) + (a[2] + a[3]));
+      double* a = ws.acc.get() + static_cast<size_t>(j) * kL;
+      for (int step = 1; step < kL; step *= 2)  // the lanes, pairwise
+        for (int i = 0; i + step < kL; i += 2 * step) a[i] += a[i + step];
+      out[j] = norm[static_cast<size_t>(nn)] * a[0];
     }
-  }
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace icobrdf
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace icobrdf {
+
+HWY_EXPORT(BasisBlock);
+HWY_EXPORT(BasisWeightedSum);
+HWY_EXPORT(IsotropicForm);
+
+void hemisphere_basis_block(int order, Eigen::Index n, const double* dirs, double* out, Eigen::Index ld) {
+  HWY_DYNAMIC_DISPATCH(BasisBlock)(order, n, dirs, out, ld);
+}
+
+void hemisphere_basis_weighted_sum(int order, Eigen::Index n, const double* dirs, const double* w, double* out) {
+  HWY_DYNAMIC_DISPATCH(BasisWeightedSum)(order, n, dirs, w, out);
+}
+
+void isotropic_form_block(int order, const double* blocks, Eigen::Index n, const double* wi, const double* wr, double* f) {
+  HWY_DYNAMIC_DISPATCH(IsotropicForm)(order, blocks, n, wi, wr, f);
 }
 
 }  // namespace icobrdf
+#endif

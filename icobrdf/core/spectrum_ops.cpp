@@ -3,11 +3,13 @@
 #include <cmath>
 #include <algorithm>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/hemisphere_basis.hpp"
-#include "icobrdf/core/simd4.hpp"
+#include "icobrdf/core/isotropic_evaluation.hpp"
+#include "icobrdf/core/spectrum_tile.hpp"
 #include "icobrdf/core/huge_pages.hpp"
 
 
@@ -15,63 +17,9 @@ namespace icobrdf {
 
 namespace {
 
-using simd4::v4d;
-using simd4::load4;
-
-// Register tiles of the bilinear form: 8 pairs (two vectors) x Cols columns of C, 2 Cols accumulators
-// (Cols = 4, 5 or 6, whichever pads M least: 5 at order 8, M = 45).
-constexpr int kTilePairs = 8;
-// Pairs per block: the basis of both sides for a block (2 x 256 x M doubles, 184 KB at order 8) stays in L2.
-constexpr Eigen::Index kEvalBlock = 256;
-
-int tile_columns(int m) {
-  int best = 6;
-  for (int cols : {5, 4})
-    if ((m + cols - 1) / cols * cols < (m + best - 1) / best * best) best = cols;
-  return best;
-}
-
-// C (m x m, column-major) as panels of `cols` columns, row-major inside a panel (the broadcasts of one k
-// are adjacent); columns past m are zero. Layout: panel b, row k, column jj at (b m + k) cols + jj.
-std::vector<double> pack_columns(const Eigen::MatrixXd& c, int cols, int panels) {
-  const int m = static_cast<int>(c.rows());
-  std::vector<double> p(static_cast<size_t>(panels) * m * cols, 0.0);
-  for (int b = 0; b < panels; ++b)
-    for (int k = 0; k < m; ++k)
-      for (int jj = 0; jj < cols && b * cols + jj < m; ++jj) p[(static_cast<size_t>(b) * m + k) * cols + jj] = c(k, b * cols + jj);
-  return p;
-}
-
-// f[p] = sum_j kr[p, j] sum_k ki[p, k] c[k, j] for the np pairs of a block (np a multiple of kTilePairs);
-// ki, kr column-major with leading dimension ld, kr with zero columns up to panels x Cols.
-template <int Cols>
-void bilinear_block(int m, int panels, Eigen::Index np, const double* ki, const double* kr, Eigen::Index ld,
-                    const double* packed, double* f) {
-  for (Eigen::Index p0 = 0; p0 < np; p0 += kTilePairs) {
-    v4d f0 = simd4::splat(0.0), f1 = simd4::splat(0.0);
-    for (int b = 0; b < panels; ++b) {
-      v4d a0[Cols], a1[Cols];
-      for (int jj = 0; jj < Cols; ++jj) a0[jj] = a1[jj] = simd4::splat(0.0);
-      const double* cp = packed + static_cast<size_t>(b) * m * Cols;
-      const double* x = ki + p0;
-      for (int k = 0; k < m; ++k, x += ld, cp += Cols) {
-        const v4d x0 = load4(x), x1 = load4(x + 4);
-        for (int jj = 0; jj < Cols; ++jj) {
-          const v4d cb = simd4::splat(cp[jj]);
-          a0[jj] += x0 * cb;
-          a1[jj] += x1 * cb;
-        }
-      }
-      const double* y = kr + static_cast<Eigen::Index>(b) * Cols * ld + p0;
-      for (int jj = 0; jj < Cols; ++jj, y += ld) {
-        f0 += a0[jj] * load4(y);
-        f1 += a1[jj] * load4(y + 4);
-      }
-    }
-    simd4::storeu(f + p0, f0);
-    simd4::storeu(f + p0 + 4, f1);
-  }
-}
+// Pairs per block: a multiple of every target's register tile (24, 8, 4, 2 pairs); the basis of both sides
+// for a block (2 x 192 x M doubles, 138 KB at order 8) stays in L2.
+constexpr Eigen::Index kEvalBlock = 192;
 
 }  // namespace
 
@@ -82,37 +30,40 @@ Eigen::VectorXd evaluate_coefficients(const Eigen::MatrixXd& c, int order, const
                         ", expected " + std::to_string(m) + " x " + std::to_string(m) + " for order " + std::to_string(order));
   if (wi.rows() != wr.rows()) throw ArgumentError("evaluate: incident and remitted direction counts differ");
   const Eigen::Index n = wi.rows();
-  for (const RowMatrix3d* d : {&wi, &wr})
-    if (const Eigen::Index r = first_invalid_direction(*d); r >= 0)
-      throw ArgumentError(std::string("evaluate: ") + (d == &wi ? "incident" : "remitted") + " direction " + std::to_string(r) +
-                          " is not a finite direction with z >= 0");
   // Blocks of kEvalBlock pairs: K(w_i) and K(w_r) (block x M, column-major, by the block basis kernel), then
-  // f = rowwise dot(K(w_i) C, K(w_r)) by a register-tiled kernel that never stores K(w_i) C. Threads take
-  // blocks; each pair's value depends only on its own directions, so results do not depend on threads.
-  const int cols = tile_columns(m), panels = (m + cols - 1) / cols;
-  const std::vector<double> packed = pack_columns(c, cols, panels);
+  // f = rowwise dot(K(w_i) C, K(w_r)) by the dispatched tile (icobrdf/core/spectrum_tile.hpp), which never stores
+  // K(w_i) C. Threads take blocks; each pair's value depends only on its own directions, so results do not
+  // depend on threads. Each block's directions are checked just before they are evaluated (one pass over
+  // memory instead of two); the first invalid row of each side is reported after the loop.
+  const PackedSpectrum packed = pack_spectrum(c, order);
+  const Eigen::Index kr_cols = spectrum_tile_columns(packed);
   Eigen::VectorXd out(n);
   advise_huge_pages(out.data(), sizeof(double) * static_cast<size_t>(n));
   const Eigen::Index blocks = (n + kEvalBlock - 1) / kEvalBlock;
-#pragma omp parallel if (n > 4 * kEvalBlock)
+  Eigen::Index bad_i = n, bad_r = n;
+#pragma omp parallel if (n > 4 * kEvalBlock) reduction(min : bad_i, bad_r)
   {
-    // Zeroed once: kr's padding columns must be 0, and rows past a short last block stay finite.
-    Eigen::MatrixXd ki = Eigen::MatrixXd::Zero(kEvalBlock, m), kr = Eigen::MatrixXd::Zero(kEvalBlock, panels * cols);
+    // Zeroed once: kr's padding columns must be finite, and rows past a short last block too.
+    Eigen::MatrixXd ki = Eigen::MatrixXd::Zero(kEvalBlock, m), kr = Eigen::MatrixXd::Zero(kEvalBlock, kr_cols);
     Eigen::VectorXd f(kEvalBlock);
 #pragma omp for schedule(static)
     for (Eigen::Index b = 0; b < blocks; ++b) {
       const Eigen::Index p0 = b * kEvalBlock, np = std::min(kEvalBlock, n - p0);
+      if (const Eigen::Index r = first_invalid_direction(wi.data() + 3 * p0, np); r >= 0) bad_i = std::min(bad_i, p0 + r);
+      if (const Eigen::Index r = first_invalid_direction(wr.data() + 3 * p0, np); r >= 0) bad_r = std::min(bad_r, p0 + r);
+      if (packed.isotropic) {
+        isotropic_form_block(order, packed.radial_blocks.data(), np, wi.data() + 3 * p0, wr.data() + 3 * p0, out.data() + p0);
+        continue;
+      }
       hemisphere_basis_block(order, np, wi.data() + 3 * p0, ki.data(), kEvalBlock);
       hemisphere_basis_block(order, np, wr.data() + 3 * p0, kr.data(), kEvalBlock);
-      const Eigen::Index tiles = (np + kTilePairs - 1) / kTilePairs * kTilePairs;
-      switch (cols) {
-        case 4: bilinear_block<4>(m, panels, tiles, ki.data(), kr.data(), kEvalBlock, packed.data(), f.data()); break;
-        case 5: bilinear_block<5>(m, panels, tiles, ki.data(), kr.data(), kEvalBlock, packed.data(), f.data()); break;
-        default: bilinear_block<6>(m, panels, tiles, ki.data(), kr.data(), kEvalBlock, packed.data(), f.data()); break;
-      }
+      spectrum_tile(packed, np, ki.data(), kr.data(), kEvalBlock, f.data());
       out.segment(p0, np) = f.head(np);
     }
   }
+  for (const auto& [side, r] : {std::pair<const char*, Eigen::Index>{"incident", bad_i}, {"remitted", bad_r}})
+    if (r < n)
+      throw ArgumentError(std::string("evaluate: ") + side + " direction " + std::to_string(r) + " is not a finite direction with z >= 0");
   return out;
 }
 

@@ -7,9 +7,11 @@
 namespace icobrdf {
 
 // f(w_i, w_r) = K(w_i)^T C K(w_r) at many pairs (rows x 3 each): returns rows values [1/sr]. Threads over
-// blocks of 256 pairs (basis of both sides by hemisphere_basis_block, then a register-tiled kernel for the
-// bilinear form; rates in benchmarks/RESULTS.md). Each value depends only on its own pair (thread-invariant).
-// ArgumentError for a direction that is not finite or has z < -kHorizonSlack (icobrdf/core/horizon.hpp).
+// blocks of 192 pairs (basis of both sides by hemisphere_basis_block, then the dispatched tile of
+// icobrdf/core/spectrum_tile.hpp for the bilinear form: GEMM-shaped for a general C, sparse for an azimuthally
+// block-diagonal one such as every isotropic spectrum; rounding bound there; rates in benchmarks/RESULTS.md).
+// Each value depends only on its own pair (thread-invariant). ArgumentError for a direction that is not
+// finite or has z < -kHorizonSlack (icobrdf/core/horizon.hpp): the first such row of each side is named.
 Eigen::VectorXd evaluate_coefficients(const Eigen::MatrixXd& c, int order, const RowMatrix3d& wi, const RowMatrix3d& wr);
 
 // Rotation of the whole BRDF about the normal by `angle` (radians, counter-clockwise seen from above):

@@ -7,7 +7,7 @@
 //
 // Which set a fit uses: fit_dense_kernels(). OpenBLAS picks its kernel when the library loads, from the CPU
 // it recognizes (or OPENBLAS_CORETYPE). A CPU newer than the OpenBLAS build gets a generic fallback: Debian's
-// OpenBLAS 0.3.21 runs its SSE3 "Prescott" kernel on a Sapphire Rapids CPU, where dsyrk at 2,211 unknowns
+// OpenBLAS 0.3.21 runs its SSE3 "Prescott" kernel on an Emerald Rapids Xeon, where dsyrk at 2,211 unknowns
 // measured 14 GFLOP/s on 2 threads against Eigen's AVX-512 code at 46 and OpenBLAS's own SkylakeX kernel at 72
 // (benchmarks/RESULTS.md, "Dense kernels of the sample fits"). So OpenBLAS serves the fits only when its kernel
 // uses vectors at least as wide as Eigen's in this build; otherwise Eigen's kernels do. The choice depends

@@ -18,6 +18,7 @@
 #include "icobrdf/core/hemisphere_basis.hpp"
 #include "icobrdf/core/reference_grids.hpp"
 #include "icobrdf/core/spectrum_ops.hpp"
+#include "tests/core/hard_directions.hpp"
 
 namespace {
 
@@ -36,23 +37,7 @@ constexpr double kAverageTol = 1e-13;
 constexpr double kGramTol = 1e-12;
 constexpr double kConditionTol = 1e-9;
 
-RowMatrix3d test_directions(int count, unsigned seed) {
-  // Random directions plus the hard cases: the pole (rho = 0), the horizon (z = 0, rho = 1) at several
-  // azimuths, and z slightly negative (-1e-13, taken as the horizon).
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  RowMatrix3d d(count, 3);
-  for (int k = 0; k < count; ++k) {
-    const double z = u(rng), s = std::sqrt(1.0 - z * z), p = 2.0 * M_PI * u(rng);
-    d.row(k) << s * std::cos(p), s * std::sin(p), z;
-  }
-  const double neg = -1e-13, s = std::sqrt(1.0 - neg * neg);
-  const Eigen::RowVector3d hard[] = {{0.0, 0.0, 1.0},  {1.0, 0.0, 0.0},        {0.0, -1.0, 0.0},
-                                     {-1.0, 0.0, 0.0}, {std::cos(2.0), std::sin(2.0), 0.0},
-                                     {s * std::cos(0.7), s * std::sin(0.7), neg}, {-s, 0.0, neg}};
-  for (int k = 0; k < static_cast<int>(std::size(hard)) && k < count; ++k) d.row((k * 7) % count) = hard[k];
-  return d;
-}
+RowMatrix3d test_directions(int count, unsigned seed) { return test::hard_directions(count, seed); }
 
 std::vector<double> eval(int order, const Eigen::RowVector3d& d) {
   std::vector<double> v(static_cast<size_t>(hemisphere_basis_count(order)));
