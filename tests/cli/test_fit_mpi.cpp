@@ -57,7 +57,7 @@ bool exists(const std::string& path) { return std::ifstream(path).good(); }
 // P_i F_ij P_j of sampled rows with weights <= 1; the D2 average's factor 4 on a quarter of the rows gives
 // back A); the triangle path sums X and adds X^T: 2 A. Two orders: twice that. An f spectrum is then
 // symmetrized, (C + C^T) / 2, one more rounding of |C| in each run. F and P are the fit's own (FitContexts,
-// the LUT sampled on its grid); n counts the blocks (one share per block, the others hold none).
+// the LUT sampled on its grid); n counts the blocks (one share per block).
 Eigen::MatrixXd reorder_bound(const std::string& spec, bool cosine, const Eigen::MatrixXd& c) {
   FitRequest r;
   r.level = kLevel;
@@ -65,7 +65,8 @@ Eigen::MatrixXd reorder_bound(const std::string& spec, bool cosine, const Eigen:
   FitContexts contexts;
   const auto ctx = contexts.context(r);
   const auto model = parse_model(spec);
-  const int parts = ctx->grid->cells();
+  // At least as many shares as blocks (one per kStreamingBlockRows cells at most), so each holds one or none.
+  const int parts = (ctx->grid->cells() + kStreamingBlockRows - 1) / kStreamingBlockRows;
   int blocks = 0;
   for (int k = 0; k < parts; ++k) {
     StreamingShare s;
