@@ -2,7 +2,11 @@
 
 #include <fmt/core.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <csignal>
+#include <cstring>
 #include <exception>
 #include <new>
 
@@ -43,6 +47,31 @@ int exit_code_of(std::exception_ptr e) {
   }
 }
 
+// SIGTERM under mpirun: mpirun sends it to every rank when one fails or is killed. Rank 0 says so in one
+// line (mpirun -q names the dead rank nowhere; without -q it does), every rank ends at once with 128 + 15:
+// nothing has been written (rank 0 writes only after the projection's exchange, which a dead rank never
+// joins). Set before MPI starts; async-signal-safe (write, _exit).
+char g_sigterm_line[256];
+std::size_t g_sigterm_line_size = 0;
+extern "C" void on_sigterm(int) {
+  if (g_sigterm_line_size > 0) (void)!::write(STDERR_FILENO, g_sigterm_line, g_sigterm_line_size);
+  ::_exit(kExitTerminated);
+}
+
+void end_on_sigterm(int rank, int ranks) {
+  if (rank == 0) {
+    const std::string line = fmt::format("icobrdf: error: stopped by SIGTERM on rank 0 of {}: mpirun ends every rank when one fails or is "
+                                         "killed (without -q it names the rank); nothing was written\n",
+                                         ranks);
+    g_sigterm_line_size = std::min(line.size(), sizeof g_sigterm_line);
+    std::memcpy(g_sigterm_line, line.data(), g_sigterm_line_size);
+  }
+  struct sigaction sa {};
+  sa.sa_handler = on_sigterm;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
 // Set-up failed on another rank (this rank's own set-up succeeded); that rank prints why.
 struct SetupFailed : std::exception {};
 #endif
@@ -75,6 +104,7 @@ void run_distributed(const std::string& what, int projections, const std::functi
   run.gather = [&cluster](double v) { return gather_on_rank0(cluster, v); };
   run.exchanges = [&projection] { return projection.exchanges(); };
   if (cluster.rank() != 0) set_progress_stream(nullptr);
+  end_on_sigterm(cluster.rank(), cluster.size());
   const int rank = cluster.rank(), ranks = cluster.size();
   try {
     command(run);
