@@ -37,7 +37,8 @@ inline constexpr int kStreamingBlockRows = 32;
 // from the calling thread, after the share's blocks are done. Delta parts are added after it, once.
 // `every` > 1 (benchmarks only: `icobrdf bench streaming --every K`) keeps only the blocks b with
 // b % every == 0 and shares those: the work of a projection too long to run whole, in the same mix, for
-// timing (times K) and for the memory of every array at full size; the matrices are then not C.
+// timing (about K times the blocks' part of the time) and for the memory of every array at full size; the
+// matrices are then not C.
 struct StreamingShare {
   int part = 0;
   int parts = 1;
