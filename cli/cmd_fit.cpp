@@ -1,7 +1,8 @@
 // icobrdf fit SOURCE [--order N] --level L [--isotropic] [--cosine] [--filter NAME] [--quiet] -o SPECTRUM.h5
 // Projects a BRDF onto the Helmholtz modes on a tessellation and writes its spectrum. Scattered samples
 // (CSV) without --order get a cross-validated order; a fit longer than kProgressDelaySeconds reports its
-// stages on stderr.
+// stages on stderr. Under `mpirun -np R` the streaming projection of a model (or an RGL material, or a
+// half-angle lobe) is spread over the R ranks (cli/distributed_run.hpp); rank 0 writes and prints.
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
@@ -11,6 +12,7 @@
 #include <memory>
 
 #include "cli/commands.hpp"
+#include "cli/distributed_run.hpp"
 #include "cli/option_checks.hpp"
 #include "icobrdf/io/blas_dense_kernels.hpp"
 #include "icobrdf/io/brdf_source.hpp"
@@ -55,13 +57,14 @@ GridKind fitting_grid_kind(const std::string& text) {
   throw ArgumentError("--grid: expected 'equal-area' or 'geodesic', found '" + quoted_text(text) + "'");
 }
 
-void run_fit(const FitArgs& a) {
+void run_fit(const FitArgs& a, const DistributedRun& run) {
   const auto t0 = std::chrono::steady_clock::now();
   FitRequest r;
+  r.share = run.share;
   r.level = a.level;
   r.order = a.order;
   if (a.quiet) set_progress_stream(nullptr);  // the projection's lines too
-  r.progress = progress_printer(t0);
+  if (run.writes()) r.progress = progress_printer(t0);
   r.isotropic = a.isotropic;
   r.cosine = a.cosine;
   r.filter = parse_lowpass_filter(a.filter);
@@ -69,16 +72,21 @@ void run_fit(const FitArgs& a) {
   const auto sampling = lut_sampling_named(a.sampling);
   if (!sampling) throw ArgumentError("--sampling: expected 'average' or 'centre', found '" + a.sampling + "'");
   r.sampling = *sampling;
-  check_output_path(a.output, {a.source});
+  if (run.writes()) check_output_path(a.output, {a.source});
   require_storable_source(a.source);
   const auto source = open_source(a.source);  // validates the source before any work
-  if (!source->has_delta())  // a model's delta note is about pointwise values, which fit does not print
+  if (!source->has_delta() && run.writes())  // a model's delta note is about pointwise values, which fit does not print
     for (const auto& note : source->notes()) std::cerr << "icobrdf: note: " << source->spec() << ": " << note << "\n";
   if (!a.order_given && chooses_order(*source)) r.order = kChooseOrder;
   r.grid_kind = fitting_grid_kind(a.grid);
+  run.setup_done();
   const FitResult fit = fit_source(*source, r);
+  if (!run.writes()) return;  // rank 0 checks, writes and reports
   const Spectrum& s = fit.spectrum;
   const ProjectionContext& ctx = *fit.context;
+  if (run.ranks > 1 && run.exchanges() == 0)
+    std::cerr << "icobrdf: note: " << s.source << " is not fitted by streaming projection; each of the " << run.ranks
+              << " ranks fitted it whole\n";
   check_fitted_albedo(s, *ctx.grid, "fit " + quoted_text(s.source), {a.strict, &std::cerr});
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   write_spectrum_file(a.output, s, nullptr, a.name.empty() ? "material" : a.name);
@@ -99,6 +107,7 @@ void run_fit(const FitArgs& a) {
                    {"anisotropy_fraction", s.anisotropy_fraction},
                    {"max_albedo", s.max_albedo},
                    {"seconds", seconds}};
+  if (run.ranks > 1) j["ranks"] = run.ranks;
   // Scattered-sample fits (MERL, CSV): the least-squares figures, so rank-deficient data is visible.
   const CheckedSampleFit* cf = last_checked_sample_fit(*source);
   const SampleFitResult* sf = cf ? &cf->fit : nullptr;
@@ -153,7 +162,8 @@ void run_fit(const FitArgs& a) {
               << fmt::format("  reciprocity violation {:.3g}, anisotropic energy {:.3g}\n", s.reciprocity_violation,
                              s.anisotropy_fraction);
   }
-  std::cout << fmt::format("  max directional albedo {:.6g}, filter {}, {:.3f} s\n", s.max_albedo, s.filter, seconds);
+  std::cout << fmt::format("  max directional albedo {:.6g}, filter {}, {:.3f} s{}\n", s.max_albedo, s.filter, seconds,
+                           run.ranks > 1 ? fmt::format(" on {} ranks", run.ranks) : "");
   if (sf) {
     double worst = 0.0;
     for (Eigen::Index c = 0; c < sf->residual_rms.size(); ++c) worst = std::max(worst, sf->residual_rms(c));
@@ -205,7 +215,7 @@ void add_fit_command(CLI::App& app) {
   cmd->add_flag("--json", a->json, "Print the figures as JSON");
   cmd->add_flag("--strict", a->strict, "A negative directional albedo (non-physical) is an error, not a warning");
   cmd->add_flag("--quiet,-q", a->quiet, "No progress lines on stderr (printed for fits longer than 2 s)");
-  cmd->callback([a] { run_fit(*a); });
+  cmd->callback([a] { run_distributed("fit", 1, [a](const DistributedRun& run) { run_fit(*a, run); }); });
 }
 
 const CommandRegistrar kRegistrar("fit", add_fit_command);

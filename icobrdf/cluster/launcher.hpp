@@ -21,4 +21,14 @@ inline int launcher_world_size() {
 
 inline bool started_by_mpirun() { return launcher_world_size() > 0; }
 
+// The processes the launcher started on this machine: OMPI_COMM_WORLD_LOCAL_SIZE (OpenMPI), or
+// 1 when OpenMPI does not say (srun: pass --memory-budget, since SLURM_TASKS_PER_NODE can list several nodes).
+inline int launcher_local_size() {
+  if (const char* v = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE")) {
+    const int n = std::atoi(v);
+    if (n > 0) return n;
+  }
+  return 1;
+}
+
 }  // namespace icobrdf

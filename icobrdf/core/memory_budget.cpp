@@ -63,6 +63,15 @@ void consider(MemoryAvailable& best, double bytes, const char* source) {
 
 void set_memory_budget(double bytes) { budget_slot() = bytes > 0 ? bytes : 0.0; }
 
+namespace {
+int& sharers_slot() {
+  static int sharers = 1;
+  return sharers;
+}
+}  // namespace
+
+void set_memory_sharers(int processes) { sharers_slot() = processes > 1 ? processes : 1; }
+
 MemoryAvailable available_memory() {
   if (budget_slot() > 0) return {budget_slot(), "memory budget"};
   MemoryAvailable best;
@@ -86,6 +95,12 @@ MemoryAvailable available_memory() {
     consider(best, std::max(0.0, static_cast<double>(rl.rlim_cur) - std::max(mapped, 0.0)), "RLIMIT_AS");
   }
   if (best.source.empty()) best = {std::numeric_limits<double>::infinity(), "no limit found"};
+  // The machine-wide figures are shared by the processes of one job on this machine (RLIMIT_AS is per
+  // process, but dividing it too only errs on the safe side).
+  if (sharers_slot() > 1) {
+    best.bytes /= sharers_slot();
+    best.source += " / " + std::to_string(sharers_slot()) + " ranks on this node";
+  }
   return best;
 }
 

@@ -26,6 +26,10 @@ MemoryAvailable available_memory();
 
 // bytes <= 0 restores measuring. Not thread-safe: set it before the work starts.
 void set_memory_budget(double bytes);
+// The measured figures (not a budget set above) are divided among `processes` processes of one job on
+// this machine (the ranks of an mpirun on one node, cli/distributed_run.hpp), each assumed to need as much.
+// 1 (the default) restores the whole. Not thread-safe: set it before the work starts.
+void set_memory_sharers(int processes);
 
 // "8G", "8 GB", "512MiB", "1.5e9", "2T": decimal (kB, MB, GB, TB; K, M, G, T are read as KiB ... TiB
 // like ulimit and cgroups do) or plain bytes. ArgumentError with the text quoted when it is not a

@@ -68,7 +68,7 @@ ProjectionContext make_projection_context(std::shared_ptr<const Grid> grid, int 
 
 Spectrum fit_model(const BrdfModel& model, const ProjectionContext& ctx, const FitOptions& o) {
   const bool cosine = o.cosine || !model.delta_parts().empty();
-  auto channels = streaming_projection(model, *ctx.grid, ctx.projection, cosine, o.sampling, ctx.sampling_grid.get());
+  auto channels = streaming_projection(model, *ctx.grid, ctx.projection, cosine, o.sampling, ctx.sampling_grid.get(), o.share.get());
   return finish(std::move(channels), model.spec(), ctx, o, cosine);
 }
 

@@ -23,6 +23,7 @@
 #include "icobrdf/core/projection.hpp"
 #include "icobrdf/core/sample_fit.hpp"
 #include "icobrdf/core/spectrum.hpp"
+#include "icobrdf/core/streaming_projection.hpp"
 
 namespace icobrdf {
 
@@ -40,6 +41,10 @@ struct FitOptions {
   double gram_tolerance = kDefaultGramTolerance;
   ProjectionOperator::Kind projection = ProjectionOperator::Kind::LeastSquares;
   FitProgress progress;  // optional: fits of scattered samples report their stages (icobrdf/core/sample_fit.hpp)
+  // Optional: this process's share of a model's streaming projection, the other shares projected elsewhere
+  // (icobrdf/core/streaming_projection.hpp StreamingShare; icobrdf/cluster/distributed_projection.hpp under
+  // mpirun). Fits of LUTs and of scattered samples do not use it.
+  std::shared_ptr<const StreamingShare> share;
 };
 
 // FitOptions::order for sources that choose their order (fits of scattered samples: K-fold cross-validation,

@@ -40,6 +40,15 @@ std::pair<std::vector<int>, std::vector<double>> incident_rows(const Grid& g, bo
   return {cells, weight};
 }
 
+// The number of the `blocks` that `share` projects: b = every (part + k parts) below blocks, k = 0, 1, ...
+int blocks_of_share(int blocks, const StreamingShare& share) {
+  const int kept = (blocks + share.every - 1) / share.every;
+  return share.part < kept ? (kept - share.part + share.parts - 1) / share.parts : 0;
+}
+
+// The block number of the share's k-th block.
+int block_of_share(int k, const StreamingShare& share) { return share.every * (share.part + k * share.parts); }
+
 // The cells of `g` in the order `perm` (new cell k = old cell perm[k]): directions, solid angles and
 // cubature, the fields LUT sampling reads.
 Grid reorder_cells(const Grid& g, const std::vector<int>& perm) {
@@ -79,7 +88,7 @@ Grid reorder_cells(const Grid& g, const std::vector<int>& perm) {
 // Columns are reordered by orbit, so that representative i needs a prefix of them: the cells of orbits
 // before its own (weight 1) and its own orbit (weight 1/2). That is an eighth of F with D2, half without.
 std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const Grid& sg, const ProjectionOperator& proj,
-                                                   bool cosine, LutSampling sampling, bool use_symmetry) {
+                                                   bool cosine, LutSampling sampling, bool use_symmetry, const StreamingShare& share) {
   const int cells = sg.cells(), ch = model.channels();
   const auto modes = proj.P.cols();
   std::vector<int> rep(static_cast<size_t>(cells));
@@ -115,7 +124,8 @@ std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const
   // 40 that was 1,284 blocks x 861^2 doubles = 7.6 GB).
   const int parts = cosine ? 2 : 1;
   std::vector<Eigen::MatrixXd> sums(static_cast<size_t>(ch * parts), Eigen::MatrixXd::Zero(modes, modes));
-  ProgressMeter progress("projecting", blocks);
+  const int mine = blocks_of_share(blocks, share);
+  ProgressMeter progress("projecting", mine);
 #pragma omp parallel
   {
     std::vector<Eigen::MatrixXd> f;
@@ -123,7 +133,8 @@ std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const
     Eigen::MatrixXd t, left;
     std::vector<Eigen::MatrixXd> out;
 #pragma omp for schedule(dynamic) ordered
-    for (int b = 0; b < blocks; ++b) {
+    for (int k_block = 0; k_block < mine; ++k_block) {
+      const int b = block_of_share(k_block, share);
       const int r0 = b * kStreamingBlockRows, r1 = std::min(rows_total, r0 + kStreamingBlockRows);
       block.clear();
       for (int k = r0; k < r1; ++k) block.push_back(pos[static_cast<size_t>(row_cells[static_cast<size_t>(k)])]);
@@ -176,13 +187,21 @@ std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const
     if (cosine) out.push_back(x1 + x2.transpose());
     else out.push_back(x1 + x1.transpose());
   }
+  if (share.reduce) share.reduce(out);
   return out;
 }
 
 }  // namespace
 
 std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const Grid& g, const ProjectionOperator& proj,
-                                                  bool cosine, LutSampling sampling, const Grid* sampling_grid) {
+                                                  bool cosine, LutSampling sampling, const Grid* sampling_grid,
+                                                  const StreamingShare* given_share) {
+  const StreamingShare whole;
+  const StreamingShare& share = given_share ? *given_share : whole;
+  if (share.parts < 1 || share.part < 0 || share.part >= share.parts || share.every < 1 || (share.parts > 1 && !share.reduce))
+    throw ArgumentError("projection: share " + std::to_string(share.part) + " of " + std::to_string(share.parts) +
+                        (share.parts > 1 && !share.reduce ? " has no reduction" : " is out of range") +
+                        " (every " + std::to_string(share.every) + "), expected 0 <= part < parts, every >= 1 and a reduction when parts > 1");
   const Grid& sg = sampling_grid ? *sampling_grid : g;
   if (sg.cells() != g.cells() || (sg.solid_angles - g.solid_angles).cwiseAbs().maxCoeff() > kSameCellsRelTol * g.solid_angles.maxCoeff())
     throw ArgumentError("projection: the sampling grid's cells differ from the projection grid's (" + std::to_string(sg.cells()) +
@@ -206,7 +225,7 @@ std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const 
   // The symmetric sampling makes F itself D2-invariant; the orbits and the cell maps are those of sg, which
   // equal g's (checked above).
   if (model.is_reciprocal() && (!cosine || sampling == LutSampling::CellCentre)) {
-    auto out = reciprocal_projection(model, sg, proj, cosine, sampling, use_symmetry);
+    auto out = reciprocal_projection(model, sg, proj, cosine, sampling, use_symmetry, share);
     for (auto& x : out)
       for (const auto& d : deltas) x += delta_projection(d, g, proj);
     return out;
@@ -219,13 +238,15 @@ std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const 
   // Per block: X_b = P_rows^T diag(weight) (F_rows P), added in block order (an ordered region), so the
   // result does not depend on the number of threads and one block's X_b per thread is alive at a time.
   std::vector<Eigen::MatrixXd> sums(static_cast<size_t>(ch), Eigen::MatrixXd::Zero(modes, modes));
-  ProgressMeter progress("projecting", blocks);
+  const int mine = blocks_of_share(blocks, share);
+  ProgressMeter progress("projecting", mine);
 #pragma omp parallel
   {
     std::vector<Eigen::MatrixXd> rows, out;
     Eigen::MatrixXd t, pr;
 #pragma omp for schedule(dynamic) ordered
-    for (int b = 0; b < blocks; ++b) {
+    for (int k_block = 0; k_block < mine; ++k_block) {
+      const int b = block_of_share(k_block, share);
       const int r0 = b * kStreamingBlockRows, r1 = std::min(rows_total, r0 + kStreamingBlockRows);
       const std::vector<int> block(row_cells.begin() + r0, row_cells.begin() + r1);
       sample_lut_rows(model, sg, cosine, sampling, block, rows);
@@ -248,8 +269,10 @@ std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const 
     Eigen::MatrixXd x = std::move(sums[static_cast<size_t>(c)]);
     if (use_symmetry) x = d2_average(x);
     out.push_back(std::move(x));
-    for (const auto& d : deltas) out.back() += delta_projection(d, g, proj);
   }
+  if (share.reduce) share.reduce(out);
+  for (auto& x : out)
+    for (const auto& d : deltas) x += delta_projection(d, g, proj);
   return out;
 }
 

@@ -55,6 +55,7 @@ FitResult fit_source(const BrdfSource& source, const FitRequest& request, FitCon
   FitOptions o;
   o.order = request.order;
   o.progress = request.progress;
+  o.share = request.share;
   o.isotropic = request.isotropic;
   o.cosine = request.cosine;
   o.filter = request.filter;

@@ -35,6 +35,7 @@ struct FitRequest {
   LowPassFilter filter;                                 // applied after the projection
   double gram_tolerance = kDefaultGramTolerance;        // largest Gram error accepted for (grid, order)
   FitProgress progress;                                 // optional, passed to the source's fit
+  std::shared_ptr<const StreamingShare> share;          // optional: FitOptions::share (distributed projection)
 };
 
 // Grids and projection contexts by what defines them, built on first use.

@@ -76,5 +76,26 @@ TEST(MemoryBudget, BudgetReplacesTheMeasurementAndDecidesRefusal) {
   EXPECT_NE(available_memory().source, "memory budget");
 }
 
+// Ranks of one job on one machine share its memory: the measured figure is divided among them (never more
+// than the largest MemAvailable read around it, divided), a budget given by the user is not.
+TEST(MemoryBudget, SharersDivideTheMeasurementNotTheBudget) {
+  set_memory_budget(0);
+  set_memory_sharers(4);
+  const double before = mem_available_bytes();
+  const auto have = available_memory();
+  const double after = mem_available_bytes();
+  set_memory_budget(2e9);
+  const auto budget = available_memory();
+  set_memory_budget(0);
+  set_memory_sharers(1);
+  EXPECT_EQ(budget.bytes, 2e9);
+  EXPECT_EQ(budget.source, "memory budget");
+  if (before < 0) GTEST_SKIP() << "no /proc/meminfo";
+  EXPECT_GT(have.bytes, 0);
+  EXPECT_LE(have.bytes, std::max(before, after) / 4);
+  EXPECT_NE(have.source.find(" / 4 ranks on this node"), std::string::npos) << have.source;
+  EXPECT_EQ(available_memory().source.find("ranks"), std::string::npos) << "1 restores the whole";
+}
+
 }  // namespace
 }  // namespace icobrdf

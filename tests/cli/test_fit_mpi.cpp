@@ -1,0 +1,169 @@
+// `mpirun -np 2 --oversubscribe icobrdf fit MODEL` (icobrdf/cluster/distributed_projection.hpp): the spectrum
+// equals the one-process fit's to the rounding of the reordered block sums (bound derived below from the
+// blocks' own contributions), two distributed runs give the same bits, a failing rank ends the fit with one
+// line naming it and no output, and `bench streaming` reports every rank. Level 3, so each run takes well
+// under a second. Skipped when the MPI layer was not built.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cfloat>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "icobrdf/core/lut.hpp"
+#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/core/streaming_projection.hpp"
+#include "icobrdf/io/spectrum_file.hpp"
+#include "icobrdf/pipeline/fit_source.hpp"
+#include "tests/cli/cli_runner.hpp"
+
+using icobrdf::test::cli_command;
+using icobrdf::test::CliResult;
+using icobrdf::test::run_cli;
+using icobrdf::test::run_shell;
+using icobrdf::test::shell_quote;
+using icobrdf::test::TempDir;
+using nlohmann::json;
+
+namespace icobrdf {
+namespace {
+
+constexpr int kLevel = 3, kOrder = 6;
+// Roundings after the block sums that each add at most one unit per entry: the D2 average (four terms),
+// X + X^T of the triangle, the reduction's sum of the two ranks' matrices, and the delta part added.
+constexpr int kFinishingOps = 7;
+
+// The rounding bound is far below the coefficients: under this fraction of max|C| (a check that it is not
+// vacuous; a few blocks of sums of |X_b| within a few times max|C| give about 1e-14).
+constexpr double kRoundingScale = 1e-12;
+
+const std::string kMpiEnv = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1 ";
+
+std::string mpirun(const std::string& extra = "") { return shell_quote(ICOBRDF_MPIEXEC) + " -q -np 2 --oversubscribe" + extra; }
+
+CliResult run_mpi(const std::vector<std::string>& args) { return run_shell(kMpiEnv + cli_command(args, mpirun())); }
+
+std::vector<std::string> fit_args(const std::string& source, const std::string& out) {
+  return {"fit", source, "--level", std::to_string(kLevel), "--order", std::to_string(kOrder), "-o", out, "--json"};
+}
+
+bool exists(const std::string& path) { return std::ifstream(path).good(); }
+
+// Entry-wise bound on |C_2 - C_1| of the spectra `fit` writes for `spec`: both sum the same blocks' terms
+// X_b in different orders. A rounded sum of n terms is within (n - 1) u sum_b |X_b| of the exact one
+// (Higham, Accuracy and Stability, eq. 4.4), and sum_b |X_b| <= A = |P|^T |F| |P| (each term sums products
+// P_i F_ij P_j of sampled rows with weights <= 1; the D2 average's factor 4 on a quarter of the rows gives
+// back A); the triangle path sums X and adds X^T: 2 A. Two orders: twice that. An f spectrum is then
+// symmetrized, (C + C^T) / 2, one more rounding of |C| in each run. F and P are the fit's own (FitContexts,
+// the LUT sampled on its grid); n counts the blocks (one share per block).
+Eigen::MatrixXd reorder_bound(const std::string& spec, bool cosine, const Eigen::MatrixXd& c) {
+  FitRequest r;
+  r.level = kLevel;
+  r.order = kOrder;
+  FitContexts contexts;
+  const auto ctx = contexts.context(r);
+  const auto model = parse_model(spec);
+  // At least as many shares as blocks (one per kStreamingBlockRows cells at most), so each holds one or none.
+  const int parts = (ctx->grid->cells() + kStreamingBlockRows - 1) / kStreamingBlockRows;
+  int blocks = 0;
+  for (int k = 0; k < parts; ++k) {
+    StreamingShare s;
+    s.part = k;
+    s.parts = parts;
+    s.reduce = [&blocks](std::vector<Eigen::MatrixXd>& x) { blocks += x[0].cwiseAbs().maxCoeff() > 0; };
+    streaming_projection(*model, *ctx->grid, ctx->projection, cosine, LutSampling::CellAverage, ctx->sampling_grid.get(), &s);
+  }
+  EXPECT_GE(blocks, 2) << spec << ": the test needs a projection of several blocks";
+  const Eigen::MatrixXd f = build_lut(*model, *ctx->grid, cosine, LutSampling::CellAverage).channels[0].cwiseAbs();
+  const Eigen::MatrixXd p = ctx->projection.P.cwiseAbs();
+  Eigen::MatrixXd b = 2.0 * 2.0 * (blocks - 1 + kFinishingOps) * DBL_EPSILON * (p.transpose() * f * p);
+  if (!cosine) b = (0.5 * (b + b.transpose()) + 2.0 * DBL_EPSILON * c.cwiseAbs()).eval();
+  return b;
+}
+
+class FitMpi : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!ICOBRDF_MPI_BUILT) GTEST_SKIP() << "the MPI layer was not built (no MPI found by CMake; scripts/install-deps.sh installs OpenMPI)";
+  }
+};
+
+}  // namespace
+
+// Isotropic reciprocal GGX (the triangle of D2 orbits: blocks of growing cost) in f form, and a diffuse +
+// mirror model (g form with cell averages: the full path; the delta is added once, after the reduction).
+TEST_F(FitMpi, TwoRanksAgreeWithOneProcessToRoundingAndWithEachOtherBitwise) {
+  struct Case {
+    std::string spec;
+    bool cosine;
+  };
+  for (const Case& m : {Case{"ggx:alpha=0.3", false}, Case{"0.7*lambert+0.3*mirror", true}}) {
+    TempDir d;
+    const std::string one = d.file("one.h5"), two = d.file("two.h5"), again = d.file("again.h5");
+    setenv("OMP_NUM_THREADS", "1", 1);
+    const auto a = run_cli(fit_args("model:" + m.spec, one));
+    unsetenv("OMP_NUM_THREADS");
+    ASSERT_EQ(a.exit_code, 0) << a.err;
+    const auto b = run_mpi(fit_args("model:" + m.spec, two));
+    ASSERT_EQ(b.exit_code, 0) << b.err << b.out;
+    const auto c = run_mpi(fit_args("model:" + m.spec, again));
+    ASSERT_EQ(c.exit_code, 0) << c.err << c.out;
+    // Rank 0 alone reports: one JSON document, saying 2 ranks.
+    const json j = json::parse(b.out);
+    EXPECT_EQ(j.at("ranks").get<int>(), 2) << b.out;
+    EXPECT_FALSE(json::parse(a.out).contains("ranks")) << "one process reports as before";
+    const Eigen::MatrixXd c1 = read_spectrum_file(one).channels.at(0), c2 = read_spectrum_file(two).channels.at(0);
+    const Eigen::MatrixXd c3 = read_spectrum_file(again).channels.at(0);
+    const Eigen::MatrixXd bound = reorder_bound(m.spec, m.cosine, c1);
+    const Eigen::MatrixXd diff = (c2 - c1).cwiseAbs();
+    EXPECT_TRUE((diff.array() <= bound.array()).all()) << m.spec << ": largest excess over the bound " << (diff - bound).maxCoeff();
+    EXPECT_EQ((c3 - c2).cwiseAbs().maxCoeff(), 0.0) << m.spec << ": two runs on 2 ranks must give the same bits";
+    // The bound is rounding, not a loose check: far below the coefficients themselves.
+    EXPECT_LT(bound.maxCoeff(), kRoundingScale * c1.cwiseAbs().maxCoeff()) << m.spec;
+  }
+}
+
+// Rank 1 alone gets a memory budget too small for the fit (mpirun's MPMD form: a second program context
+// with its own environment): the fit fails, no spectrum is written, and the one error line names rank 1.
+TEST_F(FitMpi, AFailingRankEndsTheFitWithOneLineNamingIt) {
+  TempDir d;
+  const std::string out = d.file("out.h5");
+  const auto args = fit_args("model:ggx:alpha=0.3", out);
+  std::string cmd = kMpiEnv + shell_quote(ICOBRDF_MPIEXEC) + " -q -np 1 --oversubscribe " + shell_quote(ICOBRDF_CLI_PATH);
+  for (const auto& x : args) cmd += " " + shell_quote(x);
+  cmd += " : -np 1 env ICOBRDF_MEMORY_BUDGET=1000 " + shell_quote(ICOBRDF_CLI_PATH);
+  for (const auto& x : args) cmd += " " + shell_quote(x);
+  const auto r = run_shell(cmd);
+  EXPECT_NE(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(exists(out)) << "no output after a failed rank";
+  std::istringstream err(r.err);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(err, line);)
+    if (line.rfind("icobrdf:", 0) == 0) lines.push_back(line);
+  ASSERT_EQ(lines.size(), 1u) << r.err;
+  EXPECT_NE(lines[0].find("icobrdf: error: on rank 1 of 2: a fit at level 3, order 6 needs about"), std::string::npos) << lines[0];
+}
+
+// bench streaming under mpirun: rank 0 reports both ranks' peak memory and the same C as one process (the
+// max|C| figure, to rounding: the bound of the first test is below kRoundingScale max|C|, which it checks).
+TEST_F(FitMpi, BenchStreamingReportsEveryRank) {
+  const std::vector<std::string> args = {"bench", "streaming", "model:ggx:alpha=0.3", "--level", std::to_string(kLevel), "--order",
+                                         std::to_string(kOrder), "--json"};
+  const auto r = run_mpi(args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j.at("ranks").get<int>(), 2);
+  ASSERT_EQ(j.at("peak_rss_bytes_per_rank").size(), 2u);
+  for (const auto& b : j.at("peak_rss_bytes_per_rank")) EXPECT_GT(b.get<double>(), 1e6);
+  EXPECT_GT(j.at("projection_seconds").get<double>(), 0.0);
+  const auto one = run_cli(args);
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  const json k = json::parse(one.out);
+  EXPECT_EQ(k.at("peak_rss_bytes_per_rank").size(), 1u);
+  const double m1 = k.at("max_abs_coefficient").get<double>(), m2 = j.at("max_abs_coefficient").get<double>();
+  EXPECT_LE(std::abs(m2 - m1), kRoundingScale * m1);
+}
+
+}  // namespace icobrdf
