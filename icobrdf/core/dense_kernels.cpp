@@ -1,5 +1,6 @@
 #include "icobrdf/core/dense_kernels.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -10,10 +11,28 @@ namespace icobrdf {
 
 namespace {
 
+// Columns of G per block of the rank update: each block is a small triangle (Eigen's rank update) over a
+// rectangle below it (one matrix product of ~k x rows x kRankUpdateBlock), wide enough for the product to run
+// at its register-blocked speed.
+constexpr Eigen::Index kRankUpdateBlock = 192;
+// Below this many multiply-adds (rows x k^2 / 2) the blocks run on one thread: a parallel region costs more.
+constexpr double kParallelRankUpdateMinWork = 2e7;
+
+// Eigen runs a symmetric rank update on one thread (only its general products are parallel). Blocks of
+// columns run on all threads instead; each entry of G is summed by one block, in an order fixed by the
+// blocking alone, so the result does not depend on the thread count.
 void eigen_rank_update(double* g, Eigen::Index k, const double* a, Eigen::Index rows, Eigen::Index lda) {
   Eigen::Map<Eigen::MatrixXd> gm(g, k, k);
   const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> am(a, rows, k, Eigen::OuterStride<>(lda));
-  gm.selfadjointView<Eigen::Lower>().rankUpdate(am.transpose());
+  const Eigen::Index blocks = (k + kRankUpdateBlock - 1) / kRankUpdateBlock;
+  const bool parallel = 0.5 * static_cast<double>(rows) * static_cast<double>(k) * static_cast<double>(k) >= kParallelRankUpdateMinWork;
+  // Blocks in order, the largest (leftmost) first, one at a time per thread.
+#pragma omp parallel for schedule(dynamic, 1) if (parallel)
+  for (Eigen::Index b = 0; b < blocks; ++b) {
+    const Eigen::Index j0 = b * kRankUpdateBlock, w = std::min(kRankUpdateBlock, k - j0), below = k - j0 - w;
+    gm.block(j0, j0, w, w).selfadjointView<Eigen::Lower>().rankUpdate(am.middleCols(j0, w).transpose());
+    if (below > 0) gm.block(j0 + w, j0, below, w).noalias() += am.middleCols(j0 + w, below).transpose() * am.middleCols(j0, w);
+  }
 }
 
 bool eigen_cholesky_lower(double* g, Eigen::Index k) {

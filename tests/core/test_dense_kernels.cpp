@@ -1,9 +1,11 @@
 // The dense kernels of the sample fits (icobrdf/core/dense_kernels.hpp): Eigen's, and the Eigen::LLT built
 // from a factor computed elsewhere.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <Eigen/Cholesky>
 
+#include <algorithm>
 #include <cmath>
 
 #include "icobrdf/core/dense_kernels.hpp"
@@ -43,20 +45,38 @@ bool textbook_cholesky(double* g, Eigen::Index k) {
 
 const DenseKernels kTextbook{"textbook", eigen_dense_kernels().rank_update, &textbook_cholesky, false};
 
-TEST(DenseKernels, EigenRankUpdateAddsATransposeAOnTheLowerTriangleOnly) {
-  const Eigen::MatrixXd a = random_matrix(300, 40, 1);
-  Eigen::MatrixXd g = Eigen::MatrixXd::Constant(40, 40, 7.0);
+// G = 7 + A^T A on the lower triangle within the summation-order bound, the strict upper triangle untouched.
+void expect_rank_update_of(const Eigen::MatrixXd& a) {
+  const Eigen::Index k = a.cols(), n = a.rows();
+  Eigen::MatrixXd g = Eigen::MatrixXd::Constant(k, k, 7.0);
   rank_update_lower(nullptr, g, a);
   const Eigen::MatrixXd abs_sum = a.cwiseAbs().transpose() * a.cwiseAbs();
-  for (Eigen::Index j = 0; j < 40; ++j)
-    for (Eigen::Index i = 0; i < 40; ++i) {
+  for (Eigen::Index j = 0; j < k; ++j)
+    for (Eigen::Index i = 0; i < k; ++i) {
       if (i < j) {
-        EXPECT_EQ(g(i, j), 7.0) << "upper triangle changed at " << i << "," << j;
+        ASSERT_EQ(g(i, j), 7.0) << "upper triangle changed at " << i << "," << j;
         continue;
       }
       const double exact = 7.0 + a.col(i).dot(a.col(j));
-      EXPECT_NEAR(g(i, j), exact, kOrderBoundFactor * 300 * kEps * (abs_sum(i, j) + 7.0)) << i << "," << j;
+      ASSERT_NEAR(g(i, j), exact, kOrderBoundFactor * static_cast<double>(n) * kEps * (abs_sum(i, j) + 7.0)) << i << "," << j;
     }
+}
+
+TEST(DenseKernels, EigenRankUpdateAddsATransposeAOnTheLowerTriangleOnly) { expect_rank_update_of(random_matrix(300, 40, 1)); }
+
+// 450 columns: two full column blocks of the parallel update and a short last one (icobrdf/core/dense_kernels.cpp),
+// 500 rows x 450^2 / 2 multiply-adds: above the parallel threshold. The result must not depend on the threads.
+TEST(DenseKernels, EigenRankUpdateInColumnBlocksOnAllThreads) {
+  const Eigen::MatrixXd a = random_matrix(500, 450, 6);
+  expect_rank_update_of(a);
+  const int saved = omp_get_max_threads();
+  Eigen::MatrixXd one = Eigen::MatrixXd::Zero(450, 450), many = one;
+  omp_set_num_threads(1);
+  rank_update_lower(nullptr, one, a);
+  omp_set_num_threads(std::max(2, saved));
+  rank_update_lower(nullptr, many, a);
+  omp_set_num_threads(saved);
+  EXPECT_EQ((one - many).cwiseAbs().maxCoeff(), 0.0);
 }
 
 TEST(DenseKernels, RankUpdateOfAStridedBlockUsesOnlyItsRows) {
