@@ -9,7 +9,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -178,6 +180,10 @@ int assembly_threads(int unknowns, size_t rows) {
   return std::max(1, std::min<int>(omp_get_max_threads(), static_cast<int>(rows / 64) + 1));
 }
 
+// Below this many multiply-adds of the factorization (unknowns^3 / 3) the probe's power iteration and
+// factorization run one after the other: a parallel region costs more than it saves.
+constexpr double kParallelProbeMinWork = 5e7;
+
 // Largest eigenvalue of the symmetric positive semi-definite g (power iteration, Rayleigh quotient).
 double largest_eigenvalue(const Eigen::MatrixXd& g) {
   Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(g.rows(), 1.0, 2.0).normalized();
@@ -245,14 +251,32 @@ NormalEquationsProbe probe(const NormalEquations& ne, double rank_tolerance, con
   const double eps = std::numeric_limits<double>::epsilon();
   p.tolerance = rank_tolerance >= 0.0 ? rank_tolerance : static_cast<double>(std::max<long long>(ne.samples, k)) * eps;
   if (ne.samples == 0 || k == 0) return p;
-  p.s1 = std::sqrt(std::max(largest_eigenvalue(g), 0.0));
+  // The power iteration (60 passes over G, bound by memory) and the factorization are independent: with
+  // threads to spare they run side by side, each on one thread, so the results do not depend on it.
+  double lmax = 0.0;
+  std::shared_ptr<const Eigen::LLT<Eigen::MatrixXd>> llt;
+  std::exception_ptr failure;
+  const bool side_by_side = static_cast<double>(k) * k * k / 3.0 >= kParallelProbeMinWork && omp_get_max_threads() > 1 &&
+                            !(kernels && kernels->threaded);
+#pragma omp parallel sections num_threads(2) if (side_by_side)
+  {
+#pragma omp section
+    lmax = largest_eigenvalue(g);
+#pragma omp section
+    try {
+      llt = std::make_shared<const Eigen::LLT<Eigen::MatrixXd>>(cholesky(kernels, g));
+    } catch (...) {
+      failure = std::current_exception();
+    }
+  }
+  if (failure) std::rethrow_exception(failure);
+  p.s1 = std::sqrt(std::max(lmax, 0.0));
   if (!(p.s1 > 0.0)) {
     p.determinacy.unseen = static_cast<int>(k);
     return p;
   }
   for (Eigen::Index j = 0; j < k; ++j)
     if (!(std::sqrt(std::max(g(j, j), 0.0)) > p.tolerance * p.s1)) ++p.determinacy.unseen;
-  auto llt = std::make_shared<const Eigen::LLT<Eigen::MatrixXd>>(cholesky(kernels, g));
   if (llt->info() != Eigen::Success) return p;
   p.llt = llt;
   const double lmin = smallest_eigenvalue(*llt, k);
