@@ -12,32 +12,55 @@ namespace icobrdf {
 namespace {
 
 // Columns of G per block of the rank update: each block is a small triangle (Eigen's rank update) over a
-// rectangle below it (one matrix product of ~k x rows x kRankUpdateBlock), wide enough for the product to run
-// at its register-blocked speed.
+// rectangle below it (one matrix product of ~k x depth x kRankUpdateBlock), wide enough for the product to run
+// at its register-blocked speed (96: 68 GFLOP/s, 192: 81-93, 384: 79 on the 2-core AVX-512 Xeon of
+// benchmarks/RESULTS.md, "Dense kernels of the sample fits").
 constexpr Eigen::Index kRankUpdateBlock = 192;
-// Below this many multiply-adds (rows x k^2 / 2) the blocks run on one thread: a parallel region costs more.
+// Below this many multiply-adds (size^2 x depth / 2) the blocks run on one thread: a parallel region costs more.
 constexpr double kParallelRankUpdateMinWork = 2e7;
 
-// Eigen runs a symmetric rank update on one thread (only its general products are parallel). Blocks of
-// columns run on all threads instead; each entry of G is summed by one block, in an order fixed by the
-// blocking alone, so the result does not depend on the thread count.
-void eigen_rank_update(double* g, Eigen::Index k, const double* a, Eigen::Index rows, Eigen::Index lda) {
-  Eigen::Map<Eigen::MatrixXd> gm(g, k, k);
-  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> am(a, rows, k, Eigen::OuterStride<>(lda));
-  const Eigen::Index blocks = (k + kRankUpdateBlock - 1) / kRankUpdateBlock;
-  const bool parallel = 0.5 * static_cast<double>(rows) * static_cast<double>(k) * static_cast<double>(k) >= kParallelRankUpdateMinWork;
+// g += alpha b b^T on g's lower triangle (g: n x n, b: n x depth). Eigen runs a symmetric rank update on one
+// thread (only its general products are parallel), so blocks of columns run on all threads instead; each
+// entry of g is summed by one block, in an order fixed by the blocking alone, so the result does not depend
+// on the thread count. Called inside a parallel region, it runs on the calling thread.
+template <class G, class B>
+void lower_rank_update(G g, const B& b, double alpha) {
+  const Eigen::Index n = g.rows(), blocks = (n + kRankUpdateBlock - 1) / kRankUpdateBlock;
+  const bool parallel = 0.5 * static_cast<double>(n) * static_cast<double>(n) * static_cast<double>(b.cols()) >= kParallelRankUpdateMinWork;
   // Blocks in order, the largest (leftmost) first, one at a time per thread.
 #pragma omp parallel for schedule(dynamic, 1) if (parallel)
-  for (Eigen::Index b = 0; b < blocks; ++b) {
-    const Eigen::Index j0 = b * kRankUpdateBlock, w = std::min(kRankUpdateBlock, k - j0), below = k - j0 - w;
-    gm.block(j0, j0, w, w).selfadjointView<Eigen::Lower>().rankUpdate(am.middleCols(j0, w).transpose());
-    if (below > 0) gm.block(j0 + w, j0, below, w).noalias() += am.middleCols(j0 + w, below).transpose() * am.middleCols(j0, w);
+  for (Eigen::Index blk = 0; blk < blocks; ++blk) {
+    const Eigen::Index j0 = blk * kRankUpdateBlock, w = std::min(kRankUpdateBlock, n - j0), below = n - j0 - w;
+    g.block(j0, j0, w, w).template selfadjointView<Eigen::Lower>().rankUpdate(b.middleRows(j0, w), alpha);
+    if (below > 0) g.block(j0 + w, j0, below, w).noalias() += alpha * b.middleRows(j0 + w, below) * b.middleRows(j0, w).transpose();
   }
 }
 
-bool eigen_cholesky_lower(double* g, Eigen::Index k) {
+void eigen_rank_update(double* g, Eigen::Index k, const double* a, Eigen::Index rows, Eigen::Index lda) {
   Eigen::Map<Eigen::MatrixXd> gm(g, k, k);
-  return Eigen::internal::llt_inplace<double, Eigen::Lower>::blocked(gm) == -1;
+  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> am(a, rows, k, Eigen::OuterStride<>(lda));
+  lower_rank_update(Eigen::Ref<Eigen::MatrixXd>(gm), am.transpose(), 1.0);
+}
+
+// Columns per panel of the blocked Cholesky factorization: the panel is factored by Eigen (one thread), the
+// column below it solved against it, and the trailing matrix updated by lower_rank_update (all threads).
+constexpr Eigen::Index kCholeskyPanel = 192;
+
+// Right-looking blocked Cholesky, lower triangle in place. Eigen's own blocked LLT updates its trailing
+// matrix with its one-thread symmetric rank update; this one spreads that update, nearly all of the k^3 / 3
+// flops, over the threads. The order of every sum is fixed by the panel and block widths, not the threads.
+bool eigen_cholesky_lower(double* g, Eigen::Index k) {
+  Eigen::Map<Eigen::MatrixXd> a(g, k, k);
+  for (Eigen::Index j = 0; j < k; j += kCholeskyPanel) {
+    const Eigen::Index w = std::min(kCholeskyPanel, k - j), r = k - j - w;
+    auto a11 = a.block(j, j, w, w);
+    if (Eigen::internal::llt_inplace<double, Eigen::Lower>::blocked(a11) != -1) return false;
+    if (r == 0) break;
+    auto a21 = a.block(j + w, j, r, w);
+    a11.triangularView<Eigen::Lower>().transpose().solveInPlace<Eigen::OnTheRight>(a21);  // a21 L11^-T
+    lower_rank_update(Eigen::Ref<Eigen::MatrixXd>(a.block(j + w, j + w, r, r)), a21, -1.0);
+  }
+  return true;
 }
 
 // An Eigen::LLT whose factor was computed elsewhere: Eigen 3.4 keeps the factor, the L1 norm of the matrix
@@ -87,7 +110,11 @@ Eigen::LLT<Eigen::MatrixXd> cholesky(const DenseKernels* kernels, Eigen::MatrixX
   if (g.rows() != g.cols())
     throw ArgumentError("Cholesky factorization: the matrix is " + std::to_string(g.rows()) + " x " + std::to_string(g.cols()) +
                         ", expected square");
-  if (!kernels || kernels->cholesky_lower == eigen_dense_kernels().cholesky_lower) return Eigen::LLT<Eigen::MatrixXd>(g);
+  // Eigen's kernels: a matrix of one panel is Eigen's LLT itself (the blocked factorization would run the same
+  // arithmetic); a larger one takes the blocked factorization with the parallel trailing update.
+  if ((!kernels || kernels->cholesky_lower == eigen_dense_kernels().cholesky_lower) && g.rows() <= kCholeskyPanel)
+    return Eigen::LLT<Eigen::MatrixXd>(g);
+  if (!kernels) kernels = &eigen_dense_kernels();
   const double l1 = symmetric_l1_norm(g);
   const bool ok = g.rows() == 0 || kernels->cholesky_lower(g.data(), g.rows());
   return FactoredLlt(std::move(g), l1, ok);

@@ -2,9 +2,9 @@
 // The two dense kernels whose speed decides a large least-squares fit (icobrdf/core/sample_fit.hpp): the
 // symmetric rank-k update G += A^T A and the Cholesky factorization G = L L^T. icobrdf_core computes them with
 // Eigen: the update in blocks of columns on all threads (Eigen's own symmetric update runs on one thread),
-// the factorization on one thread. Measured at 2,211 unknowns on an idle 2-core AVX-512 Xeon: the update at
-// 80-93 GFLOP/s, about 0.5 of the measured FP64 peak of 166 (Eigen's own update 43.5), the factorization at
-// 25 (benchmarks/bench_dense_kernels). A layer linked with an optimized BLAS/LAPACK hands faster ones to the
+// the factorization blocked with that parallel update for its trailing matrix. Measured at 2,211 unknowns on
+// an idle 2-core AVX-512 Xeon: the update at 80-93 GFLOP/s, about 0.5 of the measured FP64 peak of 166-175
+// (Eigen's own update 43.5), the factorization at 39 (Eigen's LLT 25) (benchmarks/bench_dense_kernels). A layer linked with an optimized BLAS/LAPACK hands faster ones to the
 // fits through SampleFitOptions::kernels (icobrdf/io/blas_dense_kernels.hpp). Both kernels compute the same
 // mathematical result; they differ in the order of the sums, so results agree to rounding, not bitwise.
 #include <Eigen/Cholesky>

@@ -116,6 +116,31 @@ TEST(DenseKernels, AForeignFactorOfAnIndefiniteMatrixReportsNumericalIssue) {
   EXPECT_EQ(cholesky(nullptr, g).info(), Eigen::NumericalIssue);
 }
 
+// 500 unknowns: three panels of the blocked factorization (192, 192, 116) with the parallel trailing update,
+// against Eigen's LLT to the rounding of cond(G) ~ 1e2 (kFactorTol), and 1 thread = 2 threads bitwise.
+TEST(DenseKernels, EigensBlockedCholeskyOfSeveralPanels) {
+  const Eigen::MatrixXd a = random_matrix(1200, 500, 7);
+  const Eigen::MatrixXd g = a.transpose() * a;
+  const Eigen::LLT<Eigen::MatrixXd> ref(g);
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const Eigen::LLT<Eigen::MatrixXd> one = cholesky(nullptr, g);
+  omp_set_num_threads(std::max(2, saved));
+  const Eigen::LLT<Eigen::MatrixXd> many = cholesky(nullptr, g);
+  omp_set_num_threads(saved);
+  ASSERT_EQ(many.info(), Eigen::Success);
+  const Eigen::MatrixXd l_ref = ref.matrixL(), l_one = one.matrixL(), l_many = many.matrixL();
+  EXPECT_LT((l_ref - l_many).cwiseAbs().maxCoeff(), kFactorTol * l_ref.cwiseAbs().maxCoeff());
+  EXPECT_EQ((l_one - l_many).cwiseAbs().maxCoeff(), 0.0);
+  const Eigen::MatrixXd b = random_matrix(500, 2, 8);
+  EXPECT_LT((many.solve(b) - ref.solve(b)).norm(), kFactorTol * ref.solve(b).norm());
+  EXPECT_NEAR(many.rcond(), ref.rcond(), kFactorTol * ref.rcond() * 100);
+  // An indefinite matrix beyond the first panel is reported, not factored.
+  Eigen::MatrixXd bad = g;
+  bad(400, 400) = -1.0;
+  EXPECT_EQ(cholesky(nullptr, bad).info(), Eigen::NumericalIssue);
+}
+
 TEST(DenseKernels, EigensCholeskyIsEigensLlt) {
   const Eigen::MatrixXd a = random_matrix(50, 8, 5);
   const Eigen::MatrixXd g = a.transpose() * a;
