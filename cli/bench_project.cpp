@@ -7,8 +7,9 @@
 // it, and OpenBLAS on the kernel it picks for the CPU, timed in a child process (this program again, with
 // the hidden --blas-only) whose environment lacks OPENBLAS_CORETYPE and OPENBLAS_L2_SIZE, and, when that
 // kernel is narrower than the CPU's widest vectors (a CPU newer than the OpenBLAS build), again with
-// OPENBLAS_CORETYPE naming the widest kernel: the faster is the baseline. The parent's environment is not changed. A child that fails is reported, not fatal (old OpenBLAS builds can crash
-// without those variables on some CPUs).
+// OPENBLAS_CORETYPE naming the widest kernel: the faster is the baseline. The parent's environment is not
+// changed. A child that fails is reported, not fatal (old OpenBLAS builds can crash without those variables
+// on some CPUs).
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 #include <omp.h>
@@ -17,12 +18,10 @@
 #include <iostream>
 #include <memory>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "cli/bench_commands.hpp"
 #include "cli/option_checks.hpp"
-#include "icobrdf/core/build_isa.hpp"
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/simd_target.hpp"
 #include "icobrdf/io/blas_dense_kernels.hpp"
@@ -74,15 +73,6 @@ void run_blas_only(const BenchArgs& a, int threads) {
   std::cout << j.dump() << "\n";
 }
 
-// The OpenBLAS kernel name for the widest vectors this CPU runs, with their width: OpenBLAS falls back to a
-// generic kernel on a CPU newer than its build (Debian's 0.3.21 runs "Prescott", SSE3, on an Emerald Rapids Xeon),
-// so its own choice is not always its best. Empty when the CPU has neither AVX-512 nor AVX2 + FMA.
-std::pair<std::string, int> widest_blas_kernel() {
-  if (cpu_supports("avx512f") && cpu_supports("avx512bw") && cpu_supports("avx512dq") && cpu_supports("avx512vl")) return {"SkylakeX", 512};
-  if (cpu_supports("avx2") && cpu_supports("fma")) return {"Haswell", 256};
-  return {"", 0};
-}
-
 // One child run: this program again, --blas-only, without the OpenBLAS overrides and with `added` set.
 // Returns the JSON the report carries: seconds, core, agreement with our C; or {"error": ...}.
 nlohmann::json blas_child(const BenchArgs& a, int threads, const lab::ProjectionBenchmark& ours, const std::vector<std::string>& added,
@@ -121,9 +111,11 @@ nlohmann::json blas_child(const BenchArgs& a, int threads, const lab::Projection
 // under "other" so that both are reported.
 nlohmann::json best_blas(const BenchArgs& a, int threads, const lab::ProjectionBenchmark& ours) {
   nlohmann::json own = blas_child(a, threads, ours, {}, "without OPENBLAS_CORETYPE and OPENBLAS_L2_SIZE");
-  const auto [widest, widest_bits] = widest_blas_kernel();
-  if (own.contains("error") || widest.empty() || blas_kernel_vector_bits(own.at("core").get<std::string>()) >= widest_bits) return own;
-  nlohmann::json forced = blas_child(a, threads, ours, {"OPENBLAS_CORETYPE=" + widest}, "with OPENBLAS_CORETYPE=" + widest);
+  const BlasKernel widest = widest_blas_kernel_for_cpu();
+  if (own.contains("error") || widest.core.empty() || blas_kernel_vector_bits(own.at("core").get<std::string>()) >= widest.vector_bits)
+    return own;
+  nlohmann::json forced =
+      blas_child(a, threads, ours, {"OPENBLAS_CORETYPE=" + widest.core}, "with OPENBLAS_CORETYPE=" + widest.core);
   if (forced.contains("error") || forced.at("seconds").get<double>() >= own.at("seconds").get<double>()) {
     own["other"] = forced;
     return own;

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <iostream>
 #include <memory>
+#include <string>
 
 #include "cli/commands.hpp"
 #include "cli/distributed_run.hpp"
@@ -111,6 +112,9 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
   // Scattered-sample fits (MERL, CSV): the least-squares figures, so rank-deficient data is visible.
   const CheckedSampleFit* cf = last_checked_sample_fit(*source);
   const SampleFitResult* sf = cf ? &cf->fit : nullptr;
+  // The dense kernels solved the normal equations, if those ran (the QR path uses none).
+  const std::string dense_kernels =
+      sf && std::string(sf->solver) == "normal equations" ? fit_kernel_choice().reason : std::string("none");
   const std::int64_t missing = merl_missing_samples(*source);
   const bool grid_fit = s.level >= 0;  // the tessellation took part in the fit (not samples or coefficients)
   if (!grid_fit) {
@@ -129,7 +133,7 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
                        {"rank_threshold", sf->rank_threshold},
                        {"condition_of_kept_part", sf->condition},
                        {"solver", sf->solver},
-                       {"dense_kernels", std::string(sf->solver) == "normal equations" ? fit_kernel_choice().reason : std::string("none")},
+                       {"dense_kernels", dense_kernels},
                        {"tikhonov", sf->tikhonov},
                        {"tikhonov_choice", cf->tikhonov_choice},
                        {"order_choice", cf->order_choice},
@@ -171,7 +175,7 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
                              "condition {:.3g}, residual RMS {:.3g} 1/sr (worst channel), {}\n",
                              sf->samples, sf->effective_rank, sf->unknowns, sf->null_space_dimension, sf->unseen_modes,
                              sf->condition, worst, sf->solver);
-    if (std::string(sf->solver) == "normal equations") std::cout << "  dense kernels: " << fit_kernel_choice().reason << "\n";
+    if (dense_kernels != "none") std::cout << "  dense kernels: " << dense_kernels << "\n";
     std::cout << fmt::format("  order {} ({}), Tikhonov lambda {:.3g} ({}), {}-fold CV RMS {:.3g} 1/sr\n", s.order,
                              cf->order_choice, sf->tikhonov, cf->tikhonov_choice, cf->cv_folds, cf->cv_rms);
     for (const auto& n : cf->notes) std::cout << "  " << n << "\n";

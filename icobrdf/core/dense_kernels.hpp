@@ -20,8 +20,9 @@ struct DenseKernels {
   // Overwrites the lower triangle of g (k x k, column-major) with L, G = L L^T, reading only the lower
   // triangle; returns false when G is not (numerically) positive definite.
   bool (*cholesky_lower)(double* g, Eigen::Index k) = nullptr;
-  // True when the kernels spread one call over all cores themselves: callers then call them from one thread
-  // at a time instead of running several calls in parallel threads.
+  // True when the kernels run a call on threads of their own (OpenBLAS's), which calls from several threads at
+  // once would oversubscribe: callers then call them from one thread at a time. Eigen's kernels use OpenMP,
+  // which runs a call made inside a parallel region on the calling thread, so they may be called in parallel.
   bool threaded = false;
 };
 

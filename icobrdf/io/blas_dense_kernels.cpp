@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "icobrdf/core/build_isa.hpp"
 #include "icobrdf/core/error.hpp"
 
 extern "C" void dpotrf_(const char* uplo, const blasint* n, double* a, const blasint* lda, blasint* info);
@@ -61,6 +62,12 @@ int blas_kernel_vector_bits(std::string_view core_name) {
                         "piledriver", "steamroller"})
     if (n == c) return 128;
   return 0;
+}
+
+BlasKernel widest_blas_kernel_for_cpu() {
+  if (cpu_supports("avx512f") && cpu_supports("avx512bw") && cpu_supports("avx512dq") && cpu_supports("avx512vl")) return {"SkylakeX", 512};
+  if (cpu_supports("avx2") && cpu_supports("fma")) return {"Haswell", 256};
+  return {};
 }
 
 int eigen_vector_bits() {

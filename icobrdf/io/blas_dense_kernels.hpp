@@ -8,8 +8,9 @@
 // Which set a fit uses: fit_dense_kernels(). OpenBLAS picks its kernel when the library loads, from the CPU
 // it recognizes (or OPENBLAS_CORETYPE). A CPU newer than the OpenBLAS build gets a generic fallback: Debian's
 // OpenBLAS 0.3.21 runs its SSE3 "Prescott" kernel on an Emerald Rapids Xeon, where dsyrk at 2,211 unknowns
-// measured 14 GFLOP/s on 2 threads against Eigen's AVX-512 code at 46 and OpenBLAS's own SkylakeX kernel at 72
-// (benchmarks/RESULTS.md, "Dense kernels of the sample fits"). So OpenBLAS serves the fits only when its kernel
+// measured 15-26 GFLOP/s on 2 threads against 80-93 for Eigen's kernel (icobrdf/core/dense_kernels.hpp) and 61-72
+// for OpenBLAS's own SkylakeX kernel under load (benchmarks/RESULTS.md, "Dense kernels of the sample fits").
+// So OpenBLAS serves the fits only when its kernel
 // uses vectors at least as wide as Eigen's in this build; otherwise Eigen's kernels do. The choice depends
 // only on the build, the CPU and the environment, never on a timing, so fits stay reproducible on a machine.
 #include <string>
@@ -26,6 +27,15 @@ const DenseKernels& blas_dense_kernels();
 // (Haswell, Zen, Excavator), 128 for the SSE and first-generation AVX ones (Prescott ... Sandybridge,
 // Bulldozer, Piledriver, Steamroller: no FMA3 in their DGEMM kernels), 0 for a name not known here.
 int blas_kernel_vector_bits(std::string_view core_name);
+
+// The OpenBLAS core name whose DGEMM kernel uses the widest vectors this CPU runs, with that width: SkylakeX
+// (512) with AVX-512 F/BW/DQ/VL, Haswell (256) with AVX2 + FMA, {"", 0} otherwise. For naming in
+// OPENBLAS_CORETYPE when OpenBLAS's own choice is a narrower fallback.
+struct BlasKernel {
+  std::string core;
+  int vector_bits = 0;
+};
+BlasKernel widest_blas_kernel_for_cpu();
 
 // The vector width (bits) Eigen's matrix products use in this build (its compile-time ISA): 512, 256 or 128.
 int eigen_vector_bits();
