@@ -224,7 +224,7 @@ void add_project(CLI::App& bench) {
   project->callback([a] { run_project(*a); });
 }
 
-const BenchRegistrar kRegistrar("project", add_project);
+const BenchRegistrar kBenchProjectRegistrar("project", add_project);
 
 }  // namespace
 }  // namespace icobrdf::cli

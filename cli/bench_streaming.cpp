@@ -166,7 +166,7 @@ void add_streaming(CLI::App& bench) {
   });
 }
 
-const BenchRegistrar kRegistrar("streaming", add_streaming);
+const BenchRegistrar kBenchStreamingRegistrar("streaming", add_streaming);
 
 }  // namespace
 }  // namespace icobrdf::cli

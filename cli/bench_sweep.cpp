@@ -180,7 +180,7 @@ void add_sweep(CLI::App& bench) {
   cmd->callback([a] { run_sweep(*a); });
 }
 
-const BenchRegistrar kRegistrar("sweep", add_sweep);
+const BenchRegistrar kBenchSweepRegistrar("sweep", add_sweep);
 
 }  // namespace
 }  // namespace icobrdf::cli

@@ -209,7 +209,7 @@ void add_bank_command(CLI::App& app) {
   ex->callback([ex_spec, ex_out] { extract_bank_material(*ex_spec, *ex_out); });
 }
 
-const CommandRegistrar kRegistrar("bank", add_bank_command);
+const CommandRegistrar kCmdBankRegistrar("bank", add_bank_command);
 
 }  // namespace
 }  // namespace icobrdf::cli

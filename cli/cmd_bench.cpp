@@ -12,7 +12,7 @@ void add_bench_command(CLI::App& app) {
   for (auto& [name, adder] : bench_registry()) adder(*bench);
 }
 
-const CommandRegistrar kRegistrar("bench", add_bench_command);
+const CommandRegistrar kCmdBenchRegistrar("bench", add_bench_command);
 
 }  // namespace
 }  // namespace icobrdf::cli

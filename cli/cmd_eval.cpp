@@ -58,7 +58,7 @@ void add_eval_command(CLI::App& app) {
   cmd->callback([opts] { run_eval(*opts); });
 }
 
-const CommandRegistrar kRegistrar("eval", add_eval_command);
+const CommandRegistrar kCmdEvalRegistrar("eval", add_eval_command);
 
 }  // namespace
 }  // namespace icobrdf::cli

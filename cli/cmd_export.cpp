@@ -111,7 +111,7 @@ void add_export_command(CLI::App& app) {
   cmd->callback([a] { run_export(*a); });
 }
 
-const CommandRegistrar kRegistrar("export", add_export_command);
+const CommandRegistrar kCmdExportRegistrar("export", add_export_command);
 
 }  // namespace
 }  // namespace icobrdf::cli

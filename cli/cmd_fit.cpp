@@ -222,7 +222,7 @@ void add_fit_command(CLI::App& app) {
   cmd->callback([a] { run_distributed("fit", 1, [a](const DistributedRun& run) { run_fit(*a, run); }); });
 }
 
-const CommandRegistrar kRegistrar("fit", add_fit_command);
+const CommandRegistrar kCmdFitRegistrar("fit", add_fit_command);
 
 }  // namespace
 }  // namespace icobrdf::cli

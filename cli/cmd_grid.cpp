@@ -82,7 +82,7 @@ void add_grid_command(CLI::App& app) {
   cmd->callback([opts] { run_grid(*opts); });
 }
 
-const CommandRegistrar kRegistrar("grid", add_grid_command);
+const CommandRegistrar kCmdGridRegistrar("grid", add_grid_command);
 
 }  // namespace
 }  // namespace icobrdf::cli

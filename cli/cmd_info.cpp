@@ -39,7 +39,7 @@ void add_info_command(CLI::App& app) {
   });
 }
 
-const CommandRegistrar kRegistrar("info", add_info_command);
+const CommandRegistrar kCmdInfoRegistrar("info", add_info_command);
 
 }  // namespace
 }  // namespace icobrdf::cli

@@ -81,7 +81,7 @@ void add_models_command(CLI::App& app) {
   cmd->callback([json] { run_models(*json); });
 }
 
-const CommandRegistrar kRegistrar("models", add_models_command);
+const CommandRegistrar kCmdModelsRegistrar("models", add_models_command);
 
 }  // namespace
 }  // namespace icobrdf::cli

@@ -122,7 +122,7 @@ void add_modes_command(CLI::App& app) {
   cmd->callback([opts] { run_modes(*opts); });
 }
 
-const CommandRegistrar kRegistrar("modes", add_modes_command);
+const CommandRegistrar kCmdModesRegistrar("modes", add_modes_command);
 
 }  // namespace
 }  // namespace icobrdf::cli

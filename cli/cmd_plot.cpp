@@ -222,7 +222,7 @@ void add_plot_command(CLI::App& app) {
   add_sphere_command(plot, a);
 }
 
-const CommandRegistrar kRegistrar("plot", add_plot_command);
+const CommandRegistrar kCmdPlotRegistrar("plot", add_plot_command);
 
 }  // namespace
 }  // namespace icobrdf::cli

@@ -71,7 +71,7 @@ void add_sample_command(CLI::App& app) {
   cmd->callback([opts] { run_sample(*opts); });
 }
 
-const CommandRegistrar kRegistrar("sample", add_sample_command);
+const CommandRegistrar kCmdSampleRegistrar("sample", add_sample_command);
 
 }  // namespace
 }  // namespace icobrdf::cli

@@ -122,7 +122,7 @@ void add_spectrum_command(CLI::App& app) {
   cmd->callback([a] { run_spectrum(*a); });
 }
 
-const CommandRegistrar kRegistrar("spectrum", add_spectrum_command);
+const CommandRegistrar kCmdSpectrumRegistrar("spectrum", add_spectrum_command);
 
 }  // namespace
 }  // namespace icobrdf::cli

@@ -18,7 +18,7 @@ struct Entry {
   double w;
 };
 
-void check_order(int order, const char* where) {
+void check_isotropic_order(int order, const char* where) {
   if (order < 0 || order > kMaxZernikeOrder)
     throw ArgumentError(std::string(where) + ": order must be in [0, " + std::to_string(kMaxZernikeOrder) +
                         "], got " + std::to_string(order));
@@ -66,14 +66,14 @@ int modes_with_n(int n) {
 }  // namespace
 
 int isotropic_mode_count(int order) {
-  check_order(order, "isotropic_mode_count");
+  check_isotropic_order(order, "isotropic_mode_count");
   int c = 0;
   for (int n = 0; n <= order; ++n) c += modes_with_n(n);
   return c;
 }
 
 std::vector<IsotropicMode> isotropic_modes(int order) {
-  check_order(order, "isotropic_modes");
+  check_isotropic_order(order, "isotropic_modes");
   std::vector<IsotropicMode> modes;
   for (int n = 0; n <= order; ++n)
     for (int m = n % 2; m <= n; m += 2)

@@ -20,6 +20,7 @@
 #include "icobrdf/core/helmholtz_modes.hpp"
 #include "icobrdf/core/hemisphere_basis.hpp"
 #include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/lanczos.hpp"
 
 namespace icobrdf {
 
@@ -42,9 +43,14 @@ Eigen::Index chunk_rows(int unknowns) { return std::max<Eigen::Index>(64, 4'000'
 Eigen::Index block_rows(int unknowns) { return std::clamp<Eigen::Index>(1'000'000 / std::max(unknowns, 1), 64, 4096); }
 
 
-// Power-iteration steps for the extreme eigenvalues of G (Rayleigh quotients of a symmetric matrix converge
-// quadratically in the angle; the condition figure needs two digits).
-constexpr int kPowerIterations = 60;
+// The extreme eigenvalues of G by the Lanczos process (icobrdf/core/lanczos.hpp): stopped when the Ritz
+// pair's residual is below kConditionEigenTolerance of the Ritz value, so each eigenvalue, and the condition
+// figure s_1 / sqrt(lambda_min), are within that relative error (the figure is read to two digits and
+// compared with limits of 1e6 and more). kConditionMaxSteps bounds the applications of G (or of two triangular
+// solves) when the spectrum's ends are tightly clustered; the Ritz value then still bounds its eigenvalue
+// from the inside.
+constexpr double kConditionEigenTolerance = 1e-4;
+constexpr int kConditionMaxSteps = 300;
 // Columns per block of inverse_diagonal, and the work (multiply-adds) below which it runs on one thread.
 constexpr Eigen::Index kInverseBlock = 128;
 constexpr double kParallelInverseMinWork = 5e7;
@@ -180,33 +186,24 @@ int assembly_threads(int unknowns, size_t rows) {
   return std::max(1, std::min<int>(omp_get_max_threads(), static_cast<int>(rows / 64) + 1));
 }
 
-// Below this many multiply-adds of the factorization (unknowns^3 / 3) the probe's power iteration and
+// Below this many multiply-adds of the factorization (unknowns^3 / 3) the probe's largest-eigenvalue iteration and
 // factorization run one after the other: a parallel region costs more than it saves.
 constexpr double kParallelProbeMinWork = 5e7;
 
-// Largest eigenvalue of the symmetric positive semi-definite g (power iteration, Rayleigh quotient).
+// Largest eigenvalue of the symmetric positive semi-definite g (Lanczos on G).
 double largest_eigenvalue(const Eigen::MatrixXd& g) {
-  Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(g.rows(), 1.0, 2.0).normalized();
-  double rq = 0.0;
-  for (int it = 0; it < kPowerIterations; ++it) {
-    const Eigen::VectorXd u = g.selfadjointView<Eigen::Lower>() * v;
-    rq = v.dot(u);
-    const double un = u.norm();
-    if (un == 0.0) return 0.0;
-    v = u / un;
-  }
-  return rq;
+  const SymmetricOperator apply = [&g](const Eigen::VectorXd& v, Eigen::VectorXd& out) {
+    out.noalias() = g.selfadjointView<Eigen::Lower>() * v;
+  };
+  return lanczos_largest_eigenvalue(apply, Eigen::VectorXd::LinSpaced(g.rows(), 1.0, 2.0), kConditionEigenTolerance,
+                                    kConditionMaxSteps).value;
 }
 
-// Smallest eigenvalue of g from its Cholesky factor (inverse iteration, Rayleigh quotient of g^-1).
+// Smallest eigenvalue of g from its Cholesky factor (Lanczos on G^-1: two triangular solves a step).
 double smallest_eigenvalue(const Eigen::LLT<Eigen::MatrixXd>& llt, Eigen::Index k) {
-  Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(k, 2.0, 1.0).normalized();
-  double rq = 0.0;
-  for (int it = 0; it < kPowerIterations; ++it) {
-    const Eigen::VectorXd u = llt.solve(v);
-    rq = v.dot(u);
-    v = u.normalized();
-  }
+  const SymmetricOperator apply = [&llt](const Eigen::VectorXd& v, Eigen::VectorXd& out) { out = llt.solve(v); };
+  const double rq = lanczos_largest_eigenvalue(apply, Eigen::VectorXd::LinSpaced(k, 2.0, 1.0), kConditionEigenTolerance,
+                                               kConditionMaxSteps).value;
   return rq > 0.0 ? 1.0 / rq : 0.0;
 }
 
@@ -251,7 +248,7 @@ NormalEquationsProbe probe(const NormalEquations& ne, double rank_tolerance, con
   const double eps = std::numeric_limits<double>::epsilon();
   p.tolerance = rank_tolerance >= 0.0 ? rank_tolerance : static_cast<double>(std::max<long long>(ne.samples, k)) * eps;
   if (ne.samples == 0 || k == 0) return p;
-  // The power iteration (60 passes over G, bound by memory) and the factorization are independent: with
+  // The largest eigenvalue (Lanczos passes over G, bound by memory) and the factorization are independent: with
   // threads to spare they run side by side, each on one thread, so the results do not depend on it.
   double lmax = 0.0;
   std::shared_ptr<const Eigen::LLT<Eigen::MatrixXd>> llt;

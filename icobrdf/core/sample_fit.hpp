@@ -123,7 +123,8 @@ NormalEquations assemble_normal_equations(int order, bool isotropic, const RowMa
 
 // What the normal equations say about determinacy before any solve: modes with column norm <= tol s_1
 // (tol: the rank tolerance, negative for the default), whether G has a Cholesky factor, and then
-// cond(W^(1/2) A) (power and inverse iteration; NaN without a factor).
+// cond(W^(1/2) A) = sqrt(lambda_max(G) / lambda_min(G)) (Lanczos on G and on G^-1 through the factor, each
+// eigenvalue to 1e-4 relative, icobrdf/core/lanczos.hpp; NaN without a factor).
 struct NormalEquationsDeterminacy {
   int unseen = 0;
   bool factored = false;

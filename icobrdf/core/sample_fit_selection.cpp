@@ -28,7 +28,7 @@ std::string fmt_g(double x, int digits = 3) {
   return buf;
 }
 
-Eigen::MatrixXd modes_at(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr) {
+Eigen::MatrixXd selection_modes_at(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr) {
   return isotropic ? isotropic_modes_eval(order, wi, wr) : helmholtz_modes_eval(order, wi, wr);
 }
 
@@ -220,7 +220,7 @@ double max_abs_over_domain(const SampleFitResult& r) {
       wi.row(a * n + b) = lat.row(a);
       wr.row(a * n + b) = lat.row(b);
     }
-  return (modes_at(r.order, r.isotropic, wi, wr) * r.modes).cwiseAbs().maxCoeff();
+  return (selection_modes_at(r.order, r.isotropic, wi, wr) * r.modes).cwiseAbs().maxCoeff();
 }
 
 }  // namespace

@@ -15,7 +15,7 @@ namespace {
 
 inline int row_start(int n) { return (n + 1) * (n + 1) / 4; }
 
-void check_order(int order, const char* where) {
+void check_zernike_order(int order, const char* where) {
   if (order < 0 || order > kMaxZernikeOrder)
     throw ArgumentError(std::string(where) + ": order must be in [0, " + std::to_string(kMaxZernikeOrder) +
                         "], got " + std::to_string(order));
@@ -36,7 +36,7 @@ double checked_rho(double rho, const char* where) {
 }  // namespace
 
 int zernike_radial_count(int order) {
-  check_order(order, "zernike_radial_count");
+  check_zernike_order(order, "zernike_radial_count");
   return row_start(order + 1);
 }
 
@@ -46,7 +46,7 @@ int zernike_radial_index(int n, int l) {
 }
 
 void zernike_radial_all(int order, double rho, double* out) {
-  check_order(order, "zernike_radial_all");
+  check_zernike_order(order, "zernike_radial_all");
   rho = checked_rho(rho, "zernike_radial_all");
   out[0] = 1.0;  // R_0^0
   if (order == 0) return;
@@ -72,7 +72,7 @@ void zernike_radial_all(int order, double rho, double* out) {
 
 double zernike_radial(int n, int l, double rho) {
   check_pair(n, l, "zernike_radial");
-  check_order(n, "zernike_radial");
+  check_zernike_order(n, "zernike_radial");
   std::vector<double> all(static_cast<size_t>(row_start(n + 1)));
   zernike_radial_all(n, rho, all.data());
   return all[static_cast<size_t>(row_start(n) + (l - n % 2) / 2)];

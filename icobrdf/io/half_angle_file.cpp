@@ -17,7 +17,7 @@ using h5::ShapePattern;
 // Largest node count along one axis and largest rank accepted from a file: sanity bounds against overflow of
 // the products below (the dataset size limit of the read applies first in practice).
 constexpr std::int64_t kMaxAxisNodes = 1 << 16;
-constexpr std::int64_t kMaxRank = 4096;
+constexpr std::int64_t kMaxFactorRank = 4096;
 
 const char* const kCoordinates =
     "h = normalize(w_i + w_r) with angles (theta_h, phi_h); d = w_i in the frame where h is the pole, "
@@ -168,7 +168,7 @@ HalfAngleFactors read_half_angle(const h5::Group& material, int channels, const 
   f.n_phi_h = static_cast<int>(g.attr_int("n_phi_h", 1, kMaxAxisNodes));
   f.n_theta_d = static_cast<int>(g.attr_int("n_theta_d", 2, kMaxAxisNodes));
   f.n_phi_d = static_cast<int>(g.attr_int("n_phi_d", 1, kMaxAxisNodes));
-  f.rank = static_cast<int>(g.attr_int("rank", 1, kMaxRank));
+  f.rank = static_cast<int>(g.attr_int("rank", 1, kMaxFactorRank));
   const double floor = g.attr_double("cosine_floor");
   f.u = read_factor(g, "u", channels, std::int64_t{f.n_t} * f.n_phi_h, f.rank, lim);
   f.v = read_factor(g, "v", channels, std::int64_t{f.n_theta_d} * f.n_phi_d, f.rank, lim);

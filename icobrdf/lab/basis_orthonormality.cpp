@@ -20,12 +20,12 @@
 namespace icobrdf::lab {
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();  // 2^-52
+constexpr double kDoubleEps = std::numeric_limits<double>::epsilon();  // 2^-52
 
 }  // namespace
 
 double ortho_bound(int order, int rings, int n_phi) {
-  return 2.0 * std::sqrt(2.0) * kZernikeAbsError * std::sqrt(order + 1.0) + (rings + n_phi) * kEps;
+  return 2.0 * std::sqrt(2.0) * kZernikeAbsError * std::sqrt(order + 1.0) + (rings + n_phi) * kDoubleEps;
 }
 
 OrthoResult orthonormality(int order, bool full) {

@@ -37,7 +37,7 @@ std::uint64_t point_key(int f, const HemiLattice::Point& p) {
          static_cast<std::uint64_t>(p[2]);
 }
 
-std::array<Eigen::Vector3d, 3> corners_of(int f) {
+std::array<Eigen::Vector3d, 3> mesh_corners_of(int f) {
   const auto& v = icosahedron_vertices();
   const auto& h = hemi_icosahedron_faces()[f];
   return {v[h.v[0]], v[h.v[1]], v[h.v[2]]};
@@ -83,8 +83,8 @@ std::unique_ptr<TessellationMesh> build_tessellation_mesh(const HemiLattice& lat
   std::vector<SnyderProjection> snyder;
   std::vector<GnomonicProjection> gnomonic;
   for (int f = 0; f < 12; ++f) {
-    if (equal_area) snyder.emplace_back(corners_of(f));
-    else gnomonic.emplace_back(corners_of(f));
+    if (equal_area) snyder.emplace_back(mesh_corners_of(f));
+    else gnomonic.emplace_back(mesh_corners_of(f));
   }
   const int nv = static_cast<int>(rep.size());
   std::vector<Eigen::Vector3d> pos(nv);
@@ -98,7 +98,7 @@ std::unique_ptr<TessellationMesh> build_tessellation_mesh(const HemiLattice& lat
         corner = k;
       }
     if (nz == 1) {
-      pos[i] = corners_of(f)[corner];
+      pos[i] = mesh_corners_of(f)[corner];
       continue;
     }
     const Eigen::Vector3d l(p[0] / s, p[1] / s, p[2] / s);

@@ -11,7 +11,6 @@
 namespace icobrdf::plot {
 namespace {
 
-constexpr const char* kFontFace = "DejaVu Sans";
 
 std::uint32_t pack(const Rgb& c) {
   auto byte = [](double v) { return static_cast<std::uint32_t>(std::lround(std::clamp(v, 0.0, 1.0) * 255.0)); };

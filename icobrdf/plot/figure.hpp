@@ -17,6 +17,9 @@ typedef struct _cairo_surface cairo_surface_t;
 
 namespace icobrdf::plot {
 
+// The typeface of every picture's text (fontconfig picks the nearest installed face).
+inline constexpr const char* kFontFace = "DejaVu Sans";
+
 // A raster of colours, row-major, row 0 at the top. Pixels with `mask` 0 are left transparent when placed.
 struct Raster {
   int width = 0, height = 0;

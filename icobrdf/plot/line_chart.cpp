@@ -7,11 +7,11 @@
 #include <cmath>
 
 #include "icobrdf/core/error.hpp"
+#include "icobrdf/plot/figure.hpp"
 
 namespace icobrdf::plot {
 namespace {
 
-constexpr const char* kFontFace = "DejaVu Sans";
 constexpr double kTitleSize = 15.0, kLabelSize = 13.0, kTickSize = 11.5, kLegendSize = 12.0, kNoteSize = 11.0;
 constexpr double kMarkerRadius = 3.6;
 // Relative slack when listing ticks, so that an end of the range equal to a tick up to rounding keeps it.

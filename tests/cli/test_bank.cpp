@@ -5,12 +5,13 @@
 #include <fstream>
 
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 using icobrdf::test::run_cli;
 using icobrdf::test::TempDir;
 using nlohmann::json;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // A BRDF in the span of the basis is recovered to rounding: relative errors of sums over 4096 pairs.
 constexpr double kRoundingError = 1e-12;
@@ -58,8 +59,6 @@ const json& material(const json& report, const std::string& name) {
     if (m["name"] == name) return m;
   throw std::runtime_error("no material " + name);
 }
-
-}  // namespace
 
 TEST(CliBank, BuildsTheSmallestSufficientModelPerMaterial) {
   TempDir d;
@@ -201,3 +200,5 @@ TEST(CliBank, SceneErrorsNameFileMaterialAndKey) {
     EXPECT_FALSE(exists(d.file("b.h5")));
   }
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -11,11 +11,12 @@
 #include <vector>
 
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 using icobrdf::test::run_cli;
 using icobrdf::test::TempDir;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // The builder measures its error on its own 4096 held-out pairs; an independent draw of 20000 pairs estimates
 // the same integral with a sampling error of its own. For lobes a few degrees wide only ~1% of uniform pairs

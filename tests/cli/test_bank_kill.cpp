@@ -17,6 +17,7 @@
 
 #include "tests/cli/bank_identity.hpp"
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 using icobrdf::test::banks_identical;
 using icobrdf::test::run_cli;
@@ -24,7 +25,7 @@ using icobrdf::test::slurp;
 using icobrdf::test::TempDir;
 using nlohmann::json;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // At least 50 kills, so that the delays drawn below land in every phase of a build and of its write.
 constexpr int kKills = 50;
@@ -101,8 +102,6 @@ bool build_and_kill(const std::string& scene, const std::string& bank, std::chro
 
 bool exists(const std::string& path) { return access(path.c_str(), F_OK) == 0; }
 
-}  // namespace
-
 TEST(BankKill, SigkillNeverLeavesAPartialBankAndResumeGivesTheUninterruptedBank) {
   // One thread: the build is fast and its duration steady on a busy machine; the file's content does not
   // depend on it (test_bank_threads.cpp).
@@ -153,3 +152,5 @@ TEST(BankKill, SigkillNeverLeavesAPartialBankAndResumeGivesTheUninterruptedBank)
   EXPECT_GT(absent + old_kept, 0) << "no kill landed before the bank was written";
   EXPECT_GT(resumed_materials, 0) << "no kill landed between two materials";
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -14,12 +14,13 @@
 #include <vector>
 
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 using icobrdf::test::run_cli;
 using icobrdf::test::TempDir;
 using nlohmann::json;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Sums of a few hundred terms and a 1 x 1 least-squares solve: rounding far below this.
 constexpr double kRounding = 1e-12;
@@ -79,8 +80,6 @@ std::string pairs_csv(const TempDir& d) {
   std::ofstream(p) << "theta_i,phi_i,theta_r,phi_r\n0,0,0,0\n35,10,60,200\n80,300,15,45\n";
   return p;
 }
-
-}  // namespace
 
 TEST(MeasuredBank, CsvSamplesAreFittedOnTheirTrainingPartAndJudgedOnTheHeldOutPart) {
   TempDir d;
@@ -181,3 +180,5 @@ TEST(MeasuredBank, MerlTableOfALambertianIsRecoveredAndJudgedOnHeldOutBins) {
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(row[static_cast<size_t>(c)] * M_PI, rho[c], kTableRounding) << header;
   }
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -15,11 +15,12 @@
 #include <vector>
 
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 using icobrdf::test::run_cli;
 using icobrdf::test::TempDir;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 constexpr double kTarget = 0.01;
 // The builder's figure is the error at the table's samples (its fit leaves up to half the target there);
@@ -72,8 +73,6 @@ std::vector<double> eval_column(const std::string& source, const std::string& pa
   return v;
 }
 
-}  // namespace
-
 TEST(MerlBank, HalfAngleLobeOnTheTablesNodesBeatsTheTablesLookup) {
   TempDir d;
   const std::string table = d.file("lobe.binary");
@@ -124,3 +123,5 @@ TEST(MerlBank, HalfAngleLobeOnTheTablesNodesBeatsTheTablesLookup) {
   // closer to the function than the table itself.
   EXPECT_LT(e_lobe, e_lookup) << "lobe " << e_lobe << ", table lookup " << e_lookup;
 }
+
+}  // namespace ICOBRDF_UNITY_ID

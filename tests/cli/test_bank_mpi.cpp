@@ -13,6 +13,7 @@
 
 #include "tests/cli/bank_identity.hpp"
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 using icobrdf::test::banks_identical;
 using icobrdf::test::cli_command;
@@ -22,7 +23,7 @@ using icobrdf::test::run_shell;
 using icobrdf::test::TempDir;
 using nlohmann::json;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Eight cheap materials (a second or less in all on one thread): the identity scene (isotropic and
 // anisotropic, pruned and not, levels 2 and 3) and four more, a delta part among them; enough that rank 0's
@@ -72,8 +73,6 @@ class BankMpi : public ::testing::Test {
     setenv("SOURCE_DATE_EPOCH", "1700000000", 1);  // fixes the bank's `created` attribute
   }
 };
-
-}  // namespace
 
 TEST_F(BankMpi, TwoRanksGiveTheOneProcessBankAndBothRanksWork) {
   TempDir d;
@@ -136,3 +135,5 @@ TEST_F(BankMpi, AFailingMaterialFailsTheBuildNamingItsRankAndResumeFinishesIt) {
   ASSERT_EQ(a.exit_code, 0) << a.err;
   EXPECT_TRUE(banks_identical(one, bank));
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -11,12 +11,13 @@
 #include <fstream>
 
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 using icobrdf::test::run_cli;
 using icobrdf::test::TempDir;
 using nlohmann::json;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Four materials, each a few hundred milliseconds of cell-averaged sampling at level 4, so a signal sent when
 // the second starts arrives while the build is running.
@@ -103,8 +104,8 @@ void expect_interrupted_then_resumed(int sig, int expected_code) {
   for (const char* name : {"a", "b", "c", "d"}) EXPECT_EQ(spectrum_of(bank, name)["coefficients"], spectrum_of(ref, name)["coefficients"]) << name;
 }
 
-}  // namespace
-
 TEST(BankSignals, SigtermKeepsFinishedMaterialsAndResumeCompletesTheSameBank) { expect_interrupted_then_resumed(SIGTERM, 143); }
 
 TEST(BankSignals, SigintExitsWith130) { expect_interrupted_then_resumed(SIGINT, 130); }
+
+}  // namespace ICOBRDF_UNITY_ID

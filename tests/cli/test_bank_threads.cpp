@@ -8,12 +8,13 @@
 
 #include "tests/cli/bank_identity.hpp"
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 using icobrdf::test::banks_identical;
 using icobrdf::test::run_cli;
 using icobrdf::test::TempDir;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 void expect_thread_count_independent(bool float32) {
   setenv("SOURCE_DATE_EPOCH", "1700000000", 1);  // fixes the bank's `created` attribute
@@ -30,8 +31,8 @@ void expect_thread_count_independent(bool float32) {
   EXPECT_TRUE(banks_identical(one, two));
 }
 
-}  // namespace
-
 TEST(BankThreads, OneAndTwoThreadsGiveIdenticalBanksFloat32Luts) { expect_thread_count_independent(true); }
 
 TEST(BankThreads, OneAndTwoThreadsGiveIdenticalBanksFloat64Luts) { expect_thread_count_independent(false); }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -7,10 +7,11 @@
 #include <string>
 
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 using icobrdf::test::run_cli;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // The first "flags" line of /proc/cpuinfo (the CPU's instruction-set extensions), or "" where there is none.
 std::string cpu_flags() {
@@ -28,8 +29,6 @@ bool is_pre_avx2_core(const std::string& c) {
     if (c == n) return true;
   return false;
 }
-
-}  // namespace
 
 // Both paths sum the same products of ~170 terms in different orders: agreement to 1e-12 relative.
 constexpr double kSameProductTol = 1e-12;
@@ -135,3 +134,5 @@ TEST(CliBench, UnsupportedOrderIsRefused) {
   const auto r = run_cli({"bench", "project", "--level", "1", "--order", "8", "--json"});
   EXPECT_EQ(r.exit_code, 4) << r.err;
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -8,11 +8,12 @@
 #include <filesystem>
 
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 using icobrdf::test::run_cli;
 using icobrdf::test::TempDir;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // The polar-Gauss rule with r rings and 4r azimuths integrates every K_a K_b of order <= 2r - 1 exactly, so
 // its Gram matrix is I up to the rounding of sums of ~700 products bounded by (N + 1)/pi: 1e-13.
@@ -32,8 +33,6 @@ const nlohmann::json& quick_run() {
   }();
   return j;
 }
-
-}  // namespace
 
 TEST(CliBenchBaselines, ReportsEveryGridKindAtEveryQuickLevel) {
   const auto& j = quick_run();
@@ -120,3 +119,5 @@ TEST(CliBenchBaselines, BadLevelsAreRefusedWithoutOutput) {
   EXPECT_TRUE(r.out.empty());
   EXPECT_NE(r.err.find("--levels"), std::string::npos);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -6,10 +6,11 @@
 #include <limits>
 
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 using icobrdf::test::run_cli;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 // Documented accuracy of the Zernike recurrence, |dR| <= 1e-13 for n <= 128 (icobrdf/core/zernike.hpp); K_n^l carries
@@ -38,8 +39,6 @@ const nlohmann::json& quick_run() {
   }();
   return j;
 }
-
-}  // namespace
 
 TEST(CliBenchHardCases, BasisIsOrthonormalToOrder128WithinTheDerivedBound) {
   const auto& o = quick_run()["data"]["orthonormality"];
@@ -148,3 +147,5 @@ TEST(CliBenchHardCases, BadLevelsAreRefusedWithoutOutput) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(r.out.empty());
 }
+
+}  // namespace ICOBRDF_UNITY_ID

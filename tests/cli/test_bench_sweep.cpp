@@ -12,6 +12,7 @@
 #include <set>
 
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 using icobrdf::test::run_cli;
 using icobrdf::test::shell_quote;
@@ -19,7 +20,7 @@ using icobrdf::test::slurp;
 using icobrdf::test::TempDir;
 using nlohmann::json;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Lambert (f = 1/pi) is a constant times K_0(w_i) K_0(w_r): in the span at every order, so every supported
 // fit recovers it up to the rounding of sums over <= 168 cells (a few 1e-16 relative); 1e-12 leaves room for
@@ -140,8 +141,6 @@ const Sweep& tiny_sweep() {
   }();
   return *s;
 }
-
-}  // namespace
 
 TEST(CliBenchSweep, TinySweepRowsFollowTheGridDefinitions) {
   const Sweep& s = tiny_sweep();
@@ -343,8 +342,6 @@ TEST(CliBenchSweep, ReportAndFiguresAreWritten) {
   EXPECT_EQ(std::stoi(listing), 0);
 }
 
-namespace {
-
 // Runs a failing sweep and checks: exit code, one line on stderr, no RESULTS.h5 and no report folder.
 void expect_refused(const std::vector<std::string>& extra, int code, const std::string& output_override = "",
                     const std::string& report_override = "") {
@@ -366,8 +363,6 @@ void expect_refused(const std::vector<std::string>& extra, int code, const std::
   const auto listing = run_python("import os, sys\nprint(len(os.listdir(sys.argv[1])))", t.path);
   EXPECT_EQ(std::stoi(listing), 0);
 }
-
-}  // namespace
 
 TEST(CliBenchSweep, BadInputIsRefusedWithoutOutput) {
   expect_refused({"--models", "lambert,nosuchmodel"}, 2);
@@ -410,3 +405,5 @@ TEST(CliBenchSweep, FailureLeavesAnExistingResultsFileAndReportUntouched) {
   const auto inside = run_python("import os, sys\nprint(sorted(os.listdir(sys.argv[1])))", t.file("rep"));
   EXPECT_EQ(inside, "['keep.txt', 'report.md']\n");  // no figure moved in
 }
+
+}  // namespace ICOBRDF_UNITY_ID

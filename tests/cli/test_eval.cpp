@@ -5,11 +5,12 @@
 #include <sstream>
 
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 using icobrdf::test::run_cli;
 using icobrdf::test::TempDir;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 // Values print in shortest round-trip form; the expected values below are computed here with libm
 // trigonometry in a different order than the program: a few ulps.
 constexpr double kValueTol = 1e-13;
@@ -24,7 +25,6 @@ std::string write(const TempDir& d, const std::string& name, const std::string& 
 }
 
 double rad(double deg) { return deg * M_PI / 180.0; }
-}  // namespace
 
 TEST(CliEval, LambertAndMinnaertMatchTheirFormulas) {
   TempDir d;
@@ -93,3 +93,5 @@ TEST(CliEval, ErrorsExitNonZeroWithoutOutput) {
     EXPECT_NE(r.err.find(c.mention), std::string::npos) << r.err;
   }
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -14,8 +14,9 @@
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using icobrdf::test::run_cli;
 using icobrdf::test::slurp;

@@ -12,8 +12,9 @@
 #include <string>
 
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using icobrdf::test::run_cli;
 using icobrdf::test::TempDir;

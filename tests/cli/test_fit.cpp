@@ -7,12 +7,13 @@
 #include <sstream>
 
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 using icobrdf::test::run_cli;
 using icobrdf::test::TempDir;
 using nlohmann::json;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // The Lambert spectrum is exact on any grid (only rounding of sums over cells).
 constexpr double kExactTol = 1e-10;
@@ -32,8 +33,6 @@ json spectrum_json(const std::string& file) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
   return json::parse(r.out);
 }
-
-}  // namespace
 
 TEST(CliFit, LambertIsotropicSpectrumIsTwiceTheAlbedoAtDc) {
   // f = a/pi: C = 2a e_0 e_0^T (SPEC-NOTES, derived in tests/core/test_operators.cpp), IBSSS a_00^0 = C_00.
@@ -139,3 +138,5 @@ TEST(CliEval, SpectrumFileEvaluatesToTheModelForABrdfInTheSpan) {
     EXPECT_NEAR(std::stod(line), 3 / (2 * M_PI) * std::cos(ti * deg) * std::cos(tr * deg), kExactTol) << ti << " " << tr;
   }
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -18,6 +18,7 @@
 #include "icobrdf/io/spectrum_file.hpp"
 #include "icobrdf/pipeline/fit_source.hpp"
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 using icobrdf::test::cli_command;
 using icobrdf::test::CliResult;
@@ -28,7 +29,7 @@ using icobrdf::test::TempDir;
 using nlohmann::json;
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 constexpr int kLevel = 3, kOrder = 6;
 // Roundings after the block sums that each add at most one unit per entry: the D2 average (four terms),
@@ -89,8 +90,6 @@ class FitMpi : public ::testing::Test {
     if (!ICOBRDF_MPI_BUILT) GTEST_SKIP() << "the MPI layer was not built (no MPI found by CMake; scripts/install-deps.sh installs OpenMPI)";
   }
 };
-
-}  // namespace
 
 // Isotropic reciprocal GGX (the triangle of D2 orbits: blocks of growing cost) in f form, and a diffuse +
 // mirror model (g form with cell averages: the full path; the delta is added once, after the reduction).
@@ -166,4 +165,5 @@ TEST_F(FitMpi, BenchStreamingReportsEveryRank) {
   EXPECT_LE(std::abs(m2 - m1), kRoundingScale * m1);
 }
 
+}  // namespace ICOBRDF_UNITY_ID
 }  // namespace icobrdf

@@ -11,8 +11,9 @@
 #include <sstream>
 
 #include "cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using icobrdf::test::eval_first_column;
 using icobrdf::test::run_cli;

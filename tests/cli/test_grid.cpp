@@ -9,11 +9,12 @@
 #include <sstream>
 
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 using icobrdf::test::run_cli;
 using icobrdf::test::TempDir;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 // Sums of exactly rounded solid angles, printed with 17 digits.
 constexpr double kSumTol = 1e-12;
 // Whole-cell solid angle 4 pi / (20 4^L) is exact to rounding.
@@ -27,7 +28,6 @@ int count_entries(const std::string& dir) {
   }
   return n;
 }
-}  // namespace
 
 TEST(CliGrid, JsonStatisticsOfEqualAreaGrid) {
   for (int level : {0, 3}) {
@@ -120,3 +120,5 @@ TEST(CliGrid, FailedExportLeavesNoFile) {
   EXPECT_EQ(r2.exit_code, 5);
   EXPECT_EQ(count_entries(dir.path), 0);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

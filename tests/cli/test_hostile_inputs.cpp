@@ -14,9 +14,10 @@
 #include <vector>
 
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf::test {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 namespace fs = std::filesystem;
 

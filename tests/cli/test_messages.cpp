@@ -9,9 +9,10 @@
 #include <vector>
 
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf::test {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 constexpr std::size_t kShortLine = 400;  // "icobrdf: error: ", a temp path and one quote cut at 200 characters
 

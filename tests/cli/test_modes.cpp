@@ -10,8 +10,9 @@
 #include <vector>
 
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using icobrdf::test::run_cli;
 using icobrdf::test::TempDir;
@@ -38,8 +39,6 @@ std::string pairs_csv() {
   for (const auto& p : kPairs) s << p.ti << "," << p.pi << "," << p.tr << "," << p.pr << "\n";
   return s.str();
 }
-
-}  // namespace
 
 TEST(CliModes, IsotropicValuesMatchTable1) {
   TempDir tmp;
@@ -173,3 +172,5 @@ TEST(CliModes, ErrorExits) {
   EXPECT_EQ(big.exit_code, 4);
   EXPECT_TRUE(big.out.empty());
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -17,9 +17,10 @@
 
 #include "tests/cli/cli_runner.hpp"
 #include "tests/io/special_files.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf::test {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Two materials: enough for `bank extract` to lose one, and to show that `bank build` fits none of them.
 const char* kScene = R"([bank]

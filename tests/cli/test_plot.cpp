@@ -8,9 +8,10 @@
 #include <string>
 
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf::test {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 struct PngHeader {
   bool valid = false;

@@ -15,9 +15,10 @@
 
 #include "tests/cli/cli_runner.hpp"
 #include "tests/cli/measured_run.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf::test {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 namespace fs = std::filesystem;
 

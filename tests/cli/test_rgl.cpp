@@ -12,11 +12,12 @@
 #include <sstream>
 
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 using icobrdf::test::run_cli;
 using icobrdf::test::TempDir;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // The stored value is float32: relative rounding 2^-24, plus the degree/radian round trip of the CSV.
 constexpr double kFloatTol = 1e-6;
@@ -82,8 +83,6 @@ std::string mirror_pairs(const TempDir& d) {
 std::vector<std::vector<double>> rows_of(const std::string& out, std::string& header) {
   return icobrdf::test::parse_value_csv(out, header);
 }
-
-}  // namespace
 
 TEST(CliRgl, EvalGivesRhoOverPiWithWavelengthColumns) {
   TempDir d;
@@ -154,3 +153,5 @@ TEST(CliRgl, MalformedFileIsOneLineInputError) {
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_NE(r.err.find("field 8 'spectra': data of 48 bytes"), std::string::npos) << r.err;
 }
+
+}  // namespace ICOBRDF_UNITY_ID

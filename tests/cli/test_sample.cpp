@@ -8,13 +8,13 @@
 #include <vector>
 
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 using icobrdf::test::run_cli;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 // The mean of n weights is within 5 standard errors of its expectation (false failure 6e-7, normal mean).
 constexpr double kStandardErrors = 5.0;
-}  // namespace
 
 TEST(CliSample, LambertCsvHasAnglesPdfAndWeightsWithMeanAlbedo) {
   const auto r = run_cli({"sample", "model:lambert:albedo=0.5", "--theta-i", "60", "--phi-i", "10", "-n", "20000", "--level", "3"});
@@ -62,3 +62,5 @@ TEST(CliSample, RefusalsAreOneLineWithExitCodes) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--cell-value: expected 'centre' or 'average'"), std::string::npos) << r.err;
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -30,7 +30,7 @@ inline GaussRule gauss_legendre_gw(int n) {
 }
 
 // A quadrature rule on the upper hemisphere: sum_k weights(k) fn(dirs.row(k)) ~ integral of fn dOmega.
-struct HemisphereRule {
+struct GradedHemisphereRule {
   RowMatrix3d dirs;
   Eigen::VectorXd weights;
 };
@@ -43,7 +43,7 @@ struct HemisphereRule {
 //         narrow, with edges at phi_focus +- pi/2 where Oren-Nayar-type max(0, cos) kinks sit; if NaN,
 //         the uniform (trapezoidal, spectrally accurate for smooth periodic integrands) rule with 512 points.
 // `split` subdivides every panel in that many equal parts and multiplies the uniform phi count (refinement).
-inline HemisphereRule hemisphere_rule(int theta_panels, int split, double phi_focus) {
+inline GradedHemisphereRule graded_hemisphere_rule(int theta_panels, int split, double phi_focus) {
   static const GaussRule g = gauss_legendre_gw(8);
   const auto refine = [&](const std::vector<double>& e) {
     std::vector<double> out;
@@ -80,7 +80,7 @@ inline HemisphereRule hemisphere_rule(int theta_panels, int split, double phi_fo
     for (double r : rel) pe.push_back(phi_focus + M_PI * r);
     gauss_on(refine(pe), phis, pw);
   }
-  HemisphereRule rule;
+  GradedHemisphereRule rule;
   rule.dirs.resize(static_cast<Eigen::Index>(thetas.size() * phis.size()), 3);
   rule.weights.resize(rule.dirs.rows());
   Eigen::Index k = 0;
@@ -102,8 +102,8 @@ struct Converged {
 // split in two; the difference is the convergence check.
 inline Converged refined_batch_integral(const std::function<Eigen::VectorXd(const RowMatrix3d&)>& fn, int theta_panels,
                                         double phi_focus) {
-  const auto coarse_rule = hemisphere_rule(theta_panels, 1, phi_focus);
-  const auto fine_rule = hemisphere_rule(theta_panels, 2, phi_focus);
+  const auto coarse_rule = graded_hemisphere_rule(theta_panels, 1, phi_focus);
+  const auto fine_rule = graded_hemisphere_rule(theta_panels, 2, phi_focus);
   const double coarse = coarse_rule.weights.dot(fn(coarse_rule.dirs));
   const double fine = fine_rule.weights.dot(fn(fine_rule.dirs));
   return {fine, std::abs(fine - coarse)};

@@ -11,8 +11,9 @@
 #include "icobrdf/core/hemisphere_basis.hpp"
 #include "icobrdf/core/isotropic_modes.hpp"
 #include "tests/core/hemisphere_quadrature.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using namespace icobrdf;
 
@@ -30,8 +31,6 @@ Eigen::VectorXd project(int order, int t_degree, H h) {
   for (Eigen::Index q = 0; q < w.size(); ++q) w[q] *= h(rule.dirs.row(q).transpose());
   return k.transpose() * w;
 }
-
-}  // namespace
 
 TEST(AnalyticSpectra, LambertUnitAlbedo) {
   // f = 1/pi is separable: C = (1/pi) p p^T with p_j = integral K_j dOmega (quadrature, exact at degree 0).
@@ -136,3 +135,5 @@ TEST(AnalyticSpectra, RejectsBadArguments) {
   EXPECT_THROW(mirror_g_coefficients(129), ArgumentError);
   EXPECT_THROW(cosine_power_projection(4, -1), ArgumentError);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -19,8 +19,9 @@
 #include "icobrdf/core/reference_grids.hpp"
 #include "icobrdf/core/spectrum_ops.hpp"
 #include "tests/core/hard_directions.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using namespace icobrdf;
 
@@ -46,8 +47,6 @@ std::vector<double> eval(int order, const Eigen::RowVector3d& d) {
 }
 
 double norm_of(int j) { return std::sqrt((ansi_to_nl(j).n + 1) / M_PI); }
-
-}  // namespace
 
 TEST(BasisBlock, EqualsTheOneDirectionEvaluatorIncludingPoleHorizonAndPadding) {
   for (int order : {0, 1, 8, 32, 128}) {
@@ -118,8 +117,6 @@ TEST(SpectrumEvaluation, EqualsTheBilinearFormOfSingleEvaluations) {
   }
 }
 
-namespace {
-
 // A copy of the grid whose cubature is exactly D2-equivariant: every cell that is not the smallest of its
 // orbit receives the mapped points (in the same order) and weights of the orbit's smallest cell. Requires
 // equal point counts and solid angles within an orbit, as on the lat-long grid.
@@ -167,8 +164,6 @@ void expect_matches_cell_by_cell(const Grid& g, int order, int evaluated) {
   const double cond = eig.eigenvalues().maxCoeff() / eig.eigenvalues().minCoeff();
   EXPECT_NEAR(d.condition, cond, kConditionTol * cond) << to_string(g.kind) << " order " << order;
 }
-
-}  // namespace
 
 TEST(DiscreteBasisOrbits, OneCellPerOrbitEqualsTheCellByCellBasis) {
   // Polar Gauss (nodes from cos and sin, so mirrored nodes agree only to rounding: mapped exactly here): one
@@ -235,3 +230,5 @@ TEST(BasisBlock, FirstInvalidDirectionIsTheFirstBadRowOnAnyNumberOfThreads) {
   EXPECT_EQ(first_invalid_direction(d), 7);
   EXPECT_EQ(first_invalid_direction(RowMatrix3d(0, 3)), -1);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

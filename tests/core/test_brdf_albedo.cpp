@@ -11,11 +11,12 @@
 #include "icobrdf/core/hapke.hpp"
 #include "icobrdf/core/model_spec.hpp"
 #include "tests/core/brdf_quadrature.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 using icobrdf::test::dir_deg;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Smooth integrands: the refined quadrature agrees with itself to ~1e-12; closed forms are compared at
 // this level (it also covers Hapke's tabulated H, accurate to ~1e-8, see test_brdf_hapke).
@@ -29,8 +30,6 @@ const double kThetas[] = {0.0, 20.0, 40.0, 60.0, 75.0, 85.0, 89.0, 89.9};
 test::Converged albedo(const BrdfModel& m, double theta_deg, double phi_deg = 17.0) {
   return test::directional_albedo(m, dir_deg(theta_deg, phi_deg), 16);
 }
-
-}  // namespace
 
 TEST(WhiteFurnace, LambertAlbedoIsItsParameter) {
   for (double rho : {0.0, 0.37, 1.0}) {
@@ -149,3 +148,5 @@ TEST(WhiteFurnace, SurveyOfPhysicalModelsAtDefaultsAndPhysicalSets) {
     EXPECT_LE(worst, 1.0 + kFurnaceTol) << spec;
   }
 }
+
+}  // namespace ICOBRDF_UNITY_ID

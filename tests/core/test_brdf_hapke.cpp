@@ -5,10 +5,11 @@
 
 #include "icobrdf/core/hapke.hpp"
 #include "tests/core/brdf_quadrature.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 // Identities of the exact H hold for the Nystrom solution to its quadrature accuracy.
 constexpr double kIdentityTol = 1e-11;
 // Chandrasekhar's tabulated H for conservative isotropic scattering (Radiative Transfer, 1950) has 5 decimals.
@@ -16,7 +17,6 @@ constexpr double kTableTol = 1e-5;
 // Interpolated table vs the direct Nystrom formula: 4-point Lagrange in sqrt(mu) on 4096 intervals;
 // the mu ln(mu) behaviour at 0 limits it to ~1e-8 on the first intervals.
 constexpr double kInterpolationTol = 1e-8;
-}  // namespace
 
 TEST(ChandrasekharH, ValuesFromChandrasekharsTable) {
   // Conservative isotropic scattering (w = 1): H(0) = 1, H(0.5) = 2.01278, H(1) = 2.90781.
@@ -83,3 +83,5 @@ TEST(ChandrasekharH, TableInterpolationMatchesTheDirectFormula) {
   }
   EXPECT_EQ(ChandrasekharH(0.0).exact(0.37), 1.0);  // no scattering: H = 1
 }
+
+}  // namespace ICOBRDF_UNITY_ID

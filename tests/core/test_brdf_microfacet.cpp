@@ -8,11 +8,12 @@
 #include "icobrdf/core/microfacet.hpp"
 #include "icobrdf/core/model_spec.hpp"
 #include "tests/core/brdf_quadrature.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 using icobrdf::test::dir_deg;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 // Quadrature: the refined integral's own convergence check must pass at this level first.
 constexpr double kQuadratureTol = 1e-9;
 // Closed-form comparisons evaluated by different but equivalent algebra: rounding only.
@@ -20,7 +21,6 @@ constexpr double kFormulaTol = 1e-12;
 // The visible-area integrand has a kink along w.h = 0, which the tensor rule does not follow: the
 // trapezoidal phi rule then converges only as 1/n^2 (measured differences ~1e-8 at 512 -> 1024 azimuths).
 constexpr double kKinkQuadratureTol = 1e-6;
-}  // namespace
 
 TEST(Microfacet, DistributionsAreNormalizedOverProjectedArea) {
   struct Case {
@@ -126,3 +126,5 @@ TEST(Microfacet, GrazingLimitsAreFinite) {
   const double d = 0.25 / M_PI;  // GGX D at h_z = 0: alpha^2/pi
   EXPECT_NEAR(m->eval(a, b), d / (4 * 0.25 * 0.25), kFormulaTol);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

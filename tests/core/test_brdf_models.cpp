@@ -9,11 +9,12 @@
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/model_spec.hpp"
 #include "tests/core/brdf_quadrature.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 using icobrdf::test::dir_deg;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Every formula is symmetric term by term; with fused multiply-adds the two orders may round a sum
 // differently by an ulp of its largest term, which a lobe exponent (<= 200 here) and cancellation in
@@ -55,8 +56,6 @@ RowMatrix3d rotate_z(const RowMatrix3d& w, double angle) {
   for (Eigen::Index k = 0; k < w.rows(); ++k) r.row(k) << c * w(k, 0) - s * w(k, 1), s * w(k, 0) + c * w(k, 1), w(k, 2);
   return r;
 }
-
-}  // namespace
 
 TEST(BrdfModels, ReciprocityAtRandomGrazingAndNormalPairs) {
   const auto pairs = test::test_pairs(2000);
@@ -183,3 +182,5 @@ TEST(BrdfModels, ShapeMismatchIsAnArgumentError) {
   Eigen::MatrixXd wide(3, 2);
   EXPECT_THROW(m->eval(a, a, wide), ArgumentError);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

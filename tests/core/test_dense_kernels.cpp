@@ -11,9 +11,10 @@
 #include "icobrdf/core/dense_kernels.hpp"
 #include "icobrdf/core/error.hpp"
 #include "tests/support/random_matrix.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 constexpr double kEps = 2.220446049250313e-16;
 // A sum of n products of values in [-1, 1] differs between two summation orders by at most 2 n eps times

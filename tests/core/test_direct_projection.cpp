@@ -12,10 +12,11 @@
 #include "icobrdf/core/model_spec.hpp"
 #include "icobrdf/core/projection.hpp"
 #include "icobrdf/core/reference_grids.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Sums of a few thousand products of terms bounded by ~10 (|K| <= sqrt((n+1)/pi), f <= 1): 1e-12 absolute.
 constexpr double kQuadratureRoundingTol = 1e-12;
@@ -23,8 +24,6 @@ constexpr double kQuadratureRoundingTol = 1e-12;
 constexpr double kSameSumRelTol = 1e-12;
 
 double max_abs(const Eigen::MatrixXd& a) { return a.cwiseAbs().maxCoeff(); }
-
-}  // namespace
 
 TEST(DirectProjection, LambertIsExactOnAnExactProductRule) {
   // f = 1/pi: C_ab = (1/pi) (integral K_a)(integral K_b); integral K_a dOmega is a polynomial of degree <= N/2
@@ -79,3 +78,5 @@ TEST(DirectProjection, RefusesDeltaModels) {
   const Grid g = build_polar_gauss_grid(3, 8);
   EXPECT_THROW(direct_projection(*parse_model("mirror"), g, 2, true), ArgumentError);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

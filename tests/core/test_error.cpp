@@ -5,9 +5,10 @@
 #include <string>
 
 #include "icobrdf/core/error.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 TEST(QuotedText, ShortTextIsQuotedWhole) {
   const std::string s(kQuoteLimit, 'a');

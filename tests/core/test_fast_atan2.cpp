@@ -6,14 +6,14 @@
 #include <random>
 
 #include "icobrdf/core/fast_atan2.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 // The reduction and the series are accurate to ~1e-17; what remains is the rounding of a handful of
 // operations on values up to pi: a few ulps of pi (4.4e-16 measured).
 constexpr double kAtan2Tol = 1e-15;
-}  // namespace
 
 TEST(FastAtan2, AgreesWithTheLibraryOnRandomArguments) {
   std::mt19937_64 rng(7);
@@ -41,3 +41,5 @@ TEST(FastAtan2, BoundariesAxesAndSignedZeros) {
   EXPECT_EQ(fast_atan2(3.0, 0.0), std::atan2(3.0, 0.0));
   EXPECT_EQ(fast_atan2(-3.0, -0.0), std::atan2(-3.0, -0.0));
 }
+
+}  // namespace ICOBRDF_UNITY_ID

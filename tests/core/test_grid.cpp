@@ -4,8 +4,9 @@
 
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/grid.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // A two-cell grid: the upper hemisphere split into the half-spaces x >= 0 and x < 0, one cubature point
 // per cell. Each cell subtends pi sr (a quarter sphere).
@@ -22,8 +23,6 @@ icobrdf::Grid two_cell_grid() {
   g.rotate_pi = Eigen::Vector2i(1, 0);
   return g;
 }
-
-}  // namespace
 
 TEST(Grid, ValidGridPasses) { EXPECT_NO_THROW(icobrdf::validate(two_cell_grid())); }
 
@@ -44,3 +43,5 @@ TEST(Grid, RejectsNonPermutationSymmetryMap) {
   g.rotate_pi = Eigen::Vector2i(0, 0);
   EXPECT_THROW(icobrdf::validate(g), std::invalid_argument);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -7,9 +7,10 @@
 
 #include "icobrdf/core/grid_symmetry.hpp"
 #include "icobrdf/core/reference_grids.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 TEST(GridSymmetryRule, LatLongGridPassesForEachMapInAnyOrder) {
   Grid g = build_lat_long_grid(4, 8, 3);

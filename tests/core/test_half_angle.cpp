@@ -12,10 +12,11 @@
 #include "icobrdf/core/half_angle.hpp"
 #include "icobrdf/core/model_spec.hpp"
 #include "tests/core/brdf_quadrature.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 // Round trips: a few roundings per component (normalization, one rotation there and back).
 constexpr double kRoundTripTol = 1e-14;
 // Model values at a pair and at its swapped/rotated image built by different arithmetic: rounding of the
@@ -44,7 +45,6 @@ void expect_round_trip(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) {
 }
 
 Eigen::Vector3d dir_deg(double theta, double phi) { return direction_from_angles(theta * M_PI / 180, phi * M_PI / 180); }
-}  // namespace
 
 TEST(HalfAngle, RoundTripRandomPairs) {
   std::mt19937_64 rng(11);
@@ -254,3 +254,5 @@ TEST(HalfAngle, BatchFormsMatchScalarForms) {
   EXPECT_EQ(ang(7, 3), c.phi_d);
   EXPECT_THROW(half_diff_from_pairs(wi, wr.topRows(5), h, d), std::invalid_argument);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

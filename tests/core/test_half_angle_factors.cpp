@@ -13,10 +13,11 @@
 #include "icobrdf/core/half_angle_factors.hpp"
 #include "icobrdf/core/lobe_axes.hpp"
 #include "icobrdf/core/model_spec.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 // A function in the span of the representation, fitted to ~1e-15 and interpolated by the same
 // formulas: rounding of coordinates and of the ALS solution only.
 constexpr double kExactTol = 1e-12;
@@ -67,7 +68,6 @@ double max_reciprocity_gap(const HalfAngleFactors& F) {
   const Eigen::MatrixXd a = F.eval(wi, wr), b = F.eval(wr, wi);
   return ((a - b).cwiseAbs().array() / a.cwiseAbs().array().max(1e-300)).maxCoeff();
 }
-}  // namespace
 
 TEST(HalfAngleFactors, ReproducesASeparablePiecewiseLinearFunctionExactly) {
   // q = sum_r u_r(t) v_r(theta_d, phi_d), node values random, with the two constraints that make q a
@@ -364,3 +364,5 @@ TEST(HalfAngleFactors, NormalAndGrazingDirectionsAreFiniteAndBelowHorizonIsZero)
                 pole_tol * ggx->eval(wi.row(0).transpose(), wr.row(0).transpose())) << "isotropic " << iso;
   }
 }
+
+}  // namespace ICOBRDF_UNITY_ID

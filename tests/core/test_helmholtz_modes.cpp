@@ -11,8 +11,9 @@
 #include "icobrdf/core/helmholtz_modes.hpp"
 #include "icobrdf/core/hemisphere_basis.hpp"
 #include "tests/core/hemisphere_quadrature.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using namespace icobrdf;
 
@@ -34,8 +35,6 @@ Eigen::MatrixXd random_matrix(int m, unsigned seed) {
     for (int j = 0; j < m; ++j) c(i, j) = g(rng);
   return c;
 }
-
-}  // namespace
 
 TEST(HelmholtzModes, CountsFromDefinitions) {
   // M(M+1)/2 with M = (N+1)(N+2)/2: the paper's 14, 55, 295 (section 2C) do not follow (docs/errata.md).
@@ -174,3 +173,5 @@ TEST(HelmholtzModes, RejectsBadSizes) {
   EXPECT_THROW(coefficients_from_bsss(Eigen::VectorXd::Zero(20)), ArgumentError);     // 20 is no mode count
   EXPECT_THROW(helmholtz_mode_index(-1, 0), ArgumentError);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -11,8 +11,9 @@
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/hemisphere_basis.hpp"
 #include "tests/core/hemisphere_quadrature.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using namespace icobrdf;
 
@@ -39,8 +40,6 @@ double gram_error(int order) {
   g.triangularView<Eigen::StrictlyUpper>() = g.transpose();
   return (g - Eigen::MatrixXd::Identity(b.cols(), b.cols())).cwiseAbs().maxCoeff();
 }
-
-}  // namespace
 
 TEST(HemisphereBasis, CountsAndAnsiIndex) {
   EXPECT_EQ(hemisphere_basis_count(0), 1);
@@ -176,3 +175,5 @@ TEST(HemisphereBasis, RejectsBadArguments) {
   many(4321, 0) = std::nan("");
   EXPECT_THROW(hemisphere_basis_matrix(64, many), ArgumentError);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

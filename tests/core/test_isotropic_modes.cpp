@@ -17,8 +17,9 @@
 #include "icobrdf/core/isotropic_modes.hpp"
 #include "icobrdf/core/zernike.hpp"
 #include "tests/core/hemisphere_quadrature.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using namespace icobrdf;
 
@@ -58,8 +59,6 @@ int printed_a(int n, int m, int l) {
   if (n == m || l == 0) return 2;
   return 1;
 }
-
-}  // namespace
 
 TEST(IsotropicModes, Table2OrderAndCounts) {
   // Table 2: n = 0 1 2 2 2 3 3 3 4 4 4 4 4 4 / m = 0 1 0 2 2 1 3 3 0 2 2 4 4 4 / l = 0 1 0 0 2 1 1 3 0 0 2 0 2 4.
@@ -277,3 +276,5 @@ TEST(IsotropicModes, RejectsBadArguments) {
   EXPECT_THROW(ibsss_from_coefficients(Eigen::MatrixXd::Zero(7, 7)), ArgumentError);
   EXPECT_THROW(isotropic_modes_eval(2, RowMatrix3d(2, 3), RowMatrix3d(3, 3)), ArgumentError);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

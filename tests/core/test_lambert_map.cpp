@@ -6,8 +6,9 @@
 
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/lambert_map.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using icobrdf::lambert_from_disk;
 using icobrdf::lambert_rho_squared;
@@ -19,8 +20,6 @@ constexpr double kTol = 1e-15;
 Eigen::Vector3d dir(double theta, double phi) {
   return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
 }
-
-}  // namespace
 
 TEST(LambertMap, MatchesTrigonometricDefinition) {
   // rho = sqrt(2) sin(theta/2), disk point rho (cos phi, sin phi) (paper eqs. 10-11).
@@ -80,3 +79,5 @@ TEST(LambertMap, RejectsPointsOutsideTheDomain) {
   EXPECT_THROW(lambert_from_disk({0.8, 0.7}), icobrdf::ArgumentError);
   EXPECT_THROW(lambert_from_disk({std::nan(""), 0.0}), icobrdf::ArgumentError);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -7,10 +7,11 @@
 #include "icobrdf/core/half_angle_factors.hpp"
 #include "icobrdf/core/lobe_axes.hpp"
 #include "icobrdf/core/model_spec.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 // The crossing is interpolated linearly between probes 1/400 apart in t: relative radius errors ~1e-4 on
 // these lobes (measured 3e-5); the ellipse fit averages over 32 azimuths.
 constexpr double kWidthTol = 1e-3;
@@ -32,7 +33,6 @@ PairSampler elliptical(double beta, double a, double b) {
     }
   };
 }
-}  // namespace
 
 TEST(LobeAxes, RotatedEllipticalLobeGivesItsAxisAndWidths) {
   const double k = std::sqrt(std::sqrt(2.0) - 1.0);
@@ -65,3 +65,5 @@ TEST(LobeAxes, FunctionsWithoutAPeakAtTheNormalAreNotStretched) {
   const PairSampler zero = [](const RowMatrix3d&, const RowMatrix3d&, Eigen::Ref<Eigen::MatrixXd> out) { out.setZero(); };
   EXPECT_FALSE(estimate_lobe_axes(zero, 1).found);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

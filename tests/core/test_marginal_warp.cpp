@@ -10,9 +10,10 @@
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/marginal_warp.hpp"
 #include "icobrdf/core/parameter_grid.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Double rounding of a few dozen operations on values of order 1.
 constexpr double kTol = 1e-13;

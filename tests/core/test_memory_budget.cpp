@@ -7,9 +7,10 @@
 
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/memory_budget.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 TEST(MemoryBudget, ParsesDecimalAndBinaryUnits) {
   EXPECT_EQ(parse_byte_size("512"), 512.0);

@@ -10,9 +10,10 @@
 
 #include "icobrdf/core/microfacet.hpp"
 #include "tests/core/brdf_quadrature.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Batch and pair-by-pair use the same formulas with the normalization of h folded differently and Eigen's
 // vectorized exp (<= kExpUlps from std::exp): a few ulps, amplified by the exponent t (<= ~40 where f >= 1,

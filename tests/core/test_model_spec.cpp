@@ -7,10 +7,11 @@
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/model_spec.hpp"
 #include "tests/core/brdf_quadrature.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 // parse(spec()) must reproduce the parameters exactly (shortest round-trip formatting): bitwise equal.
 constexpr double kExact = 0.0;
 // Sums add the terms' values in a different order than the test: rounding only.
@@ -30,7 +31,6 @@ std::string error_of(const std::string& spec) {
   }
   return "";
 }
-}  // namespace
 
 TEST(ModelSpec, RegistryListsTheIssueNamesWithSaneParameters) {
   for (const char* name : {"lambert", "minnaert", "phong", "blinn-phong", "ggx", "beckmann", "ggx-aniso", "oren-nayar",
@@ -222,3 +222,5 @@ TEST(ModelSpec, TypoInAHugeSpecGivesOneShortLine) {
   EXPECT_LT(one.size(), 3 * kQuoteLimit + kShortLine) << one.size();  // spec and value, each cut
   EXPECT_NE(one.find("(1000000 characters)"), std::string::npos) << one.substr(0, 400);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

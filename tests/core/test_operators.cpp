@@ -22,10 +22,11 @@
 #include "icobrdf/core/streaming_projection.hpp"
 #include "icobrdf/core/isotropic_modes.hpp"
 #include "icobrdf/core/spectral_fit.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Products of matrices with O(100) to O(1000) terms of size O(1): 1e-12 covers their rounding.
 constexpr double kAlgebraTol = 1e-12;
@@ -104,8 +105,6 @@ Eigen::MatrixXd random_symmetric(int m, unsigned seed) {
     for (int j = 0; j < m; ++j) a(i, j) = n01(rng);
   return 0.5 * (a + a.transpose());
 }
-
-}  // namespace
 
 TEST(DiscreteBasis, ExactQuadratureGivesIdentityGram) {
   // Order 6: rings >= 3.5 and n_phi >= 13 make the product rule exact (icobrdf/core/reference_grids.hpp).
@@ -354,3 +353,5 @@ TEST(Threads, LutBasisAndProjectionAreIdenticalOnOneAndTwoThreads) {
   EXPECT_EQ((f1 - f2).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_EQ((c1 - c2).cwiseAbs().maxCoeff(), 0.0);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

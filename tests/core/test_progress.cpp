@@ -7,9 +7,10 @@
 #include <thread>
 
 #include "icobrdf/core/progress.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 struct StreamGuard {
   explicit StreamGuard(std::ostream* s) { set_progress_stream(s); }

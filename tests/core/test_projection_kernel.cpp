@@ -14,9 +14,10 @@
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/projection.hpp"
 #include "icobrdf/core/simd_target.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Rounding steps beyond the 2 cells additions: the two multiplications of each triple product, rounded up
 // to 8 (the lanes' pairwise sum and the block partials are additions among the 2 cells of any summation order).

@@ -5,13 +5,14 @@
 #include "icobrdf/core/direction.hpp"
 #include "icobrdf/core/grid.hpp"
 #include "icobrdf/core/reference_grids.hpp"
+#include "tests/support/unity_id.hpp"
 
 // Sums of up to a few thousand O(1e-3) weights: 1e-13 relative allows their rounding.
 constexpr double kSumTol = 1e-13;
 // Directions from sin/cos: a few ulps.
 constexpr double kDirTol = 1e-14;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Checks that map[c] contains the image of cell c's cubature points under `image` (by nearest direction
 // among the image cell's points — here grids are symmetric node-for-node).
@@ -22,8 +23,6 @@ void expect_symmetry(const icobrdf::Grid& g, const Eigen::VectorXi& map, F image
     EXPECT_LT((g.directions.row(map[c]).transpose() - want).norm(), kDirTol) << "cell " << c;
   }
 }
-
-}  // namespace
 
 TEST(PolarGaussGrid, ValidSumsToTwoPiAndIntegratesCosine) {
   const auto g = icobrdf::build_polar_gauss_grid(5, 12);
@@ -52,3 +51,5 @@ TEST(LatLongGrid, ExactSolidAnglesAndSymmetries) {
   expect_symmetry(g, g.mirror_xz, [](Eigen::Vector3d d) { return Eigen::Vector3d(d.x(), -d.y(), d.z()); });
   expect_symmetry(g, g.mirror_yz, [](Eigen::Vector3d d) { return Eigen::Vector3d(-d.x(), d.y(), d.z()); });
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/SVD>
 
 #include <omp.h>
 
@@ -15,14 +16,20 @@
 #include "icobrdf/core/isotropic_modes.hpp"
 #include "icobrdf/core/sample_fit.hpp"
 #include "tests/core/sample_pairs.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Recovery of data in the span: limited by cond(A) (~1e2 for these random designs) times rounding.
 constexpr double kRecoveryTol = 1e-9;
 // Reproduction of the data by a rank-deficient fit: same rounding bound.
 constexpr double kReproduceTol = 1e-9;
+
+// The probe's eigenvalues are Lanczos estimates to 1e-4 relative (kConditionEigenTolerance in
+// icobrdf/core/sample_fit.cpp); the condition s_1 / sqrt(lambda_min) then carries at most ~1e-4, and forming G
+// adds cond^2 k eps relative to lambda_min (below 1e-6 here).
+constexpr double kConditionTol = 2e-4;
 
 using test::Pairs;
 using test::random_pairs;
@@ -272,6 +279,25 @@ TEST(SampleFit, AssemblyDoesNotDependOnTheThreadCount) {
   omp_set_num_threads(saved);
   EXPECT_EQ((one.gram - many.gram).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_EQ((one.rhs - many.rhs).cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(SampleFit, ProbeConditionIsTheSingularValueRatioOfTheWeightedDesign) {
+  // cond(W^(1/2) A) by definition (a dense SVD) against the probe's Lanczos estimates, for weights spread over
+  // one and over six decades (the second condition is some hundred times the first).
+  const int order = 5;  // 231 general modes
+  const Pairs p = random_pairs(2000, 21);
+  const Eigen::MatrixXd a = helmholtz_modes_eval(order, p.wi, p.wr);
+  const Eigen::MatrixXd y = Eigen::MatrixXd::Zero(2000, 1);
+  for (double decades : {1.0, 6.0}) {
+    Eigen::VectorXd w = Eigen::VectorXd::LinSpaced(2000, 0.0, -decades);
+    w = w.unaryExpr([](double e) { return std::pow(10.0, e); });
+    const NormalEquations ne = assemble_normal_equations(order, false, p.wi, p.wr, y, w);
+    const NormalEquationsDeterminacy d = normal_equations_determinacy(ne);
+    ASSERT_TRUE(d.factored);
+    const Eigen::VectorXd s = Eigen::BDCSVD<Eigen::MatrixXd>(w.cwiseSqrt().asDiagonal() * a).singularValues();
+    const double cond = s[0] / s[s.size() - 1];
+    EXPECT_NEAR(d.condition, cond, kConditionTol * cond) << decades << " decades of weights";
+  }
 }
 
 }  // namespace

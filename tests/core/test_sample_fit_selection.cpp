@@ -15,9 +15,10 @@
 #include "icobrdf/core/sample_fit.hpp"
 #include "icobrdf/core/sample_fit_selection.hpp"
 #include "tests/core/sample_pairs.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Deterministic linear algebra compared with an independent normal-equation solve: rounding of
 // cond(G) ~ 1e2 problems, far below this.

@@ -16,9 +16,10 @@
 #include "icobrdf/core/projection.hpp"
 #include "icobrdf/core/reference_grids.hpp"
 #include "icobrdf/core/streaming_projection.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Streaming and materialized projections add the same products in another order (the triangle path adds
 // each off-diagonal pair once and transposes): rounding of sums of ~cells^2 terms, relative to max|C|.

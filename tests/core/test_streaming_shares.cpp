@@ -18,9 +18,10 @@
 #include "icobrdf/core/projection.hpp"
 #include "icobrdf/core/reference_grids.hpp"
 #include "icobrdf/core/streaming_projection.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // The rounding of reordered block sums, bounded from the LUT's magnitudes (reorder_bound below).
 // Operations after a block's products that each add one rounding per entry: the D2 average (four terms) and

@@ -17,9 +17,10 @@
 #include "icobrdf/core/projection.hpp"
 #include "icobrdf/core/reference_grids.hpp"
 #include "icobrdf/core/streaming_projection.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Batch and pair-by-pair GGX use the same formulas with the divisions folded differently: a few ulps.
 constexpr double kReorderTol = 1e-13;

@@ -10,8 +10,9 @@
 
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/zernike.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using icobrdf::zernike_radial;
 using icobrdf::zernike_radial_all;
@@ -59,8 +60,6 @@ const MpReference& reference() {
   static const MpReference ref;
   return ref;
 }
-
-}  // namespace
 
 TEST(Zernike, CountsAndPackedLayout) {
   EXPECT_EQ(zernike_radial_count(0), 1);
@@ -189,3 +188,5 @@ TEST(Zernike, RejectsInvalidArguments) {
   EXPECT_NO_THROW(zernike_radial_all(4, 1.0 + 1e-15, buf.data()));
   EXPECT_EQ(buf[0], 1.0);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

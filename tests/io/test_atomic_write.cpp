@@ -16,8 +16,9 @@
 #include "icobrdf/io/atomic_write.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "io_test_support.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using icobrdf::test::ScratchDir;
 
@@ -53,8 +54,6 @@ icobrdf::BankContents large_bank() {
 struct HookGuard {
   ~HookGuard() { icobrdf::set_write_fault_hook({}); }
 };
-
-}  // namespace
 
 TEST(AtomicWrite, WritesAndLeavesNoTemporary) {
   ScratchDir dir;
@@ -245,3 +244,5 @@ TEST(AtomicWrite, TextIsWrittenWhole) {
   EXPECT_EQ(icobrdf::test::read_bytes(dir / "a.md"), std::string("sec\0ond", 7));
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"a.md"});
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -16,8 +16,9 @@
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "io_test_support.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using icobrdf::test::ScratchDir;
 
@@ -40,8 +41,6 @@ icobrdf::BankContents bank_named(const std::string& material, int cells) {
   b.materials = {m};
   return b;
 }
-
-}  // namespace
 
 TEST(BankConcurrency, ReaderDuringRewritesSeesCompleteBanks) {
   ScratchDir dir;
@@ -123,3 +122,5 @@ TEST(BankConcurrency, SigkillLeavesAbsentOrCompleteBank) {
   EXPECT_GT(complete, 0);
   EXPECT_GT(absent, 0);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

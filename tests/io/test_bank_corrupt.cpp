@@ -11,8 +11,9 @@
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "io_test_support.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using icobrdf::test::ChildResult;
 using icobrdf::test::ScratchDir;
@@ -126,8 +127,6 @@ class CorruptBank : public CorruptFile {
  protected:
   CorruptBank() : CorruptFile(write_valid_bank, "bank.h5") {}
 };
-
-}  // namespace
 
 TEST_F(CorruptBank, ValidBankReadsInChild) {
   const auto r = read_in_child(path_);
@@ -378,8 +377,6 @@ TEST_F(CorruptBank, IbsssWithoutIndices) {
   expect_refused(read_in_child(path_), path_, {"/materials/m/ibsss_indices", "missing dataset"});
 }
 
-namespace {
-
 // A bank whose material "lobe" is a half-angle lobe alone (all-zero C) on a stretched anisotropic grid, so
 // that every format 3.0 attribute of /materials/lobe/half_angle is present.
 void write_lobe_bank(const std::string& path) {
@@ -424,8 +421,6 @@ class CorruptLobe : public CorruptFile {
   }
 };
 
-}  // namespace
-
 TEST_F(CorruptLobe, ValidLobeBankReadsInChild) {
   const auto r = read_in_child(path_);
   EXPECT_EQ(r.kind, "ok") << r.message;
@@ -446,3 +441,5 @@ TEST_F(CorruptLobe, StretchOutOfRangeIsRefused) {
   rewrite();
   expect_double_refused("h_axis", 4.0, {"half_angle", "h_axis = 4"});
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -7,8 +7,9 @@
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "io_test_support.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using icobrdf::test::ScratchDir;
 

@@ -12,11 +12,12 @@
 #include "icobrdf/io/blas_dense_kernels.hpp"
 #include "tests/core/sample_pairs.hpp"
 #include "tests/support/random_matrix.hpp"
+#include "tests/support/unity_id.hpp"
 
 extern "C" char* openblas_get_corename();
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 constexpr double kEps = 2.220446049250313e-16;
 // Two summation orders of n products differ by at most 2 n eps times the sum of the absolute products.

@@ -7,9 +7,10 @@
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/io/csv.hpp"
 #include "tests/io/io_test_support.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 constexpr std::size_t kShortLine = 400;  // path (under /tmp, < 60) + the message's words + one cut quote
 

@@ -7,11 +7,12 @@
 #include "icobrdf/io/csv.hpp"
 #include "icobrdf/io/direction_csv.hpp"
 #include "tests/cli/cli_runner.hpp"
+#include "tests/support/unity_id.hpp"
 
 using icobrdf::InputError;
 using icobrdf::test::TempDir;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Directions come from sin/cos of exactly representable degree values; 1e-15 is a few ulps.
 constexpr double kAngleTol = 1e-15;
@@ -33,8 +34,6 @@ void expect_error(const std::string& path, std::initializer_list<const char*> fr
     for (const char* f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << "'" << f << "' not in: " << msg;
   }
 }
-
-}  // namespace
 
 TEST(DirectionCsv, ReadsDegreesWithBomCrlfCommentsAndBlankLines) {
   TempDir dir;
@@ -108,3 +107,5 @@ TEST(DirectionCsv, ErrorsNameFileLineAndValue) {
   expect_error(write(dir, "i.csv", "theta_i,phi_i,theta_r,phi_r\n10,5,0,0,1,5\n"), {"i.csv:2", "found 6"});
   expect_error(dir.file("missing.csv"), {"missing.csv", "cannot open"});
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -17,8 +17,9 @@
 #include "icobrdf/io/scatmech_coefficients.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 #include "io_test_support.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using namespace icobrdf;
 

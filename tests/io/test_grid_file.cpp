@@ -9,10 +9,11 @@
 
 #if __has_include("icobrdf/mesh/tessellation.hpp") && !defined(ICOBRDF_NO_TESSELLATION)
 #include "icobrdf/mesh/tessellation.hpp"
+#include "tests/support/unity_id.hpp"
 #define ICOBRDF_HAVE_TESSELLATION 1
 #endif
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using icobrdf::Grid;
 
@@ -46,8 +47,6 @@ Grid round_trip(const Grid& g, const std::string& path) {
   EXPECT_TRUE(r.grid.has_value());
   return r.grid ? *r.grid : Grid{};
 }
-
-}  // namespace
 
 TEST(GridFile, SyntheticGridRoundTripsExactly) {
   icobrdf::test::ScratchDir dir;
@@ -92,3 +91,4 @@ TEST(GridFile, EqualAreaLevel2RoundTripsExactly) {
   expect_identical(g, r);
 }
 #endif
+}  // namespace ICOBRDF_UNITY_ID

@@ -9,8 +9,9 @@
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/h5_file.hpp"
 #include "io_test_support.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using icobrdf::h5::Group;
 using icobrdf::h5::ReadFile;
@@ -101,8 +102,6 @@ std::string input_error_of(F&& f) {
   }
   return "(no InputError)";
 }
-
-}  // namespace
 
 TEST_F(H5Layer, StoredTypesAreTheDocumentedLittleEndianOnes) {
   EXPECT_TRUE(stored_type_is(path_, "/g/d", H5T_IEEE_F64LE));
@@ -275,3 +274,5 @@ TEST(H5LayerBank, MaterialArraysHaveTheDocumentedOrientation) {
   for (int cell = 0; cell < 8; ++cell)
     for (int k = 0; k < 3; ++k) EXPECT_EQ(dirs[cell * 3 + k], b.grid->directions(cell, k));
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -22,10 +22,11 @@
 #include "icobrdf/io/scene.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 #include "tests/support/chi_square.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Sample means are compared with their expectation within 5 standard errors (sample standard deviation
 // over sqrt(n)): a false failure has probability 6e-7 per comparison for a normal mean.
@@ -146,8 +147,6 @@ std::shared_ptr<const BrdfSource> minnaert_spectrum(const std::vector<double>& s
   for (double c : scales) s.channels.push_back(c * minnaert_coefficients(4, 3));
   return spectrum_source(std::move(s));
 }
-
-}  // namespace
 
 // Lambert f = rho / pi with centre values: p_k = cos(theta_k) A_k / S, S = sum_j cos(theta_j) A_j, so the
 // weight of a draw w in cell k is rho (S / pi) cos(w) / cos(theta_k) (S from an independently built grid),
@@ -351,3 +350,5 @@ TEST(MaterialSampler, DefaultSceneWeightsAreFiniteAndBounded) {
     }
   }
 }
+
+}  // namespace ICOBRDF_UNITY_ID

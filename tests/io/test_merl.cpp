@@ -15,9 +15,10 @@
 #include "icobrdf/core/sample_fit.hpp"
 #include "icobrdf/io/merl.hpp"
 #include "io_test_support.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using test::ScratchDir;
 

@@ -15,8 +15,9 @@
 #include "icobrdf/io/output_path.hpp"
 #include "io_test_support.hpp"
 #include "special_files.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using icobrdf::test::make_socket;
 using icobrdf::test::ScratchDir;
@@ -34,8 +35,6 @@ void expect_refused(F check, const std::string& path, const std::string& fragmen
     EXPECT_EQ(m.find('\n'), std::string::npos) << m;
   }
 }
-
-}  // namespace
 
 TEST(OutputPath, NewNameAndRegularFileAreAccepted) {
   ScratchDir dir;
@@ -135,3 +134,5 @@ TEST(OutputPath, OutputThatIsAnInputIsRefusedWhateverItsSpelling) {
   EXPECT_NO_THROW(icobrdf::check_output_path(dir / "new.h5", {bank + "#g1"}));
   EXPECT_NO_THROW(icobrdf::check_output_path(dir / "s.csv", {bank, "model:lambert", dir / "missing.h5#x"}));
 }
+
+}  // namespace ICOBRDF_UNITY_ID

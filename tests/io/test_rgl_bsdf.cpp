@@ -17,9 +17,10 @@
 #include "icobrdf/io/rgl_bsdf.hpp"
 #include "io_test_support.hpp"
 #include "rgl_test_files.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using test::RglFileSpec;
 using test::ScratchDir;

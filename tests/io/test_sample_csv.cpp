@@ -7,9 +7,10 @@
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/io/sample_csv.hpp"
 #include "io_test_support.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using test::ScratchDir;
 

@@ -6,8 +6,9 @@
 
 #include "icobrdf/io/sample_csv.hpp"
 #include "io_test_support.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 TEST(SampleCsvOverflow, DuplicatesNearTheDoubleRangeAverageToTheirFiniteMean) {
   icobrdf::test::ScratchDir d;

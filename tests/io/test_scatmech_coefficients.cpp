@@ -20,9 +20,10 @@
 #include "icobrdf/io/direction_csv.hpp"
 #include "icobrdf/io/scatmech_coefficients.hpp"
 #include "io_test_support.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using test::ScratchDir;
 

@@ -13,9 +13,10 @@
 #include "icobrdf/core/isotropic_modes.hpp"
 #include "icobrdf/io/scatmech_coefficients.hpp"
 #include "io_test_support.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using test::ScratchDir;
 
@@ -59,8 +60,6 @@ double max_abs_difference(const ScatmechWavelengthPolynomial& a, const ScatmechW
   for (size_t p = 0; p < std::min(a.ibsss.size(), b.ibsss.size()); ++p) d = std::max(d, (a.ibsss[p] - b.ibsss[p]).cwiseAbs().maxCoeff());
   return d;
 }
-
-}  // namespace
 
 TEST(ScatmechPolynomial, EachPowerIsReadOnItsOwn) {
   ScratchDir dir;
@@ -133,4 +132,5 @@ TEST(ScatmechPolynomial, FitsThatTheWavelengthsCannotDetermineAreRefused) {
   EXPECT_THROW(fit_wavelength_polynomial({0.5, -0.6}, two, 0, 1), ArgumentError);
 }
 
+}  // namespace ICOBRDF_UNITY_ID
 }  // namespace icobrdf

@@ -9,9 +9,10 @@
 #include "icobrdf/io/scene.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 #include "tests/io/io_test_support.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 std::string error_of(const std::string& path) {
   try {
@@ -46,7 +47,7 @@ TEST(Scene, QuotedControlBytesStayOnOneLine) {
 }  // namespace icobrdf
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Issue #19: `levels = [5, 2]` was accepted (the search tries levels in order and reports the last as the
 // finest tried); a source too long to store failed in HDF5 after the fits. Both are refused when read.

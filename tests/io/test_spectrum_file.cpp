@@ -10,8 +10,9 @@
 #include "icobrdf/io/bank_format.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 #include "io_test_support.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using icobrdf::BankContents;
 using icobrdf::MaterialRecord;
@@ -47,8 +48,6 @@ icobrdf::RowMatrix3i ibsss_indices_order2() {
   t << 0, 0, 0, 1, 1, 1, 2, 0, 0, 2, 2, 0, 2, 2, 2;
   return t;
 }
-
-}  // namespace
 
 TEST(SpectrumFile, OneChannelRoundTripsExactly) {
   icobrdf::test::ScratchDir dir;
@@ -410,3 +409,5 @@ TEST(SpectrumFile, SourceUpToTheLimitIsStoredAndLongerIsRefused) {
   }
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"at.h5"});
 }
+
+}  // namespace ICOBRDF_UNITY_ID

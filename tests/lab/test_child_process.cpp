@@ -8,9 +8,10 @@
 
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/lab/child_process.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf::lab {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 TEST(ChildProcess, RemovesOnlyTheNamedVariablesAndOnlyInTheChild) {
   ASSERT_EQ(::setenv("ICOBRDF_TEST_CHILD_REMOVED", "gone", 1), 0);

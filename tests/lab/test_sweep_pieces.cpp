@@ -13,8 +13,9 @@
 #include "icobrdf/lab/report_format.hpp"
 #include "icobrdf/lab/staged_folder.hpp"
 #include "icobrdf/lab/sweep_measure.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 namespace fs = std::filesystem;
 using namespace icobrdf;

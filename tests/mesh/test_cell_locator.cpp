@@ -16,10 +16,11 @@
 #include "icobrdf/mesh/icosahedron.hpp"
 #include "icobrdf/mesh/snyder_projection.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 // Newton reference converges to rounding (~1e-16); points whose scaled lattice coordinates are within
 // 1e-9 of a lattice line are ambiguous for any floating-point classification and are skipped.
 constexpr double kNewtonTol = 1e-15;
@@ -67,7 +68,6 @@ int nearest_face(const Eigen::Vector3d& d) {
 }
 
 bool cell_has_vertex(const Grid& g, int c, int v) { return g.faces(c, 0) == v || g.faces(c, 1) == v || g.faces(c, 2) == v; }
-}  // namespace
 
 TEST(CellLocator, RandomDirectionsMatchNewtonReference) {
   std::mt19937_64 rng(2024);
@@ -240,3 +240,5 @@ TEST(CellLocator, RejectsBadInput) {
   EXPECT_THROW(CellLocator(-1), ArgumentError);
   EXPECT_THROW(CellLocator(2, "healpix"), ArgumentError);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -12,10 +12,11 @@
 #include "icobrdf/mesh/icosahedron.hpp"
 #include "icobrdf/mesh/snyder_projection.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 // Cell integrals of degree-<=9 planar polynomials: both sides are sums of ~25-150 terms of size ~1e-4;
 // 1e-13 relative covers their rounding and the forward/inverse round trip (~1e-15).
 constexpr double kExactRelTol = 1e-13;
@@ -62,7 +63,6 @@ double basis_k(int n, int l, const Eigen::Vector3d& d) {
   const double radial = ((k % 2) ? -1.0 : 1.0) * jacobi(k, m, 2.0 * d.z() - 1.0);
   return std::sqrt((n + 1) / M_PI) * radial * ang;
 }
-}  // namespace
 
 TEST(Cubature, ExactForPlanarPolynomialsUpToTheStatedDegree) {
   // f(d) = (w . lambda(d))^k with lambda the planar barycentric coordinates of d on the cell's face (forward
@@ -140,3 +140,5 @@ TEST(Cubature, BasisCellAveragesAtLevelFiveUpToOrder32) {
   EXPECT_LT(std::sqrt(sq_def / count), kBasisAvgRmsTol);
   EXPECT_LT(worst_def, worst_low);  // higher degree is better
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -17,10 +17,11 @@
 #include "icobrdf/mesh/snyder_projection.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 #include "tests/support/chi_square.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Central differences with step h = 1e-6 in barycentric coordinates: rounding 1e-16 / h = 1e-10; truncation
 // O(h^2 / r^2) grows towards the face centre (distance r), where the map's Cartesian derivatives are
@@ -48,8 +49,6 @@ Eigen::VectorXd random_masses(int n, unsigned seed) {
   for (int k = 0; k < n; ++k) m[k] = u(rng);
   return m;
 }
-
-}  // namespace
 
 // The sampler's premise: the inverse Snyder map has Jacobian determinant 1 (planar area in sr = solid
 // angle) everywhere off the sub-triangle boundaries, on every face. Parametrize the face by (a, b) ->
@@ -238,3 +237,5 @@ TEST(DirectionSampler, BatchPdfEqualsSingle) {
   }
   EXPECT_GT(below, 400);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

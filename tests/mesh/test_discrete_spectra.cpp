@@ -12,10 +12,11 @@
 #include "icobrdf/core/projection.hpp"
 #include "icobrdf/core/streaming_projection.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Linear algebra on matrices of up to a few hundred modes and 40k cells: 1e-10 covers the rounding of G^-1.
 constexpr double kAlgebraTol = 1e-10;
@@ -47,8 +48,6 @@ struct LevelOrder {
 // Orders up to what each level supports at the default Gram tolerance (3: 6, 4: 11, 5: 20, 6: 32), capped
 // at 16 on level 6 to keep the test within seconds.
 const LevelOrder kCases[] = {{3, 6}, {4, 11}, {5, 20}, {6, 16}};
-
-}  // namespace
 
 TEST(DiscreteSpectra, MirrorAndRetroreflectorMatchTheAnalyticSpectraWithinTheGramError) {
   // Mirror: C = D G^-1 exactly (tests/core/test_operators.cpp), so C G = D, and
@@ -103,3 +102,5 @@ TEST(DiscreteSpectra, LambertAndMinnaertAreExactOnTheGrid) {
     EXPECT_LT((minnaert[0] - minnaert_coefficients(6, 3)).cwiseAbs().maxCoeff(), kAlgebraTol) << "level " << level;
   }
 }
+
+}  // namespace ICOBRDF_UNITY_ID

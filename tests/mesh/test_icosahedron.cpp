@@ -9,10 +9,11 @@
 #include <utility>
 
 #include "icobrdf/mesh/icosahedron.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 // Vertices are normalized doubles: 1e-14 is far above their rounding and far below any geometric error.
 constexpr double kTol = 1e-14;
 
@@ -21,7 +22,6 @@ bool contains(const std::vector<Eigen::Vector3d>& set, const Eigen::Vector3d& p)
     if ((q - p).norm() < kTol) return true;
   return false;
 }
-}  // namespace
 
 TEST(Icosahedron, TwelveUnitVerticesTwentyCcwFacesThirtyEdges) {
   const auto& v = icosahedron_vertices();
@@ -77,3 +77,5 @@ TEST(Icosahedron, HemisphereHasEightWholeAndFourBisectedFaces) {
   EXPECT_EQ(whole, 8);
   EXPECT_EQ(bis, 4);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

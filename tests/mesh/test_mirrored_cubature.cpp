@@ -9,9 +9,10 @@
 #include "icobrdf/core/grid.hpp"
 #include "icobrdf/core/grid_symmetry.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Every cell's image under map s carries the image of its sampling.
 bool every_cell_maps(const Grid& g, const D2Map& s, bool centres = false) {

@@ -10,10 +10,11 @@
 
 #include "icobrdf/mesh/icosahedron.hpp"
 #include "icobrdf/mesh/snyder_projection.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 // Round trips through closed forms: a few ulps per step; 1e-14 is the required bound.
 constexpr double kRoundTripTol = 1e-14;
 // Richardson-extrapolated central differences (h = 1e-3) away from the face centre: truncation ~1e-9,
@@ -37,7 +38,6 @@ Eigen::Vector3d random_bary(std::mt19937_64& rng) {
   }
   return Eigen::Vector3d(1 - a - b, a, b);
 }
-}  // namespace
 
 TEST(SnyderProjection, ArcCentreMidpointMatchesRightTriangle) {
   // Right spherical triangle C M V with angles 60 deg at C, 36 deg at V (5 faces meet at a vertex),
@@ -192,3 +192,5 @@ TEST(SnyderProjection, SubTriangleTableMatchesDefinition) {
         EXPECT_EQ(SnyderProjection::sub_triangle(g[0], g[1], g[2]), expect) << a << b << c;
       }
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -20,10 +20,11 @@
 #include "icobrdf/mesh/snyder_projection.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 #include "icobrdf/mesh/tessellation_mesh.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 // Sum of up to 655872 exactly rounded solid angles, accumulated in long double: 1e-13 is the required bound.
 constexpr double kSumTol = 1e-13;
 // Independent area measurement: Romberg-extrapolated polygon areas (K = 128, 256, 512 points per edge)
@@ -91,7 +92,6 @@ double extrapolated_area(const HemiLattice& lat, const SnyderProjection& p, int 
 // two sides (the median is a mirror line). So each bisected face gives (4^L - 2^L)/2 whole + 2^L half
 // cells, and the total is 8 4^L + 4 ((4^L - 2^L)/2 + 2^L) = 10 4^L + 2^(L+1).
 long long expected_cells(int level) { return 10LL * (1LL << (2 * level)) + (2LL << level); }
-}  // namespace
 
 TEST(Tessellation, CellCountsMatchFormulaForAllLevels) {
   for (int level = 0; level <= 8; ++level) {
@@ -306,3 +306,5 @@ TEST(Tessellation, ChildrenTileTheirParent) {
     }
   }
 }
+
+}  // namespace ICOBRDF_UNITY_ID

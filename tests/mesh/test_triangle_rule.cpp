@@ -6,10 +6,11 @@
 
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/mesh/triangle_rule.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 // Monomial integrals are O(1e-2..1e-20); a relative 1e-13 allows the rounding of up to 31^2 terms.
 constexpr double kRelTol = 1e-13;
 
@@ -23,7 +24,6 @@ double rule_monomial(const TriangleRule& r, int a, int b) {
   for (int k = 0; k < r.size(); ++k) s += r.weight[k] * std::pow(r.xi[k], a) * std::pow(r.eta[k], b);
   return 0.5 * s;  // area of the reference triangle
 }
-}  // namespace
 
 TEST(TriangleRule, ExactUpToStatedDegree) {
   for (int d = 1; d <= 25; ++d) {
@@ -78,3 +78,5 @@ TEST(TriangleRule, RejectsBadDegree) {
   EXPECT_THROW(stroud_conical_rule(0), ArgumentError);
   EXPECT_THROW(stroud_conical_rule(62), ArgumentError);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

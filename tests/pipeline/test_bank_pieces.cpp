@@ -13,9 +13,10 @@
 #include "icobrdf/pipeline/keys.hpp"
 #include "icobrdf/pipeline/material_candidate.hpp"
 #include "icobrdf/pipeline/pruning.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 Scene small_scene() {
   Scene s;

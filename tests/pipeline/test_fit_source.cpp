@@ -6,9 +6,10 @@
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 #include "icobrdf/pipeline/fit_source.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 TEST(FitSource, EqualsTheExplicitSequence) {
   const auto src = open_source("model:0.5*lambert+0.5*ggx:alpha=0.4");

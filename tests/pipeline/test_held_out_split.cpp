@@ -15,9 +15,10 @@
 #include "icobrdf/io/measured_sources.hpp"
 #include "icobrdf/io/merl.hpp"
 #include "icobrdf/pipeline/held_out.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 struct Scratch {
   std::string path;
@@ -44,8 +45,6 @@ std::string write_samples(const Scratch& d) {
   for (int k = 0; k < 60; ++k) out << 2 * k / 3.0 + 1 << ",0," << 40 << "," << 3 * k << "," << 0.01 * (k + 1) << "\n";
   return p;
 }
-
-}  // namespace
 
 TEST(HeldOutSplit, CsvSamplesSplitOneInFiveReproduciblyBySeed) {
   Scratch d;
@@ -129,4 +128,5 @@ TEST(HeldOutSplit, MerlBinsHeldOutAreMissingFromTheTrainingTable) {
   EXPECT_EQ(merl_missing_samples(*src), 0);  // the source itself is untouched
 }
 
+}  // namespace ICOBRDF_UNITY_ID
 }  // namespace icobrdf

@@ -13,8 +13,9 @@
 #include "icobrdf/core/reflection.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 #include "icobrdf/pipeline/reflectance_check.hpp"
+#include "tests/support/unity_id.hpp"
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using namespace icobrdf;
 

@@ -13,9 +13,10 @@
 #include "icobrdf/io/spectrum_file.hpp"
 #include "icobrdf/pipeline/resource_estimate.hpp"
 #include "tests/cli/measured_run.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 using test::kSanitizedBuild;
 using test::run_measured;

@@ -10,11 +10,12 @@
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/plot/figure.hpp"
 #include "icobrdf/plot/line_chart.hpp"
+#include "tests/support/unity_id.hpp"
 
 using namespace icobrdf;
 using namespace icobrdf::plot;
 
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 // Markers and lines are antialiased: a pixel counts as "the series colour" within this many sRGB levels.
 constexpr int kColourTol = 40;
@@ -29,8 +30,6 @@ bool near_colour(const std::array<int, 3>& p, const std::array<int, 3>& c) {
 }
 
 std::string temp_png(const std::string& stem) { return "/tmp/icobrdf_line_chart_" + stem + "_" + std::to_string(::getpid()) + ".png"; }
-
-}  // namespace
 
 TEST(LineChart, MarkerOnLogAxesLandsAtTheDecadeMidpoint) {
   // log10(10) is halfway between log10(1) and log10(100); log10(1e-3) halfway between -6 and 0:
@@ -159,3 +158,5 @@ TEST(LineChart, EmptyChartStillDrawsItsAxes) {
   EXPECT_DOUBLE_EQ(f.y0, 0.1);
   EXPECT_DOUBLE_EQ(f.y1, 10.0);
 }
+
+}  // namespace ICOBRDF_UNITY_ID

@@ -23,9 +23,10 @@
 #include "icobrdf/plot/plots.hpp"
 #include "icobrdf/plot/slice_data.hpp"
 #include "icobrdf/plot/sphere_shading.hpp"
+#include "tests/support/unity_id.hpp"
 
 namespace icobrdf::plot {
-namespace {
+namespace ICOBRDF_UNITY_ID {
 
 constexpr double kPi = 3.14159265358979323846;
 // One step of 8-bit quantization: a colour computed in double precision and rounded to a byte differs from
