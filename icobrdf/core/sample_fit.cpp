@@ -10,11 +10,13 @@
 #include <atomic>
 #include <cmath>
 #include <exception>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/helmholtz_modes.hpp"
@@ -240,33 +242,70 @@ void finish_uncertainty(SampleFitResult& out, const Eigen::VectorXd& unit_se, co
   for (Eigen::Index c = 0; c < rss.size(); ++c) out.standard_error.col(c) = unit_se * out.noise_sigma[c];
 }
 
-// Unseen modes (column norm <= tol s_1), the Cholesky factor and cond(W^(1/2) A) when it exists.
-NormalEquationsProbe probe(const NormalEquations& ne, double rank_tolerance, const DenseKernels* kernels) {
+// Unseen modes (column norm <= tol s_1), the Cholesky factor and cond(W^(1/2) A) when it exists. `beside`: the
+// caller's independent jobs, run in the same pool of threads (see probe_normal_equations).
+NormalEquationsProbe probe(const NormalEquations& ne, double rank_tolerance, const DenseKernels* kernels,
+                           const std::vector<std::function<void()>>& beside = {}) {
   NormalEquationsProbe p;
   const Eigen::MatrixXd& g = ne.gram;
   const Eigen::Index k = g.rows();
   const double eps = std::numeric_limits<double>::epsilon();
   p.tolerance = rank_tolerance >= 0.0 ? rank_tolerance : static_cast<double>(std::max<long long>(ne.samples, k)) * eps;
-  if (ne.samples == 0 || k == 0) return p;
-  // The largest eigenvalue (Lanczos passes over G, bound by memory) and the factorization are independent: with
-  // threads to spare they run side by side, each on one thread, so the results do not depend on it.
-  double lmax = 0.0;
+  const bool empty = ne.samples == 0 || k == 0;
+  // Three independent pieces of work: the factorization followed by the smallest eigenvalue (Lanczos on G^-1),
+  // the largest eigenvalue (Lanczos passes over G, bound by memory), and the caller's jobs. With threads to
+  // spare and kernels that do not thread themselves they are tasks of one pool, each on one thread, so the
+  // results do not depend on the threads.
+  double lmax = 0.0, lmin = 0.0;
   std::shared_ptr<const Eigen::LLT<Eigen::MatrixXd>> llt;
-  std::exception_ptr failure;
-  const bool side_by_side = static_cast<double>(k) * k * k / 3.0 >= kParallelProbeMinWork && omp_get_max_threads() > 1 &&
-                            !(kernels && kernels->threaded);
-#pragma omp parallel sections num_threads(2) if (side_by_side)
-  {
-#pragma omp section
-    lmax = largest_eigenvalue(g);
-#pragma omp section
+  std::vector<std::exception_ptr> failures(beside.size() + 2);
+  const auto factor = [&] {
+    if (empty) return;
     try {
       llt = std::make_shared<const Eigen::LLT<Eigen::MatrixXd>>(cholesky(kernels, g));
+      if (llt->info() == Eigen::Success) lmin = smallest_eigenvalue(*llt, k);
     } catch (...) {
-      failure = std::current_exception();
+      failures[0] = std::current_exception();
+    }
+  };
+  const auto top = [&] {
+    if (empty) return;
+    try {
+      lmax = largest_eigenvalue(g);
+    } catch (...) {
+      failures[1] = std::current_exception();
+    }
+  };
+  const auto job = [&](size_t j) {
+    try {
+      beside[j]();
+    } catch (...) {
+      failures[j + 2] = std::current_exception();
+    }
+  };
+  const bool pooled = static_cast<double>(k) * k * k / 3.0 >= kParallelProbeMinWork && omp_get_max_threads() > 1 &&
+                      !(kernels && kernels->threaded);
+  if (!pooled) {
+    factor();
+    top();
+    for (size_t j = 0; j < beside.size(); ++j) job(j);
+  } else {
+#pragma omp parallel num_threads(std::min(omp_get_max_threads(), static_cast<int>(beside.size()) + 2))
+#pragma omp single
+    {
+#pragma omp task
+      factor();
+#pragma omp task
+      top();
+      for (size_t j = 0; j < beside.size(); ++j) {
+#pragma omp task firstprivate(j)
+        job(j);
+      }
     }
   }
-  if (failure) std::rethrow_exception(failure);
+  for (const std::exception_ptr& f : failures)
+    if (f) std::rethrow_exception(f);
+  if (empty) return p;
   p.s1 = std::sqrt(std::max(lmax, 0.0));
   if (!(p.s1 > 0.0)) {
     p.determinacy.unseen = static_cast<int>(k);
@@ -276,7 +315,6 @@ NormalEquationsProbe probe(const NormalEquations& ne, double rank_tolerance, con
     if (!(std::sqrt(std::max(g(j, j), 0.0)) > p.tolerance * p.s1)) ++p.determinacy.unseen;
   if (llt->info() != Eigen::Success) return p;
   p.llt = llt;
-  const double lmin = smallest_eigenvalue(*llt, k);
   if (!(lmin > 0.0)) return p;
   p.determinacy.factored = true;
   p.determinacy.condition = p.s1 / std::sqrt(lmin);
@@ -371,8 +409,9 @@ NormalEquationsDeterminacy normal_equations_determinacy(const NormalEquations& n
   return probe(ne, rank_tolerance, nullptr).determinacy;
 }
 
-NormalEquationsProbe probe_normal_equations(const NormalEquations& ne, double rank_tolerance, const DenseKernels* kernels) {
-  return probe(ne, rank_tolerance, kernels);
+NormalEquationsProbe probe_normal_equations(const NormalEquations& ne, double rank_tolerance, const DenseKernels* kernels,
+                                            const std::vector<std::function<void()>>& beside) {
+  return probe(ne, rank_tolerance, kernels, beside);
 }
 
 void check_sample_fit_input(const SampleFitOptions& options, const RowMatrix3d& wi, const RowMatrix3d& wr,

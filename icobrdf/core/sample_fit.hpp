@@ -31,7 +31,7 @@
 // Eigen's by default, OpenBLAS's dsyrk from icobrdf/io), which costs S k^2 flops instead of the QR's
 // 2 S k^2 and needs no restacking. When every mode is seen and the Cholesky factor of
 // G exists with cond(W^(1/2) A) = sqrt(lambda_max(G) / lambda_min(G)) <= kNormalEquationsMaxCondition
-// (extreme eigenvalues by power and inverse iteration) and <= 1 / rank tolerance, the fit solves
+// (extreme eigenvalues by Lanczos on G and G^-1, icobrdf/core/lanczos.hpp) and <= 1 / rank tolerance, the fit solves
 // (G + lambda D) x = A^T W y by Cholesky and applies one step of iterative refinement with the residual
 // recomputed from the samples (corrected semi-normal equations: the rounding error of forming G, of order
 // cond(G) eps <= 1e-4, is reduced by that factor again). Otherwise (unseen modes, rank deficiency, ill
@@ -140,8 +140,13 @@ struct NormalEquationsProbe {
   double s1 = 0.0;         // largest singular value of W^(1/2) A
   std::shared_ptr<const Eigen::LLT<Eigen::MatrixXd>> llt;
 };
+// `beside`: independent jobs of the caller (e.g. the cross-validation folds' factorizations) that share the
+// probe's pool of threads: with Eigen's kernels on more than one thread, the factorization, the two eigenvalue
+// iterations and each job are tasks of one thread each (a job must not rely on threads of its own); otherwise
+// all run one after the other. An exception of any job or of the probe is rethrown once all have ended.
 NormalEquationsProbe probe_normal_equations(const NormalEquations& ne, double rank_tolerance = -1.0,
-                                            const DenseKernels* kernels = nullptr);
+                                            const DenseKernels* kernels = nullptr,
+                                            const std::vector<std::function<void()>>& beside = {});
 
 // Number of unknowns of the modes of total order N (general: M(M+1)/2, isotropic: isotropic_mode_count).
 int sample_fit_unknowns(int order, bool isotropic);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <string>
 #include <utility>
@@ -101,58 +102,80 @@ struct OrderScore {
 // after the other: a parallel region costs more than it saves.
 constexpr double kParallelFoldMinWork = 5e7;
 
+// The folds' training factorizations and held-out sums of squares for `order` and lambda `tikhonov` (power
+// `power`): run(i) for each fold on any thread (one thread each), then score() sums them in fold order,
+// whatever ran where.
+class FoldScoring {
+ public:
+  FoldScoring(const Folds& f, int order, double tikhonov, double power)
+      : f_(f), k_(sample_fit_unknowns(order, f.isotropic)), d_(Eigen::VectorXd::Zero(k_)),
+        sse_(f.fold.size(), 0.0), failed_(f.fold.size(), 0) {
+    if (tikhonov > 0.0) d_ = tikhonov * tikhonov_penalties(order, f.isotropic, power);
+  }
+  int folds() const { return static_cast<int>(f_.fold.size()); }
+  int unknowns() const { return k_; }
+
+  void run(int i) {
+    const NormalEquations& hold = f_.fold[static_cast<size_t>(i)];
+    if (hold.samples == 0) return;
+    const double max_cond_g = kMaxDeterminedCondition * kMaxDeterminedCondition;
+    Eigen::MatrixXd gt = f_.total.gram.topLeftCorner(k_, k_) - hold.gram.topLeftCorner(k_, k_);
+    gt.diagonal() += d_;
+    const Eigen::LLT<Eigen::MatrixXd> llt = cholesky(f_.kernels, std::move(gt));
+    if (llt.info() != Eigen::Success || !(llt.rcond() * max_cond_g >= 1.0)) {  // undetermined
+      failed_[static_cast<size_t>(i)] = 1;
+      return;
+    }
+    const Eigen::MatrixXd x = llt.solve(f_.total.rhs.topRows(k_) - hold.rhs.topRows(k_));
+    const Eigen::MatrixXd gx = hold.gram.topLeftCorner(k_, k_) * x;
+    double sse = 0.0;
+    for (Eigen::Index c = 0; c < x.cols(); ++c)
+      sse += std::max(0.0, hold.yy[c] - 2.0 * x.col(c).dot(hold.rhs.col(c).head(k_)) + x.col(c).dot(gx.col(c)));
+    sse_[static_cast<size_t>(i)] = sse;
+  }
+
+  OrderScore score() const {
+    OrderScore s;
+    const auto channels = f_.total.rhs.cols();
+    double sse_total = 0.0, w_total = 0.0;
+    std::vector<double> fold_mse;
+    for (int i = 0; i < folds(); ++i) {
+      const NormalEquations& hold = f_.fold[static_cast<size_t>(i)];
+      if (hold.samples == 0) continue;
+      if (failed_[static_cast<size_t>(i)]) return s;
+      sse_total += sse_[static_cast<size_t>(i)];
+      w_total += hold.weight_sum * static_cast<double>(channels);
+      fold_mse.push_back(sse_[static_cast<size_t>(i)] / (hold.weight_sum * static_cast<double>(channels)));
+    }
+    if (fold_mse.empty() || !(w_total > 0.0)) return s;
+    s.determined = true;
+    s.mse = sse_total / w_total;
+    double mean = 0.0, var = 0.0;
+    for (double m : fold_mse) mean += m;
+    mean /= static_cast<double>(fold_mse.size());
+    for (double m : fold_mse) var += (m - mean) * (m - mean);
+    const double n = static_cast<double>(fold_mse.size());
+    s.mse_se = n > 1 ? std::sqrt(var / (n - 1) / n) : 0.0;
+    return s;
+  }
+
+ private:
+  const Folds& f_;
+  int k_;
+  Eigen::VectorXd d_;
+  std::vector<double> sse_;
+  std::vector<char> failed_;
+};
+
 OrderScore score_order(const Folds& f, int order, double tikhonov, double power) {
-  const int k = sample_fit_unknowns(order, f.isotropic);
-  const auto channels = f.total.rhs.cols();
-  Eigen::VectorXd d = Eigen::VectorXd::Zero(k);
-  if (tikhonov > 0.0) d = tikhonov * tikhonov_penalties(order, f.isotropic, power);
-  const double max_cond_g = kMaxDeterminedCondition * kMaxDeterminedCondition;
-  OrderScore s;
+  FoldScoring scoring(f, order, tikhonov, power);
+  const int k = scoring.unknowns(), folds = scoring.folds();
   // The folds' training factorizations are independent: one thread each (a thread per fold when the
-  // factorization is worth a parallel region and the kernels are not threaded themselves), results summed in
-  // fold order below whatever the threads.
-  const auto folds = static_cast<int>(f.fold.size());
-  std::vector<double> sse_of(static_cast<size_t>(folds), 0.0);
-  std::vector<char> failed(static_cast<size_t>(folds), 0);
+  // factorization is worth a parallel region and the kernels are not threaded themselves).
   const bool parallel = static_cast<double>(k) * k * k / 3.0 >= kParallelFoldMinWork && !(f.kernels && f.kernels->threaded);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(1, std::min(folds, omp_get_max_threads()))) if (parallel)
-  for (int i = 0; i < folds; ++i) {
-    const NormalEquations& hold = f.fold[static_cast<size_t>(i)];
-    if (hold.samples == 0) continue;
-    Eigen::MatrixXd gt = f.total.gram.topLeftCorner(k, k) - hold.gram.topLeftCorner(k, k);
-    gt.diagonal() += d;
-    const Eigen::LLT<Eigen::MatrixXd> llt = cholesky(f.kernels, std::move(gt));
-    if (llt.info() != Eigen::Success || !(llt.rcond() * max_cond_g >= 1.0)) {  // undetermined
-      failed[static_cast<size_t>(i)] = 1;
-      continue;
-    }
-    const Eigen::MatrixXd x = llt.solve(f.total.rhs.topRows(k) - hold.rhs.topRows(k));
-    const Eigen::MatrixXd gx = hold.gram.topLeftCorner(k, k) * x;
-    double sse = 0.0;
-    for (Eigen::Index c = 0; c < channels; ++c)
-      sse += std::max(0.0, hold.yy[c] - 2.0 * x.col(c).dot(hold.rhs.col(c).head(k)) + x.col(c).dot(gx.col(c)));
-    sse_of[static_cast<size_t>(i)] = sse;
-  }
-  double sse_total = 0.0, w_total = 0.0;
-  std::vector<double> fold_mse;
-  for (int i = 0; i < folds; ++i) {
-    const NormalEquations& hold = f.fold[static_cast<size_t>(i)];
-    if (hold.samples == 0) continue;
-    if (failed[static_cast<size_t>(i)]) return s;
-    sse_total += sse_of[static_cast<size_t>(i)];
-    w_total += hold.weight_sum * static_cast<double>(channels);
-    fold_mse.push_back(sse_of[static_cast<size_t>(i)] / (hold.weight_sum * static_cast<double>(channels)));
-  }
-  if (fold_mse.empty() || !(w_total > 0.0)) return s;
-  s.determined = true;
-  s.mse = sse_total / w_total;
-  double mean = 0.0, var = 0.0;
-  for (double m : fold_mse) mean += m;
-  mean /= static_cast<double>(fold_mse.size());
-  for (double m : fold_mse) var += (m - mean) * (m - mean);
-  const double n = static_cast<double>(fold_mse.size());
-  s.mse_se = n > 1 ? std::sqrt(var / (n - 1) / n) : 0.0;
-  return s;
+  for (int i = 0; i < folds; ++i) scoring.run(i);
+  return scoring.score();
 }
 
 OrderCrossValidation score_orders(const Folds& f, int min_order, int max_order, double tikhonov, double power,
@@ -369,7 +392,12 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
   // equations already show undetermined (unseen modes, no Cholesky factor, condition too large) are not
   // solved (their rank-revealing QR would be the slowest step and its result is not used).
   std::string why;
-  const NormalEquationsProbe probed = probe_normal_equations(total, o.rank_tolerance, o.kernels);
+  // The CV error of this configuration (step 5) needs the folds' factorizations; they run beside the probe's, in
+  // one pool of threads, and are used when no fallback changes the configuration.
+  FoldScoring early(folds, o.order, o.tikhonov, o.tikhonov_power);
+  std::vector<std::function<void()>> fold_jobs;
+  for (int i = 0; i < early.folds(); ++i) fold_jobs.emplace_back([&early, i] { early.run(i); });
+  const NormalEquationsProbe probed = probe_normal_equations(total, o.rank_tolerance, o.kernels, fold_jobs);
   const NormalEquationsDeterminacy& pre = probed.determinacy;
   const bool pre_undetermined =
       o.tikhonov == 0.0 && (pre.unseen > 0 || !pre.factored || !(pre.condition <= kMaxDeterminedCondition));
@@ -417,8 +445,9 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
                            " times the largest sample (" + fmt_g(out.max_abs_sample) +
                            " 1/sr); give a lower --order, or more samples");
 
-  // 5. CV error of the final configuration (the folds of its modes).
-  const OrderScore s = score_order(folds, o.order, o.tikhonov, o.tikhonov_power);
+  // 5. CV error of the final configuration (the folds of its modes): computed beside the probe unless a
+  // fallback changed the modes or lambda.
+  const OrderScore s = why.empty() ? early.score() : score_order(folds, o.order, o.tikhonov, o.tikhonov_power);
   out.cv_rms = s.determined ? std::sqrt(s.mse) : kNaN;
   return out;
 }

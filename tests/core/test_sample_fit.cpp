@@ -7,8 +7,12 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <functional>
 #include <random>
+#include <stdexcept>
+#include <vector>
 
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/helmholtz_modes.hpp"
@@ -298,6 +302,25 @@ TEST(SampleFit, ProbeConditionIsTheSingularValueRatioOfTheWeightedDesign) {
     const double cond = s[0] / s[s.size() - 1];
     EXPECT_NEAR(d.condition, cond, kConditionTol * cond) << decades << " decades of weights";
   }
+}
+
+TEST(SampleFit, ProbeRunsTheCallersJobsOnceBesideItAndPassesOnTheirFailure) {
+  // 666 general modes: the factorization is large enough for the probe's pool of tasks.
+  const int order = 7;
+  const Pairs p = random_pairs(1500, 31);
+  const NormalEquations ne =
+      assemble_normal_equations(order, false, p.wi, p.wr, Eigen::MatrixXd::Zero(1500, 1), Eigen::VectorXd::Ones(1500));
+  const NormalEquationsProbe alone = probe_normal_equations(ne);
+  std::vector<std::atomic<int>> runs(7);
+  std::vector<std::function<void()>> jobs;
+  for (size_t j = 0; j < runs.size(); ++j) jobs.emplace_back([&runs, j] { ++runs[j]; });
+  const NormalEquationsProbe beside = probe_normal_equations(ne, -1.0, nullptr, jobs);
+  for (size_t j = 0; j < runs.size(); ++j) EXPECT_EQ(runs[j].load(), 1) << "job " << j;
+  ASSERT_TRUE(alone.determinacy.factored);
+  EXPECT_EQ(beside.determinacy.condition, alone.determinacy.condition);  // the same arithmetic on any thread
+  EXPECT_EQ(beside.s1, alone.s1);
+  jobs.emplace_back([] { throw std::runtime_error("job failed"); });
+  EXPECT_THROW(probe_normal_equations(ne, -1.0, nullptr, jobs), std::runtime_error);
 }
 
 }  // namespace

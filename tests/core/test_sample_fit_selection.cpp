@@ -278,6 +278,35 @@ TEST(SampleFitSelection, DeterminedRequestIsFittedAsAsked) {
   EXPECT_EQ(a.notes.size(), 2u);
 }
 
+// The CV error of a given-order fit is, by definition, the weighted RMS over all samples of the error of the
+// fit on the other folds. The general modes of order 7 (666 unknowns) make the folds' factorizations large
+// enough to run beside the final fit's probe, in one pool of tasks (icobrdf/core/sample_fit.hpp).
+TEST(SampleFitSelection, CvErrorIsTheHeldOutErrorOfTheFoldFits) {
+  const int order = 7, samples = 6000, folds = 5;
+  const Pairs p = random_pairs(samples, 95);
+  const Eigen::MatrixXd a = helmholtz_modes_eval(order, p.wi, p.wr);
+  const Eigen::VectorXd y = a * normal_vector(a.cols(), 96) + normal_vector(samples, 97, 0.01);
+  const Eigen::VectorXd w = Eigen::VectorXd::LinSpaced(samples, 0.5, 1.5);
+  SampleFitPlan plan;
+  plan.options.order = order;
+  plan.folds = folds;
+  const CheckedSampleFit c = fit_samples_checked(p.wi, p.wr, y, w, plan);
+  ASSERT_TRUE(c.fallback.empty());
+  double sse = 0.0;
+  for (int k = 0; k < folds; ++k) {
+    Eigen::VectorXd train = w;
+    for (int i = 0; i < samples; ++i)
+      if (cross_validation_fold(i, folds) == k) train[i] = 0.0;
+    SampleFitOptions o;
+    o.order = order;
+    const SampleFitResult r = fit_samples(p.wi, p.wr, y, train, o);
+    const Eigen::VectorXd e = y - a * r.modes.col(0);
+    for (int i = 0; i < samples; ++i)
+      if (train[i] == 0.0) sse += w[i] * e[i] * e[i];
+  }
+  EXPECT_NEAR(c.cv_rms, std::sqrt(sse / w.sum()), kAlgebraTol * c.cv_rms);
+}
+
 TEST(SampleFitSelection, FoldsAreBalancedAndBadArgumentsRefused) {
   std::vector<int> count(5, 0);
   for (long long i = 0; i < 10000; ++i) ++count[static_cast<size_t>(cross_validation_fold(i, 5))];
