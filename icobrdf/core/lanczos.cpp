@@ -71,7 +71,7 @@ LanczosEstimate lanczos_largest_eigenvalue(const SymmetricOperator& apply, const
       ritz(alpha, beta, j + 1, theta, s_last);
       out.value = theta;
       out.residual = invariant ? 0.0 : b * std::abs(s_last);
-      if (invariant || out.residual <= relative_tolerance * std::abs(theta) || (last_step && j + 1 == n)) {
+      if (invariant || out.residual <= relative_tolerance * std::abs(theta) || j + 1 == n) {  // n steps: T_n holds A's spectrum
         out.converged = true;
         return out;
       }

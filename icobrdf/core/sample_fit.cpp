@@ -32,10 +32,6 @@ int unknown_count(int order, bool isotropic) {
   return isotropic ? isotropic_mode_count(order) : static_cast<int>(helmholtz_mode_count(order));
 }
 
-Eigen::MatrixXd modes_at(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr) {
-  return isotropic ? isotropic_modes_eval(order, wi, wr) : helmholtz_modes_eval(order, wi, wr);
-}
-
 // Rows per chunk (of the QR path) and per panel (of the normal-equation assembly): keeps the design block
 // near 4 million doubles (32 MB), so that a panel's rank-k update is one large matrix product.
 Eigen::Index chunk_rows(int unknowns) { return std::max<Eigen::Index>(64, 4'000'000 / std::max(unknowns, 1)); }
@@ -188,8 +184,8 @@ int assembly_threads(int unknowns, size_t rows) {
   return std::max(1, std::min<int>(omp_get_max_threads(), static_cast<int>(rows / 64) + 1));
 }
 
-// Below this many multiply-adds of the factorization (unknowns^3 / 3) the probe's largest-eigenvalue iteration and
-// factorization run one after the other: a parallel region costs more than it saves.
+// Below this many multiply-adds of the factorization (unknowns^3 / 3) the probe's pieces and the caller's jobs
+// run one after the other: a parallel region costs more than it saves.
 constexpr double kParallelProbeMinWork = 5e7;
 
 // Largest eigenvalue of the symmetric positive semi-definite g (Lanczos on G).
@@ -258,49 +254,33 @@ NormalEquationsProbe probe(const NormalEquations& ne, double rank_tolerance, con
   // results do not depend on the threads.
   double lmax = 0.0, lmin = 0.0;
   std::shared_ptr<const Eigen::LLT<Eigen::MatrixXd>> llt;
-  std::vector<std::exception_ptr> failures(beside.size() + 2);
-  const auto factor = [&] {
-    if (empty) return;
-    try {
+  std::vector<std::function<void()>> work;
+  if (!empty) {
+    work.emplace_back([&] {
       llt = std::make_shared<const Eigen::LLT<Eigen::MatrixXd>>(cholesky(kernels, g));
       if (llt->info() == Eigen::Success) lmin = smallest_eigenvalue(*llt, k);
-    } catch (...) {
-      failures[0] = std::current_exception();
-    }
-  };
-  const auto top = [&] {
-    if (empty) return;
+    });
+    work.emplace_back([&] { lmax = largest_eigenvalue(g); });
+  }
+  work.insert(work.end(), beside.begin(), beside.end());
+  std::vector<std::exception_ptr> failures(work.size());
+  const auto run = [&](size_t j) {
     try {
-      lmax = largest_eigenvalue(g);
+      work[j]();
     } catch (...) {
-      failures[1] = std::current_exception();
-    }
-  };
-  const auto job = [&](size_t j) {
-    try {
-      beside[j]();
-    } catch (...) {
-      failures[j + 2] = std::current_exception();
+      failures[j] = std::current_exception();
     }
   };
   const bool pooled = static_cast<double>(k) * k * k / 3.0 >= kParallelProbeMinWork && omp_get_max_threads() > 1 &&
-                      !(kernels && kernels->threaded);
+                      !(kernels && kernels->threaded) && work.size() > 1;
   if (!pooled) {
-    factor();
-    top();
-    for (size_t j = 0; j < beside.size(); ++j) job(j);
+    for (size_t j = 0; j < work.size(); ++j) run(j);
   } else {
-#pragma omp parallel num_threads(std::min(omp_get_max_threads(), static_cast<int>(beside.size()) + 2))
+#pragma omp parallel num_threads(std::min(omp_get_max_threads(), static_cast<int>(work.size())))
 #pragma omp single
-    {
-#pragma omp task
-      factor();
-#pragma omp task
-      top();
-      for (size_t j = 0; j < beside.size(); ++j) {
+    for (size_t j = 0; j < work.size(); ++j) {
 #pragma omp task firstprivate(j)
-        job(j);
-      }
+      run(j);
     }
   }
   for (const std::exception_ptr& f : failures)
@@ -403,6 +383,10 @@ std::optional<SampleFitResult> solve_normal_equations(const SampleFitOptions& op
 
 }  // namespace
 
+Eigen::MatrixXd sample_fit_modes(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr) {
+  return isotropic ? isotropic_modes_eval(order, wi, wr) : helmholtz_modes_eval(order, wi, wr);
+}
+
 int sample_fit_unknowns(int order, bool isotropic) { return unknown_count(order, isotropic); }
 
 NormalEquationsDeterminacy normal_equations_determinacy(const NormalEquations& ne, double rank_tolerance) {
@@ -501,7 +485,7 @@ void SampleFitAccumulator::add(const RowMatrix3d& wi, const RowMatrix3d& wr, con
       weight_sum_ += weights[keep[static_cast<size_t>(t)]];
     }
     Eigen::MatrixXd block(n, unknowns_ + channels_);
-    block.leftCols(unknowns_) = sw.asDiagonal() * modes_at(options_.order, options_.isotropic, a, c);
+    block.leftCols(unknowns_) = sw.asDiagonal() * sample_fit_modes(options_.order, options_.isotropic, a, c);
     block.rightCols(channels_) = sw.asDiagonal() * y;
     absorb(block);
     samples_ += n;

@@ -151,6 +151,10 @@ NormalEquationsProbe probe_normal_equations(const NormalEquations& ne, double ra
 // Number of unknowns of the modes of total order N (general: M(M+1)/2, isotropic: isotropic_mode_count).
 int sample_fit_unknowns(int order, bool isotropic);
 
+// The modes of a sample fit at the pairs (wi[s], wr[s]): samples x sample_fit_unknowns(order, isotropic), the
+// isotropic modes (isotropic_modes_eval) or the general ones (helmholtz_modes_eval).
+Eigen::MatrixXd sample_fit_modes(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr);
+
 // d_k of every unknown (see the header comment), in the library order of the chosen modes.
 Eigen::VectorXd tikhonov_penalties(int order, bool isotropic, double power);
 

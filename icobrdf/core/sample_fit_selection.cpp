@@ -29,10 +29,6 @@ std::string fmt_g(double x, int digits = 3) {
   return buf;
 }
 
-Eigen::MatrixXd selection_modes_at(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr) {
-  return isotropic ? isotropic_modes_eval(order, wi, wr) : helmholtz_modes_eval(order, wi, wr);
-}
-
 int max_order_of(bool isotropic) { return isotropic ? 128 : kMaxSampleFitOrder; }
 
 // The normal equations of one fold, for the modes of order `order`, and their sum.
@@ -243,7 +239,7 @@ double max_abs_over_domain(const SampleFitResult& r) {
       wi.row(a * n + b) = lat.row(a);
       wr.row(a * n + b) = lat.row(b);
     }
-  return (selection_modes_at(r.order, r.isotropic, wi, wr) * r.modes).cwiseAbs().maxCoeff();
+  return (sample_fit_modes(r.order, r.isotropic, wi, wr) * r.modes).cwiseAbs().maxCoeff();
 }
 
 }  // namespace
@@ -393,7 +389,8 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
   // solved (their rank-revealing QR would be the slowest step and its result is not used).
   std::string why;
   // The CV error of this configuration (step 5) needs the folds' factorizations; they run beside the probe's, in
-  // one pool of threads, and are used when no fallback changes the configuration.
+  // one pool of threads, and are used when no fallback changes the configuration (after a fallback they were
+  // spent in vain: at most one CV's factorizations).
   FoldScoring early(folds, o.order, o.tikhonov, o.tikhonov_power);
   std::vector<std::function<void()>> fold_jobs;
   for (int i = 0; i < early.folds(); ++i) fold_jobs.emplace_back([&early, i] { early.run(i); });
