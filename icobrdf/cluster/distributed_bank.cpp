@@ -14,7 +14,7 @@
 #include <thread>
 
 #include "icobrdf/core/error.hpp"
-#include "icobrdf/io/bank_file.hpp"
+#include "icobrdf/io/record_wire.hpp"
 #include "icobrdf/pipeline/bank_assembly.hpp"
 #include "icobrdf/pipeline/bank_resume.hpp"
 
@@ -46,21 +46,6 @@ std::int64_t index_of(const std::string& bytes) {
   std::int64_t i = -1;
   if (bytes.size() >= 8) std::memcpy(&i, bytes.data(), 8);
   return i;
-}
-
-// A record as the bytes of a one-material bank file (the resume file's format), made and read in memory.
-std::string record_bytes(MaterialRecord record) {
-  BankContents one;
-  const std::string name = "record of material '" + record.name + "'";
-  one.materials.push_back(std::move(record));
-  return bank_image(one, name);
-}
-
-MaterialRecord record_from_bytes(const std::string& bytes, const std::string& name) {
-  BankContents one = read_bank_image(bytes, name);
-  if (one.materials.size() != 1)
-    throw InputError(name + ": holds " + std::to_string(one.materials.size()) + " materials, expected 1");
-  return std::move(one.materials.front());
 }
 
 std::string progress_line(const Scene& scene, std::size_t handed, std::size_t index, int rank) {
@@ -102,7 +87,7 @@ void serve(const Scene& scene, const BankBuildOptions& options, Cluster& cluster
     } else {
       MaterialReport report = new_material_report(scene, static_cast<std::size_t>(index));
       try {
-        payload = record_bytes(fitter.fit(static_cast<std::size_t>(index), report));
+        payload = record_wire(fitter.fit(static_cast<std::size_t>(index), report));
       } catch (const std::exception& e) {
         outcome = Outcome::failed;
         payload = e.what();
@@ -256,7 +241,7 @@ void take_reports(Coordinator& co, BankCollector& out) {
     }
     MaterialRecord record;
     try {
-      record = record_from_bytes(payload, "record of material '" + report.name + "' from rank " + std::to_string(m.source));
+      record = read_record_wire(payload, "record of material '" + report.name + "' from rank " + std::to_string(m.source));
     } catch (const std::exception& e) {
       out.failed(index, std::move(report), e.what());
       continue;

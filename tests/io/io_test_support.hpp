@@ -153,6 +153,29 @@ inline Spectrum synthetic_spectrum(int order, int channels) {
   return s;
 }
 
+// The record of a sample fit of order 2 with 3 channels (21 general modes), every field set, one noise figure
+// and one standard error NaN (as the fit stores them when undefined).
+inline SampleFitRecord synthetic_sample_fit() {
+  SampleFitRecord f;
+  f.samples = 1234;
+  f.unknowns = 21;
+  f.effective_rank = 20;
+  f.condition = 12.5;
+  f.residual_rms = {0.1, 0.2, 0.3};
+  f.noise_sigma = {0.11, std::nan(""), 0.33};
+  f.cv_rms = 0.25;
+  f.cv_folds = 5;
+  f.tikhonov = 1e-3;
+  f.tikhonov_power = 1.0;
+  f.order_choice = "cross-validation";
+  f.tikhonov_choice = "generalized cross-validation";
+  f.fallback = "none taken";
+  f.solver = "QR";
+  f.standard_error = Eigen::MatrixXd::Constant(3, 21, 0.01);
+  f.standard_error(1, 7) = std::nan("");
+  return f;
+}
+
 // Outcome of running a function in a child process.
 struct ChildResult {
   bool timed_out = false;

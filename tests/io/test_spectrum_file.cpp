@@ -87,23 +87,7 @@ TEST(SpectrumFile, ChannelNamesRoundTripAndAreChecked) {
 TEST(SpectrumFile, SampleFitRecordRoundTripsAndBumpsTheMinorVersion) {
   icobrdf::test::ScratchDir dir;
   Spectrum s = icobrdf::test::synthetic_spectrum(2, 3);  // general modes of order 2: 21 unknowns
-  icobrdf::SampleFitRecord f;
-  f.samples = 1234;
-  f.unknowns = 21;
-  f.effective_rank = 20;
-  f.condition = 12.5;
-  f.residual_rms = {0.1, 0.2, 0.3};
-  f.noise_sigma = {0.11, std::nan(""), 0.33};
-  f.cv_rms = 0.25;
-  f.cv_folds = 5;
-  f.tikhonov = 1e-3;
-  f.tikhonov_power = 1.0;
-  f.order_choice = "cross-validation";
-  f.tikhonov_choice = "generalized cross-validation";
-  f.fallback = "none taken";
-  f.solver = "QR";
-  f.standard_error = Eigen::MatrixXd::Constant(3, 21, 0.01);
-  f.standard_error(1, 7) = std::nan("");
+  const icobrdf::SampleFitRecord f = icobrdf::test::synthetic_sample_fit();
   s.sample_fit = f;
   icobrdf::write_spectrum_file(dir / "s.h5", s);
   EXPECT_EQ(icobrdf::read_bank(dir / "s.h5").format_version, "1.1");
@@ -289,25 +273,39 @@ TEST(SpectrumFile, LargeDatasetsAreChunkedCompressedAndChecksummed) {
   BankContents b;
   MaterialRecord m;
   m.name = "m";
-  m.spectrum = icobrdf::test::synthetic_spectrum(8, 3);  // C: 3 x 45 x 45 float64 = 48600 bytes
-  b.materials = {m};
+  // C of order 12, 3 channels: 3 x 91 x 91 float64 = 198,744 bytes, above h5::kCompressMinBytes; of order
+  // 8, 1 channel: 45 x 45 x 8 = 16,200 bytes, below it.
+  static_assert(3 * 91 * 91 * 8 >= icobrdf::h5::kCompressMinBytes && 45 * 45 * 8 < icobrdf::h5::kCompressMinBytes);
+  m.spectrum = icobrdf::test::synthetic_spectrum(12, 3);
+  MaterialRecord small;
+  small.name = "small";
+  small.spectrum = icobrdf::test::synthetic_spectrum(8, 1);
+  b.materials = {m, small};
   icobrdf::write_bank(dir / "b.h5", b);
   const hid_t f = H5Fopen((dir / "b.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   ASSERT_GE(f, 0);
-  const hid_t d = H5Dopen2(f, "/materials/m/C", H5P_DEFAULT);
-  const hid_t p = H5Dget_create_plist(d);
-  EXPECT_EQ(H5Pget_layout(p), H5D_CHUNKED);
-  std::vector<H5Z_filter_t> filters;
-  for (int i = 0; i < H5Pget_nfilters(p); ++i) {
-    unsigned flags, cd[8], cfg;
-    size_t n = 8;
-    char name[32];
-    filters.push_back(H5Pget_filter2(p, static_cast<unsigned>(i), &flags, &n, cd, sizeof name, name, &cfg));
-  }
-  EXPECT_EQ(filters, (std::vector<H5Z_filter_t>{H5Z_FILTER_SHUFFLE, H5Z_FILTER_DEFLATE, H5Z_FILTER_FLETCHER32}));
-  H5Pclose(p);
-  H5Dclose(d);
+  const auto filters_of = [f](const char* path) {
+    const hid_t d = H5Dopen2(f, path, H5P_DEFAULT);
+    const hid_t p = H5Dget_create_plist(d);
+    EXPECT_EQ(H5Pget_layout(p), H5D_CHUNKED) << path;
+    std::vector<H5Z_filter_t> filters;
+    for (int i = 0; i < H5Pget_nfilters(p); ++i) {
+      unsigned flags, cd[8], cfg;
+      size_t n = 8;
+      char name[32];
+      filters.push_back(H5Pget_filter2(p, static_cast<unsigned>(i), &flags, &n, cd, sizeof name, name, &cfg));
+    }
+    H5Pclose(p);
+    H5Dclose(d);
+    return filters;
+  };
+  EXPECT_EQ(filters_of("/materials/m/C"), (std::vector<H5Z_filter_t>{H5Z_FILTER_SHUFFLE, H5Z_FILTER_DEFLATE, H5Z_FILTER_FLETCHER32}));
+  EXPECT_EQ(filters_of("/materials/small/C"), (std::vector<H5Z_filter_t>{H5Z_FILTER_FLETCHER32}));
   H5Fclose(f);
+  // Read back, both are what was written.
+  const auto back = icobrdf::read_bank(dir / "b.h5");
+  EXPECT_EQ(back.materials.at(0).spectrum.channels.at(2), m.spectrum.channels.at(2));
+  EXPECT_EQ(back.materials.at(1).spectrum.channels.at(0), small.spectrum.channels.at(0));
 }
 
 TEST(SpectrumFile, InvalidNamesAreArgumentErrors) {
