@@ -4,7 +4,10 @@
 // below it depends on MPI.
 //
 // MPI is initialized only by constructing a Cluster, which a program does only when it was started by
-// mpirun (started_by_mpirun, icobrdf/cluster/launcher.hpp): a plain run never touches MPI. The thread level asked for is
+// mpirun (started_by_mpirun, icobrdf/cluster/launcher.hpp): a plain run never touches MPI. When every rank runs
+// on one machine (OpenMPI's OMPI_COMM_WORLD_LOCAL_SIZE equals the world size) and OMPI_MCA_pml is unset,
+// the constructor sets it to ob1 (shared memory) before MPI_Init: OpenMPI's default probes UCX first, which
+// took 0.24 s of a 2-rank start-up against 0.04 s (benchmarks/RESULTS.md, "MPI bank build"). The thread level asked for is
 // MPI_THREAD_SERIALIZED: rank 0 talks to the other ranks from a helper thread while its main thread fits
 // (icobrdf/cluster/distributed_bank.hpp), never both at once.
 //

@@ -49,19 +49,6 @@ std::set<std::string>& temporaries() {
   return t;
 }
 
-// Registers a temporary for its lifetime.
-struct InFlight {
-  std::string path;
-  explicit InFlight(std::string p) : path(std::move(p)) {
-    std::lock_guard<std::mutex> lock(temporaries_mutex());
-    temporaries().insert(path);
-  }
-  ~InFlight() {
-    std::lock_guard<std::mutex> lock(temporaries_mutex());
-    temporaries().erase(path);
-  }
-};
-
 }  // namespace
 
 void remove_unfinished_temporaries() {
@@ -88,35 +75,44 @@ void write_fault_point(const std::string& point) {
   if (fault_hook()) fault_hook()(point);
 }
 
-void atomic_write(const std::string& path, const std::function<void(const std::string& temp_path)>& produce) {
-  check_output_target(path);  // a regular file or a new name in an existing folder
-  const std::string name = file_name(path), folder = parent_folder(path);
-
+AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
+  check_output_target(path_);  // a regular file or a new name in an existing folder
+  const std::string name = file_name(path_), folder = parent_folder(path_);
   static std::atomic<unsigned> counter{0};
-  std::string temp;
   int fd = -1;
   for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
-    temp = folder + "/." + name + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd < 0 && errno != EEXIST) fail(path, "cannot create a temporary in " + folder, errno);
+    temp_ = folder + "/." + name + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+    fd = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0 && errno != EEXIST) fail(path_, "cannot create a temporary in " + folder, errno);
   }
-  if (fd < 0) fail(path, "cannot find a free temporary name in " + folder, EEXIST);
+  if (fd < 0) fail(path_, "cannot find a free temporary name in " + folder, EEXIST);
   ::close(fd);
+  std::lock_guard<std::mutex> lock(temporaries_mutex());
+  temporaries().insert(temp_);
+}
 
-  const InFlight in_flight(temp);
-  try {
-    produce(temp);
-    write_fault_point("atomic_write:produced");
-    if (const int err = sync_path(temp, false)) fail(path, "fsync of the temporary " + temp, err);
-    write_fault_point("atomic_write:synced");
-    check_output_target(path);  // again: the path may have changed while produce ran
-    if (::rename(temp.c_str(), path.c_str()) != 0) fail(path, "rename of the temporary " + temp, errno);
-  } catch (...) {
-    ::unlink(temp.c_str());
-    throw;
-  }
+AtomicFile::~AtomicFile() {
+  if (!committed_) ::unlink(temp_.c_str());
+  std::lock_guard<std::mutex> lock(temporaries_mutex());
+  temporaries().erase(temp_);
+}
+
+void AtomicFile::commit() {
+  write_fault_point("atomic_write:produced");
+  if (const int err = sync_path(temp_, false)) fail(path_, "fsync of the temporary " + temp_, err);
+  write_fault_point("atomic_write:synced");
+  check_output_target(path_);  // again: the path may have changed while the temporary was written
+  if (::rename(temp_.c_str(), path_.c_str()) != 0) fail(path_, "rename of the temporary " + temp_, errno);
+  committed_ = true;
+  const std::string folder = parent_folder(path_);
   if (const int err = sync_path(folder, true))
-    throw IoError(path + ": written, but the fsync of its folder " + folder + " failed: " + std::strerror(err));
+    throw IoError(path_ + ": written, but the fsync of its folder " + folder + " failed: " + std::strerror(err));
+}
+
+void atomic_write(const std::string& path, const std::function<void(const std::string& temp_path)>& produce) {
+  AtomicFile file(path);
+  produce(file.temp_path());
+  file.commit();
 }
 
 void atomic_write_text(const std::string& path, const std::string& text) {

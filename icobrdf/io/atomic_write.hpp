@@ -20,6 +20,24 @@ namespace icobrdf {
 
 void atomic_write(const std::string& path, const std::function<void(const std::string& temp_path)>& produce);
 
+// atomic_write's steps as an object, for a file written over a longer time (a bank written as its materials
+// are fitted, icobrdf/io/bank_file.hpp BankWriter): the constructor takes steps 1-2, the caller writes to
+// temp_path(), commit() takes step 4. Destroyed without commit() (an exception, an interrupted build), it
+// removes the temporary and leaves `path` untouched. Failures as atomic_write's.
+class AtomicFile {
+ public:
+  explicit AtomicFile(std::string path);
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+  const std::string& temp_path() const { return temp_; }
+  void commit();
+
+ private:
+  std::string path_, temp_;
+  bool committed_ = false;
+};
+
 // Removes the temporaries of atomic writes still in progress in this process: for a program that must end
 // at once (std::terminate after an allocation failed in a worker thread), so that it leaves no partial output.
 // Files already renamed into place are untouched.

@@ -193,29 +193,46 @@ void check_bank_contents(const std::string& path, const BankContents& c) {
   }
 }
 
-// Everything of a bank but the final `complete` attribute (WriteFile::finish writes it).
-void write_bank_content(h5::WriteFile& f, const BankContents& c) {
-  const std::string created = c.created.empty() ? now_iso8601() : c.created;
-  h5::Group root = f.root();
-  root.set_attr("format", bank_format::kName);
-  bool lobes = false, fits = false;
-  for (const auto& m : c.materials) {
+// A bank is written in three parts, in this order: the materials group and each material (write_bank's
+// order, or as a BankWriter gets them), then the grid and the operators, then the root attributes; the
+// `complete` attribute last of all (WriteFile::finish).
+}  // namespace
+
+// (Outside the anonymous namespace: BankWriter::State holds one.)
+struct BankRootFlags {
+  bool lobes = false, fits = false;  // some material has a lobe / a sample-fit record (format_version)
+  void note(const MaterialRecord& m) {
     lobes = lobes || m.lobe.has_value();
     fits = fits || sample_fit_record_matches(m.spectrum);
   }
-  root.set_attr("format_version", lobes ? (fits ? bank_format::kVersionSampleFit : bank_format::kVersion)
-                                        : (fits ? bank_format::kVersionModesOnlySampleFit : bank_format::kVersionModesOnly));
+};
+
+namespace {
+
+void write_bank_rest(h5::Group& root, const BankContents& c, const BankRootFlags& flags) {
+  if (c.grid) write_grid(root, *c.grid, bank_format::kGridGroup);
+  write_basis(root, c.basis);
+  const std::string created = c.created.empty() ? now_iso8601() : c.created;
+  root.set_attr("format", bank_format::kName);
+  root.set_attr("format_version", flags.lobes ? (flags.fits ? bank_format::kVersionSampleFit : bank_format::kVersion)
+                                              : (flags.fits ? bank_format::kVersionModesOnlySampleFit : bank_format::kVersionModesOnly));
   root.set_attr("creator", std::string("icobrdf ") + ICOBRDF_VERSION);
   root.set_attr("created", created);
   root.set_attr("conventions", bank_format::kConventions);
   root.set_attr("axis_order", bank_format::kAxisOrder);
-  if (c.grid) write_grid(root, *c.grid, bank_format::kGridGroup);
-  write_basis(root, c.basis);
+}
+
+// Everything of a bank but the final `complete` attribute (WriteFile::finish writes it).
+void write_bank_content(h5::WriteFile& f, const BankContents& c) {
+  h5::Group root = f.root();
   h5::Group mats = root.create_group(bank_format::kMaterialsGroup);
+  BankRootFlags flags;
   for (const auto& m : c.materials) {
     write_material(mats, m);
+    flags.note(m);
     write_fault_point("bank:material");
   }
+  write_bank_rest(root, c, flags);
 }
 
 // The checks of the root attributes (format, major version, complete) that open_bank makes.
@@ -234,6 +251,51 @@ void write_bank(const std::string& path, const BankContents& c) {
     write_fault_point("bank:before-complete");
     f.finish();
   });
+}
+
+struct BankWriter::State {
+  explicit State(const std::string& p) : path(p), file(p), h5(h5::WriteFile::create(file.temp_path(), p)) {
+    root.emplace(h5.root());
+    materials.emplace(root->create_group(bank_format::kMaterialsGroup));
+  }
+  std::string path;
+  AtomicFile file;
+  h5::WriteFile h5;
+  std::optional<h5::Group> root, materials;  // closed before the file is
+  std::set<std::string> names;
+  BankRootFlags flags;
+};
+
+BankWriter::BankWriter(const std::string& path) {
+  h5::init();
+  s_ = std::make_unique<State>(path);
+}
+
+BankWriter::~BankWriter() = default;
+
+void BankWriter::add(const MaterialRecord& m) {
+  if (!s_) throw ArgumentError("cannot write bank: the writer of " + quoted_text(path_of_finished_) + " has finished");
+  validate_material_name(m.name);
+  require_finite_material(s_->path, m);
+  if (s_->names.count(m.name)) throw ArgumentError("cannot write bank: material name '" + m.name + "' appears twice");
+  write_material(*s_->materials, m);
+  s_->names.insert(m.name);
+  s_->flags.note(m);
+  write_fault_point("bank:writer-material");
+}
+
+void BankWriter::finish(const BankContents& rest) {
+  if (!s_) throw ArgumentError("cannot write bank: the writer of " + quoted_text(path_of_finished_) + " has finished");
+  if (!rest.materials.empty()) throw ArgumentError("cannot write bank: BankWriter::finish takes the grid and operators only, found materials");
+  check_bank_contents(s_->path, rest);
+  write_bank_rest(*s_->root, rest, s_->flags);
+  write_fault_point("bank:before-complete");
+  s_->materials.reset();
+  s_->root.reset();
+  s_->h5.finish();
+  s_->file.commit();
+  path_of_finished_ = s_->path;
+  s_.reset();
 }
 
 std::string bank_image(const BankContents& c, const std::string& name) {

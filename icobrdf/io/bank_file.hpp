@@ -10,6 +10,7 @@
 // new bank; `complete` = 1 is the last attribute written. read_bank validates everything it reads
 // (h5::Group) and refuses files whose format is not icobrdf-bank, whose major version is not ours, or that
 // lack complete = 1. Banks are trusted input beyond these checks: HDF5 itself parses the file structure.
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -55,6 +56,28 @@ void write_bank(const std::string& path, const BankContents& contents);
 
 // InputError for anything malformed, IoError when the file cannot be opened.
 BankContents read_bank(const std::string& path, const ReadOptions& options = {});
+
+// A bank written as it is built (`bank build`, icobrdf/pipeline/bank_builder.hpp): the constructor creates
+// the temporary beside `path` (icobrdf/io/atomic_write.hpp AtomicFile); add() writes one material at once,
+// with write_bank's checks for it (name, finite values, no name twice); finish() writes the grid, the
+// operators and the root attributes of `rest` (whose materials must be empty), then `complete`, and puts
+// the file in place. Destroyed before finish() (an error, an interrupted build), it leaves `path` untouched
+// and removes the temporary. The same contents give the same bytes as write_bank. Not thread-safe. Fault
+// point (set_write_fault_hook): "bank:writer-material" after each material added.
+class BankWriter {
+ public:
+  explicit BankWriter(const std::string& path);
+  ~BankWriter();
+  BankWriter(const BankWriter&) = delete;
+  BankWriter& operator=(const BankWriter&) = delete;
+  void add(const MaterialRecord& material);
+  void finish(const BankContents& rest);
+
+ private:
+  struct State;
+  std::unique_ptr<State> s_;
+  std::string path_of_finished_;
+};
 
 // A bank as the bytes of its file, made and read in memory (no file system; e.g. to send a finished material
 // to another process, icobrdf/cluster/distributed_bank.hpp). The same checks and errors as write_bank and

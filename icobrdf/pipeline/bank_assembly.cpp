@@ -81,10 +81,9 @@ MaterialRecord BankOperators::finish_record(MaterialCandidate candidate) {
   return rec;
 }
 
-BankContents assemble_bank(BankOperators& operators, std::vector<MaterialRecord> materials) {
+BankContents assemble_bank(BankOperators& operators, std::vector<MaterialRecord> materials, std::vector<int> orders) {
   BankContents bank;
   bank.grid = operators.grid();
-  std::vector<int> orders;
   for (const auto& rec : materials) orders.push_back(rec.spectrum.order);
   std::sort(orders.begin(), orders.end());
   orders.erase(std::unique(orders.begin(), orders.end()), orders.end());

@@ -38,6 +38,8 @@ class BankOperators {
 };
 
 // The bank written at the end of a build: the grid, the operators of every order used, the materials.
-BankContents assemble_bank(BankOperators& operators, std::vector<MaterialRecord> materials);
+// `orders`: the orders of materials written separately (icobrdf/io/bank_file.hpp BankWriter), whose
+// operators the bank stores as well.
+BankContents assemble_bank(BankOperators& operators, std::vector<MaterialRecord> materials, std::vector<int> orders = {});
 
 }  // namespace icobrdf

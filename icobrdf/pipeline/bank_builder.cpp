@@ -96,6 +96,8 @@ BankCollector::BankCollector(const Scene& scene, const BankBuildOptions& opt)
     }
   }
   checkpoint_ = std::make_unique<Checkpointer>(partial_path_);
+  done_at_.assign(scene.materials.size(), -1);
+  writer_ = std::make_unique<BankWriter>(opt.output);
 }
 
 BankCollector::~BankCollector() = default;
@@ -120,10 +122,26 @@ bool BankCollector::take_resumed(std::size_t index) {
 
 void BankCollector::finished(std::size_t index, MaterialRecord record, MaterialReport report) {
   report.ok = true;
+  done_at_.at(index) = static_cast<std::ptrdiff_t>(done_.materials.size());
   done_.materials.push_back(std::move(record));
   done_index_.push_back(index);
   reports_.at(index) = std::move(report);
+  write_ready();
   checkpoint_->maybe_write(done_, false);
+}
+
+// The finished materials next in scene order go into the bank (none once a material failed: no bank then).
+void BankCollector::write_ready() {
+  if (!writer_ || failed_) return;
+  try {
+    while (written_ < done_at_.size() && done_at_[written_] >= 0) {
+      writer_->add(done_.materials[static_cast<std::size_t>(done_at_[written_])]);
+      ++written_;
+    }
+  } catch (...) {
+    write_error_ = std::current_exception();
+    writer_.reset();
+  }
 }
 
 void BankCollector::failed(std::size_t index, MaterialReport report, const std::string& error) {
@@ -139,15 +157,24 @@ BankBuildResult BankCollector::finish(BankOperators& operators, bool interrupted
   result.interrupted = interrupted;
   for (auto& r : reports_)
     if (r) result.materials.push_back(std::move(*r));
-  if (failed_ || interrupted || done_.materials.size() != scene_.materials.size()) {
+  if (failed_ || interrupted || done_.materials.size() != scene_.materials.size() || write_error_) {
+    writer_.reset();                        // no bank: its temporary goes
     checkpoint_->maybe_write(done_, true);  // every finished material is kept for --resume
     result.resume_materials = checkpoint_->saved();
     if (result.resume_materials > 0) result.resume_file = partial_path_;
+    if (write_error_ && !failed_ && !interrupted) std::rethrow_exception(write_error_);
     return result;
   }
-  std::vector<MaterialRecord> in_scene_order(done_.materials.size());
-  for (std::size_t k = 0; k < done_index_.size(); ++k) in_scene_order.at(done_index_[k]) = std::move(done_.materials[k]);
-  write_bank(options_.output, assemble_bank(operators, std::move(in_scene_order)));
+  std::vector<int> orders;
+  for (const auto& rec : done_.materials) orders.push_back(rec.spectrum.order);
+  try {
+    writer_->finish(assemble_bank(operators, {}, orders));
+  } catch (...) {
+    writer_.reset();
+    checkpoint_->maybe_write(done_, true);
+    throw;
+  }
+  writer_.reset();
   ::unlink(partial_path_.c_str());
   result.written = true;
   return result;

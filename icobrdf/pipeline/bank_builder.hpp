@@ -25,6 +25,7 @@
 #include <atomic>
 #include <cstddef>
 #include <functional>
+#include <exception>
 #include <map>
 #include <memory>
 #include <optional>
@@ -104,9 +105,13 @@ class MaterialFitter {
 };
 
 // BankCollector: the writing half. Its constructor checks both output paths and reads the resume file (with
-// options.resume); it then takes each material's outcome in any order, checkpoints the finished ones
-// (icobrdf/pipeline/bank_resume.hpp), and `finish` writes the bank, in scene order, when every material
-// succeeded.
+// options.resume); it then takes each material's outcome in any order and checkpoints the finished ones
+// (icobrdf/pipeline/bank_resume.hpp). The bank itself is written as the build goes (icobrdf/io/bank_file.hpp
+// BankWriter, to a temporary): each material as soon as it and every one before it in the scene are
+// finished, so that the writing overlaps the fitting (in a distributed build, the other ranks' fitting).
+// `finish` adds the grid and the operators and puts the bank in place when every material succeeded;
+// otherwise the temporary is dropped. A failure to write the bank stops its writing, not the build: the
+// finished materials are still checkpointed, and `finish` throws that error after the checkpoint.
 class Checkpointer;
 class BankCollector {
  public:
@@ -132,6 +137,13 @@ class BankCollector {
   std::vector<std::optional<MaterialReport>> reports_;
   bool failed_ = false;
   std::unique_ptr<Checkpointer> checkpoint_;
+  // The bank being written: materials [0, written_) of the scene are in it; done_at_[i] is material i's
+  // place in done_ (-1 until finished). write_error_: the writer failed (and was dropped).
+  std::unique_ptr<BankWriter> writer_;
+  std::size_t written_ = 0;
+  std::vector<std::ptrdiff_t> done_at_;
+  std::exception_ptr write_error_;
+  void write_ready();
 };
 
 // What a failed or interrupted build kept for --resume, for its message: "N finished material(s) kept in

@@ -245,4 +245,57 @@ TEST(AtomicWrite, TextIsWrittenWhole) {
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"a.md"});
 }
 
+TEST(AtomicFile, UncommittedIsRemovedAndCommittedReplacesThePath) {
+  ScratchDir dir;
+  const std::string path = dir / "f.bin";
+  icobrdf::atomic_write_text(path, "old");
+  {
+    icobrdf::AtomicFile f(path);
+    icobrdf::test::write_bytes(f.temp_path(), "half");
+    EXPECT_EQ(dir.entries().size(), 2u);  // the old file and the temporary beside it
+  }
+  EXPECT_EQ(icobrdf::test::read_bytes(path), "old");
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"f.bin"});
+  icobrdf::AtomicFile f(path);
+  icobrdf::test::write_bytes(f.temp_path(), "new");
+  f.commit();
+  EXPECT_EQ(icobrdf::test::read_bytes(path), "new");
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"f.bin"});
+}
+
+// A bank written material by material is the bank write_bank writes of the same contents, byte for byte.
+TEST(BankWriter, MaterialByMaterialGivesWriteBanksBytes) {
+  ScratchDir dir;
+  icobrdf::BankContents b = small_bank("a");
+  b.created = "2026-11-26T00:00:00Z";
+  b.materials.push_back(large_bank().materials.front());
+  icobrdf::write_bank(dir / "whole.h5", b);
+  {
+    icobrdf::BankWriter w(dir / "parts.h5");
+    for (const auto& m : b.materials) w.add(m);
+    icobrdf::BankContents rest = b;
+    rest.materials.clear();
+    w.finish(rest);
+  }
+  EXPECT_EQ(icobrdf::test::read_bytes(dir / "parts.h5"), icobrdf::test::read_bytes(dir / "whole.h5"));
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"parts.h5", "whole.h5"}));
+}
+
+TEST(BankWriter, UnfinishedLeavesNothingAndBadMaterialsAreRefusedOneByOne) {
+  ScratchDir dir;
+  const std::string path = dir / "bank.h5";
+  icobrdf::write_bank(path, small_bank("old"));
+  const std::string before = icobrdf::test::read_bytes(path);
+  {
+    icobrdf::BankWriter w(path);
+    w.add(small_bank("a").materials.front());
+    EXPECT_THROW(w.add(small_bank("a").materials.front()), icobrdf::ArgumentError);  // the same name twice
+    auto nan = small_bank("b").materials.front();
+    nan.spectrum.channels[0](1, 1) = std::nan("");
+    EXPECT_THROW(w.add(nan), icobrdf::UnsupportedError);
+  }  // never finished
+  EXPECT_EQ(icobrdf::test::read_bytes(path), before);
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"bank.h5"});
+}
+
 }  // namespace ICOBRDF_UNITY_ID

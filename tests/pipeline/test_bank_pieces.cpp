@@ -1,5 +1,5 @@
 // The pieces of the bank builder (pipeline/): held-out errors, pruning, the "modes" candidate, the resume
-// key. End-to-end builds are in tests/cli/test_bank*.cpp.
+// key, the bank written as the build goes. End-to-end builds are in tests/cli/test_bank*.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,11 +8,15 @@
 #include "icobrdf/core/helmholtz_modes.hpp"
 #include "icobrdf/core/isotropic_modes.hpp"
 #include "icobrdf/io/brdf_source.hpp"
+#include "icobrdf/io/atomic_write.hpp"
+#include "icobrdf/io/bank_file.hpp"
+#include "icobrdf/pipeline/bank_builder.hpp"
 #include "icobrdf/pipeline/bank_resume.hpp"
 #include "icobrdf/pipeline/held_out.hpp"
 #include "icobrdf/pipeline/keys.hpp"
 #include "icobrdf/pipeline/material_candidate.hpp"
 #include "icobrdf/pipeline/pruning.hpp"
+#include "tests/io/io_test_support.hpp"
 #include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
@@ -141,6 +145,42 @@ TEST(BankResume, MaterialKeyIsTheTextOfTheSceneWords) {
   EXPECT_EQ(to_string(IsotropicChoice::Always), "true");
   EXPECT_EQ(to_string(ErrorMetric::F), "f");
   EXPECT_EQ(to_string(LutSampling::CellCentre), "centre");
+}
+
+// The bank is written as the materials finish (BankCollector with icobrdf/io/bank_file.hpp BankWriter). A
+// failure to write it (here injected at the second material) does not stop the build: every material is
+// still fitted and kept for --resume, the build then ends with that error, and neither the bank nor its
+// temporary is left.
+TEST(BankBuildWriting, AFailedBankWriteKeepsEveryMaterialForResume) {
+  icobrdf::test::ScratchDir dir;
+  Scene scene;
+  scene.level = 1;
+  scene.levels = {1};
+  scene.order_max = 2;
+  scene.holdout_pairs = 64;
+  scene.representations = {"modes"};
+  for (const char* name : {"a", "b", "c"}) scene.materials.push_back(material(name, "model:lambert:albedo=0.5", 100.0));
+  BankBuildOptions opt;
+  opt.output = dir / "bank.h5";
+  int materials_written = 0;
+  set_write_fault_hook([&](const std::string& point) {
+    if (point == "bank:writer-material" && ++materials_written == 2) throw IoError("injected failure writing the second material");
+  });
+  try {
+    build_bank(scene, opt);
+    ADD_FAILURE() << "the build succeeded";
+  } catch (const IoError& e) {
+    EXPECT_EQ(std::string(e.what()), "injected failure writing the second material");
+  }
+  set_write_fault_hook({});
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"bank.h5.partial"});
+  EXPECT_EQ(read_bank(dir / "bank.h5.partial").materials.size(), 3u);
+  // And without the failure the same scene gives its bank, resumed from the kept materials.
+  opt.resume = true;
+  const BankBuildResult again = build_bank(scene, opt);
+  EXPECT_TRUE(again.written);
+  for (const auto& m : again.materials) EXPECT_TRUE(m.resumed) << m.name;
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"bank.h5"});
 }
 
 }  // namespace
