@@ -2,10 +2,11 @@
 # Times `icobrdf bank build` of a generated scene of N cheap analytic materials (default 1,000) on one process
 # against `mpirun -np R` (default 2), one OpenMP thread per process, and checks that both give the same bank
 # (bytes compared with each material's `seconds` figure masked, as tests/cli/bank_identity.hpp does).
-#   benchmarks/bank_mpi.sh [ICOBRDF] [N] [RANKS] [REPEATS]   (default build/cli/icobrdf 1000 2 1)
+#   benchmarks/bank_mpi.sh [ICOBRDF] [N] [RANKS] [REPEATS] [LEVEL]   (default build/cli/icobrdf 1000 2 1 3)
+# LEVEL: the fitting level of every material (3: about 3 ms each; 4: about 20 ms each).
 # Runs alternate (1 process, R ranks, 1 process, ...) so that load from elsewhere falls on both alike.
 # The materials: Lambert, Minnaert, Oren-Nayar, GGX, Beckmann and Phong over a range of parameters, each fitted
-# at a fixed level 3 and order 6 (no level/order search), prune = false, a loose target (the fit is timed, not
+# at a fixed level (LEVEL, default 3) and order 6 (no level/order search), prune = false, a loose target (the fit is timed, not
 # judged), 1024 held-out pairs, and no LUTs (store_lut = false: the bank holds the spectra), so that a
 # material takes milliseconds and the per-material overhead of the distribution shows.
 # Results: benchmarks/RESULTS.md, section "MPI bank build"; the cost model: docs/cluster.md.
@@ -14,12 +15,13 @@ ICOBRDF=$(realpath "${1:-build/cli/icobrdf}")
 N=${2:-1000}
 RANKS=${3:-2}
 REPEATS=${4:-1}
+LEVEL=${5:-3}
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 scene=$dir/scene.toml
-/usr/bin/python3 - "$N" >"$scene" <<'PY'
+/usr/bin/python3 - "$N" "$LEVEL" >"$scene" <<'PY'
 import sys
-n = int(sys.argv[1])
+n, level = int(sys.argv[1]), int(sys.argv[2])
 print('[bank]\nlevel = 3\nstore_lut = false\nholdout_pairs = 1024')
 kinds = [
     lambda t: f"lambert:albedo={0.1 + 0.8 * t:.4f}",
@@ -31,7 +33,7 @@ kinds = [
 ]
 for i in range(n):
     spec = kinds[i % len(kinds)]((i // len(kinds)) / max(1, n // len(kinds)))
-    print(f'\n[[material]]\nname = "m{i:05d}"\nsource = "model:{spec}"\nlevel = 3\norder = 6\ntarget = 100\nprune = false')
+    print(f'\n[[material]]\nname = "m{i:05d}"\nsource = "model:{spec}"\nlevel = {level}\norder = 6\ntarget = 100\nprune = false')
 PY
 export SOURCE_DATE_EPOCH=1700000000 OMP_NUM_THREADS=1 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 # The bytes of a bank with every `seconds` figure (found by its 8 little-endian bytes) zeroed. With 1,000
