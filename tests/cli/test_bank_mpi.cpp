@@ -1,6 +1,7 @@
 // `mpirun -np 2 --oversubscribe icobrdf bank build` (icobrdf/cluster/distributed_bank.hpp): the bank equals a
 // one-process build byte for byte (run-dependent `seconds` figures masked, tests/cli/bank_identity.hpp), both
-// ranks fit materials, a failing material fails the build naming its rank, and --resume works across runs.
+// ranks fit materials, a failing material fails the build naming its rank, --resume works across runs, and a
+// rank killed in the middle of the build leaves no bank and one line naming each rank's material.
 // Skipped when the MPI layer was not built (no MPI found at configure time).
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -134,6 +135,46 @@ TEST_F(BankMpi, AFailingMaterialFailsTheBuildNamingItsRankAndResumeFinishesIt) {
   unsetenv("OMP_NUM_THREADS");
   ASSERT_EQ(a.exit_code, 0) << a.err;
   EXPECT_TRUE(banks_identical(one, bank));
+}
+
+// 120 materials of about 30 ms each (level 4, order 6): rank 1 is killed (SIGKILL) as soon as rank 0 has
+// handed it a material, long before the end. mpirun then ends rank 0 with SIGTERM, and rank 0 says in one
+// line what each rank was fitting; the job fails, no bank is written, and the finished materials are kept.
+TEST_F(BankMpi, AKilledRankLeavesNoBankAndOneLineNamingTheRanksMaterials) {
+  TempDir d;
+  std::string text = "[bank]\nlevel = 3\nholdout_pairs = 256\n";
+  for (int i = 0; i < 120; ++i)
+    text += "\n[[material]]\nname = \"m" + std::to_string(100 + i) + "\"\nsource = \"model:" +
+            (i % 2 ? "ggx:alpha=0.5" : "oren-nayar:sigma=20") + "\"\nlevel = 4\norder = 6\ntarget = 100\nprune = false\n";
+  const std::string scene = write(d, "scene.toml", text), bank = d.file("bank.h5"), log = d.file("mpirun.err");
+  // Rank 1 is the process of this job (its command line names this bank) whose environment says
+  // OMPI_COMM_WORLD_RANK=1; it is killed once a progress line says it holds a material (30 s at most).
+  const std::string script =
+      "export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1\n" +
+      cli_command({"bank", "build", scene, "-o", bank}, icobrdf::test::shell_quote(ICOBRDF_MPIEXEC) + " -np 2 --oversubscribe") +
+      " 2>" + icobrdf::test::shell_quote(log) + " & job=$!\n"
+      "for i in $(seq 600); do grep -q ') on rank 1$' " + icobrdf::test::shell_quote(log) + " && break; sleep 0.05; done\n"
+      "killed=0\n"
+      "for e in /proc/[0-9]*/environ; do p=${e#/proc/}; p=${p%/environ}\n"
+      "  { tr '\\0' '\\n' <$e | grep -qx OMPI_COMM_WORLD_RANK=1 && tr '\\0' ' ' </proc/$p/cmdline | grep -qF -- " +
+      icobrdf::test::shell_quote(bank) + " && kill -9 $p && killed=1; } 2>/dev/null\n"
+      "done\n"
+      "wait $job; code=$?\n"
+      "echo \"killed=$killed\"; cat " + icobrdf::test::shell_quote(log) + " >&2; exit $code\n";
+  const auto r = run_shell("bash -c " + icobrdf::test::shell_quote(script));
+  ASSERT_NE(r.out.find("killed=1"), std::string::npos) << "rank 1 was not found to be killed\n" << r.err;
+  EXPECT_NE(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(exists(bank)) << "no bank after a killed rank";
+  // icobrdf's own lines: exactly one, naming the material of each rank.
+  std::vector<std::string> ours;
+  std::istringstream err(r.err);
+  for (std::string line; std::getline(err, line);)
+    if (line.rfind("icobrdf:", 0) == 0) ours.push_back(line);
+  ASSERT_EQ(ours.size(), 1u) << r.err;
+  EXPECT_NE(ours[0].find("(mpirun sends SIGTERM when a rank fails or is killed)"), std::string::npos) << ours[0];
+  EXPECT_NE(ours[0].find("' on rank 1"), std::string::npos) << ours[0];
+  EXPECT_NE(ours[0].find("the bank is not written"), std::string::npos) << ours[0];
+  EXPECT_NE(ours[0].find("'m1"), std::string::npos) << ours[0];
 }
 
 }  // namespace ICOBRDF_UNITY_ID
