@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "icobrdf/core/error.hpp"
+#include "icobrdf/io/atomic_write.hpp"
 #include "icobrdf/io/record_wire.hpp"
 #include "icobrdf/pipeline/bank_assembly.hpp"
 #include "icobrdf/pipeline/bank_resume.hpp"
@@ -179,6 +180,10 @@ void answer_requests(Coordinator& co, Cluster& cluster) {
                                " (mpirun sends SIGTERM when a rank fails or is killed) while fitting " + co.in_progress() +
                                "; the bank is not written\n";
       (void)!::write(STDERR_FILENO, line.data(), line.size());
+      // mpirun kills this rank too if it does not end soon, and it cannot end while it waits for a dead
+      // rank's material: the bank's temporary (written as materials arrive) goes now, so that no partial
+      // file is left beside the output. The main thread's later removal finds nothing to do.
+      remove_unfinished_temporaries();
     }
     auto m = cluster.poll();
     if (!m) {

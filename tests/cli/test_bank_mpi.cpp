@@ -8,6 +8,7 @@
 #include <stdlib.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -165,6 +166,12 @@ TEST_F(BankMpi, AKilledRankLeavesNoBankAndOneLineNamingTheRanksMaterials) {
   ASSERT_NE(r.out.find("killed=1"), std::string::npos) << "rank 1 was not found to be killed\n" << r.err;
   EXPECT_NE(r.exit_code, 0) << r.err;
   EXPECT_FALSE(exists(bank)) << "no bank after a killed rank";
+  // Nor the bank's temporary (".bank.h5.tmp-*"): only the scene, the log and the kept materials.
+  std::vector<std::string> files;
+  for (const auto& e : std::filesystem::directory_iterator(d.path))
+    if (e.path().filename() != "scene.toml" && e.path().filename() != "mpirun.err" && e.path().filename() != "bank.h5.partial")
+      files.push_back(e.path().filename());
+  EXPECT_TRUE(files.empty()) << files.front();
   // icobrdf's own lines: exactly one, naming the material of each rank.
   std::vector<std::string> ours;
   std::istringstream err(r.err);
