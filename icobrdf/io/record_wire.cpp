@@ -28,6 +28,7 @@ class WireWriter {
   }
   template <class Scalar>
   void values(const Scalar* p, std::int64_t n) {
+    if (n == 0) return;  // an empty matrix's data() may be null
     bytes.append(reinterpret_cast<const char*>(p), static_cast<std::size_t>(n) * sizeof(Scalar));
   }
   // rows, cols, then the entries in the matrix's own storage order.
@@ -90,6 +91,7 @@ class WireReader {
   }
   template <class Scalar>
   void values(Scalar* p, std::int64_t n, const char* what) {
+    if (n == 0) return;  // an empty matrix's data() may be null
     need(static_cast<std::uint64_t>(n) * sizeof(Scalar), what);
     std::memcpy(p, b_.data() + at_, static_cast<std::size_t>(n) * sizeof(Scalar));
     at_ += static_cast<std::size_t>(n) * sizeof(Scalar);
