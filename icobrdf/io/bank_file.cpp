@@ -41,13 +41,16 @@ std::string now_iso8601() {
   return iso8601_utc(static_cast<long long>(std::time(nullptr)));
 }
 
+// The checks of one material before it is written: a valid name, not in `names` yet (added), finite values.
+void check_material(const std::string& path, const MaterialRecord& m, std::set<std::string>& names) {
+  validate_material_name(m.name);
+  require_finite_material(path, m);
+  if (!names.insert(m.name).second) throw ArgumentError("cannot write bank: material name '" + m.name + "' appears twice");
+}
+
 void check_contents(const std::string& path, const BankContents& c) {
   std::set<std::string> names;
-  for (const auto& m : c.materials) {
-    validate_material_name(m.name);
-    require_finite_material(path, m);
-    if (!names.insert(m.name).second) throw ArgumentError("cannot write bank: material name '" + m.name + "' appears twice");
-  }
+  for (const auto& m : c.materials) check_material(path, m, names);
   std::set<std::string> paths;
   for (const auto& b : c.basis) {
     const auto parts = split_path(b.path);
@@ -254,11 +257,10 @@ void write_bank(const std::string& path, const BankContents& c) {
 }
 
 struct BankWriter::State {
-  explicit State(const std::string& p) : path(p), file(p), h5(h5::WriteFile::create(file.temp_path(), p)) {
+  explicit State(const std::string& p) : file(p), h5(h5::WriteFile::create(file.temp_path(), p)) {
     root.emplace(h5.root());
     materials.emplace(root->create_group(bank_format::kMaterialsGroup));
   }
-  std::string path;
   AtomicFile file;
   h5::WriteFile h5;
   std::optional<h5::Group> root, materials;  // closed before the file is
@@ -266,7 +268,7 @@ struct BankWriter::State {
   BankRootFlags flags;
 };
 
-BankWriter::BankWriter(const std::string& path) {
+BankWriter::BankWriter(const std::string& path) : path_(path) {
   h5::init();
   s_ = std::make_unique<State>(path);
 }
@@ -274,27 +276,23 @@ BankWriter::BankWriter(const std::string& path) {
 BankWriter::~BankWriter() = default;
 
 void BankWriter::add(const MaterialRecord& m) {
-  if (!s_) throw ArgumentError("cannot write bank: the writer of " + quoted_text(path_of_finished_) + " has finished");
-  validate_material_name(m.name);
-  require_finite_material(s_->path, m);
-  if (s_->names.count(m.name)) throw ArgumentError("cannot write bank: material name '" + m.name + "' appears twice");
+  if (!s_) throw ArgumentError("cannot write bank: the writer of " + quoted_text(path_) + " has finished");
+  check_material(path_, m, s_->names);
   write_material(*s_->materials, m);
-  s_->names.insert(m.name);
   s_->flags.note(m);
   write_fault_point("bank:writer-material");
 }
 
 void BankWriter::finish(const BankContents& rest) {
-  if (!s_) throw ArgumentError("cannot write bank: the writer of " + quoted_text(path_of_finished_) + " has finished");
+  if (!s_) throw ArgumentError("cannot write bank: the writer of " + quoted_text(path_) + " has finished");
   if (!rest.materials.empty()) throw ArgumentError("cannot write bank: BankWriter::finish takes the grid and operators only, found materials");
-  check_bank_contents(s_->path, rest);
+  check_bank_contents(path_, rest);
   write_bank_rest(*s_->root, rest, s_->flags);
   write_fault_point("bank:before-complete");
   s_->materials.reset();
   s_->root.reset();
   s_->h5.finish();
   s_->file.commit();
-  path_of_finished_ = s_->path;
   s_.reset();
 }
 

@@ -75,8 +75,8 @@ class BankWriter {
 
  private:
   struct State;
-  std::unique_ptr<State> s_;
-  std::string path_of_finished_;
+  std::string path_;
+  std::unique_ptr<State> s_;  // null once finished
 };
 
 // A bank as the bytes of its file, made and read in memory (no file system; e.g. to send a finished material

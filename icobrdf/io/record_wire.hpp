@@ -8,8 +8,8 @@
 // bank_image for records with every part: channels, IBSSS, lobe, LUT, sample-fit record, figures, labels).
 // A field added to MaterialRecord, Spectrum, SampleFitRecord or HalfAngleFactors must be added here too.
 //
-// Cost: a copy of the record's arrays. An order-6 record takes about 10 us each way, against 0.5 ms to make
-// and 0.4 ms to read the same record as a one-material HDF5 image (bank_image; benchmarks/RESULTS.md).
+// Cost: a copy of the record's arrays. An order-6 record takes 4 us to make and read back, against 0.5 ms to
+// make and 0.4 ms to read the same record as a one-material HDF5 image (bank_image; benchmarks/RESULTS.md).
 //
 // Layout: the tag "icobrdf-record-wire", a uint32 version (kRecordWireVersion), then the fields in a fixed
 // order: integers as int64, flags as one byte, doubles as their IEEE bytes, strings and arrays with their

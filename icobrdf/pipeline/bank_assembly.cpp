@@ -81,14 +81,12 @@ MaterialRecord BankOperators::finish_record(MaterialCandidate candidate) {
   return rec;
 }
 
-BankContents assemble_bank(BankOperators& operators, std::vector<MaterialRecord> materials, std::vector<int> orders) {
+BankContents bank_operators_part(BankOperators& operators, std::vector<int> orders) {
   BankContents bank;
   bank.grid = operators.grid();
-  for (const auto& rec : materials) orders.push_back(rec.spectrum.order);
   std::sort(orders.begin(), orders.end());
   orders.erase(std::unique(orders.begin(), orders.end()), orders.end());
   for (int n : orders) operators.add_basis(bank, n);
-  bank.materials = std::move(materials);
   return bank;
 }
 

@@ -37,9 +37,8 @@ class BankOperators {
   std::map<int, std::unique_ptr<Operators>> operators_;
 };
 
-// The bank written at the end of a build: the grid, the operators of every order used, the materials.
-// `orders`: the orders of materials written separately (icobrdf/io/bank_file.hpp BankWriter), whose
-// operators the bank stores as well.
-BankContents assemble_bank(BankOperators& operators, std::vector<MaterialRecord> materials, std::vector<int> orders = {});
+// What a bank stores besides its materials (which icobrdf/io/bank_file.hpp BankWriter writes as they finish):
+// the grid and the operators of every order in `orders` (the materials' orders, repeats allowed).
+BankContents bank_operators_part(BankOperators& operators, std::vector<int> orders);
 
 }  // namespace icobrdf

@@ -124,7 +124,6 @@ void BankCollector::finished(std::size_t index, MaterialRecord record, MaterialR
   report.ok = true;
   done_at_.at(index) = static_cast<std::ptrdiff_t>(done_.materials.size());
   done_.materials.push_back(std::move(record));
-  done_index_.push_back(index);
   reports_.at(index) = std::move(report);
   write_ready();
   checkpoint_->maybe_write(done_, false);
@@ -168,7 +167,7 @@ BankBuildResult BankCollector::finish(BankOperators& operators, bool interrupted
   std::vector<int> orders;
   for (const auto& rec : done_.materials) orders.push_back(rec.spectrum.order);
   try {
-    writer_->finish(assemble_bank(operators, {}, orders));
+    writer_->finish(bank_operators_part(operators, std::move(orders)));
   } catch (...) {
     writer_.reset();
     checkpoint_->maybe_write(done_, true);

@@ -133,7 +133,6 @@ class BankCollector {
   std::string partial_path_;
   std::map<std::string, MaterialRecord> previous_;  // key -> record, from the resume file
   BankContents done_;                                // finished materials, in the order they finished
-  std::vector<std::size_t> done_index_;              // their scene indices
   std::vector<std::optional<MaterialReport>> reports_;
   bool failed_ = false;
   std::unique_ptr<Checkpointer> checkpoint_;
