@@ -23,8 +23,8 @@ constexpr double kParallelRankUpdateMinWork = 2e7;
 // thread (only its general products are parallel), so blocks of columns run on all threads instead; each
 // entry of g is summed by one block, in an order fixed by the blocking alone, so the result does not depend
 // on the thread count. Called inside a parallel region, it runs on the calling thread.
-template <class G, class B>
-void lower_rank_update(G g, const B& b, double alpha) {
+template <class G, class B, class Scalar>
+void lower_rank_update(G g, const B& b, Scalar alpha) {
   const Eigen::Index n = g.rows(), blocks = (n + kRankUpdateBlock - 1) / kRankUpdateBlock;
   const bool parallel = 0.5 * static_cast<double>(n) * static_cast<double>(n) * static_cast<double>(b.cols()) >= kParallelRankUpdateMinWork;
   // Blocks in order, the largest (leftmost) first, one at a time per thread.
@@ -49,41 +49,48 @@ constexpr Eigen::Index kCholeskyPanel = 192;
 // Right-looking blocked Cholesky, lower triangle in place. Eigen's own blocked LLT updates its trailing
 // matrix with its one-thread symmetric rank update; this one spreads that update, nearly all of the k^3 / 3
 // flops, over the threads. The order of every sum is fixed by the panel and block widths, not the threads.
-bool eigen_cholesky_lower(double* g, Eigen::Index k) {
-  Eigen::Map<Eigen::MatrixXd> a(g, k, k);
+template <class Scalar>
+bool blocked_cholesky_lower(Scalar* g, Eigen::Index k) {
+  using Matrix = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
+  Eigen::Map<Matrix> a(g, k, k);
   for (Eigen::Index j = 0; j < k; j += kCholeskyPanel) {
     const Eigen::Index w = std::min(kCholeskyPanel, k - j), r = k - j - w;
     auto a11 = a.block(j, j, w, w);
-    if (Eigen::internal::llt_inplace<double, Eigen::Lower>::blocked(a11) != -1) return false;
+    if (Eigen::internal::llt_inplace<Scalar, Eigen::Lower>::blocked(a11) != -1) return false;
     if (r == 0) break;
     auto a21 = a.block(j + w, j, r, w);
-    a11.triangularView<Eigen::Lower>().transpose().solveInPlace<Eigen::OnTheRight>(a21);  // a21 L11^-T
-    lower_rank_update(Eigen::Ref<Eigen::MatrixXd>(a.block(j + w, j + w, r, r)), a21, -1.0);
+    a11.template triangularView<Eigen::Lower>().transpose().template solveInPlace<Eigen::OnTheRight>(a21);  // a21 L11^-T
+    lower_rank_update(Eigen::Ref<Matrix>(a.block(j + w, j + w, r, r)), a21, Scalar(-1));
   }
   return true;
 }
 
+bool eigen_cholesky_lower(double* g, Eigen::Index k) { return blocked_cholesky_lower(g, k); }
+
 // An Eigen::LLT whose factor was computed elsewhere: Eigen 3.4 keeps the factor, the L1 norm of the matrix
 // (for rcond) and the status in protected members, which a derived class may set. It adds no member, so the
 // object converts to a plain Eigen::LLT without loss.
-class FactoredLlt : public Eigen::LLT<Eigen::MatrixXd> {
+template <class Matrix>
+class FactoredLlt : public Eigen::LLT<Matrix> {
  public:
-  FactoredLlt(Eigen::MatrixXd factor, double l1_norm, bool ok) {
-    m_matrix = std::move(factor);
-    m_l1_norm = l1_norm;
-    m_isInitialized = true;
-    m_info = ok ? Eigen::Success : Eigen::NumericalIssue;
+  FactoredLlt(Matrix factor, typename Matrix::RealScalar l1_norm, bool ok) {
+    this->m_matrix = std::move(factor);
+    this->m_l1_norm = l1_norm;
+    this->m_isInitialized = true;
+    this->m_info = ok ? Eigen::Success : Eigen::NumericalIssue;
   }
 };
 
 // The L1 norm (largest absolute column sum) of the symmetric matrix whose lower triangle g holds, as
 // Eigen::LLT::compute computes it; read column by column: g(i, j), i > j, counts in columns j and i.
-double symmetric_l1_norm(const Eigen::MatrixXd& g) {
+template <class Matrix>
+typename Matrix::RealScalar symmetric_l1_norm(const Matrix& g) {
+  using Array = Eigen::Array<typename Matrix::RealScalar, Eigen::Dynamic, 1>;
   const Eigen::Index k = g.rows();
-  if (k == 0) return 0.0;
-  Eigen::ArrayXd sums = Eigen::ArrayXd::Zero(k);
+  if (k == 0) return 0;
+  Array sums = Array::Zero(k);
   for (Eigen::Index j = 0; j < k; ++j) {
-    const Eigen::ArrayXd c = g.col(j).tail(k - j).array().abs();
+    const Array c = g.col(j).tail(k - j).array().abs();
     sums[j] += c.sum();
     sums.tail(k - j - 1) += c.tail(k - j - 1);
   }
@@ -106,6 +113,14 @@ void rank_update_lower(const DenseKernels* kernels, Eigen::MatrixXd& g, const Ei
   k.rank_update(g.data(), g.rows(), a.data(), a.rows(), a.outerStride());
 }
 
+void rank_update_lower(Eigen::MatrixXf& g, const Eigen::Ref<const Eigen::MatrixXf>& a) {
+  if (g.rows() != g.cols() || g.cols() != a.cols())
+    throw ArgumentError("single-precision rank update: G is " + std::to_string(g.rows()) + " x " + std::to_string(g.cols()) +
+                        ", A has " + std::to_string(a.cols()) + " columns");
+  if (a.rows() == 0 || a.cols() == 0) return;
+  lower_rank_update(Eigen::Ref<Eigen::MatrixXf>(g), a.transpose(), 1.0f);
+}
+
 Eigen::LLT<Eigen::MatrixXd> cholesky(const DenseKernels* kernels, Eigen::MatrixXd g) {
   if (g.rows() != g.cols())
     throw ArgumentError("Cholesky factorization: the matrix is " + std::to_string(g.rows()) + " x " + std::to_string(g.cols()) +
@@ -117,7 +132,17 @@ Eigen::LLT<Eigen::MatrixXd> cholesky(const DenseKernels* kernels, Eigen::MatrixX
   if (!kernels) kernels = &eigen_dense_kernels();
   const double l1 = symmetric_l1_norm(g);
   const bool ok = g.rows() == 0 || kernels->cholesky_lower(g.data(), g.rows());
-  return FactoredLlt(std::move(g), l1, ok);
+  return FactoredLlt<Eigen::MatrixXd>(std::move(g), l1, ok);
+}
+
+Eigen::LLT<Eigen::MatrixXf> cholesky(Eigen::MatrixXf g) {
+  if (g.rows() != g.cols())
+    throw ArgumentError("single-precision Cholesky factorization: the matrix is " + std::to_string(g.rows()) + " x " +
+                        std::to_string(g.cols()) + ", expected square");
+  if (g.rows() <= kCholeskyPanel) return Eigen::LLT<Eigen::MatrixXf>(g);
+  const float l1 = symmetric_l1_norm(g);
+  const bool ok = blocked_cholesky_lower(g.data(), g.rows());
+  return FactoredLlt<Eigen::MatrixXf>(std::move(g), l1, ok);
 }
 
 }  // namespace icobrdf

@@ -37,6 +37,19 @@
 // cond(G) eps <= 1e-4, is reduced by that factor again). Otherwise (unseen modes, rank deficiency, ill
 // conditioning) it streams the rows through the rank-revealing QR above. `solver` says which ran.
 //
+// Single-precision Gram products (GramPrecision::Single; Automatic picks them for fits of at least
+// kSingleGramMinWork multiply-adds). The rank-k update of each panel runs in float, about twice as fast as in
+// double (16 lanes instead of 8 on AVX-512), on the panel scaled by a power of two (no overflow or underflow
+// for any data scale) and is added to the double G; G then carries a rounding error of relative size about
+// sqrt(panel rows) * 2^-24 (~1e-6) instead of ~1e-15. The fit removes it: the iterative refinement above runs
+// until the correction is below kRefinementFloor * cond(W^(1/2) A) of the solution (each step divides the error by
+// about 1 / (cond(G) * 1e-6)), so the coefficients reach the double path's accuracy. Used only while the
+// probe of G finds every mode seen, a factor and cond(W^(1/2) A) <= kSingleGramMaxCondition (each step then
+// gains at least 2 digits); otherwise, and when the refinement does not converge in kMaxRefinementPasses,
+// the fit assembles G again in double. What keeps the single-precision rounding: the condition figure and
+// the standard errors (relative error ~ cond(G) * 1e-6, far below the digits they are read to). The
+// cross-validation folds of icobrdf/core/sample_fit_selection.hpp are refined the same way (held_out_pass).
+//
 // Uncertainty (both paths). With z = Q^T W^(1/2) y the estimate is x = M z (M = G_lambda^-1 R^T, or
 // V_r S_r^-1 U_r^T for the truncated SVD), so for independent errors of variance sigma^2 / w_s (weights are
 // inverse relative variances; duplicate counts are), cov(x) = sigma^2 M M^T:
@@ -68,6 +81,33 @@ using FitProgress = std::function<void(const char* stage, double fraction)>;
 // for Least Squares Problems", sec. 2.9, corrected semi-normal equations).
 inline constexpr double kNormalEquationsMaxCondition = 1e6;
 
+// Below this condition of W^(1/2) A a Gram matrix with single-precision products is refined to double accuracy
+// in a few steps: cond(G) = 1e4 times its ~1e-6 relative rounding leaves a contraction of 1e-2 per step.
+inline constexpr double kSingleGramMaxCondition = 100.0;
+// Work (samples x unknowns^2 multiply-adds of the Gram matrix) from which GramPrecision::Automatic takes
+// single-precision products: 1e10 is ~0.15 s of double products on the 2-core machine of benchmarks/RESULTS.md,
+// where halving them outweighs the extra refinement passes (each ~2 samples x unknowns multiply-adds).
+inline constexpr double kSingleGramMinWork = 1e10;
+// Refinement passes over the samples with a single-precision Gram before the fit falls back to a double one.
+inline constexpr int kMaxRefinementPasses = 12;
+// The refinement stops when the error left, estimated as the last correction d_j times rho / (1 - rho) with
+// rho = |d_j| / |d_j-1| its measured contraction (or the correction itself once it is this small), is at most this
+// times cond(W^(1/2) A) times the solution (largest entries): the attainable accuracy of the corrected
+// semi-normal equations is ~ cond eps (Bjorck, sec. 2.9).
+inline constexpr double kRefinementFloor = 16.0 * std::numeric_limits<double>::epsilon();
+
+// Whether a refinement whose corrections had largest entries `previous` (0 before the second) and `last`, on a
+// solution of largest entry `size`, has converged to `floor` (relative), by the rule above.
+inline bool refinement_converged(double previous, double last, double size, double floor) {
+  if (last <= floor * size) return true;
+  if (!(previous > 0.0) || !(last < previous)) return false;
+  const double rho = last / previous;
+  return last * rho / (1.0 - rho) <= floor * size;
+}
+
+// Precision of the products of the Gram matrix's rank-k updates (see "Single-precision Gram products").
+enum class GramPrecision { Automatic, Double, Single };
+
 struct SampleFitOptions {
   int order = 4;             // total order N of the modes
   bool isotropic = false;    // fit the isotropic modes I_nm^l instead of the general Helmholtz modes
@@ -78,6 +118,8 @@ struct SampleFitOptions {
   // The rank-k update and Cholesky kernels of the normal-equation path (icobrdf/core/dense_kernels.hpp);
   // null: Eigen's. Not owned; must outlive the fit.
   const DenseKernels* kernels = nullptr;
+  // Products of the Gram matrix when the fit assembles it (fit_samples without `assembled`; fit_samples_checked).
+  GramPrecision gram = GramPrecision::Automatic;
 };
 
 struct SampleFitResult {
@@ -101,7 +143,8 @@ struct SampleFitResult {
   double weight_sum = 0.0;                // sum of the weights of the rows used
   Eigen::VectorXd noise_sigma;            // per channel: sigma (error of a weight-1 sample) [1/sr]; NaN if S <= tr H
   Eigen::MatrixXd standard_error;         // unknowns x channels (see the header comment); NaN where undefined
-  const char* solver = "";                // "normal equations" or "QR"
+  const char* solver = "";                // "normal equations", "normal equations, single-precision Gram" or "QR"
+  int refinement_passes = 0;              // passes over the samples that refined the normal-equation solution
 };
 
 // Weighted normal equations of the modes at samples: gram = A^T W A (unknowns x unknowns, both triangles),
@@ -111,6 +154,7 @@ struct SampleFitResult {
 // rows whatever the thread count.
 struct NormalEquations {
   Eigen::MatrixXd gram;
+  bool single_products = false;  // gram's rank-k products ran in single precision (rhs and yy are double always)
   Eigen::MatrixXd rhs;
   Eigen::VectorXd yy;
   double weight_sum = 0.0;
@@ -119,7 +163,23 @@ struct NormalEquations {
 NormalEquations assemble_normal_equations(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr,
                                           const Eigen::MatrixXd& values, const Eigen::VectorXd& weights,
                                           const std::vector<Eigen::Index>& rows = {}, const FitProgress& progress = {},
-                                          const DenseKernels* kernels = nullptr);
+                                          const DenseKernels* kernels = nullptr, bool single_products = false);
+
+// One pass over the samples for K training problems at once (the cross-validation folds of
+// icobrdf/core/sample_fit_selection.hpp): fold[i] is the fold of row i of `values` in [0, K) (-1: not used; rows of
+// weight 0 are skipped too), x[f] (unknowns x channels) the solution trained without fold f. Returns per fold
+// c[f] = A_-f^T W (y - A_-f x_f), the residual that refines training problem f, and held[f] = the sum over
+// the rows of fold f of w (y - A x_f)^2 per channel, its held-out error, both from the samples in double.
+struct HeldOutPass {
+  std::vector<Eigen::MatrixXd> c;
+  std::vector<Eigen::VectorXd> held;
+};
+HeldOutPass held_out_pass(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
+                          const Eigen::VectorXd& weights, const std::vector<int>& fold, const std::vector<Eigen::MatrixXd>& x);
+
+// Whether a fit of `samples` samples and `unknowns` unknowns assembles its Gram matrix with single-precision
+// products (Automatic: when samples x unknowns^2 >= kSingleGramMinWork).
+bool single_gram_products(GramPrecision gram, long long samples, int unknowns);
 
 // What the normal equations say about determinacy before any solve: modes with column norm <= tol s_1
 // (tol: the rank tolerance, negative for the default), whether G has a Cholesky factor, and then
@@ -131,6 +191,10 @@ struct NormalEquationsDeterminacy {
   double condition = std::numeric_limits<double>::quiet_NaN();
 };
 NormalEquationsDeterminacy normal_equations_determinacy(const NormalEquations& ne, double rank_tolerance = -1.0);
+
+// Whether a single-precision Gram matrix with this probe can be refined to double accuracy (every mode seen, a
+// factor, cond(W^(1/2) A) <= kSingleGramMaxCondition).
+bool single_gram_refinable(const NormalEquationsDeterminacy& d);
 
 // The same figures with what the solve reuses: the tolerance, s_1 = sqrt(lambda_max(G)) and the Cholesky
 // factor of G (null when G has none, or when a mode is unseen). `kernels` factor G (Eigen's when null).

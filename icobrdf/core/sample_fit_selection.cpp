@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -18,7 +19,6 @@
 #include "icobrdf/core/scramble.hpp"
 
 namespace icobrdf {
-
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -38,15 +38,32 @@ struct Folds {
   std::vector<NormalEquations> fold;
   NormalEquations total;
   const DenseKernels* kernels = nullptr;  // of the training factorizations (Eigen's when null)
+  // The samples (they outlive the folds) and each row's fold (-1: weight 0), for the held-out passes that
+  // single-precision Gram products need.
+  const RowMatrix3d* wi = nullptr;
+  const RowMatrix3d* wr = nullptr;
+  const Eigen::MatrixXd* values = nullptr;
+  const Eigen::VectorXd* weights = nullptr;
+  std::vector<int> fold_of_row;
 };
 
 Folds assemble_folds(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
-                     const Eigen::VectorXd& weights, int folds, const FitProgress& progress, const DenseKernels* kernels) {
+                     const Eigen::VectorXd& weights, int folds, const FitProgress& progress, const DenseKernels* kernels,
+                     bool single_products = false) {
   std::vector<std::vector<Eigen::Index>> rows(static_cast<size_t>(folds));
+  Folds f;
+  f.fold_of_row.assign(static_cast<size_t>(weights.size()), -1);
   long long index = 0;
   for (Eigen::Index i = 0; i < weights.size(); ++i)
-    if (weights[i] > 0.0) rows[static_cast<size_t>(cross_validation_fold(index++, folds))].push_back(i);
-  Folds f;
+    if (weights[i] > 0.0) {
+      const int k = cross_validation_fold(index++, folds);
+      rows[static_cast<size_t>(k)].push_back(i);
+      f.fold_of_row[static_cast<size_t>(i)] = k;
+    }
+  f.wi = &wi;
+  f.wr = &wr;
+  f.values = &values;
+  f.weights = &weights;
   f.order = order;
   f.isotropic = isotropic;
   f.kernels = kernels;
@@ -61,10 +78,12 @@ Folds assemble_folds(int order, bool isotropic, const RowMatrix3d& wi, const Row
       z.gram = Eigen::MatrixXd::Zero(u, u);
       z.rhs = Eigen::MatrixXd::Zero(u, values.cols());
       z.yy = Eigen::VectorXd::Zero(values.cols());
+      z.single_products = single_products;
       f.fold.push_back(std::move(z));
       continue;
     }
-    f.fold.push_back(assemble_normal_equations(order, isotropic, wi, wr, values, weights, rows[static_cast<size_t>(k)], p, kernels));
+    f.fold.push_back(
+        assemble_normal_equations(order, isotropic, wi, wr, values, weights, rows[static_cast<size_t>(k)], p, kernels, single_products));
   }
   f.total = f.fold[0];
   for (int k = 1; k < folds; ++k) {
@@ -85,6 +104,7 @@ NormalEquations leading(const NormalEquations& ne, int unknowns) {
   out.yy = ne.yy;
   out.weight_sum = ne.weight_sum;
   out.samples = ne.samples;
+  out.single_products = ne.single_products;
   return out;
 }
 
@@ -93,6 +113,9 @@ struct OrderScore {
   double mse = kNaN;     // weighted mean square over all held-out samples and channels
   double mse_se = kNaN;  // standard error over folds
 };
+
+// Below this many entries of a fold's factor its correction solves run on one thread (a parallel region costs more).
+constexpr double kParallelFoldSolveMinEntries = 1e5;
 
 // Below this many multiply-adds (a fold's Cholesky factorization, unknowns^3 / 3) the folds are factored one
 // after the other: a parallel region costs more than it saves.
@@ -104,8 +127,9 @@ constexpr double kParallelFoldMinWork = 5e7;
 class FoldScoring {
  public:
   FoldScoring(const Folds& f, int order, double tikhonov, double power)
-      : f_(f), k_(sample_fit_unknowns(order, f.isotropic)), d_(Eigen::VectorXd::Zero(k_)),
-        sse_(f.fold.size(), 0.0), failed_(f.fold.size(), 0) {
+      : f_(f), order_(order), k_(sample_fit_unknowns(order, f.isotropic)), d_(Eigen::VectorXd::Zero(k_)),
+        sse_(f.fold.size(), 0.0), failed_(f.fold.size(), 0), single_llt_(f.fold.size()), double_llt_(f.fold.size()), x_(f.fold.size()),
+        cond_(f.fold.size(), 0.0) {
     if (tikhonov > 0.0) d_ = tikhonov * tikhonov_penalties(order, f.isotropic, power);
   }
   int folds() const { return static_cast<int>(f_.fold.size()); }
@@ -117,7 +141,18 @@ class FoldScoring {
     const double max_cond_g = kMaxDeterminedCondition * kMaxDeterminedCondition;
     Eigen::MatrixXd gt = f_.total.gram.topLeftCorner(k_, k_) - hold.gram.topLeftCorner(k_, k_);
     gt.diagonal() += d_;
-    const Eigen::LLT<Eigen::MatrixXd> llt = cholesky(f_.kernels, std::move(gt));
+    if (f_.total.single_products) {  // a single-precision factor, refined and scored from the samples by refine_single()
+      Eigen::LLT<Eigen::MatrixXf> llt = cholesky(Eigen::MatrixXf(gt.cast<float>()));
+      if (llt.info() != Eigen::Success || !(static_cast<double>(llt.rcond()) * max_cond_g >= 1.0)) {
+        failed_[static_cast<size_t>(i)] = 1;
+        return;
+      }
+      x_[static_cast<size_t>(i)] = llt.solve((f_.total.rhs.topRows(k_) - hold.rhs.topRows(k_)).cast<float>()).cast<double>();
+      cond_[static_cast<size_t>(i)] = 1.0 / std::sqrt(std::max(static_cast<double>(llt.rcond()), std::numeric_limits<double>::min()));
+      single_llt_[static_cast<size_t>(i)] = std::move(llt);
+      return;
+    }
+    Eigen::LLT<Eigen::MatrixXd> llt = cholesky(f_.kernels, std::move(gt));
     if (llt.info() != Eigen::Success || !(llt.rcond() * max_cond_g >= 1.0)) {  // undetermined
       failed_[static_cast<size_t>(i)] = 1;
       return;
@@ -128,6 +163,72 @@ class FoldScoring {
     for (Eigen::Index c = 0; c < x.cols(); ++c)
       sse += std::max(0.0, hold.yy[c] - 2.0 * x.col(c).dot(hold.rhs.col(c).head(k_)) + x.col(c).dot(gx.col(c)));
     sse_[static_cast<size_t>(i)] = sse;
+  }
+
+  // With single-precision Gram products the folds' Gram matrices carry a rounding of ~1e-6 relative, which the
+  // expanded held-out error y_f^T W y_f - 2 x^T b_f + x^T G_f x would amplify by y^T W y / SSE (a low-noise fit's
+  // CV error would be lost in it), and the training solutions (from single-precision factors, run()) by cond(G).
+  // So, after run() of every fold: passes over the samples refine each fold's solution (as sample_fit.hpp refines
+  // the fit, refinement_converged) and the held-out errors come from the samples themselves (held_out_pass). A
+  // fold still refining after kMaxRefinementPasses is factored again in double and refined again; one that does
+  // not converge then either is marked failed (the CV error is then NaN).
+  void refine_single() {
+    if (!f_.total.single_products) return;
+    std::vector<int> active;
+    for (int i = 0; i < folds(); ++i)
+      if (f_.fold[static_cast<size_t>(i)].samples > 0 && !failed_[static_cast<size_t>(i)]) active.push_back(i);
+    if (active.empty()) return;
+    const auto n = static_cast<size_t>(folds());
+    std::vector<Eigen::MatrixXd> x(n, Eigen::MatrixXd::Zero(k_, f_.total.rhs.cols()));
+    for (int i : active) x[static_cast<size_t>(i)] = x_[static_cast<size_t>(i)];
+    std::vector<char> done(n, 0);
+    std::vector<double> previous(n, 0.0);  // each fold's last correction (largest entry)
+    std::vector<int> passes(n, 0);         // with its current factor
+    std::vector<Eigen::MatrixXd> dx(n);
+    for (;;) {
+      const HeldOutPass h = held_out_pass(order_, f_.isotropic, *f_.wi, *f_.wr, *f_.values, *f_.weights, f_.fold_of_row, x);
+      // The folds' corrections are independent (two triangular solves each, bound by memory): one thread each.
+#pragma omp parallel for schedule(dynamic, 1) if (static_cast<double>(k_) * k_ >= kParallelFoldSolveMinEntries)
+      for (size_t a = 0; a < active.size(); ++a) {
+        const auto u = static_cast<size_t>(active[a]);
+        if (done[u]) continue;
+        const Eigen::MatrixXd r = h.c[u] - d_.asDiagonal() * x[u];
+        dx[u] = double_llt_[u] ? double_llt_[u]->solve(r) : Eigen::MatrixXd(single_llt_[u]->solve(r.cast<float>()).cast<double>());
+      }
+      bool all = true;
+      for (int i : active) {
+        const auto u = static_cast<size_t>(i);
+        sse_[u] = h.held[u].sum();
+        if (done[u]) continue;
+        x[u] += dx[u];
+        ++passes[u];
+        const double last = dx[u].cwiseAbs().maxCoeff();
+        if (dx[u].allFinite() && refinement_converged(previous[u], last, x[u].cwiseAbs().maxCoeff(), kRefinementFloor * cond_[u])) {
+          done[u] = 1;
+          continue;
+        }
+        previous[u] = last;
+        all = false;
+        if (passes[u] < kMaxRefinementPasses && dx[u].allFinite()) continue;
+        if (double_llt_[u]) {  // a double factor did not converge either
+          failed_[u] = 1;
+          done[u] = 1;
+          continue;
+        }
+        Eigen::MatrixXd gt = f_.total.gram.topLeftCorner(k_, k_) - f_.fold[u].gram.topLeftCorner(k_, k_);
+        gt.diagonal() += d_;
+        double_llt_[u] = cholesky(f_.kernels, std::move(gt));
+        if (double_llt_[u]->info() != Eigen::Success) {
+          failed_[u] = 1;
+          done[u] = 1;
+          continue;
+        }
+        x[u] = double_llt_[u]->solve(f_.total.rhs.topRows(k_) - f_.fold[u].rhs.topRows(k_));
+        previous[u] = 0.0;
+        passes[u] = 0;
+      }
+      if (all) return;
+    }
   }
 
   OrderScore score() const {
@@ -157,10 +258,17 @@ class FoldScoring {
 
  private:
   const Folds& f_;
+  int order_;
   int k_;
   Eigen::VectorXd d_;
   std::vector<double> sse_;
   std::vector<char> failed_;
+  // Single products: each fold's training factor (single precision; double after a failed refinement), its
+  // unrefined solution and its condition estimate.
+  std::vector<std::optional<Eigen::LLT<Eigen::MatrixXf>>> single_llt_;
+  std::vector<std::optional<Eigen::LLT<Eigen::MatrixXd>>> double_llt_;
+  std::vector<Eigen::MatrixXd> x_;
+  std::vector<double> cond_;
 };
 
 OrderScore score_order(const Folds& f, int order, double tikhonov, double power) {
@@ -171,6 +279,7 @@ OrderScore score_order(const Folds& f, int order, double tikhonov, double power)
   const bool parallel = static_cast<double>(k) * k * k / 3.0 >= kParallelFoldMinWork && !(f.kernels && f.kernels->threaded);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(1, std::min(folds, omp_get_max_threads()))) if (parallel)
   for (int i = 0; i < folds; ++i) scoring.run(i);
+  scoring.refine_single();
   return scoring.score();
 }
 
@@ -370,7 +479,8 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
                         fmt_g(out.order_cv.rms[at]) + " +- " + fmt_g(out.order_cv.rms_se[at], 2) +
                         " 1/sr; lowest order within 0.5% of the best mean square)");
   } else {
-    folds = assemble_folds(o.order, o.isotropic, wi, wr, values, w, plan.folds, o.progress, o.kernels);
+    folds = assemble_folds(o.order, o.isotropic, wi, wr, values, w, plan.folds, o.progress, o.kernels,
+                           single_gram_products(o.gram, positive, sample_fit_unknowns(o.order, o.isotropic)));
   }
   NormalEquations total = leading(folds.total, sample_fit_unknowns(o.order, o.isotropic));
 
@@ -391,10 +501,19 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
   // The CV error of this configuration (step 5) needs the folds' factorizations; they run beside the probe's, in
   // one pool of threads, and are used when no fallback changes the configuration (after a fallback they were
   // spent in vain: at most one CV's factorizations).
-  FoldScoring early(folds, o.order, o.tikhonov, o.tikhonov_power);
-  std::vector<std::function<void()>> fold_jobs;
-  for (int i = 0; i < early.folds(); ++i) fold_jobs.emplace_back([&early, i] { early.run(i); });
-  const NormalEquationsProbe probed = probe_normal_equations(total, o.rank_tolerance, o.kernels, fold_jobs);
+  // A Gram matrix with single-precision products that the fit cannot refine (sample_fit.hpp) is assembled again in
+  // double, and probed again with its folds.
+  std::optional<FoldScoring> early;
+  NormalEquationsProbe probed;
+  for (;;) {
+    early.emplace(folds, o.order, o.tikhonov, o.tikhonov_power);
+    std::vector<std::function<void()>> fold_jobs;
+    for (int i = 0; i < early->folds(); ++i) fold_jobs.emplace_back([&early, i] { early->run(i); });
+    probed = probe_normal_equations(total, o.rank_tolerance, o.kernels, fold_jobs);
+    if (!total.single_products || single_gram_refinable(probed.determinacy)) break;
+    folds = assemble_folds(o.order, o.isotropic, wi, wr, values, w, plan.folds, o.progress, o.kernels, false);
+    total = leading(folds.total, sample_fit_unknowns(o.order, o.isotropic));
+  }
   const NormalEquationsDeterminacy& pre = probed.determinacy;
   const bool pre_undetermined =
       o.tikhonov == 0.0 && (pre.unseen > 0 || !pre.factored || !(pre.condition <= kMaxDeterminedCondition));
@@ -432,6 +551,11 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
     out.notes.push_back("fallback: " + out.fallback);
   }
 
+  if (out.fit.solver == std::string("normal equations, single-precision Gram"))
+    out.notes.push_back("Gram matrix products in single precision (" + std::to_string(out.fit.samples) + " samples x " +
+                        std::to_string(out.fit.unknowns) + "^2 unknowns), the solution refined to double accuracy in " +
+                        std::to_string(out.fit.refinement_passes) + " passes over the samples");
+
   // 4. Scale check over the whole domain.
   if (o.progress) o.progress("checking the fit's range", 0.0);
   out.max_abs_fit = max_abs_over_domain(out.fit);
@@ -444,7 +568,8 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
 
   // 5. CV error of the final configuration (the folds of its modes): computed beside the probe unless a
   // fallback changed the modes or lambda.
-  const OrderScore s = why.empty() ? early.score() : score_order(folds, o.order, o.tikhonov, o.tikhonov_power);
+  if (why.empty()) early->refine_single();
+  const OrderScore s = why.empty() ? early->score() : score_order(folds, o.order, o.tikhonov, o.tikhonov_power);
   out.cv_rms = s.determined ? std::sqrt(s.mse) : kNaN;
   return out;
 }

@@ -8,7 +8,8 @@
 // G - G_f, b - b_f, and because the modes of order N are a prefix of those of order N_max (library order,
 // icobrdf/core/helmholtz_modes.hpp, icobrdf/core/isotropic_modes.hpp) every candidate order is a leading block. The held-out
 // weighted error of fold f is y_f^T W y_f - 2 x^T b_f + x^T G_f x, so one pass over the samples scores every
-// order. An order is "determined" when every training Cholesky factor exists with
+// order. (With single-precision Gram products, icobrdf/core/sample_fit.hpp, the folds' solutions are refined
+// and their held-out errors summed from the samples instead, in passes shared by all folds: held_out_pass.) An order is "determined" when every training Cholesky factor exists with
 // cond(W^(1/2) A) <= kMaxDeterminedCondition (from Eigen's 1-norm estimate of cond(G)); undetermined orders
 // are not candidates. Choice: the lowest determined order whose CV mean square is within kCvTieFraction of
 // the smallest (mean squares closer than kCvResolution of the data's mean square counting as equal). The

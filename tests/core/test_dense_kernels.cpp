@@ -153,5 +153,41 @@ TEST(DenseKernels, EigensCholeskyIsEigensLlt) {
   EXPECT_EQ((l1 - l2).cwiseAbs().maxCoeff(), 0.0);
 }
 
+// Single precision: a Cholesky factor's backward error is at most ~(k + 1) u ||G|| (Higham, "Accuracy and
+// Stability", thm. 10.3; u = 2^-24 for float), so ||L L^T - G||_max <= 2 (k + 1) u max|G| leaves a factor 2.
+constexpr double kFloatRoundoff = 0x1p-24;
+
+TEST(DenseKernels, SingleBlockedCholeskyOfSeveralPanelsHasItsBackwardError) {
+  const int k = 500;
+  const Eigen::MatrixXd a = random_matrix(1200, k, 9);
+  const Eigen::MatrixXf g = (a.transpose() * a).cast<float>();
+  const Eigen::LLT<Eigen::MatrixXf> f = cholesky(Eigen::MatrixXf(g));
+  ASSERT_EQ(f.info(), Eigen::Success);
+  const Eigen::MatrixXd l = Eigen::MatrixXf(f.matrixL()).cast<double>();
+  const Eigen::MatrixXd gd = g.cast<double>();
+  EXPECT_LE((l * l.transpose() - gd).cwiseAbs().maxCoeff(), 2.0 * (k + 1) * kFloatRoundoff * gd.cwiseAbs().maxCoeff());
+  EXPECT_GT(f.rcond(), 0.0f);
+  Eigen::MatrixXf bad = g;
+  bad(400, 400) = -1.0f;
+  EXPECT_EQ(cholesky(bad).info(), Eigen::NumericalIssue);
+  EXPECT_THROW(cholesky(Eigen::MatrixXf::Zero(3, 4)), ArgumentError);
+}
+
+TEST(DenseKernels, SingleRankUpdateIsTheProductInFloat) {
+  const Eigen::MatrixXd a = random_matrix(300, 250, 10);
+  const Eigen::MatrixXf af = a.cast<float>();
+  Eigen::MatrixXf g = Eigen::MatrixXf::Zero(250, 250);
+  rank_update_lower(g, af);
+  const Eigen::MatrixXd exact = af.cast<double>().transpose() * af.cast<double>();
+  // Sums of 300 float products of values in [-1, 1]: at most 300 u times the sum of |products| <= 300 u 300.
+  for (Eigen::Index j = 0; j < 250; ++j)
+    for (Eigen::Index i = 0; i < 250; ++i) {
+      if (i < j) EXPECT_EQ(g(i, j), 0.0f);  // the strict upper triangle is left as it was
+      else EXPECT_NEAR(g(i, j), exact(i, j), 300.0 * kFloatRoundoff * 300.0);
+    }
+  Eigen::MatrixXf wrong(3, 3);
+  EXPECT_THROW(rank_update_lower(wrong, af), ArgumentError);
+}
+
 }  // namespace
 }  // namespace icobrdf

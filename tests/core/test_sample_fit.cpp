@@ -323,5 +323,90 @@ TEST(SampleFit, ProbeRunsTheCallersJobsOnceBesideItAndPassesOnTheirFailure) {
   EXPECT_THROW(probe_normal_equations(ne, -1.0, nullptr, jobs), std::runtime_error);
 }
 
+// Single-precision Gram products (sample_fit.hpp). Each product a_i a_j is formed from inputs rounded to float
+// (relative 2^-24 each) and summed in float over one panel: |G~_ij - G_ij| <= (rows + 2) 2^-24 sum_s |a_si a_sj|
+// <= (rows + 2) 2^-24 sqrt(G_ii G_jj) (Cauchy-Schwarz; Higham, "Accuracy and Stability", sec. 3.1).
+constexpr double kFloatUnitRoundoff = 0x1p-24;
+// The refined single-precision fit and the double one both solve the same least-squares problem to the
+// attainable accuracy ~ cond(W^(1/2) A) eps (cond ~ 10 for these random designs), far inside this.
+constexpr double kSingleAgreementTol = 1e-12;
+// Standard errors come from the factor of the rounded G: relative error ~ cond(G) x (its ~1e-6 rounding).
+constexpr double kSingleStandardErrorTol = 1e-3;
+
+TEST(SampleFit, SingleGramProductsAreWithinTheirRoundingBound) {
+  const int order = 5;  // 231 general modes
+  const int rows = 3000;
+  const Pairs p = random_pairs(rows, 41);
+  const Eigen::MatrixXd y = Eigen::MatrixXd::Ones(rows, 1);
+  const Eigen::VectorXd w = random_vector(rows, 42).cwiseAbs().array() + 0.1;
+  const NormalEquations d = assemble_normal_equations(order, false, p.wi, p.wr, y, w);
+  const NormalEquations s = assemble_normal_equations(order, false, p.wi, p.wr, y, w, {}, {}, nullptr, true);
+  EXPECT_TRUE(s.single_products);
+  EXPECT_FALSE(d.single_products);
+  const Eigen::ArrayXd diag = d.gram.diagonal().array().sqrt();
+  const Eigen::ArrayXXd scaled = (s.gram - d.gram).array() / (diag.matrix() * diag.matrix().transpose()).array();
+  const double worst = scaled.abs().maxCoeff();
+  EXPECT_LE(worst, (rows + 2) * kFloatUnitRoundoff);
+  EXPECT_GT(worst, 0.0);  // the products did run in float
+  EXPECT_EQ((s.gram - s.gram.transpose()).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((s.rhs - d.rhs).cwiseAbs().maxCoeff(), 0.0);  // A^T W y stays double
+}
+
+TEST(SampleFit, SingleGramFitIsRefinedToTheDoubleFit) {
+  // Noisy data (residual not zero) and data far outside float's range (1e-150 and 1e150): the refinement
+  // takes more than the double path's one pass and ends at the double path's solution.
+  const int order = 5;
+  const long long k = helmholtz_mode_count(order);
+  const int rows = 3000;
+  const Pairs p = random_pairs(rows, 43);
+  const Eigen::VectorXd truth = random_vector(k, 44);
+  const Eigen::VectorXd w = random_vector(rows, 45).cwiseAbs().array() + 0.1;
+  for (double scale : {1.0, 1e-150, 1e150}) {
+    const Eigen::MatrixXd y = scale * (helmholtz_modes_eval(order, p.wi, p.wr) * truth + 0.1 * random_vector(rows, 46));
+    SampleFitOptions o;
+    o.order = order;
+    o.gram = GramPrecision::Double;
+    const SampleFitResult d = fit_samples(p.wi, p.wr, y, w, o);
+    o.gram = GramPrecision::Single;
+    const SampleFitResult s = fit_samples(p.wi, p.wr, y, w, o);
+    EXPECT_STREQ(d.solver, "normal equations");
+    EXPECT_STREQ(s.solver, "normal equations, single-precision Gram") << scale;
+    EXPECT_EQ(d.refinement_passes, 1);
+    EXPECT_GE(s.refinement_passes, 2) << scale;
+    EXPECT_LE(s.refinement_passes, kMaxRefinementPasses);
+    EXPECT_LE((s.modes - d.modes).cwiseAbs().maxCoeff(), kSingleAgreementTol * d.modes.cwiseAbs().maxCoeff()) << scale;
+    EXPECT_NEAR(s.residual_rms[0], d.residual_rms[0], kSingleAgreementTol * d.residual_rms[0]) << scale;
+    EXPECT_LE(((s.standard_error - d.standard_error).array() / d.standard_error.array()).abs().maxCoeff(), kSingleStandardErrorTol)
+        << scale;
+  }
+}
+
+TEST(SampleFit, SingleGramOfAnIllConditionedDesignIsAssembledAgainInDouble) {
+  // Few samples per unknown, weights over six decades: cond(W^(1/2) A) beyond kSingleGramMaxCondition (checked), within the normal
+  // equations' limit. The fit asked for single products refuses them and gives the double path's result.
+  const int order = 5;
+  const int rows = 400;  // 1.7 samples per unknown
+  const Pairs p = random_pairs(rows, 21);
+  Eigen::VectorXd w = Eigen::VectorXd::LinSpaced(rows, 0.0, -6.0).unaryExpr([](double e) { return std::pow(10.0, e); });
+  const Eigen::MatrixXd y = helmholtz_modes_eval(order, p.wi, p.wr) * random_vector(helmholtz_mode_count(order), 47);
+  SampleFitOptions o;
+  o.order = order;
+  o.gram = GramPrecision::Double;
+  const SampleFitResult d = fit_samples(p.wi, p.wr, y, w, o);
+  ASSERT_GT(d.condition, kSingleGramMaxCondition);
+  ASSERT_LE(d.condition, kNormalEquationsMaxCondition);
+  o.gram = GramPrecision::Single;
+  const SampleFitResult s = fit_samples(p.wi, p.wr, y, w, o);
+  EXPECT_STREQ(s.solver, "normal equations");
+  EXPECT_EQ((s.modes - d.modes).cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(SampleFit, AutomaticGramPrecisionFollowsTheWork) {
+  EXPECT_TRUE(single_gram_products(GramPrecision::Automatic, 20000, 2211));  // 9.8e10 multiply-adds
+  EXPECT_FALSE(single_gram_products(GramPrecision::Automatic, 20000, 500));  // 5e9
+  EXPECT_TRUE(single_gram_products(GramPrecision::Single, 10, 3));
+  EXPECT_FALSE(single_gram_products(GramPrecision::Double, 1000000, 5000));
+}
+
 }  // namespace
 }  // namespace icobrdf
