@@ -231,7 +231,7 @@ Eigen::VectorXd inverse_diagonal(const Eigen::LLT<Eigen::MatrixXd>& llt) {
   return out;
 }
 
-// Below this many entries of G the float panel is added on one thread (a parallel region costs more).
+// Below this many entries the float panel is converted and added on one thread (a parallel region costs more).
 constexpr double kParallelAddMinEntries = 1e6;
 
 void fill_upper(Eigen::MatrixXd& g) { g.triangularView<Eigen::StrictlyUpper>() = g.transpose(); }
@@ -240,12 +240,18 @@ void fill_upper(Eigen::MatrixXd& g) { g.triangularView<Eigen::StrictlyUpper>() =
 // then in [1, 2), so neither its squares nor their sums leave float's range whatever the data's scale), rounded
 // to float, its update accumulated in gf (zero on entry and again on return) and added to g times 2^(2e).
 void single_rank_update(Eigen::MatrixXd& g, Eigen::MatrixXf& gf, Eigen::MatrixXf& af, const Eigen::Ref<const Eigen::MatrixXd>& ab) {
-  const double top = ab.cwiseAbs().maxCoeff();
+  const Eigen::Index k = g.cols();
+  const bool parallel = static_cast<double>(ab.size()) >= kParallelAddMinEntries;
+  double top = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : top) if (parallel)
+  for (Eigen::Index j = 0; j < k; ++j) top = std::max(top, ab.col(j).cwiseAbs().maxCoeff());
   if (!(top > 0.0)) return;
   const int e = std::ilogb(top);
-  af = (ab * std::ldexp(1.0, -e)).cast<float>();
+  const double scale = std::ldexp(1.0, -e);
+  af.resize(ab.rows(), k);
+#pragma omp parallel for schedule(static) if (parallel)
+  for (Eigen::Index j = 0; j < k; ++j) af.col(j) = (ab.col(j) * scale).cast<float>();
   rank_update_lower(gf, af);
-  const Eigen::Index k = g.cols();
   const double back = std::ldexp(1.0, 2 * e);
 #pragma omp parallel for schedule(dynamic, 64) if (static_cast<double>(k) * k >= kParallelAddMinEntries)
   for (Eigen::Index j = 0; j < k; ++j) {
