@@ -97,6 +97,14 @@ typename Matrix::RealScalar symmetric_l1_norm(const Matrix& g) {
   return sums.maxCoeff();
 }
 
+// g factored in place by `factor` (lower triangle) as an Eigen::LLT, with the L1 norm of g for rcond().
+template <class Matrix>
+Eigen::LLT<Matrix> factored_llt(Matrix g, bool (*factor)(typename Matrix::Scalar*, Eigen::Index)) {
+  const auto l1 = symmetric_l1_norm(g);
+  const bool ok = g.rows() == 0 || factor(g.data(), g.rows());
+  return FactoredLlt<Matrix>(std::move(g), l1, ok);
+}
+
 }  // namespace
 
 const DenseKernels& eigen_dense_kernels() {
@@ -130,9 +138,7 @@ Eigen::LLT<Eigen::MatrixXd> cholesky(const DenseKernels* kernels, Eigen::MatrixX
   if ((!kernels || kernels->cholesky_lower == eigen_dense_kernels().cholesky_lower) && g.rows() <= kCholeskyPanel)
     return Eigen::LLT<Eigen::MatrixXd>(g);
   if (!kernels) kernels = &eigen_dense_kernels();
-  const double l1 = symmetric_l1_norm(g);
-  const bool ok = g.rows() == 0 || kernels->cholesky_lower(g.data(), g.rows());
-  return FactoredLlt<Eigen::MatrixXd>(std::move(g), l1, ok);
+  return factored_llt(std::move(g), kernels->cholesky_lower);
 }
 
 Eigen::LLT<Eigen::MatrixXf> cholesky(Eigen::MatrixXf g) {
@@ -140,9 +146,7 @@ Eigen::LLT<Eigen::MatrixXf> cholesky(Eigen::MatrixXf g) {
     throw ArgumentError("single-precision Cholesky factorization: the matrix is " + std::to_string(g.rows()) + " x " +
                         std::to_string(g.cols()) + ", expected square");
   if (g.rows() <= kCholeskyPanel) return Eigen::LLT<Eigen::MatrixXf>(g);
-  const float l1 = symmetric_l1_norm(g);
-  const bool ok = blocked_cholesky_lower(g.data(), g.rows());
-  return FactoredLlt<Eigen::MatrixXf>(std::move(g), l1, ok);
+  return factored_llt(std::move(g), &blocked_cholesky_lower<float>);
 }
 
 }  // namespace icobrdf

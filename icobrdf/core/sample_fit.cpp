@@ -367,7 +367,7 @@ std::optional<SampleFitResult> solve_normal_equations(const SampleFitOptions& op
   out.condition = cond;
   out.tikhonov = options.tikhonov;
   out.weight_sum = ne.weight_sum;
-  out.solver = ne.single_products ? "normal equations, single-precision Gram" : "normal equations";
+  out.solver = ne.single_products ? kSingleGramSolver : "normal equations";
 
   Eigen::VectorXd d = Eigen::VectorXd::Zero(k);
   if (options.tikhonov > 0.0) d = options.tikhonov * tikhonov_penalties(options.order, options.isotropic, options.tikhonov_power);

@@ -108,6 +108,9 @@ inline bool refinement_converged(double previous, double last, double size, doub
 // Precision of the products of the Gram matrix's rank-k updates (see "Single-precision Gram products").
 enum class GramPrecision { Automatic, Double, Single };
 
+// SampleFitResult::solver of a normal-equation fit whose Gram matrix had single-precision products.
+inline constexpr const char* kSingleGramSolver = "normal equations, single-precision Gram";
+
 struct SampleFitOptions {
   int order = 4;             // total order N of the modes
   bool isotropic = false;    // fit the isotropic modes I_nm^l instead of the general Helmholtz modes

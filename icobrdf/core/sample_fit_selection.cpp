@@ -139,15 +139,14 @@ class FoldScoring {
     const NormalEquations& hold = f_.fold[static_cast<size_t>(i)];
     if (hold.samples == 0) return;
     const double max_cond_g = kMaxDeterminedCondition * kMaxDeterminedCondition;
-    Eigen::MatrixXd gt = f_.total.gram.topLeftCorner(k_, k_) - hold.gram.topLeftCorner(k_, k_);
-    gt.diagonal() += d_;
+    Eigen::MatrixXd gt = training_gram(i);
     if (f_.total.single_products) {  // a single-precision factor, refined and scored from the samples by refine_single()
       Eigen::LLT<Eigen::MatrixXf> llt = cholesky(Eigen::MatrixXf(gt.cast<float>()));
       if (llt.info() != Eigen::Success || !(static_cast<double>(llt.rcond()) * max_cond_g >= 1.0)) {
         failed_[static_cast<size_t>(i)] = 1;
         return;
       }
-      x_[static_cast<size_t>(i)] = llt.solve((f_.total.rhs.topRows(k_) - hold.rhs.topRows(k_)).cast<float>()).cast<double>();
+      x_[static_cast<size_t>(i)] = llt.solve(training_rhs(i).cast<float>()).cast<double>();
       cond_[static_cast<size_t>(i)] = 1.0 / std::sqrt(std::max(static_cast<double>(llt.rcond()), std::numeric_limits<double>::min()));
       single_llt_[static_cast<size_t>(i)] = std::move(llt);
       return;
@@ -157,7 +156,7 @@ class FoldScoring {
       failed_[static_cast<size_t>(i)] = 1;
       return;
     }
-    const Eigen::MatrixXd x = llt.solve(f_.total.rhs.topRows(k_) - hold.rhs.topRows(k_));
+    const Eigen::MatrixXd x = llt.solve(training_rhs(i));
     const Eigen::MatrixXd gx = hold.gram.topLeftCorner(k_, k_) * x;
     double sse = 0.0;
     for (Eigen::Index c = 0; c < x.cols(); ++c)
@@ -215,15 +214,13 @@ class FoldScoring {
           done[u] = 1;
           continue;
         }
-        Eigen::MatrixXd gt = f_.total.gram.topLeftCorner(k_, k_) - f_.fold[u].gram.topLeftCorner(k_, k_);
-        gt.diagonal() += d_;
-        double_llt_[u] = cholesky(f_.kernels, std::move(gt));
+        double_llt_[u] = cholesky(f_.kernels, training_gram(i));
         if (double_llt_[u]->info() != Eigen::Success) {
           failed_[u] = 1;
           done[u] = 1;
           continue;
         }
-        x[u] = double_llt_[u]->solve(f_.total.rhs.topRows(k_) - f_.fold[u].rhs.topRows(k_));
+        x[u] = double_llt_[u]->solve(training_rhs(i));
         previous[u] = 0.0;
         passes[u] = 0;
       }
@@ -257,6 +254,16 @@ class FoldScoring {
   }
 
  private:
+  // The training problem of fold i (all folds but i) at this order: G - G_i + lambda D, and b - b_i.
+  Eigen::MatrixXd training_gram(int i) const {
+    Eigen::MatrixXd gt = f_.total.gram.topLeftCorner(k_, k_) - f_.fold[static_cast<size_t>(i)].gram.topLeftCorner(k_, k_);
+    gt.diagonal() += d_;
+    return gt;
+  }
+  Eigen::MatrixXd training_rhs(int i) const {
+    return f_.total.rhs.topRows(k_) - f_.fold[static_cast<size_t>(i)].rhs.topRows(k_);
+  }
+
   const Folds& f_;
   int order_;
   int k_;
@@ -551,7 +558,7 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
     out.notes.push_back("fallback: " + out.fallback);
   }
 
-  if (out.fit.solver == std::string("normal equations, single-precision Gram"))
+  if (out.fit.solver == std::string(kSingleGramSolver))
     out.notes.push_back("Gram matrix products in single precision (" + std::to_string(out.fit.samples) + " samples x " +
                         std::to_string(out.fit.unknowns) + "^2 unknowns), the solution refined to double accuracy in " +
                         std::to_string(out.fit.refinement_passes) + " passes over the samples");
