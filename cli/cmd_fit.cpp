@@ -82,6 +82,7 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
   r.grid_kind = fitting_grid_kind(a.grid);
   run.setup_done();
   const FitResult fit = fit_source(*source, r);
+  const std::vector<double> rss = run.ranks > 1 ? run.gather(peak_resident_bytes()) : std::vector<double>{};  // collective
   if (!run.writes()) return;  // rank 0 checks, writes and reports
   const Spectrum& s = fit.spectrum;
   const ProjectionContext& ctx = *fit.context;
@@ -108,7 +109,10 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
                    {"anisotropy_fraction", s.anisotropy_fraction},
                    {"max_albedo", s.max_albedo},
                    {"seconds", seconds}};
-  if (run.ranks > 1) j["ranks"] = run.ranks;
+  if (run.ranks > 1) {
+    j["ranks"] = run.ranks;
+    j["peak_rss_bytes_per_rank"] = rss;  // the operators are split by rows: O(cells x modes / ranks) each
+  }
   // Scattered-sample fits (MERL, CSV): the least-squares figures, so rank-deficient data is visible.
   const CheckedSampleFit* cf = last_checked_sample_fit(*source);
   const SampleFitResult* sf = cf ? &cf->fit : nullptr;
@@ -219,7 +223,7 @@ void add_fit_command(CLI::App& app) {
   cmd->add_flag("--json", a->json, "Print the figures as JSON");
   cmd->add_flag("--strict", a->strict, "A negative directional albedo (non-physical) is an error, not a warning");
   cmd->add_flag("--quiet,-q", a->quiet, "No progress lines on stderr (printed for fits longer than 2 s)");
-  cmd->callback([a] { run_distributed("fit", 1, [a](const DistributedRun& run) { run_fit(*a, run); }); });
+  cmd->callback([a] { run_distributed("fit", 1, [a](const DistributedRun& run) { run_fit(*a, run); }, true); });
 }
 
 const CommandRegistrar kCmdFitRegistrar("fit", add_fit_command);

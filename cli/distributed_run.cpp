@@ -8,6 +8,7 @@
 #include <csignal>
 #include <cstring>
 #include <exception>
+#include <iostream>
 #include <new>
 
 #include "cli/commands.hpp"
@@ -84,14 +85,15 @@ double peak_resident_bytes() {
   return 1024.0 * static_cast<double>(u.ru_maxrss);  // kilobytes on Linux
 }
 
-void run_distributed(const std::string& what, int projections, const std::function<void(const DistributedRun&)>& command) {
+void run_distributed(const std::string& what, int projections, const std::function<void(const DistributedRun&)>& command,
+                     bool split_rows) {
 #ifdef ICOBRDF_WITH_MPI
   (void)what;  // messages name the rank instead
   if (!started_by_mpirun()) return command(DistributedRun{});
-  // Every rank holds the grid and the operators whole: the ranks on one machine share its memory.
+  // The ranks on one machine share its memory.
   set_memory_sharers(launcher_local_size());
   Cluster cluster;
-  DistributedProjection projection(cluster, projections);
+  DistributedProjection projection(cluster, projections, split_rows);
   DistributedRun run;
   run.rank = cluster.rank();
   run.ranks = cluster.size();
@@ -120,6 +122,11 @@ void run_distributed(const std::string& what, int projections, const std::functi
     if (!agreed) {
       agreed = true;
       quiet = cluster.first_failed(false) < rank;
+    } else if (projection.in_ring()) {
+      // The other ranks wait for this one's block of P: no exchange can tell them, so the job ends here.
+      std::cerr << "icobrdf: error: on rank " << rank << " of " << ranks << ": " << message_line(e.what())
+                << " (while the blocks of P went round the ring; mpirun ends every rank)" << std::endl;
+      cluster.abort(exit_code_of(std::current_exception()));
     } else {
       quiet = projection.fail(e) && rank != 0;
     }

@@ -12,7 +12,7 @@
 //     one line naming the rank and the other ranks end with the same exit code and no message;
 //   - progress lines come from rank 0 only;
 //   - the memory a rank may use is what the machine has divided by the ranks on it (memory_budget.hpp
-//     set_memory_sharers), since every rank holds the grid and the operators whole.
+//     set_memory_sharers), since the ranks of a node share it.
 #include <functional>
 #include <memory>
 #include <string>
@@ -34,7 +34,11 @@ struct DistributedRun {
 
 // Runs `command` as described above; `what` names the command in messages ("fit"), `projections` is how
 // many projections every rank makes (DistributedProjection).
-void run_distributed(const std::string& what, int projections, const std::function<void(const DistributedRun&)>& command);
+// `split_rows`: the ranks split the projection operators by rows (icobrdf/core/row_split_projection.hpp: memory
+// per rank O(cells x modes / ranks)); a rank that fails while the blocks go round the ring prints its error
+// and ends the job (mpirun's own lines follow).
+void run_distributed(const std::string& what, int projections, const std::function<void(const DistributedRun&)>& command,
+                     bool split_rows = false);
 
 // Peak resident memory of this process so far, in bytes (getrusage).
 double peak_resident_bytes();

@@ -85,6 +85,11 @@ void Cluster::free_delivered() {
   outgoing_ = std::move(pending);
 }
 
+void Cluster::abort(int code) {
+  MPI_Abort(MPI_COMM_WORLD, code);
+  std::_Exit(code);  // MPI_Abort does not return; this is for the compiler
+}
+
 void Cluster::finish_sends() {
   for (free_delivered(); !outgoing_.empty(); free_delivered()) std::this_thread::sleep_for(kPollInterval);
 }

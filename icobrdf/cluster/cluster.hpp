@@ -53,6 +53,9 @@ class Cluster {
   // receiver; the sender fits meanwhile). finish_sends() waits, polling, until every one was delivered.
   void post(int destination, int tag, std::string bytes);
   void finish_sends();
+  // Ends every rank of the job now (MPI_Abort with `code`): for a failure where the other ranks wait for
+  // this one in a way no message can release.
+  [[noreturn]] void abort(int code);
   // The next message from `source` (any rank when negative) if one has arrived, else nullopt.
   std::optional<Message> poll(int source = -1);
   // The next message from `source` (any rank when negative), waiting for it by polling.

@@ -11,7 +11,7 @@ namespace {
 
 // Message tags (distinct from the bank build's, icobrdf/cluster/distributed_bank.cpp). kPartial (r -> 0): a
 // rank's share or its failure; kResult (0 -> r): the sum or the failure; kGather (r -> 0): one double.
-constexpr int kPartial = 11, kResult = 12, kGather = 13;
+constexpr int kPartial = 11, kResult = 12, kGather = 13, kRing = 14;
 
 // First byte of kPartial and kResult: the matrices follow, or an error (its kind in the second byte and its
 // message after). kResult's error names the failed rank in its message.
@@ -91,11 +91,52 @@ std::vector<Eigen::MatrixXd> matrices_of(const std::string& b, int rank) {
 
 }  // namespace
 
-DistributedProjection::DistributedProjection(Cluster& cluster, int projections)
-    : cluster_(cluster), projections_(projections), share_(std::make_shared<StreamingShare>()) {
+// The row exchange of a split projection: sums through the projection's exchange, ring steps as kRing
+// messages to the previous rank and from the next.
+class DistributedProjection::RingExchange : public RowSplitExchange {
+ public:
+  explicit RingExchange(DistributedProjection& p) : p_(p) {}
+  int part() const override { return p_.cluster_.rank(); }
+  int parts() const override { return p_.cluster_.size(); }
+  void sum(std::vector<Eigen::MatrixXd>& m) override { p_.reduce(m); }
+  Eigen::MatrixXd shift(Eigen::MatrixXd block, bool send, bool receive) override {
+    Cluster& c = p_.cluster_;
+    const int ranks = c.size(), prev = (c.rank() + ranks - 1) % ranks, next = (c.rank() + 1) % ranks;
+    if (send) {
+      std::vector<Eigen::MatrixXd> v;
+      v.push_back(std::move(block));
+      std::string bytes = matrix_bytes(v);
+      v.clear();  // only the bytes stay alive until delivered
+      c.post(prev, kRing, std::move(bytes));
+    }
+    Eigen::MatrixXd out;
+    if (receive) {
+      Cluster::Message m = c.wait(next);
+      if (m.tag != kRing || m.bytes.empty() || m.bytes[0] != kOk)
+        throw std::runtime_error("distributed projection: rank " + std::to_string(next) + " sent no block of P where the ring expected one");
+      std::vector<Eigen::MatrixXd> v = matrices_of(m.bytes, next);
+      m.bytes.clear();
+      m.bytes.shrink_to_fit();
+      if (v.size() != 1) throw InputError("distributed projection: rank " + std::to_string(next) + " sent " + std::to_string(v.size()) + " blocks, expected 1");
+      out = std::move(v[0]);
+    }
+    c.finish_sends();
+    return out;
+  }
+
+ private:
+  DistributedProjection& p_;
+};
+
+DistributedProjection::DistributedProjection(Cluster& cluster, int projections, bool split_rows)
+    : split_rows_(split_rows && cluster.size() > 1), cluster_(cluster), projections_(projections), share_(std::make_shared<StreamingShare>()) {
   share_->part = cluster.rank();
   share_->parts = cluster.size();
   share_->reduce = [this](std::vector<Eigen::MatrixXd>& m) { reduce(m); };
+  if (split_rows_) {
+    projections_ = 3 * projections;  // the sum of G, the empty one, the sum of C
+    share_->rows = std::make_shared<RingExchange>(*this);
+  }
 }
 
 void DistributedProjection::reduce(std::vector<Eigen::MatrixXd>& m) {
@@ -156,7 +197,7 @@ void DistributedProjection::reduce(std::vector<Eigen::MatrixXd>& m) {
 }
 
 bool DistributedProjection::fail(const std::exception& error) noexcept {
-  if (failed_ || exchanges_ >= projections_) return false;
+  if (failed_ || exchanges_ >= projections_ || in_ring()) return false;
   ++exchanges_;
   failed_ = true;
   try {

@@ -47,17 +47,27 @@ class DistributedProjection {
  public:
   // `projections`: how many projections every rank will make (1 for a fit, the repeats of a benchmark); a
   // failure after the last one needs no exchange.
-  DistributedProjection(Cluster& cluster, int projections);
+  // `split_rows`: the share carries a row exchange (StreamingShare::rows; icobrdf/core/row_split_projection.hpp):
+  // each projection then makes three exchanges (the sum of G, an empty one once every rank has its rows of
+  // P, then the sum of C) and passes the blocks of P round the ring between the last two (tag kRing, one
+  // matrix per message: C M / R doubles, under MPI's 2 GiB count).
+  DistributedProjection(Cluster& cluster, int projections, bool split_rows = false);
   // This rank's share, for FitRequest::share / FitOptions::share.
   std::shared_ptr<const StreamingShare> share() const { return share_; }
   int exchanges() const { return exchanges_; }
   // After `error` on this rank: when a projection's exchange is still owed, take part in it with the error
   // (so that no rank waits for this one) and return true: rank 0 then reports it. False when no exchange
   // was owed (the error came after the last one, or an exchange already carried a failure). Never throws.
+  // Also false while the blocks of P go round the ring (in_ring()): the other ranks wait for this one's
+  // block there, not in an exchange, so the caller must end the job (Cluster::abort).
   bool fail(const std::exception& error) noexcept;
+  // Between the second exchange and the sum of C of a row-split projection.
+  bool in_ring() const { return split_rows_ && exchanges_ % 3 == 2 && !failed_; }
 
  private:
+  class RingExchange;
   void reduce(std::vector<Eigen::MatrixXd>& matrices);
+  bool split_rows_ = false;
   Cluster& cluster_;
   int projections_ = 1, exchanges_ = 0;
   bool failed_ = false;  // an exchange carried a failure: every rank stops, no exchange follows

@@ -268,10 +268,35 @@ DiscreteBasis build_discrete_basis(const Grid& grid, int order) {
   for (const auto& p : partial) lower += p;
   d.G = lower.selfadjointView<Eigen::Lower>();
   if (symmetric) d.G = d2_average(d.G);
-  d.gram_error = (d.G - Eigen::MatrixXd::Identity(modes, modes)).cwiseAbs().maxCoeff();
+  set_gram_figures(d);
+  return d;
+}
+
+Eigen::MatrixXd basis_rows(const Grid& grid, int order, const std::vector<int>& cells) {
+  if (order < 0) throw ArgumentError("basis rows: order expected >= 0, got " + std::to_string(order));
+  for (const int c : cells)
+    if (c < 0 || c >= grid.cells())
+      throw ArgumentError("basis rows: cell " + std::to_string(c) + " outside the grid's " + std::to_string(grid.cells()));
+  if (const Eigen::Index q = first_invalid_direction(grid.cubature_points, kHorizonSlack); q >= 0)
+    throw ArgumentError("basis rows: cubature point " + std::to_string(q) + " is not a finite direction with z >= 0");
+  const int n = static_cast<int>(cells.size()), modes = hemisphere_basis_count(order);
+  Eigen::MatrixXd b(n, modes);
+#pragma omp parallel
+  {
+    std::vector<double> row(static_cast<size_t>(modes));
+#pragma omp for schedule(dynamic, 16)
+    for (int k = 0; k < n; ++k) {
+      cell_average(grid, order, cells[static_cast<size_t>(k)], row.data());
+      for (int j = 0; j < modes; ++j) b(k, j) = row[static_cast<size_t>(j)];
+    }
+  }
+  return b;
+}
+
+void set_gram_figures(DiscreteBasis& d) {
+  d.gram_error = (d.G - Eigen::MatrixXd::Identity(d.G.rows(), d.G.cols())).cwiseAbs().maxCoeff();
   const auto [lo, hi] = extreme_eigenvalues(d.G);
   d.condition = lo > 0.0 ? hi / lo : std::numeric_limits<double>::infinity();
-  return d;
 }
 
 int largest_supported_order(const DiscreteBasis& basis, double tolerance) {

@@ -10,6 +10,8 @@
 // a request whose Gram error exceeds the tolerance, naming the largest order the grid supports.
 #include <Eigen/Core>
 
+#include <vector>
+
 #include "icobrdf/core/grid.hpp"
 
 namespace icobrdf {
@@ -27,8 +29,11 @@ struct DiscreteBasis {
   double gram_error = 0.0;  // max |G - I|
   double condition = 1.0;   // lambda_max(G) / lambda_min(G)  (G is symmetric positive semi-definite)
   int evaluated_cells = 0;  // cells whose cubature was evaluated: cells(), or one per D2 orbit (see below)
+  // A basis split by rows over processes (icobrdf/core/row_split_projection.hpp): B and W hold this process's
+  // cells only, G is the sum over all of them, and grid_cells is the grid's count (0: B holds every cell).
+  int grid_cells = 0;
 
-  int cells() const { return static_cast<int>(B.rows()); }
+  int cells() const { return grid_cells > 0 ? grid_cells : static_cast<int>(B.rows()); }
   int modes() const { return static_cast<int>(B.cols()); }
 };
 
@@ -46,6 +51,14 @@ inline constexpr int kGramPartialSums = 16;
 // of the cells, a quarter of the Gram work). Cells fixed by a map must then have zero average for the modes
 // it reverses (within 1e-12 of max|B|), else, as for any other grid, every cell is evaluated.
 DiscreteBasis build_discrete_basis(const Grid& grid, int order);
+
+// The rows of B for the listed cells only, in that order (each the cell average build_discrete_basis
+// evaluates; the D2 shortcut is not taken). Threads over cells. ArgumentError for a cell outside the grid.
+Eigen::MatrixXd basis_rows(const Grid& grid, int order, const std::vector<int>& cells);
+
+// Sets gram_error and condition from basis.G (the figures build_discrete_basis computes), e.g. after G
+// was summed over the processes of a row split.
+void set_gram_figures(DiscreteBasis& basis);
 
 // Throws UnsupportedError when basis.gram_error > tolerance or G is singular, with the measured Gram error,
 // the condition number and the largest supported order (found by the Gram errors of the leading blocks:

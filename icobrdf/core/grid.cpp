@@ -59,6 +59,38 @@ GridKind parse_grid_kind(const std::string& name) {
   throw ArgumentError("unknown grid kind '" + name + "': expected one of " + names);
 }
 
+Grid cells_in_order(const Grid& g, const std::vector<int>& perm) {
+  Grid r;
+  r.kind = g.kind;
+  r.level = g.level;
+  r.cubature_degree = g.cubature_degree;
+  const int cells = static_cast<int>(perm.size());
+  r.directions.resize(cells, 3);
+  r.solid_angles.resize(cells);
+  r.cubature_offsets.assign(1, 0);
+  Eigen::Index points = 0;
+  for (const int c : perm) {
+    if (c < 0 || c >= g.cells())
+      throw ArgumentError("cells in order: cell " + std::to_string(c) + " outside the grid's " + std::to_string(g.cells()));
+    points += g.cubature_offsets[static_cast<size_t>(c) + 1] - g.cubature_offsets[static_cast<size_t>(c)];
+  }
+  r.cubature_points.resize(points, 3);
+  r.cubature_weights.resize(points);
+  Eigen::Index q = 0;
+  for (int k = 0; k < cells; ++k) {
+    const int c = perm[static_cast<size_t>(k)];
+    r.directions.row(k) = g.directions.row(c);
+    r.solid_angles[k] = g.solid_angles[c];
+    const auto b = g.cubature_offsets[static_cast<size_t>(c)], e = g.cubature_offsets[static_cast<size_t>(c) + 1];
+    r.cubature_points.middleRows(q, e - b) = g.cubature_points.middleRows(b, e - b);
+    r.cubature_weights.segment(q, e - b) = g.cubature_weights.segment(b, e - b);
+    q += e - b;
+    r.cubature_offsets.push_back(q);
+  }
+  return r;
+}
+
+
 Grid with_centre_cubature(const Grid& grid) {
   Grid g = grid;
   const int n = g.cells();

@@ -67,6 +67,12 @@ struct Grid {
 // sampled at the same points are consistent, so a BRDF in the span of the basis is recovered exactly.
 Grid with_centre_cubature(const Grid& grid);
 
+// The cells `perm` of `g` in that order (new cell k = old cell perm[k]; any list, repeats allowed; ArgumentError
+// for a cell outside g): kind,
+// level, directions, solid angles and cubature, the fields LUT sampling and the basis read. The mesh and
+// the symmetry maps are not carried (they refer to the old numbering).
+Grid cells_in_order(const Grid& g, const std::vector<int>& perm);
+
 // Checks the invariants listed above (sizes, unit vectors, z >= 0, weights summing to solid angles within
 // a relative 1e-12, permutations being permutations). Throws std::invalid_argument naming the first
 // violation.

@@ -66,13 +66,30 @@ ProjectionContext make_projection_context(std::shared_ptr<const Grid> grid, int 
   return ctx;
 }
 
+ProjectionContext make_split_projection_context(std::shared_ptr<const Grid> grid, int order, double gram_tolerance, RowSplitExchange& exchange) {
+  ProjectionContext ctx;
+  auto ops = std::make_shared<SplitOperators>(split_operators(*grid, order, gram_tolerance, exchange));
+  ctx.basis = ops->basis;
+  ctx.split = std::move(ops);
+  ctx.grid = std::move(grid);
+  return ctx;
+}
+
 Spectrum fit_model(const BrdfModel& model, const ProjectionContext& ctx, const FitOptions& o) {
   const bool cosine = o.cosine || !model.delta_parts().empty();
-  auto channels = streaming_projection(model, *ctx.grid, ctx.projection, cosine, o.sampling, ctx.sampling_grid.get(), o.share.get());
+  std::vector<Eigen::MatrixXd> channels;
+  if (ctx.split) {
+    if (!o.share || !o.share->rows)
+      throw ArgumentError("fit of '" + quoted_text(model.spec()) + "': the operators are split by rows, but no row exchange was given");
+    channels = row_split_projection(model, *ctx.grid, *ctx.split, cosine, o.sampling, ctx.sampling_grid.get(), *o.share->rows);
+  } else {
+    channels = streaming_projection(model, *ctx.grid, ctx.projection, cosine, o.sampling, ctx.sampling_grid.get(), o.share.get());
+  }
   return finish(std::move(channels), model.spec(), ctx, o, cosine);
 }
 
 Spectrum fit_lut(const Lut& lut, const std::string& source, const ProjectionContext& ctx, const FitOptions& o) {
+  if (ctx.split) throw UnsupportedError("fit of the LUT of '" + quoted_text(source) + "': its operators are split by rows over processes; a LUT needs them whole");
   std::vector<Eigen::MatrixXd> channels;
   for (const auto& f : lut.channels) channels.push_back(project_lut(ctx.projection, f));
   return finish(std::move(channels), source, ctx, o, lut.cosine);

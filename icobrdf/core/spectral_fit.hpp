@@ -59,11 +59,18 @@ struct ProjectionContext {
   std::shared_ptr<const Grid> sampling_grid;
   DiscreteBasis basis;
   ProjectionOperator projection;
+  // Operators split by rows over processes (make_split_projection_context): then basis holds G and its
+  // figures only (B empty, grid_cells set), projection.P is empty, and fit_model projects through the
+  // split (FitOptions::share->rows, the same exchange); fit_lut refuses.
+  std::shared_ptr<const SplitOperators> split;
 };
 ProjectionContext make_projection_context(std::shared_ptr<const Grid> grid, int order,
                                           double gram_tolerance = kDefaultGramTolerance,
                                           ProjectionOperator::Kind kind = ProjectionOperator::Kind::LeastSquares,
                                           std::shared_ptr<const Grid> sampling_grid = nullptr);
+
+// Collective over the exchange's processes (one sum of G): each holds its block's rows of P.
+ProjectionContext make_split_projection_context(std::shared_ptr<const Grid> grid, int order, double gram_tolerance, RowSplitExchange& exchange);
 
 Spectrum fit_model(const BrdfModel& model, const ProjectionContext& ctx, const FitOptions& options);
 Spectrum fit_lut(const Lut& lut, const std::string& source, const ProjectionContext& ctx, const FitOptions& options);

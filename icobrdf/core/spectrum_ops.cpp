@@ -111,7 +111,16 @@ Eigen::VectorXd cosine_moments(int order) {
 }
 
 Eigen::VectorXd spectral_albedo(const Eigen::MatrixXd& c, int order, const RowMatrix3d& wi) {
-  return hemisphere_basis_matrix(order, wi) * (c * cosine_moments(order));
+  // In chunks of directions: the basis of all of them at once would be a cells x modes matrix (3.7 GB at
+  // level 7, order 74), as large as the operators a split fit avoids holding.
+  constexpr Eigen::Index kChunk = 4096;
+  const Eigen::VectorXd moments = c * cosine_moments(order);
+  Eigen::VectorXd out(wi.rows());
+  for (Eigen::Index i0 = 0; i0 < wi.rows(); i0 += kChunk) {
+    const Eigen::Index k = std::min(kChunk, wi.rows() - i0);
+    out.segment(i0, k) = hemisphere_basis_matrix(order, RowMatrix3d(wi.middleRows(i0, k))) * moments;
+  }
+  return out;
 }
 
 double coefficient_asymmetry(const Eigen::MatrixXd& c) {

@@ -49,33 +49,6 @@ int blocks_of_share(int blocks, const StreamingShare& share) {
 // The block number of the share's k-th block.
 int block_of_share(int k, const StreamingShare& share) { return share.every * (share.part + k * share.parts); }
 
-// The cells of `g` in the order `perm` (new cell k = old cell perm[k]): directions, solid angles and
-// cubature, the fields LUT sampling reads.
-Grid reorder_cells(const Grid& g, const std::vector<int>& perm) {
-  Grid r;
-  r.kind = g.kind;
-  r.level = g.level;
-  r.cubature_degree = g.cubature_degree;
-  const int cells = static_cast<int>(perm.size());
-  r.directions.resize(cells, 3);
-  r.solid_angles.resize(cells);
-  r.cubature_offsets.assign(1, 0);
-  r.cubature_points.resize(g.cubature_points.rows(), 3);
-  r.cubature_weights.resize(g.cubature_weights.size());
-  Eigen::Index q = 0;
-  for (int k = 0; k < cells; ++k) {
-    const int c = perm[static_cast<size_t>(k)];
-    r.directions.row(k) = g.directions.row(c);
-    r.solid_angles[k] = g.solid_angles[c];
-    const auto b = g.cubature_offsets[static_cast<size_t>(c)], e = g.cubature_offsets[static_cast<size_t>(c) + 1];
-    r.cubature_points.middleRows(q, e - b) = g.cubature_points.middleRows(b, e - b);
-    r.cubature_weights.segment(q, e - b) = g.cubature_weights.segment(b, e - b);
-    q += e - b;
-    r.cubature_offsets.push_back(q);
-  }
-  return r;
-}
-
 // Helmholtz reciprocity: f(wi, wr) = f(wr, wi) makes the f LUT symmetric (F_ir = F_ri, for centre and
 // cell-averaged sampling alike), so only one triangle of F needs sampling. With g = D F in g form
 // (D = diag cos theta of the cell directions, centre sampling only: a cell-averaged g is not D F), and
@@ -106,7 +79,7 @@ std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const
   for (int k = 0; k < cells; ++k) pos[static_cast<size_t>(perm[static_cast<size_t>(k)])] = k;
   for (int k = 0; k < cells; ++k) orbit_end[static_cast<size_t>(rep[static_cast<size_t>(perm[static_cast<size_t>(k)])])] = k + 1;
   const bool identity = !use_symmetry;  // without D2 every orbit is one cell and the order is unchanged
-  const Grid reordered = identity ? Grid() : reorder_cells(sg, perm);
+  const Grid reordered = identity ? Grid() : cells_in_order(sg, perm);
   const Grid& rg = identity ? sg : reordered;
   // P and Q = D P with rows in the column order, side by side: F_block [P Q] in one product.
   const Eigen::Index width = cosine ? 2 * modes : modes;

@@ -13,12 +13,14 @@
 #include <Eigen/Core>
 
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "icobrdf/core/brdf_model.hpp"
 #include "icobrdf/core/grid.hpp"
 #include "icobrdf/core/lut.hpp"
 #include "icobrdf/core/projection.hpp"
+#include "icobrdf/core/row_split_projection.hpp"
 
 namespace icobrdf {
 
@@ -44,6 +46,10 @@ struct StreamingShare {
   int parts = 1;
   int every = 1;
   std::function<void(std::vector<Eigen::MatrixXd>&)> reduce;
+  // Optional: split the operators by rows over the processes instead (icobrdf/core/row_split_projection.hpp):
+  // a fit's context then holds this process's rows of P only, and its projection runs the ring through this
+  // exchange. part, parts and reduce are then not used by the fit.
+  std::shared_ptr<RowSplitExchange> rows;
 };
 
 // One M x M coefficient matrix per model channel. Delta parts are added exactly in g form.

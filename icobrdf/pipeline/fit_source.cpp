@@ -21,8 +21,11 @@ std::shared_ptr<const Grid> FitContexts::grid(const FitRequest& request) {
 
 std::shared_ptr<const ProjectionContext> FitContexts::context(const FitRequest& request) {
   auto& c = contexts_[{grid_key(request), request.order, request.gram_tolerance}];
+  RowSplitExchange* rows = request.share ? request.share->rows.get() : nullptr;
   // One channel: the channel terms are small beside the C x M matrices that decide whether it fits.
-  if (!c) require_model_fit_memory(request.level, request.order, 1, "a fit");
+  if (!c) require_model_fit_memory(request.level, request.order, 1, "a fit", rows ? rows->parts() : 1);
+  if (!c && rows)
+    c = std::make_shared<const ProjectionContext>(make_split_projection_context(grid(request), request.order, request.gram_tolerance, *rows));
   if (!c) c = std::make_shared<const ProjectionContext>(make_projection_context(grid(request), request.order, request.gram_tolerance));
   return c;
 }

@@ -25,8 +25,16 @@ double modes_of(int order) { return static_cast<double>(hemisphere_basis_count(o
 
 int estimate_threads() { return omp_get_max_threads(); }
 
-double model_fit_bytes(int level, int order, int channels, int threads) {
+double model_fit_bytes(int level, int order, int channels, int threads, int parts) {
   const double c = cells_of(level), m = modes_of(order), ch = channels, t = threads;
+  if (parts > 1) {
+    // Split by rows (icobrdf/core/row_split_projection.hpp): B and P of the own block while P is made (2),
+    // then P, the visiting block and the exchange's sent and received copies (4), of C M / R each; LUT rows
+    // of the widest pair (a block's columns plus its rows); G's solve and the sums.
+    const double block = c / parts + 4;
+    return 2 * c * kGridBytesPerCell + kDouble * (4 * block * m + t * kBlockRows * 2 * block * ch + (kGramBlocks + 3) * m * m +
+                                                  (2 * t + 4) * ch * m * m);
+  }
   return 2 * c * kGridBytesPerCell + context_bytes(c, m) +
          kDouble * (2 * c * m + t * kBlockRows * c * ch + (2 * t + 4) * ch * m * m);
 }
@@ -39,10 +47,10 @@ double lut_bytes(int level, int order, int channels, bool float32, int threads) 
 }
 
 // The largest order <= order_max whose model fit at `level` needs at most `have` bytes (-1: none).
-int largest_order_within(int level, int order_max, int channels, double have) {
+int largest_order_within(int level, int order_max, int channels, double have, int parts = 1) {
   const int t = estimate_threads();
   int n = order_max;
-  while (n >= 0 && model_fit_bytes(level, n, channels, t) > have) --n;
+  while (n >= 0 && model_fit_bytes(level, n, channels, t, parts) > have) --n;
   return n;
 }
 
@@ -50,12 +58,12 @@ int largest_order_in_memory(int level, int order_max, int channels) {
   return largest_order_within(level, order_max, channels, available_memory().bytes);
 }
 
-void require_model_fit_memory(int level, int order, int channels, const std::string& what) {
-  const double need = model_fit_bytes(level, order, channels, estimate_threads());
+void require_model_fit_memory(int level, int order, int channels, const std::string& what, int parts) {
+  const double need = model_fit_bytes(level, order, channels, estimate_threads(), parts);
   const MemoryAvailable have = available_memory();  // read once: it reads /proc and /sys
   if (need <= have.bytes) return;
   // Only the order is suggested: a lower level that fits in memory may not resolve the order at all.
-  const int n = largest_order_within(level, order, channels, have.bytes);
+  const int n = largest_order_within(level, order, channels, have.bytes, parts);
   require_memory(need, have, what + " at level " + std::to_string(level) + ", order " + std::to_string(order),
                  n >= 0 ? "order " + std::to_string(n) + " fits at level " + std::to_string(level) : "no order fits at this level");
 }

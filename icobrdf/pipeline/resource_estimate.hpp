@@ -22,7 +22,10 @@ namespace icobrdf {
 inline constexpr double kGridBytesPerCell = 1600.0;
 
 // Peak bytes of fitting an analytic model by streaming projection at (level, order): no LUT is materialized.
-double model_fit_bytes(int level, int order, int channels, int threads);
+// With parts > 1: per process of a fit whose operators are split by rows over `parts` processes
+// (icobrdf/core/row_split_projection.hpp): 4 (C / R) M for P, the visiting block and the exchange's copies,
+// T kStreamingBlockRows 2 (C / R) ch LUT rows, and the M^2 terms; the grid stays whole.
+double model_fit_bytes(int level, int order, int channels, int threads, int parts = 1);
 // Peak bytes of sampling a LUT of a model at `level` and projecting it to `order` (the lut command), and of
 // smoothing or fitting a stored one: the LUT and its copy for writing dominate from level 4 on.
 double lut_bytes(int level, int order, int channels, bool float32, int threads);
@@ -32,7 +35,7 @@ int estimate_threads();
 
 // ResourceError (icobrdf/core/error.hpp) when a model fit at (level, order) needs more than available_memory(),
 // naming the largest order that fits at this level.
-void require_model_fit_memory(int level, int order, int channels, const std::string& what);
+void require_model_fit_memory(int level, int order, int channels, const std::string& what, int parts = 1);
 // The same for a LUT of `level` (sampled, stored and projected to `order`).
 void require_lut_memory(int level, int order, int channels, bool float32, const std::string& what);
 
