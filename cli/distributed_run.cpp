@@ -104,7 +104,7 @@ void run_distributed(const std::string& what, int projections, const std::functi
     if (cluster.first_failed(true) >= 0) throw SetupFailed();  // the lowest failed rank says why
   };
   run.gather = [&cluster](double v) { return gather_on_rank0(cluster, v); };
-  run.exchanges = [&projection] { return projection.exchanges(); };
+  run.exchanges = [&projection] { return projection.projections_done(); };
   if (cluster.rank() != 0) set_progress_stream(nullptr);
   end_on_sigterm(cluster.rank(), cluster.size());
   const int rank = cluster.rank(), ranks = cluster.size();

@@ -27,7 +27,7 @@ struct DistributedRun {
   std::function<void()> setup_done = [] {};
   // Rank 0 gets one value per rank (rank order); one process gets its own value.
   std::function<std::vector<double>(double)> gather = [](double v) { return std::vector<double>{v}; };
-  // Projections exchanged so far (0 in one process).
+  // Projections whose result was exchanged so far (0 in one process).
   std::function<int()> exchanges = [] { return 0; };
   bool writes() const { return rank == 0; }
 };

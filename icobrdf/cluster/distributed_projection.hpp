@@ -55,6 +55,9 @@ class DistributedProjection {
   // This rank's share, for FitRequest::share / FitOptions::share.
   std::shared_ptr<const StreamingShare> share() const { return share_; }
   int exchanges() const { return exchanges_; }
+  // Projections whose sum of C was exchanged: a split fit's context makes two exchanges of its own (G and
+  // the empty one), also for sources that then project nothing (fits of scattered samples).
+  int projections_done() const { return split_rows_ ? exchanges_ / 3 : exchanges_; }
   // After `error` on this rank: when a projection's exchange is still owed, take part in it with the error
   // (so that no rank waits for this one) and return true: rank 0 then reports it. False when no exchange
   // was owed (the error came after the last one, or an exchange already carried a failure). Never throws.

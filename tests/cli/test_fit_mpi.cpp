@@ -84,6 +84,20 @@ TEST_F(FitMpi, TwoRanksAgreeWithOneProcessToRoundingAndWithEachOtherBitwise) {
   }
 }
 
+// A source that projects nothing (a stored spectrum, re-expanded exactly): each rank fits it whole and rank
+// 0 says so, although the split context made its own exchanges (G and the empty one).
+TEST_F(FitMpi, ASourceWithoutProjectionIsNotedAsFittedWhole) {
+  TempDir d;
+  const std::string stored = d.file("stored.h5"), out = d.file("out.h5");
+  const auto a = run_cli(fit_args("model:ggx:alpha=0.3", stored));
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const auto b = run_mpi(fit_args(stored, out));
+  ASSERT_EQ(b.exit_code, 0) << b.err << b.out;
+  EXPECT_NE(b.err.find("is not fitted by streaming projection; each of the 2 ranks fitted it whole"), std::string::npos) << b.err;
+  EXPECT_EQ((read_spectrum_file(out).channels.at(0) - read_spectrum_file(stored).channels.at(0)).cwiseAbs().maxCoeff(), 0.0)
+      << "the same order: re-expansion is the identity";
+}
+
 // Rank 1 alone gets a memory budget too small for the fit (mpirun's MPMD form: a second program context
 // with its own environment): the fit fails, no spectrum is written, and the one error line names rank 1.
 TEST_F(FitMpi, AFailingRankEndsTheFitWithOneLineNamingIt) {
