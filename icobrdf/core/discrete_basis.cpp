@@ -225,17 +225,9 @@ DiscreteBasis build_discrete_basis(const Grid& grid, int order) {
   // On a D2-symmetric grid whose cubature is equivariant (cubature_is_image), a quarter of the cells suffice.
   if (d2_maps_form_group(grid) && build_from_orbits(grid, d)) return d;
   d.evaluated_cells = cells;
-  d.B.resize(cells, modes);
-  advise_huge_pages(d.B.data(), sizeof(double) * static_cast<size_t>(d.B.size()));
-#pragma omp parallel
-  {
-    std::vector<double> row(static_cast<size_t>(modes));
-#pragma omp for schedule(dynamic, 16)
-    for (int c = 0; c < cells; ++c) {
-      cell_average(grid, order, c, row.data());
-      for (int j = 0; j < modes; ++j) d.B(c, j) = row[static_cast<size_t>(j)];
-    }
-  }
+  std::vector<int> all(static_cast<size_t>(cells));
+  for (int c = 0; c < cells; ++c) all[static_cast<size_t>(c)] = c;
+  d.B = basis_rows(grid, order, all);
   // G = B^T W B as a sum of symmetric rank updates over fixed blocks of cells (lower triangle, then
   // mirrored). On a D2-symmetric grid whose B is equivariant (icobrdf/core/grid_symmetry.hpp) only one cell per
   // orbit enters, weighted by 1 / |stabilizer|, and G = d2_average of that sum: a quarter of the work.
@@ -281,6 +273,7 @@ Eigen::MatrixXd basis_rows(const Grid& grid, int order, const std::vector<int>& 
     throw ArgumentError("basis rows: cubature point " + std::to_string(q) + " is not a finite direction with z >= 0");
   const int n = static_cast<int>(cells.size()), modes = hemisphere_basis_count(order);
   Eigen::MatrixXd b(n, modes);
+  advise_huge_pages(b.data(), sizeof(double) * static_cast<size_t>(b.size()));
 #pragma omp parallel
   {
     std::vector<double> row(static_cast<size_t>(modes));

@@ -15,14 +15,6 @@
 namespace icobrdf {
 namespace {
 
-// B's rows count as D2-equivariant within this fraction of the block's max|B|: the tolerance of the
-// one-process check (streaming_projection's kSymmetryTol: a few ulps of the mesh and of G^-1, while any grid
-// symmetric only up to its discretization is off by far more).
-constexpr double kSymmetryTol = 1e-12;
-// Solid angles of the sampling grid against the projection grid's: as streaming_projection's check (the two
-// are built from the same cells, so they agree to the rounding of summing cubature weights).
-constexpr double kSameCellsRelTol = 1e-12;
-
 // Whether the rows `m` of block b (in block order) satisfy m(image(c)) = sign m(c) for every map.
 bool block_rows_equivariant(const Grid& g, const CellBlocks& cb, int b, const Eigen::MatrixXd& m, double tol) {
   if (!has_d2_maps(g) || m.size() == 0) return false;
@@ -128,23 +120,14 @@ class PartProjector {
   // The triangle of block a in the reciprocal case (each row against the columns of its orbit and the
   // orbits before it, its own orbit halved), or all of block a against itself otherwise.
   void diagonal(const Eigen::MatrixXd& pa) {
+    if (!reciprocal_) return pair(part_, pa, part_, pa);  // every incident row against every column of the block
     const int first = cb_.start[static_cast<size_t>(part_)], n = cb_.size(part_);
-    std::vector<int> cells = cb_.cells(part_);
+    const Grid lg = cells_in_order(sg_, cb_.cells(part_));
     std::vector<PairRow> rows;
-    const auto incident = incident_positions(part_);
-    if (reciprocal_) {
-      const Grid lg = cells_in_order(sg_, cells);
-      for (const int p : incident) {
-        const int ob = symmetric_ ? cb_.orbit_begin[static_cast<size_t>(p)] : p, oe = symmetric_ ? cb_.orbit_end[static_cast<size_t>(p)] : p + 1;
-        rows.push_back({p - first, row_weight(p), pa.data() + (p - first), pa.rows(), oe - first, ob - first, oe - first});
-      }
-      run(lg, rows, pa, n);
-      return;
+    for (const int p : incident_positions(part_)) {
+      const int ob = symmetric_ ? cb_.orbit_begin[static_cast<size_t>(p)] : p, oe = symmetric_ ? cb_.orbit_end[static_cast<size_t>(p)] : p + 1;
+      rows.push_back({p - first, row_weight(p), pa.data() + (p - first), pa.rows(), oe - first, ob - first, oe - first});
     }
-    for (const int p : incident) cells.push_back(cb_.order[static_cast<size_t>(p)]);
-    const Grid lg = cells_in_order(sg_, cells);
-    int k = n;
-    for (const int p : incident) rows.push_back({k++, row_weight(p), pa.data() + (p - first), pa.rows(), n, 0, 0});
     run(lg, rows, pa, n);
   }
 
@@ -259,20 +242,6 @@ class PartProjector {
   Eigen::MatrixXd delta_;
 };
 
-// Checks shared by both drivers; returns {use_symmetry (before the rows' own check), reciprocal}.
-std::pair<bool, bool> projection_kind(const BrdfModel& model, const Grid& g, const Grid& sg, bool cosine, LutSampling sampling) {
-  if (sg.cells() != g.cells() || (sg.solid_angles - g.solid_angles).cwiseAbs().maxCoeff() > kSameCellsRelTol * g.solid_angles.maxCoeff())
-    throw ArgumentError("projection: the sampling grid's cells differ from the projection grid's (" + std::to_string(sg.cells()) + " vs " +
-                        std::to_string(g.cells()) + " cells)");
-  if (!model.delta_parts().empty() && !cosine)
-    throw ArgumentError("projection of '" + quoted_text(model.spec()) + "': a delta BRDF has no finite f; use the cosine-weighted form g");
-  const bool symmetric = model.is_isotropic() && has_d2_maps(g) && has_d2_maps(sg) && g.rotate_pi == sg.rotate_pi &&
-                         g.mirror_xz == sg.mirror_xz && g.mirror_yz == sg.mirror_yz &&
-                         sampling_is_d2_symmetric(sg, sampling == LutSampling::CellCentre);
-  const bool reciprocal = model.is_reciprocal() && (!cosine || sampling == LutSampling::CellCentre);
-  return {symmetric, reciprocal};
-}
-
 // Block b's rows of B and its part of G (lower triangle summed, then mirrored), and whether its rows are
 // D2-equivariant.
 struct BlockBasis {
@@ -325,7 +294,7 @@ BlockBasis block_basis(const Grid& grid, int order, const CellBlocks& cb, int b)
   Eigen::MatrixXd lower = Eigen::MatrixXd::Zero(out.B.cols(), out.B.cols());
   lower.selfadjointView<Eigen::Lower>().rankUpdate(wb.transpose());
   out.G = lower.selfadjointView<Eigen::Lower>();
-  out.equivariant = block_rows_equivariant(grid, cb, b, out.B, kSymmetryTol);
+  out.equivariant = block_rows_equivariant(grid, cb, b, out.B, kStreamingSymmetryTol);
   return out;
 }
 
@@ -408,8 +377,6 @@ RingSchedule ring_schedule(int part, int parts, bool reciprocal) {
     throw ArgumentError("ring schedule: part " + std::to_string(part) + " of " + std::to_string(parts) + ", expected 0 <= part < parts");
   RingSchedule s;
   const int steps = reciprocal ? parts / 2 + 1 : parts;
-  const int prev = (part + parts - 1) % parts;
-  (void)prev;
   for (int t = 0; t < steps; ++t) {
     // Reciprocal: the pair at distance t is met by this part at step t and by the part t ahead at step
     // parts - t; steps beyond parts / 2 are left out, and half way round (t == parts - t) both parts of a
@@ -450,9 +417,9 @@ std::vector<Eigen::MatrixXd> row_split_projection(const BrdfModel& model, const 
   if (!ops.blocks || ops.blocks->parts() != exchange.parts() || ops.part != exchange.part() ||
       static_cast<int>(ops.blocks->order.size()) != grid.cells() || ops.P.rows() != ops.blocks->size(ops.part))
     throw ArgumentError("row split projection: the operators were split for another grid or another set of processes");
-  const auto [symmetric, reciprocal] = projection_kind(model, grid, sg, cosine, sampling);
-  PartProjector projector(model, grid, sg, *ops.blocks, ops.part, cosine, sampling, symmetric && ops.rows_equivariant, reciprocal, ops.P.cols());
-  const RingSchedule s = ring_schedule(ops.part, exchange.parts(), reciprocal);
+  const StreamingShortcuts k = streaming_shortcuts(model, grid, sg, cosine, sampling);
+  PartProjector projector(model, grid, sg, *ops.blocks, ops.part, cosine, sampling, k.d2 && ops.rows_equivariant, k.reciprocal, ops.P.cols());
+  const RingSchedule s = ring_schedule(ops.part, exchange.parts(), k.reciprocal);
   ProgressMeter progress("projecting", s.steps());
   Eigen::MatrixXd held;  // the visiting block's rows (steps >= 1)
   for (int t = 0; t < s.steps(); ++t) {
@@ -487,11 +454,11 @@ std::vector<Eigen::MatrixXd> row_split_projection_serial(const BrdfModel& model,
   const DiscreteBasis basis = summed_basis(grid, order, std::move(g), gram_tolerance);
   std::vector<Eigen::MatrixXd> p;
   for (const auto& bb : bases) p.push_back(projection_rows(basis, bb));
-  const auto [symmetric, reciprocal] = projection_kind(model, grid, sg, cosine, sampling);
+  const StreamingShortcuts k = streaming_shortcuts(model, grid, sg, cosine, sampling);
   std::vector<Eigen::MatrixXd> total;
   for (int part = 0; part < parts; ++part) {
-    PartProjector projector(model, grid, sg, cb, part, cosine, sampling, symmetric && equivariant, reciprocal, p[0].cols());
-    const RingSchedule s = ring_schedule(part, parts, reciprocal);
+    PartProjector projector(model, grid, sg, cb, part, cosine, sampling, k.d2 && equivariant, k.reciprocal, p[0].cols());
+    const RingSchedule s = ring_schedule(part, parts, k.reciprocal);
     for (int t = 0; t < s.steps(); ++t) {
       const int v = (part + t) % parts;
       if (s.compute[static_cast<size_t>(t)]) projector.step(v, p[static_cast<size_t>(part)], p[static_cast<size_t>(v)], s.half[static_cast<size_t>(t)]);

@@ -12,15 +12,6 @@
 namespace icobrdf {
 namespace {
 
-// Tolerance of the check that P is D2-equivariant (the sampling's own check is sampling_is_d2_symmetric,
-// icobrdf/core/grid_symmetry.hpp): a grid built symmetric matches to rounding, 1e-12 leaves room for a few ulps of
-// the mesh construction and of G^-1 while rejecting any grid that is symmetric only up to discretization.
-constexpr double kSymmetryTol = 1e-12;
-// Solid angles of the sampling grid against the projection grid's, relative to the largest: the two are
-// built from the same cells (build_fitting_grid with either cubature), so they agree to the rounding of
-// summing cubature weights; any real difference in cells is far larger.
-constexpr double kSameCellsRelTol = 1e-12;
-
 // The incident cells sampled, ascending, with their weights: one per D2 orbit weighted 1 / |stabilizer|
 // (icobrdf/core/grid_symmetry.hpp) when `use_symmetry`, else every cell with weight 1.
 std::pair<std::vector<int>, std::vector<double>> incident_rows(const Grid& g, bool use_symmetry) {
@@ -166,6 +157,26 @@ std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const
 
 }  // namespace
 
+StreamingShortcuts streaming_shortcuts(const BrdfModel& model, const Grid& g, const Grid& sg, bool cosine, LutSampling sampling) {
+  if (sg.cells() != g.cells() || (sg.solid_angles - g.solid_angles).cwiseAbs().maxCoeff() > kSameCellsRelTol * g.solid_angles.maxCoeff())
+    throw ArgumentError("projection: the sampling grid's cells differ from the projection grid's (" + std::to_string(sg.cells()) +
+                        " vs " + std::to_string(g.cells()) + " cells)");
+  if (!model.delta_parts().empty() && !cosine)
+    throw ArgumentError("projection of '" + quoted_text(model.spec()) + "': a delta BRDF has no finite f; use the cosine-weighted form g");
+  StreamingShortcuts k;
+  // An isotropic model on a D2-symmetric grid has F(s i, s r) = F(i, r) for each symmetry s, so row s i of
+  // F P is row i times the signs of the modes: only one incident cell per orbit is sampled (a quarter of
+  // the rows), and C = sum_s D_s X D_s with X = sum over representatives i of P_i^T (F P)_i / |stabilizer
+  // of i|, D_s the diagonal of mode signs. The sum over the four symmetries keeps 4 X_ab where modes a and b
+  // have the same signs under all of them and zeroes the rest (entries that vanish exactly by symmetry).
+  // (icobrdf/core/grid_symmetry.hpp) The symmetric sampling makes F itself D2-invariant; the orbits and the
+  // cell maps are those of sg, which equal g's (checked here).
+  k.d2 = model.is_isotropic() && has_d2_maps(g) && has_d2_maps(sg) && g.rotate_pi == sg.rotate_pi && g.mirror_xz == sg.mirror_xz &&
+         g.mirror_yz == sg.mirror_yz && sampling_is_d2_symmetric(sg, sampling == LutSampling::CellCentre);
+  k.reciprocal = model.is_reciprocal() && (!cosine || sampling == LutSampling::CellCentre);
+  return k;
+}
+
 std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const Grid& g, const ProjectionOperator& proj,
                                                   bool cosine, LutSampling sampling, const Grid* sampling_grid,
                                                   const StreamingShare* given_share) {
@@ -176,28 +187,14 @@ std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const 
                         (share.parts > 1 && !share.reduce ? " has no reduction" : " is out of range") +
                         " (every " + std::to_string(share.every) + "), expected 0 <= part < parts, every >= 1 and a reduction when parts > 1");
   const Grid& sg = sampling_grid ? *sampling_grid : g;
-  if (sg.cells() != g.cells() || (sg.solid_angles - g.solid_angles).cwiseAbs().maxCoeff() > kSameCellsRelTol * g.solid_angles.maxCoeff())
-    throw ArgumentError("projection: the sampling grid's cells differ from the projection grid's (" + std::to_string(sg.cells()) +
-                        " vs " + std::to_string(g.cells()) + " cells)");
+  const StreamingShortcuts shortcuts = streaming_shortcuts(model, g, sg, cosine, sampling);
   const auto deltas = model.delta_parts();
-  if (!deltas.empty() && !cosine)
-    throw ArgumentError("projection of '" + quoted_text(model.spec()) + "': a delta BRDF has no finite f; use the cosine-weighted form g");
   if (proj.P.rows() != g.cells())
     throw ArgumentError("projection: operator has " + std::to_string(proj.P.rows()) + " rows, grid has " + std::to_string(g.cells()) + " cells");
   const int ch = model.channels();
   const auto modes = proj.P.cols();
-  // An isotropic model on a D2-symmetric grid has F(s i, s r) = F(i, r) for each symmetry s, so row s i of
-  // F P is row i times the signs of the modes: only one incident cell per orbit is sampled (a quarter of
-  // the rows), and C = sum_s D_s X D_s with X = sum over representatives i of P_i^T (F P)_i / |stabilizer
-  // of i|, D_s the diagonal of mode signs. The sum over the four symmetries keeps 4 X_ab where modes a and b
-  // have the same signs under all of them and zeroes the rest (entries that vanish exactly by symmetry).
-  // (icobrdf/core/grid_symmetry.hpp)
-  const bool use_symmetry = model.is_isotropic() && has_d2_maps(g) && has_d2_maps(sg) && g.rotate_pi == sg.rotate_pi &&
-                            g.mirror_xz == sg.mirror_xz && g.mirror_yz == sg.mirror_yz && sampling_is_d2_symmetric(sg, sampling == LutSampling::CellCentre) &&
-                            rows_are_d2_equivariant(g, proj.P, kSymmetryTol);
-  // The symmetric sampling makes F itself D2-invariant; the orbits and the cell maps are those of sg, which
-  // equal g's (checked above).
-  if (model.is_reciprocal() && (!cosine || sampling == LutSampling::CellCentre)) {
+  const bool use_symmetry = shortcuts.d2 && rows_are_d2_equivariant(g, proj.P, kStreamingSymmetryTol);
+  if (shortcuts.reciprocal) {
     auto out = reciprocal_projection(model, sg, proj, cosine, sampling, use_symmetry, share);
     for (auto& x : out)
       for (const auto& d : deltas) x += delta_projection(d, g, proj);

@@ -52,6 +52,25 @@ struct StreamingShare {
   std::shared_ptr<RowSplitExchange> rows;
 };
 
+// Tolerance of the check that P is D2-equivariant (the sampling's own check is sampling_is_d2_symmetric,
+// icobrdf/core/grid_symmetry.hpp): a grid built symmetric matches to rounding, 1e-12 leaves room for a few ulps of
+// the mesh construction and of G^-1 while rejecting any grid that is symmetric only up to discretization.
+inline constexpr double kStreamingSymmetryTol = 1e-12;
+// Solid angles of the sampling grid against the projection grid's, relative to the largest: the two are
+// built from the same cells (build_fitting_grid with either cubature), so they agree to the rounding of
+// summing cubature weights; any real difference in cells is far larger.
+inline constexpr double kSameCellsRelTol = 1e-12;
+
+// The work a streaming projection may save, shared by streaming_projection and row_split_projection:
+// `d2` one incident row per D2 orbit (an isotropic model on grids with the same symmetric sampling; the
+// caller still checks that its rows of P are equivariant), `reciprocal` one triangle of the symmetric f LUT
+// (f form, or g form with centre sampling). ArgumentError when the sampling grid's cells differ from g's,
+// or for a delta part without the g form.
+struct StreamingShortcuts {
+  bool d2 = false, reciprocal = false;
+};
+StreamingShortcuts streaming_shortcuts(const BrdfModel& model, const Grid& g, const Grid& sg, bool cosine, LutSampling sampling);
+
 // One M x M coefficient matrix per model channel. Delta parts are added exactly in g form.
 // `sampling_grid`, when given, supplies the cubature used for the cell averages of the LUT rows: the same
 // cells as `grid` (same count and solid angles) with a cheaper rule, since each LUT entry averages over the
