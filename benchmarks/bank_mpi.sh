@@ -4,7 +4,8 @@
 # (bytes compared with each material's `seconds` figure masked, as tests/cli/bank_identity.hpp does).
 #   benchmarks/bank_mpi.sh [ICOBRDF] [N] [RANKS] [REPEATS] [LEVEL]   (default build/cli/icobrdf 1000 2 1 3)
 # LEVEL: the fitting level of every material (3: about 3 ms each; 4: about 20 ms each).
-# Runs alternate (1 process, R ranks, 1 process, ...) so that load from elsewhere falls on both alike.
+# Runs alternate (1 process, R ranks, 1 process, ...) so that load from elsewhere falls on both alike. Both
+# runs print the --json report (the R-rank one is read for the materials per rank), so both pay for it.
 # The materials: Lambert, Minnaert, Oren-Nayar, GGX, Beckmann and Phong over a range of parameters, each fitted
 # at a fixed level (LEVEL, default 3) and order 6 (no level/order search), prune = false, a loose target (the fit is timed, not
 # judged), 1024 held-out pairs, and no LUTs (store_lut = false: the bank holds the spectra), so that a
@@ -53,7 +54,7 @@ sys.stdout.buffer.write(data)' "$1"
 echo "scene: $N materials; machine: $(nproc --all) vCPU, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'); load: $(cut -d' ' -f1-3 /proc/loadavg)"
 for r in $(seq "$REPEATS"); do
   t0=$(date +%s.%N)
-  /usr/bin/time -f "%U %S" -o "$dir/one.cpu" "$ICOBRDF" bank build "$scene" -o "$dir/one.h5" --quiet >/dev/null 2>&1
+  /usr/bin/time -f "%U %S" -o "$dir/one.cpu" "$ICOBRDF" bank build "$scene" -o "$dir/one.h5" --quiet --json >"$dir/one.json" 2>/dev/null
   t1=$(date +%s.%N)
   /usr/bin/time -f "%U %S" -o "$dir/many.cpu" mpirun -q -np "$RANKS" --oversubscribe "$ICOBRDF" bank build "$scene" -o "$dir/many.h5" --quiet --json >"$dir/many.json" 2>/dev/null
   t2=$(date +%s.%N)

@@ -24,8 +24,8 @@ namespace icobrdf {
 
 // Sleep between two polls of a waiting rank. Rank 0's helper polls all through a build, so this is its CPU
 // cost: 200 us cost 0.3-0.6 s of CPU per 1,000 cheap materials (benchmarks/RESULTS.md, "MPI bank build"),
-// 1 ms about a fifth of that. The latency it adds is hidden: every rank holds one material ahead
-// (icobrdf/cluster/distributed_bank.cpp), and a cheap material takes a few milliseconds.
+// 1 ms about a fifth of that. The latency it adds is hidden: every rank holds materials ahead, enough for
+// 20 ms of its fitting (icobrdf/cluster/distributed_bank.cpp).
 inline constexpr std::chrono::microseconds kPollInterval{1000};
 
 class Cluster {

@@ -2,6 +2,9 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstdint>
 #include <cstring>
@@ -27,19 +30,18 @@ namespace {
 constexpr int kReport = 1, kWork = 2, kDone = 3;
 
 // Header of a report: the material's index (int64, -1 when the report carries no material: the first
-// requests), its outcome, and whether the rank asks for more work (0 once it was told done or to stop).
+// request), its outcome, whether the rank stays (0 once it was told done or to stop), and how many more
+// materials it asks for with this report (0-255; each is answered by a kWork or a kDone).
 // `returned`: a material handed out but not fitted (the rank was stopped); rank 0 hands it out again.
 enum class Outcome : std::uint8_t { none = 0, finished = 1, failed = 2, returned = 3 };
-// Materials a rank holds beyond the one it fits: it asks for the next one before it finishes the current,
-// so that the round trip to rank 0 (a poll interval, more on a loaded node) never leaves it idle.
-constexpr int kAhead = 1;
-constexpr std::size_t kHeaderBytes = 10;
+constexpr std::size_t kHeaderBytes = 11;
 
-std::string header(std::int64_t index, Outcome outcome, bool wants_more) {
+std::string header(std::int64_t index, Outcome outcome, bool stays, int asks) {
   std::string h(kHeaderBytes, '\0');
   std::memcpy(h.data(), &index, 8);
   h[8] = static_cast<char>(outcome);
-  h[9] = static_cast<char>(wants_more ? 1 : 0);
+  h[9] = static_cast<char>(stays ? 1 : 0);
+  h[10] = static_cast<char>(static_cast<std::uint8_t>(asks));
   return h;
 }
 
@@ -55,18 +57,25 @@ std::string progress_line(const Scene& scene, std::size_t handed, std::size_t in
          ") on rank " + std::to_string(rank);
 }
 
-// Ranks other than 0: ask, fit, send, until rank 0 says done (or this rank was told to stop). The first
-// report asks for 1 + kAhead materials, every later one with wants_more = 1 for one; each is answered by a
-// kWork or kDone. The rank ends when it holds no material and every request was answered.
+// Ranks other than 0: ask, fit, send, until rank 0 says done (or this rank was told to stop). Every report
+// asks for as many materials as keep 1 + materials_ahead(mean fitting time) held or asked for; each ask is
+// answered by a kWork or a kDone. The rank ends when it holds no material and every ask was answered.
 void serve(const Scene& scene, const BankBuildOptions& options, Cluster& cluster) {
   BankBuildOptions quiet = options;
   quiet.progress = nullptr;
   MaterialFitter fitter(scene, quiet);
   std::deque<std::int64_t> held;  // handed to this rank, not yet reported
-  int asked = 0;                  // requests not yet answered
+  int asked = 0;                  // asks not yet answered
   bool done = false;              // told done, or stopped
-  cluster.post(0, kReport, header(-1, Outcome::none, true));  // the first request counts for 1 + kAhead
-  asked = 1 + kAhead;
+  double fit_seconds = 0.0;       // spent fitting so far
+  int fitted = 0;
+  const auto asks = [&] {
+    if (done) return 0;
+    const int want = 1 + materials_ahead(fitted > 0 ? fit_seconds / fitted : 0.0);
+    return std::max(0, want - static_cast<int>(held.size()) - asked);
+  };
+  asked = asks();
+  cluster.post(0, kReport, header(-1, Outcome::none, true, asked));
   for (;;) {
     while (asked > 0) {  // the answers so far; wait for one only when nothing is held
       auto m = held.empty() ? std::optional<Cluster::Message>(cluster.wait(0)) : cluster.poll(0);
@@ -87,15 +96,19 @@ void serve(const Scene& scene, const BankBuildOptions& options, Cluster& cluster
       outcome = Outcome::returned;
     } else {
       MaterialReport report = new_material_report(scene, static_cast<std::size_t>(index));
+      const auto t0 = std::chrono::steady_clock::now();
       try {
         payload = record_wire(fitter.fit(static_cast<std::size_t>(index), report));
       } catch (const std::exception& e) {
         outcome = Outcome::failed;
         payload = e.what();
       }
+      fit_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      ++fitted;
     }
-    cluster.post(0, kReport, header(index, outcome, !done) + payload);
-    if (!done) ++asked;
+    const int more = asks();
+    cluster.post(0, kReport, header(index, outcome, !done, more) + payload);
+    asked += more;
   }
   cluster.finish_sends();
 }
@@ -161,7 +174,7 @@ struct Coordinator {
 };
 
 // Rank 0's helper thread: the only one that calls MPI while the build runs. It answers every request at once;
-// a rank is finished once it holds no material and was told done or said it stops (wants_more = 0): its
+// a rank is finished once it holds no material and was told done or said it stops (stays = 0): its
 // first request came before any material, so every request it made was answered by then.
 void answer_requests(Coordinator& co, Cluster& cluster) {
   const auto ranks = static_cast<std::size_t>(cluster.size());
@@ -193,8 +206,9 @@ void answer_requests(Coordinator& co, Cluster& cluster) {
     if (m->tag != kReport || m->bytes.size() < kHeaderBytes) continue;
     const auto source = static_cast<std::size_t>(m->source);
     const auto outcome = static_cast<Outcome>(m->bytes[8]);
-    const bool more = m->bytes[9] != 0;
-    if (!more) leaving[source] = 1;
+    const bool stays = m->bytes[9] != 0;
+    const int asks = static_cast<std::uint8_t>(m->bytes[10]);
+    if (!stays) leaving[source] = 1;
     if (outcome != Outcome::none) {
       co.reported(m->source, index_of(m->bytes), outcome == Outcome::returned);
       if (outcome != Outcome::returned) {
@@ -205,9 +219,7 @@ void answer_requests(Coordinator& co, Cluster& cluster) {
         co.arrived.notify_all();
       }
     }
-    if (!more) continue;
-    // The first request of a rank (no material) asks for 1 + kAhead answers, every later one for one.
-    for (int k = 0; k < (outcome == Outcome::none ? 1 + kAhead : 1); ++k) {
+    for (int k = 0; k < asks; ++k) {
       const std::int64_t next = co.take(static_cast<int>(source));
       if (next >= 0) {
         std::string bytes(8, '\0');

@@ -7,12 +7,14 @@
 #include <nlohmann/json.hpp>
 #include <stdlib.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
 
+#include "icobrdf/cluster/distributed_bank.hpp"
 #include "tests/cli/bank_identity.hpp"
 #include "tests/cli/cli_runner.hpp"
 #include "tests/support/unity_id.hpp"
@@ -75,6 +77,17 @@ class BankMpi : public ::testing::Test {
     setenv("SOURCE_DATE_EPOCH", "1700000000", 1);  // fixes the bank's `created` attribute
   }
 };
+
+// The look-ahead (no MPI needed): ceil(20 ms / mean fitting time) materials, 1 to 16.
+TEST(BankMpiLookAhead, HoldsTwentyMillisecondsOfFittingBetweenOneAndSixteenMaterials) {
+  EXPECT_EQ(icobrdf::materials_ahead(0.003), 7);    // 6.67 -> 7: the 3 ms materials of benchmarks/bank_mpi.sh
+  EXPECT_EQ(icobrdf::materials_ahead(0.0199), 2);   // just under 20 ms: two
+  EXPECT_EQ(icobrdf::materials_ahead(0.02), 1);     // exactly 20 ms: one
+  EXPECT_EQ(icobrdf::materials_ahead(1.0), 1);      // expensive: one, never zero
+  EXPECT_EQ(icobrdf::materials_ahead(1e-6), 16);    // 20,000 capped at 16
+  EXPECT_EQ(icobrdf::materials_ahead(0.0), 1);      // nothing fitted yet
+  EXPECT_EQ(icobrdf::materials_ahead(std::nan("")), 1);
+}
 
 TEST_F(BankMpi, TwoRanksGiveTheOneProcessBankAndBothRanksWork) {
   TempDir d;
