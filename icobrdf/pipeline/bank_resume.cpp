@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "icobrdf/pipeline/keys.hpp"
@@ -12,6 +13,10 @@ namespace {
 // Time between two rewrites of OUTPUT.partial over the duration of the last rewrite (at most
 // 1/(1 + ratio) = 9% of a build is spent on them; a SIGKILL loses at most ratio x that duration).
 constexpr double kCheckpointRatio = 10.0;
+// And at least this long between two rewrites after the first: in a build of cheap materials a rewrite of
+// 100 materials at level 4 takes tens of milliseconds, and the ratio alone let the rewrites take their full
+// 9% (0.34 s of a 3.8 s bank of 100, benchmarks/RESULTS.md); a SIGKILL then loses at most a second more.
+constexpr double kMinCheckpointSeconds = 1.0;
 
 }  // namespace
 
@@ -67,13 +72,16 @@ void report_from_record(const MaterialRecord& rec, MaterialReport& rep) {
   rep.measured = !(rec.labels.count("error_measured") && rec.labels.at("error_measured") != "yes");
 }
 
-// The whole file is rewritten each time (atomically), so its cost grows with the materials finished; a
-// checkpoint is written once the time since the previous one reaches kCheckpointRatio times that one's
-// duration, which bounds the time spent on them to 1/(1 + kCheckpointRatio) of the build.
+bool checkpoint_due(bool written_before, double since_last_s, double last_write_s) {
+  return !written_before || since_last_s >= std::max(kCheckpointRatio * last_write_s, kMinCheckpointSeconds);
+}
+
+// The whole file is rewritten each time (atomically), so its cost grows with the materials finished
+// (checkpoint_due says when).
 void Checkpointer::maybe_write(const BankContents& done, bool force) {
   if (done.materials.size() == saved_) return;
   const auto t = std::chrono::steady_clock::now();
-  if (!force && std::chrono::duration<double>(t - last_end_).count() < kCheckpointRatio * last_write_s_) return;
+  if (!force && !checkpoint_due(saved_ > 0, std::chrono::duration<double>(t - last_end_).count(), last_write_s_)) return;
   write_bank(path_, done);
   last_end_ = std::chrono::steady_clock::now();
   last_write_s_ = std::chrono::duration<double>(last_end_ - t).count();

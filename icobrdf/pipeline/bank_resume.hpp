@@ -2,9 +2,9 @@
 // Resuming a bank build: the finished materials are written (atomically) to OUTPUT.partial, keyed by a hash
 // of the source text, the material's settings and the bank settings; with `resume`, materials whose key
 // matches are taken from there. The file is rewritten after the first material, then whenever the time
-// since the last rewrite reaches 10 times that rewrite's duration (rewrites grow with the materials kept;
-// this bounds them to 9% of the build), and at the end of a failed or interrupted build: a SIGKILL loses at
-// most that much work.
+// since the last rewrite reaches 10 times that rewrite's duration and at least a second (rewrites grow with
+// the materials kept; this bounds them to 9% of the build, less in builds of cheap materials), and at the
+// end of a failed or interrupted build: a SIGKILL loses at most that much work.
 #include <chrono>
 #include <cstddef>
 #include <map>
@@ -26,6 +26,10 @@ std::optional<std::map<std::string, MaterialRecord>> read_resume_file(const std:
 // The figures and labels a bank stores with a material's choice ("choice" subgroup), and back.
 void store_choice(MaterialRecord& record, const MaterialReport& report);
 void report_from_record(const MaterialRecord& record, MaterialReport& report);
+
+// Whether a rewrite is due: always when none was written yet, else once the time since the last one ended
+// reaches max(10 x its duration, 1 s).
+bool checkpoint_due(bool written_before, double since_last_s, double last_write_s);
 
 // Writes OUTPUT.partial at the pace described above.
 class Checkpointer {

@@ -151,6 +151,15 @@ TEST(BankResume, MaterialKeyIsTheTextOfTheSceneWords) {
 // failure to write it (here injected at the second material) does not stop the build: every material is
 // still fitted and kept for --resume, the build then ends with that error, and neither the bank nor its
 // temporary is left.
+// The resume file's pace: the first rewrite at once; later ones after max(10 x the last one's duration, 1 s).
+TEST(BankResume, CheckpointIsDueAfterTenTimesTheLastRewriteAndAtLeastASecond) {
+  EXPECT_TRUE(icobrdf::checkpoint_due(false, 0.0, 0.0));    // none yet: the first material is kept at once
+  EXPECT_FALSE(icobrdf::checkpoint_due(true, 0.5, 0.01));   // 10 x 10 ms passed, not a second
+  EXPECT_TRUE(icobrdf::checkpoint_due(true, 1.0, 0.01));    // a second
+  EXPECT_FALSE(icobrdf::checkpoint_due(true, 1.9, 0.2));    // a second, not 10 x 0.2 s
+  EXPECT_TRUE(icobrdf::checkpoint_due(true, 2.0, 0.2));     // 10 x 0.2 s
+}
+
 TEST(BankBuildWriting, AFailedBankWriteKeepsEveryMaterialForResume) {
   icobrdf::test::ScratchDir dir;
   Scene scene;
