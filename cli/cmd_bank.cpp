@@ -80,7 +80,9 @@ int run_build(const BuildArgs& a) {
   o.stop = &g_stop_signal;
   o.strict = a.strict;
   o.warnings = &std::cerr;
-  if (!a.quiet) o.progress = [](const std::string& line) { std::cerr << line << std::endl; };
+  // One write per line (cerr is unbuffered): under mpirun rank 0's lines and the other ranks' warnings share
+  // one merged stream, and a line written in two pieces could take another rank's line into its middle.
+  if (!a.quiet) o.progress = [](const std::string& line) { std::cerr << (line + "\n") << std::flush; };
   if (a.quiet) set_progress_stream(nullptr);  // no lines from long projections either (icobrdf/core/progress.hpp)
 #ifdef ICOBRDF_WITH_MPI
   BankBuildResult r;

@@ -149,7 +149,7 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
                        {"residual_rms", vec(sf->residual_rms)}};
   }
   if (missing >= 0) j["missing_samples"] = missing;
-  if (cf && !cf->fallback.empty()) std::cerr << "icobrdf: warning: fit " << quoted_text(s.source) << ": " << cf->fallback << "\n";
+  if (cf && !cf->fallback.empty()) std::cerr << ("icobrdf: warning: fit " + quoted_text(s.source) + ": " + cf->fallback + "\n");
   if (a.json) {
     std::cout << j.dump(2) << "\n";
     return;

@@ -35,6 +35,8 @@ constexpr int kReport = 1, kWork = 2, kDone = 3;
 // `returned`: a material handed out but not fitted (the rank was stopped); rank 0 hands it out again.
 enum class Outcome : std::uint8_t { none = 0, finished = 1, failed = 2, returned = 3 };
 constexpr std::size_t kHeaderBytes = 11;
+// How often rank 0's main thread, waiting for the other ranks' last materials, looks for a stop.
+constexpr std::chrono::milliseconds kStopCheck{20};
 
 std::string header(std::int64_t index, Outcome outcome, bool stays, int asks) {
   std::string h(kHeaderBytes, '\0');
@@ -171,6 +173,22 @@ struct Coordinator {
     std::lock_guard<std::mutex> g(lock);
     return !held[static_cast<std::size_t>(rank)].empty();
   }
+  // Once stopped (mpirun sends SIGTERM when a rank fails or is killed): one line naming each rank's
+  // material, and the bank's temporary removed at once, by whichever of rank 0's threads sees the stop first.
+  // mpirun kills this rank too if it does not end soon, and it may not: the helper can be held inside MPI by
+  // a transfer from the dead rank (OpenMPI's shared-memory read of a report fails when its sender dies
+  // during it), and the main thread waits for the helper. So no partial file is left beside the output
+  // whichever thread is held; the main thread's later removal finds nothing to do. Call without `lock`.
+  void say_stopping() {
+    std::call_once(stop_said, [this] {
+      const std::string line = "icobrdf: stopping on signal " + std::to_string(options.stop->load()) +
+                               " (mpirun sends SIGTERM when a rank fails or is killed) while fitting " + in_progress() +
+                               "; the bank is not written\n";
+      (void)!::write(STDERR_FILENO, line.data(), line.size());
+      remove_unfinished_temporaries();
+    });
+  }
+  std::once_flag stop_said;
 };
 
 // Rank 0's helper thread: the only one that calls MPI while the build runs. It answers every request at once;
@@ -185,19 +203,8 @@ void answer_requests(Coordinator& co, Cluster& cluster) {
       if (!finished(r)) return false;
     return true;
   };
-  bool told_stop = false;
   while (!all_finished()) {
-    if (!told_stop && co.stopped()) {
-      told_stop = true;
-      const std::string line = "icobrdf: stopping on signal " + std::to_string(co.options.stop->load()) +
-                               " (mpirun sends SIGTERM when a rank fails or is killed) while fitting " + co.in_progress() +
-                               "; the bank is not written\n";
-      (void)!::write(STDERR_FILENO, line.data(), line.size());
-      // mpirun kills this rank too if it does not end soon, and it cannot end while it waits for a dead
-      // rank's material: the bank's temporary (written as materials arrive) goes now, so that no partial
-      // file is left beside the output. The main thread's later removal finds nothing to do.
-      remove_unfinished_temporaries();
-    }
+    if (co.stopped()) co.say_stopping();
     auto m = cluster.poll();
     if (!m) {
       std::this_thread::sleep_for(kPollInterval);
@@ -292,6 +299,7 @@ BankBuildResult coordinate(const Scene& scene, const BankBuildOptions& options, 
     for (;;) {
       take_reports(co, out);
       if (co.stopped()) {
+        co.say_stopping();
         interrupted = true;
         break;
       }
@@ -318,10 +326,11 @@ BankBuildResult coordinate(const Scene& scene, const BankBuildOptions& options, 
   // The other ranks' last materials: wait for them (and keep them, even after an error, for --resume).
   for (;;) {
     std::unique_lock<std::mutex> g(co.lock);
-    co.arrived.wait(g, [&co] { return co.helper_done || !co.inbox.empty(); });
+    co.arrived.wait_for(g, kStopCheck, [&co] { return co.helper_done || !co.inbox.empty(); });
     const bool finished = co.helper_done && co.inbox.empty();
     g.unlock();
     if (finished) break;
+    if (co.stopped()) co.say_stopping();
     if (!error) try {
         take_reports(co, out);
       } catch (...) {

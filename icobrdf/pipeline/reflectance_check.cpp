@@ -26,7 +26,9 @@ void check_reflectance(const Eigen::Ref<const Eigen::MatrixXd>& values, const st
       fmt::format("{}: {} gave a negative {} of {:.6g} at {} (largest magnitude {:.6g}, tolerance {:g} of it): non-physical reflectance",
                   where, step, quantity, lowest, at, largest, kNegativeReflectanceTolerance);
   if (check.strict) throw InputError(message + " (--strict)");
-  if (check.warnings) *check.warnings << "icobrdf: warning: " << message << "\n";
+  // One write of the whole line: under mpirun the ranks' streams are merged, and a line written in pieces
+  // could take another rank's line into its middle.
+  if (check.warnings) *check.warnings << ("icobrdf: warning: " + message + "\n") << std::flush;
 }
 
 void check_fitted_albedo(const Spectrum& s, const Grid& grid, const std::string& where, const ReflectanceCheck& check) {
