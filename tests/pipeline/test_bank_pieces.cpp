@@ -147,10 +147,6 @@ TEST(BankResume, MaterialKeyIsTheTextOfTheSceneWords) {
   EXPECT_EQ(to_string(LutSampling::CellCentre), "centre");
 }
 
-// The bank is written as the materials finish (BankCollector with icobrdf/io/bank_file.hpp BankWriter). A
-// failure to write it (here injected at the second material) does not stop the build: every material is
-// still fitted and kept for --resume, the build then ends with that error, and neither the bank nor its
-// temporary is left.
 // The resume file's pace: the first rewrite at once; later ones after max(10 x the last one's duration, 1 s).
 TEST(BankResume, CheckpointIsDueAfterTenTimesTheLastRewriteAndAtLeastASecond) {
   EXPECT_TRUE(icobrdf::checkpoint_due(false, 0.0, 0.0));    // none yet: the first material is kept at once
@@ -160,6 +156,10 @@ TEST(BankResume, CheckpointIsDueAfterTenTimesTheLastRewriteAndAtLeastASecond) {
   EXPECT_TRUE(icobrdf::checkpoint_due(true, 2.0, 0.2));     // 10 x 0.2 s
 }
 
+// The bank is written as the materials finish (BankCollector with icobrdf/io/bank_file.hpp BankWriter). A
+// failure to write it (here injected at the second material) does not stop the build: every material is
+// still fitted and kept for --resume, the build then ends with that error, and neither the bank nor its
+// temporary is left.
 TEST(BankBuildWriting, AFailedBankWriteKeepsEveryMaterialForResume) {
   icobrdf::test::ScratchDir dir;
   Scene scene;
