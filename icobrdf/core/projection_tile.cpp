@@ -27,10 +27,16 @@ constexpr int kTileColumns = 8;
 // 16 vector registers: 12 accumulators, 3 P vectors and 1 F vector.
 constexpr int kTileColumns = 4;
 #endif
-// Cells per chunk and LUT columns per sweep over the cells (icobrdf/core/projection_tile.hpp: what stays in which
-// cache). Measured on AVX-512 (Zen 5, CPU time of one thread, 2026-11-24): chunks of 128-256 cells beat 512
-// and 1024 by 5-15%; sweeps of the whole 512-column block beat 64 and 128 columns by 2-5%.
+// Cells per chunk and LUT columns per sweep over the cells (icobrdf/core/projection_tile.hpp: what stays in
+// which cache). Measured on AVX-512 (Zen 5, CPU time of one thread, 2026-11-24): chunks of 128-256 cells beat
+// 512 and 1024 by 5-15%; sweeps of the whole 512-column block beat 64 and 128 columns by 2-5%.
 constexpr std::ptrdiff_t kChunkCells = 256, kSweepColumns = 512;
+// Bytes of packed P per block of cells: a block is the most whole chunks whose P fits this (at least one
+// chunk), 1024 cells at order 8. Measured (Intel AVX-512, 2 MiB L2, 2 threads, F from memory, 20 blocks of
+// 512 columns at level 5, order 8, 2026-11-27): blocks of 1024 cells took 109-117 ms against 128-154 ms for
+// 256 (one chunk per block: the loop before), 110-145 for 2048, 120-156 for 4096 and 137-178 for all cells.
+// The P of 1024 cells at order 8 stays in a 1 MiB L2 (Zen 5) too.
+constexpr std::ptrdiff_t kBlockBytes = 384 * 1024;
 // F's cache lines per prefetch address: one 64-byte line holds 8 doubles.
 constexpr std::ptrdiff_t kLineDoubles = 8;
 double* aligned_start(double* p) {
@@ -110,6 +116,8 @@ void ProjectionTile(const double* packed_p, const double* p, std::ptrdiff_t cell
   const std::ptrdiff_t packed_cells = cells / lanes * lanes;  // cells of each packed mode group
   const std::ptrdiff_t cv = k_begin + (k_end - k_begin) / lanes * lanes;  // cells handled by vectors
   const std::ptrdiff_t per_column = kTileModes * lanes;  // accumulator doubles of one (mode group, column)
+  const std::ptrdiff_t p_chunk_bytes = groups * kTileModes * kChunkCells * static_cast<std::ptrdiff_t>(sizeof(double));
+  const std::ptrdiff_t block_cells = std::max<std::ptrdiff_t>(1, kBlockBytes / p_chunk_bytes) * kChunkCells;
   const std::ptrdiff_t acc_size = groups * kSweepColumns * per_column, pack_f_size = kTileColumns * kChunkCells;
   // One buffer: the packed chunk of F's columns (aligned), then the accumulators of one sweep.
   scratch.resize(static_cast<size_t>(pack_f_size + acc_size) + kPackAlignBytes / sizeof(double));
@@ -118,28 +126,37 @@ void ProjectionTile(const double* packed_p, const double* p, std::ptrdiff_t cell
   for (std::ptrdiff_t s0 = 0; s0 < w; s0 += kSweepColumns) {
     const std::ptrdiff_t sw = std::min(kSweepColumns, w - s0), swv = sw / kTileColumns * kTileColumns;
     std::fill(acc, acc + groups * sw * per_column, 0.0);
-    for (std::ptrdiff_t k0 = k_begin; k0 < cv; k0 += kChunkCells) {
-      const std::ptrdiff_t vectors = (std::min(cv, k0 + kChunkCells) - k0) / lanes;
+    for (std::ptrdiff_t kb = k_begin; kb < cv; kb += block_cells) {
+      const std::ptrdiff_t kb_end = std::min(cv, kb + block_cells);
       for (std::ptrdiff_t j0 = 0; j0 < sw;) {
         const std::ptrdiff_t n = j0 < swv ? kTileColumns : 1;
-        pack_columns(f, ldf, s0 + j0, n, w - 1, k0, vectors, lanes, pack_f);
-        // Prefetch the F columns the next tile packs (or the first tile's of the next chunk), a share of the
-        // lines per mode group: F comes from memory in short runs of `kChunkCells` cells per column, which
-        // the hardware prefetcher alone does not hide (measured: 9% less time with this).
-        std::ptrdiff_t next_j = j0 + n, next_k = k0;
-        if (next_j >= sw) next_j = 0, next_k = k0 + kChunkCells;
-        const std::ptrdiff_t next_n = next_j < swv ? kTileColumns : 1;
-        const std::ptrdiff_t next_cells = std::max<std::ptrdiff_t>(0, std::min(cv, next_k + kChunkCells) - next_k);
-        const std::ptrdiff_t column_lines = (next_cells + kLineDoubles - 1) / kLineDoubles, lines = next_n * column_lines;
-        for (std::ptrdiff_t g = 0; g < groups; ++g) {
-          for (std::ptrdiff_t line = g * lines / groups; line < (g + 1) * lines / groups; ++line)
-            hwy::Prefetch(f + std::min(s0 + next_j + line / column_lines, w - 1) * ldf + next_k + (line % column_lines) * kLineDoubles);
-          const double* pg = packed_p + g * kTileModes * packed_cells + k0 * kTileModes;
-          double* a = acc + (g * sw + j0) * per_column;
-          if (n == kTileColumns)
-            dot_tile<kTileColumns>(pg, pack_f, vectors, a);
-          else
-            dot_tile<1>(pg, pack_f, vectors, a);
+        for (std::ptrdiff_t k0 = kb; k0 < kb_end; k0 += kChunkCells) {
+          const std::ptrdiff_t vectors = (std::min(kb_end, k0 + kChunkCells) - k0) / lanes;
+          pack_columns(f, ldf, s0 + j0, n, w - 1, k0, vectors, lanes, pack_f);
+          // Prefetch the F lines the next pack reads (the next chunk of this tile's columns, else the next
+          // tile's first chunk of the block, else the next block's), a share of the lines per mode group.
+          std::ptrdiff_t next_j = j0, next_k = k0 + kChunkCells, next_end = kb_end;
+          if (next_k >= kb_end) {
+            next_j = j0 + n, next_k = kb;
+            if (next_j >= sw) next_j = 0, next_k = kb_end, next_end = std::min(cv, kb_end + block_cells);
+          }
+          const std::ptrdiff_t next_n = next_j < swv ? kTileColumns : 1;
+          const std::ptrdiff_t next_cells = std::max<std::ptrdiff_t>(0, std::min(next_end, next_k + kChunkCells) - next_k);
+          const std::ptrdiff_t column_lines = (next_cells + kLineDoubles - 1) / kLineDoubles, lines = next_n * column_lines;
+          // The lines are walked column by column with counters (a division per line cost a quarter of the tile).
+          std::ptrdiff_t pf_column = 0, pf_line = 0, pf_done = 0;
+          for (std::ptrdiff_t g = 0; g < groups; ++g) {
+            for (const std::ptrdiff_t pf_end = (g + 1) * lines / groups; pf_done < pf_end; ++pf_done) {
+              hwy::Prefetch(f + std::min(s0 + next_j + pf_column, w - 1) * ldf + next_k + pf_line * kLineDoubles);
+              if (++pf_line == column_lines) pf_line = 0, ++pf_column;
+            }
+            const double* pg = packed_p + g * kTileModes * packed_cells + k0 * kTileModes;
+            double* a = acc + (g * sw + j0) * per_column;
+            if (n == kTileColumns)
+              dot_tile<kTileColumns>(pg, pack_f, vectors, a);
+            else
+              dot_tile<1>(pg, pack_f, vectors, a);
+          }
         }
         j0 += n;
       }

@@ -1,7 +1,8 @@
 // project_lut's block kernel (icobrdf/core/projection_tile.cpp: P^T F_J as register-tiled dot products along the
 // cells) against the plain product P^T F P, on every SIMD target compiled into this build that this CPU runs
 // (a target it cannot run is reported as skipped), at sizes that exercise every remainder: cells not a
-// multiple of the vector width (scalar tail) or of the cell chunk, LUT blocks whose width is not a multiple
+// multiple of the vector width (scalar tail), of the cell chunk or of the cell block (2600 cells at 45 modes:
+// blocks of 1024 cells, and the symmetric path's ranges starting mid-block), LUT blocks whose width is not a multiple
 // of the tile width (one-column tiles), mode counts not a multiple of the 3-mode tile (1, 10, 21), and
 // several 512-column blocks; and the symmetric-F path (LutSymmetry::Symmetric) at the same sizes.
 #include <gtest/gtest.h>
@@ -47,7 +48,7 @@ TEST_P(ProjectLutOnTarget, EqualsThePlainProductAtEveryRemainder) {
     int cells, modes;
   };
   for (const Size& s : {Size{1, 1}, Size{3, 1}, Size{7, 10}, Size{257, 3}, Size{517, 15}, Size{1030, 10}, Size{1301, 45},
-                        Size{2053, 21}}) {
+                        Size{2053, 21}, Size{2600, 45}}) {
     ProjectionOperator p;
     p.P = Eigen::MatrixXd::NullaryExpr(s.cells, s.modes, [&] { return u(rng); });
     const Eigen::MatrixXd f = Eigen::MatrixXd::NullaryExpr(s.cells, s.cells, [&] { return u(rng); });
