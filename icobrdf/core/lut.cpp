@@ -12,6 +12,9 @@ namespace {
 
 // Block of incident cells handled at once by one thread of build_lut (its rows are written together).
 constexpr int kRowBlock = 16;
+// Rows of sample_lut_block's centre sampling evaluated before they are written: 8 doubles, one 64-byte cache
+// line of a column of the column-major block.
+constexpr int kRowGroup = 8;
 
 }  // namespace
 
@@ -59,14 +62,22 @@ void sample_lut_block(const BrdfModel& model, const Grid& g, bool cosine, LutSam
     RowMatrix3d part;  // the remitted directions, copied once per call when only some columns are sampled
     if (col_end < cells) part = g.directions.topRows(col_end);
     const RowMatrix3d& wr = col_end < cells ? part : g.directions;
+    // Rows are evaluated kRowGroup at a time into columns of `group`, then written to `out` by columns: a
+    // row of the column-major `out` is strided, and writing each row in turn touched every cache line of
+    // `out` (2.6 MB for 32 rows at level 5) once per row (perf: 30% of streaming GGX at level 5, order 8).
     RowMatrix3d wi(col_end, 3);
     Eigen::MatrixXd f(col_end, ch);
-    for (int i = 0; i < rows; ++i) {
-      const int cell = row_cells[static_cast<size_t>(i)];
-      wi = g.directions.row(cell).replicate(col_end, 1);
-      model.eval(wi, wr, f);
-      const double scale = cosine ? g.directions(cell, 2) : 1.0;
-      for (int c = 0; c < ch; ++c) out[c].row(i) = f.col(c).transpose() * scale;
+    std::vector<Eigen::MatrixXd> group(static_cast<size_t>(ch), Eigen::MatrixXd(col_end, kRowGroup));
+    for (int i0 = 0; i0 < rows; i0 += kRowGroup) {
+      const int n = std::min(kRowGroup, rows - i0);
+      for (int i = i0; i < i0 + n; ++i) {
+        const int cell = row_cells[static_cast<size_t>(i)];
+        wi = g.directions.row(cell).replicate(col_end, 1);
+        model.eval(wi, wr, f);
+        const double scale = cosine ? g.directions(cell, 2) : 1.0;
+        for (int c = 0; c < ch; ++c) group[c].col(i - i0) = f.col(c) * scale;
+      }
+      for (int c = 0; c < ch; ++c) out[c].middleRows(i0, n) = group[c].leftCols(n).transpose();
     }
     return;
   }
