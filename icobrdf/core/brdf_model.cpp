@@ -75,20 +75,41 @@ SumModel::SumModel(std::vector<Term> terms) {
   }
 }
 
-void SumModel::eval(const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const {
-  check_pair_shapes(wi, wr, out, channels_);
+void BrdfModel::eval_row(const Eigen::Vector3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const {
+  const RowMatrix3d wi_all = wi.transpose().replicate(wr.rows(), 1);
+  eval(wi_all, wr, out);
+}
+
+namespace {
+
+// out = sum of weight x each term's values, a 1-channel term broadcast; eval_term(model, part) fills part.
+template <class EvalTerm>
+void sum_terms(const std::vector<SumModel::Term>& terms, int channels, Eigen::Index rows, Eigen::Ref<Eigen::MatrixXd> out,
+               EvalTerm eval_term) {
   out.setZero();
   Eigen::MatrixXd part;
-  for (const auto& t : terms_) {
+  for (const auto& t : terms) {
     const int c = t.model->channels();
-    part.resize(wi.rows(), c);
-    t.model->eval(wi, wr, part);
-    if (c == channels_) {
+    part.resize(rows, c);
+    eval_term(*t.model, part);
+    if (c == channels) {
       out += t.weight * part;
     } else {  // 1-channel term broadcast
-      for (int k = 0; k < channels_; ++k) out.col(k) += t.weight * part.col(0);
+      for (int k = 0; k < channels; ++k) out.col(k) += t.weight * part.col(0);
     }
   }
+}
+
+}  // namespace
+
+void SumModel::eval(const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const {
+  check_pair_shapes(wi, wr, out, channels_);
+  sum_terms(terms_, channels_, wi.rows(), out, [&](const BrdfModel& m, Eigen::MatrixXd& part) { m.eval(wi, wr, part); });
+}
+
+void SumModel::eval_row(const Eigen::Vector3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const {
+  check_pair_shapes(wr, wr, out, channels_);
+  sum_terms(terms_, channels_, wr.rows(), out, [&](const BrdfModel& m, Eigen::MatrixXd& part) { m.eval_row(wi, wr, part); });
 }
 
 std::vector<DeltaPart> SumModel::delta_parts() const {

@@ -46,6 +46,10 @@ class BrdfModel {
   // Regular (non-delta) part of f at many pairs: wi, wr are rows x 3; out is rows x channels().
   // Throws ArgumentError on mismatched shapes.
   virtual void eval(const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const = 0;
+  // The regular part at one incident direction against many (a row of a LUT): out row k is f(wi, wr row k),
+  // rows x channels(), bitwise equal to eval with wi repeated in every row, which is what this default
+  // does. A model may override it to take the incident side once (MicrofacetModel, SumModel).
+  virtual void eval_row(const Eigen::Vector3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const;
   // Channel 0 of the regular part at one pair (convenience; slow for many pairs).
   double eval(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const;
   virtual std::vector<DeltaPart> delta_parts() const { return {}; }
@@ -95,6 +99,7 @@ class SumModel final : public BrdfModel {
   using BrdfModel::eval;
   int channels() const override { return channels_; }
   void eval(const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const override;
+  void eval_row(const Eigen::Vector3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const override;
   std::vector<DeltaPart> delta_parts() const override;
   bool is_isotropic() const override;
   bool is_reciprocal() const override;

@@ -115,34 +115,50 @@ void beckmann_z_lambda_block(const GgxArray& x, const GgxArray& y, const GgxArra
 
 void MicrofacetModel::eval(const RowMatrix3d& wi_all, const RowMatrix3d& wr_all, Eigen::Ref<Eigen::MatrixXd> out) const {
   check_pair_shapes(wi_all, wr_all, out, 1);
+  eval_pairs(wi_all.data(), 3, wr_all, out);
+}
+
+void MicrofacetModel::eval_row(const Eigen::Vector3d& wi, const RowMatrix3d& wr_all, Eigen::Ref<Eigen::MatrixXd> out) const {
+  check_pair_shapes(wr_all, wr_all, out, 1);
+  eval_pairs(wi.data(), 0, wr_all, out);
+}
+
+void MicrofacetModel::eval_pairs(const double* wi_data, Eigen::Index wi_stride, const RowMatrix3d& wr_all, Eigen::Ref<Eigen::MatrixXd> out) const {
   const bool ggx = p_.distribution == MicrofacetDistribution::Ggx;
   constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   std::array<double, 4> prev_i{nan, nan, nan, 0.0}, prev_r{nan, nan, nan, 0.0};
   const double ax = p_.alpha_x, ay = p_.alpha_y, ax2 = ax * ax, ay2 = ay * ay;
   const double inv_ax2 = 1.0 / ax2, inv_ay2 = 1.0 / ay2, d_scale = 1.0 / (M_PI * ax * ay);
-  const Eigen::Index rows = wi_all.rows();
-  GgxArray xi, yi, zi, xr, yr, zr, valid;
+  const Eigen::Index rows = wr_all.rows();
+  // The incident side (its frame, unclamped z and Lambda_i) lives across blocks: with one incident direction
+  // (wi_stride 0) the first block's is every block's (a short first block is the only block), computed by
+  // the same instructions as for pairs, so both forms give the same bits.
+  GgxArray xi, yi, zi_given, li, xr, yr, zr, valid;
   for (Eigen::Index r0 = 0; r0 < rows; r0 += kGgxBlock) {
     const Eigen::Index nb = std::min(kGgxBlock, rows - r0);
+    const bool new_incident = wi_stride != 0 || r0 == 0;
     // Gather into the tangent frame (rotation about z by -azimuth); padding lanes get a harmless pair.
     for (Eigen::Index k = 0; k < kGgxBlock; ++k) {
       if (k < nb) {
-        const double* a = wi_all.data() + 3 * (r0 + k);
+        if (new_incident) {
+          const double* a = wi_data + wi_stride * (r0 + k);
+          xi[k] = cos_az_ * a[0] + sin_az_ * a[1];
+          yi[k] = -sin_az_ * a[0] + cos_az_ * a[1];
+          zi_given[k] = a[2];
+        }
         const double* b = wr_all.data() + 3 * (r0 + k);
-        xi[k] = cos_az_ * a[0] + sin_az_ * a[1];
-        yi[k] = -sin_az_ * a[0] + cos_az_ * a[1];
-        zi[k] = a[2];
         xr[k] = cos_az_ * b[0] + sin_az_ * b[1];
         yr[k] = -sin_az_ * b[0] + cos_az_ * b[1];
         zr[k] = b[2];
       } else {
-        xi[k] = yi[k] = xr[k] = yr[k] = 0.0;
-        zi[k] = zr[k] = 1.0;
+        if (new_incident) xi[k] = yi[k] = 0.0, zi_given[k] = 1.0;
+        xr[k] = yr[k] = 0.0;
+        zr[k] = 1.0;
       }
     }
     // Below the horizon: f = 0; within the slack: z = 0 (icobrdf/core/brdf_model.hpp).
-    for (Eigen::Index k = 0; k < kGgxBlock; ++k) valid[k] = (zi[k] >= -kHorizonSlack && zr[k] >= -kHorizonSlack) ? 1.0 : 0.0;
-    zi = zi.max(0.0);
+    for (Eigen::Index k = 0; k < kGgxBlock; ++k) valid[k] = (zi_given[k] >= -kHorizonSlack && zr[k] >= -kHorizonSlack) ? 1.0 : 0.0;
+    const GgxArray zi = zi_given.max(0.0);
     zr = zr.max(0.0);
     const GgxArray hx = xi + xr, hy = yi + yr, hz = zi + zr;
     const GgxArray n2 = hx * hx + hy * hy + hz * hz;
@@ -157,16 +173,19 @@ void MicrofacetModel::eval(const RowMatrix3d& wi_all, const RowMatrix3d& wr_all,
     } else {
       f.setOnes();
     }
-    GgxArray li, lr;
+    GgxArray lr;
     if (ggx) {
       // L = q^2 / (2 (sqrt(z^2 + q^2) + z)), 0 at the normal (q = 0).
-      const GgxArray qi = ax2 * xi * xi + ay2 * yi * yi, qr = ax2 * xr * xr + ay2 * yr * yr;
       // (The floor only matters for q = z = 0, not a unit vector, where it makes L = 0 instead of 0/0.)
       constexpr double tiny = std::numeric_limits<double>::min();
-      li = qi / (2.0 * ((zi * zi + qi).sqrt() + zi)).max(tiny);
+      if (new_incident) {
+        const GgxArray qi = ax2 * xi * xi + ay2 * yi * yi;
+        li = qi / (2.0 * ((zi * zi + qi).sqrt() + zi)).max(tiny);
+      }
+      const GgxArray qr = ax2 * xr * xr + ay2 * yr * yr;
       lr = qr / (2.0 * ((zr * zr + qr).sqrt() + zr)).max(tiny);
     } else {
-      beckmann_z_lambda_block(xi, yi, zi, ax2, ay2, prev_i, li);
+      if (new_incident) beckmann_z_lambda_block(xi, yi, zi, ax2, ay2, prev_i, li);
       beckmann_z_lambda_block(xr, yr, zr, ax2, ay2, prev_r, lr);
     }
     GgxArray denom;

@@ -59,12 +59,17 @@ class MicrofacetModel final : public ScalarBrdfModel {
   // Beckmann D is 0 where its exponent exceeds 700 (D < 1e-290 there for alpha >= 1e-3).
   using ScalarBrdfModel::eval;
   void eval(const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const override;
+  // The same values, bit for bit, with the incident side (its frame and Lambda_i: a square root and a
+  // division per pair) computed once for all pairs.
+  void eval_row(const Eigen::Vector3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const override;
   bool is_isotropic() const override { return p_.alpha_x == p_.alpha_y; }
   std::string spec() const override;
   const MicrofacetParams& params() const { return p_; }
   double fresnel(double c) const;
 
  private:
+  // Both batch forms: wi_stride 3 reads one incident direction per pair, 0 the same one for every pair.
+  void eval_pairs(const double* wi, Eigen::Index wi_stride, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const;
   MicrofacetParams p_;
   double cos_az_, sin_az_;
 };

@@ -1,14 +1,18 @@
 // The vectorized batch evaluation of the Beckmann microfacet model (MicrofacetModel::eval) against the pair-
 // by-pair formula (value()), the exact (bitwise) reciprocity of the batch path for Beckmann and GGX, and the
-// vectorized exponential it relies on against std::exp.
+// vectorized exponential it relies on against std::exp; eval_row (one incident direction against many, the
+// incident side taken once) against eval with that direction repeated, bit for bit, for the microfacet models
+// and a sum of models.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <random>
 #include <vector>
 
 #include "icobrdf/core/microfacet.hpp"
+#include "icobrdf/core/model_spec.hpp"
 #include "tests/core/brdf_quadrature.hpp"
 #include "tests/support/unity_id.hpp"
 
@@ -124,6 +128,35 @@ TEST(BeckmannBatch, VectorizedExpIsWithinTwoUlpsOfStdExp) {
   }
   EXPECT_LE(worst, kExpUlps);
   RecordProperty("worst_exp_ulps", std::to_string(worst));
+}
+
+// Incident directions: random ones, normal incidence, grazing, within the horizon slack and below the
+// horizon; remitted: the shared pairs' remitted side cut to 1 pair, one whole block of 128, a block and one
+// pair, and all of them (several blocks and a short last one).
+TEST(MicrofacetBatch, EvalRowIsEvalWithTheIncidentRepeatedBitForBit) {
+  RowMatrix3d wi_pairs, wr_pairs;
+  test_pairs(wi_pairs, wr_pairs);
+  std::vector<Eigen::Vector3d> incident = {{0, 0, 1}, {1, 0, 0}, {1, 0, -1e-13}, {0, 0.6, -0.8}};
+  for (int k : {0, 7, 123, 456}) incident.push_back(wi_pairs.row(k).transpose());
+  std::vector<std::unique_ptr<BrdfModel>> models;
+  for (const char* spec : {"ggx:alpha=0.1", "ggx-aniso:alpha_x=0.4,alpha_y=0.05,azimuth=30,fresnel=dielectric,ior=1.5",
+                           "ggx:alpha=0.3,masking=separable,fresnel=none", "beckmann:alpha=0.2", "beckmann:alpha=0.05,masking=separable",
+                           "0.7*lambert+0.3*ggx:alpha=0.2", "0.5*lambert"})
+    models.push_back(parse_model(spec));
+  for (const Eigen::Index n : {Eigen::Index{1}, Eigen::Index{128}, Eigen::Index{129}, wr_pairs.rows()}) {
+    const RowMatrix3d wr = wr_pairs.topRows(n);
+    for (const auto& m : models)
+      for (const Eigen::Vector3d& wi : incident) {
+        const RowMatrix3d wi_all = wi.transpose().replicate(n, 1);
+        Eigen::MatrixXd pairs(n, m->channels()), row(n, m->channels());
+        m->eval(wi_all, wr, pairs);
+        m->eval_row(wi, wr, row);
+        Eigen::Index differ = 0;
+        for (Eigen::Index k = 0; k < n; ++k)
+          for (Eigen::Index c = 0; c < m->channels(); ++c) differ += pairs(k, c) == row(k, c) ? 0 : 1;
+        EXPECT_EQ(differ, 0) << m->spec() << ", " << n << " pairs, wi = " << wi.transpose();
+      }
+  }
 }
 
 }  // namespace
