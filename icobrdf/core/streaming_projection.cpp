@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <condition_variable>
+#include <map>
+#include <mutex>
 #include <string>
 #include <utility>
 
@@ -11,6 +14,38 @@
 
 namespace icobrdf {
 namespace {
+
+// Adds the partial sums of numbered blocks, finished by any thread in any order, to `sums` in block order
+// (so the result does not depend on the thread count), stepping `progress` once per block. A finished
+// block waits in `pending` until the blocks before it are added, and whichever thread finishes the next
+// block adds every waiting one in order: no thread idles as in an ordered region (the reciprocal path's
+// blocks differ in cost, each sampling only the columns its rows need; an ordered region left 15% of
+// streaming GGX at level 5 waiting). A block kStreamingBlocksAhead or more past the next to add waits
+// before it is kept, which bounds the partial sums alive (one per block would be, at level 6, order 40,
+// 1,284 blocks x 861^2 doubles = 7.6 GB).
+class InOrderSums {
+ public:
+  InOrderSums(std::vector<Eigen::MatrixXd>& sums, ProgressMeter& progress) : sums_(sums), progress_(progress) {}
+  void add(int block, std::vector<Eigen::MatrixXd>&& parts) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [&] { return block < next_ + kStreamingBlocksAhead; });
+    pending_.emplace(block, std::move(parts));
+    for (auto it = pending_.begin(); it != pending_.end() && it->first == next_; it = pending_.erase(it), ++next_) {
+      for (size_t k = 0; k < it->second.size(); ++k) sums_[k] += it->second[k];
+      progress_.step();
+    }
+    lock.unlock();
+    changed_.notify_all();
+  }
+
+ private:
+  std::vector<Eigen::MatrixXd>& sums_;
+  ProgressMeter& progress_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  int next_ = 0;
+  std::map<int, std::vector<Eigen::MatrixXd>> pending_;
+};
 
 // The incident cells sampled, ascending, with their weights: one per D2 orbit weighted 1 / |stabilizer|
 // (icobrdf/core/grid_symmetry.hpp) when `use_symmetry`, else every cell with weight 1.
@@ -83,20 +118,19 @@ std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const
   const int rows_total = static_cast<int>(row_cells.size());
   const int blocks = (rows_total + kStreamingBlockRows - 1) / kStreamingBlockRows;
   // Per block and channel: X1 = sum w_i Q_i (F P)_i and X2 = sum w_i P_i (F Q)_i over the block's rows,
-  // added to the sums in block order (an ordered region), so the result does not depend on the number of
-  // threads and only one block's partial sums per thread are alive (not one per block: at level 6, order
-  // 40 that was 1,284 blocks x 861^2 doubles = 7.6 GB).
+  // added to the sums in block order (InOrderSums).
   const int parts = cosine ? 2 : 1;
   std::vector<Eigen::MatrixXd> sums(static_cast<size_t>(ch * parts), Eigen::MatrixXd::Zero(modes, modes));
   const int mine = blocks_of_share(blocks, share);
   ProgressMeter progress("projecting", mine);
+  InOrderSums in_order(sums, progress);
 #pragma omp parallel
   {
     std::vector<Eigen::MatrixXd> f;
     std::vector<int> block;
     Eigen::MatrixXd t, left;
     std::vector<Eigen::MatrixXd> out;
-#pragma omp for schedule(dynamic) ordered
+#pragma omp for schedule(dynamic)
     for (int k_block = 0; k_block < mine; ++k_block) {
       const int b = block_of_share(k_block, share);
       const int r0 = b * kStreamingBlockRows, r1 = std::min(rows_total, r0 + kStreamingBlockRows);
@@ -132,11 +166,8 @@ std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const
           out.push_back(left.transpose() * t);
         }
       }
-#pragma omp ordered
-      {
-        for (size_t k = 0; k < out.size(); ++k) sums[k] += out[k];
-        progress.step();
-      }
+      in_order.add(k_block, std::move(out));
+      out.clear();
     }
   }
   std::vector<Eigen::MatrixXd> out;
@@ -205,16 +236,17 @@ std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const 
   const std::vector<double>& row_weight = incident.second;
   const int rows_total = static_cast<int>(row_cells.size());
   const int blocks = (rows_total + kStreamingBlockRows - 1) / kStreamingBlockRows;
-  // Per block: X_b = P_rows^T diag(weight) (F_rows P), added in block order (an ordered region), so the
-  // result does not depend on the number of threads and one block's X_b per thread is alive at a time.
+  // Per block: X_b = P_rows^T diag(weight) (F_rows P), added in block order (InOrderSums), so the result
+  // does not depend on the number of threads.
   std::vector<Eigen::MatrixXd> sums(static_cast<size_t>(ch), Eigen::MatrixXd::Zero(modes, modes));
   const int mine = blocks_of_share(blocks, share);
   ProgressMeter progress("projecting", mine);
+  InOrderSums in_order(sums, progress);
 #pragma omp parallel
   {
     std::vector<Eigen::MatrixXd> rows, out;
     Eigen::MatrixXd t, pr;
-#pragma omp for schedule(dynamic) ordered
+#pragma omp for schedule(dynamic)
     for (int k_block = 0; k_block < mine; ++k_block) {
       const int b = block_of_share(k_block, share);
       const int r0 = b * kStreamingBlockRows, r1 = std::min(rows_total, r0 + kStreamingBlockRows);
@@ -227,11 +259,8 @@ std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const 
         t.noalias() = rows[c] * proj.P;
         out.push_back(pr.transpose() * t);
       }
-#pragma omp ordered
-      {
-        for (int c = 0; c < ch; ++c) sums[static_cast<size_t>(c)] += out[static_cast<size_t>(c)];
-        progress.step();
-      }
+      in_order.add(k_block, std::move(out));
+      out.clear();
     }
   }
   std::vector<Eigen::MatrixXd> out;

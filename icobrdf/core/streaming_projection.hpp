@@ -27,6 +27,10 @@ namespace icobrdf {
 // Incident cells per block of the streaming projection: each thread holds kStreamingBlockRows x cells doubles
 // per channel of LUT rows (2.6 MB at level 5; icobrdf/pipeline/resource_estimate.hpp counts them).
 inline constexpr int kStreamingBlockRows = 32;
+// Finished blocks whose partial sums (modes x modes per channel and part) may wait for the blocks before
+// them to be added: enough that a thread finishing a cheap block goes on while the other finishes a costly
+// one (icobrdf/pipeline/resource_estimate.hpp counts them).
+inline constexpr int kStreamingBlocksAhead = 4;
 
 // One process's share of the blocks of incident rows (blocks of kStreamingBlockRows sampled rows, numbered
 // in the order of the rows: one per D2 orbit with symmetry, in ascending cell order). The share projects the

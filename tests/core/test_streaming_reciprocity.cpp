@@ -100,6 +100,17 @@ TEST(ReciprocalStreaming, NonReciprocalModelsTakeTheFullPath) {
   }
 }
 
+// Many blocks (2,560 cells: 20 blocks of D2 representatives of unequal cost on the reciprocal path, 80 on
+// the full path, against kStreamingBlocksAhead = 4 waiting): partial sums finished out of order are still
+// added in block order, so 1 and 2 threads agree bitwise, and both equal the materialized LUT's projection.
+TEST(ReciprocalStreaming, ManyBlocksAreAddedInBlockOrder) {
+  const Grid g = build_lat_long_grid(40, 64, 2);
+  ASSERT_EQ(g.cells(), 2560);
+  const auto p = make_projection(build_discrete_basis(g, 4));
+  expect_streaming_equals_lut(*parse_model("ggx:alpha=0.2"), g, p, false, LutSampling::CellCentre);
+  expect_streaming_equals_lut(Skewed(), g, p, false, LutSampling::CellCentre);
+}
+
 // Centre sampling: entry (i, r) of a block is the model at the two cells' directions times cos theta of the
 // incident one, for a row count that fills one group of rows and part of the next (the block is written a
 // group of rows at a time) and an anisotropic, so unequal-under-transposition, model.
