@@ -9,6 +9,7 @@
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/grid_symmetry.hpp"
 #include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/in_order_sums.hpp"
 #include "icobrdf/core/progress.hpp"
 #include "icobrdf/core/streaming_projection.hpp"
 
@@ -176,7 +177,8 @@ class PartProjector {
   }
 
   // The rows' products with the columns pc (rows of P of the pair grid's first n cells), in batches of
-  // kStreamingBlockRows added in batch order (the same bits for any thread count).
+  // kStreamingBlockRows added in batch order (icobrdf/core/in_order_sums.hpp: the same bits for any thread
+  // count).
   void run(const Grid& lg, const std::vector<PairRow>& rows, const Eigen::MatrixXd& pc, int n) {
     const int total = static_cast<int>(rows.size());
     const int batches = (total + kStreamingBlockRows - 1) / kStreamingBlockRows;
@@ -184,12 +186,13 @@ class PartProjector {
     const bool g_form = cosine_ && !reciprocal_;  // the reciprocal sums sample f and weigh by cos themselves
     Eigen::VectorXd col_cos;
     if (reciprocal_ && cosine_) col_cos = lg.directions.col(2).head(n);
+    InOrderSums in_order(x_, kStreamingBlocksAhead);
 #pragma omp parallel
     {
       std::vector<Eigen::MatrixXd> f, out;
       std::vector<int> idx;
       Eigen::MatrixXd t, left_q, left_p;
-#pragma omp for schedule(dynamic) ordered
+#pragma omp for schedule(dynamic)
       for (int bt = 0; bt < batches; ++bt) {
         const int r0 = bt * kStreamingBlockRows, r1 = std::min(total, r0 + kStreamingBlockRows), nr = r1 - r0;
         idx.clear();
@@ -222,8 +225,8 @@ class PartProjector {
             out.push_back(left_p.transpose() * t);  // X2 (P_i (F Q)_i)
           }
         }
-#pragma omp ordered
-        for (size_t k = 0; k < out.size(); ++k) x_[k] += out[k];
+        in_order.add(bt, std::move(out));
+        out.clear();
       }
     }
   }

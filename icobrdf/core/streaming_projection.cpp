@@ -2,50 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
-#include <condition_variable>
-#include <map>
-#include <mutex>
 #include <string>
 #include <utility>
 
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/grid_symmetry.hpp"
+#include "icobrdf/core/in_order_sums.hpp"
 #include "icobrdf/core/progress.hpp"
 
 namespace icobrdf {
 namespace {
-
-// Adds the partial sums of numbered blocks, finished by any thread in any order, to `sums` in block order
-// (so the result does not depend on the thread count), stepping `progress` once per block. A finished
-// block waits in `pending` until the blocks before it are added, and whichever thread finishes the next
-// block adds every waiting one in order: no thread idles as in an ordered region (the reciprocal path's
-// blocks differ in cost, each sampling only the columns its rows need; an ordered region left 15% of
-// streaming GGX at level 5 waiting). A block kStreamingBlocksAhead or more past the next to add waits
-// before it is kept, which bounds the partial sums alive (one per block would be, at level 6, order 40,
-// 1,284 blocks x 861^2 doubles = 7.6 GB).
-class InOrderSums {
- public:
-  InOrderSums(std::vector<Eigen::MatrixXd>& sums, ProgressMeter& progress) : sums_(sums), progress_(progress) {}
-  void add(int block, std::vector<Eigen::MatrixXd>&& parts) {
-    std::unique_lock<std::mutex> lock(mutex_);
-    changed_.wait(lock, [&] { return block < next_ + kStreamingBlocksAhead; });
-    pending_.emplace(block, std::move(parts));
-    for (auto it = pending_.begin(); it != pending_.end() && it->first == next_; it = pending_.erase(it), ++next_) {
-      for (size_t k = 0; k < it->second.size(); ++k) sums_[k] += it->second[k];
-      progress_.step();
-    }
-    lock.unlock();
-    changed_.notify_all();
-  }
-
- private:
-  std::vector<Eigen::MatrixXd>& sums_;
-  ProgressMeter& progress_;
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  int next_ = 0;
-  std::map<int, std::vector<Eigen::MatrixXd>> pending_;
-};
 
 // The incident cells sampled, ascending, with their weights: one per D2 orbit weighted 1 / |stabilizer|
 // (icobrdf/core/grid_symmetry.hpp) when `use_symmetry`, else every cell with weight 1.
@@ -118,12 +84,13 @@ std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const
   const int rows_total = static_cast<int>(row_cells.size());
   const int blocks = (rows_total + kStreamingBlockRows - 1) / kStreamingBlockRows;
   // Per block and channel: X1 = sum w_i Q_i (F P)_i and X2 = sum w_i P_i (F Q)_i over the block's rows,
-  // added to the sums in block order (InOrderSums).
+  // added to the sums in block order (icobrdf/core/in_order_sums.hpp), so the result does not depend on the
+  // number of threads.
   const int parts = cosine ? 2 : 1;
   std::vector<Eigen::MatrixXd> sums(static_cast<size_t>(ch * parts), Eigen::MatrixXd::Zero(modes, modes));
   const int mine = blocks_of_share(blocks, share);
   ProgressMeter progress("projecting", mine);
-  InOrderSums in_order(sums, progress);
+  InOrderSums in_order(sums, kStreamingBlocksAhead, &progress);
 #pragma omp parallel
   {
     std::vector<Eigen::MatrixXd> f;
@@ -241,7 +208,7 @@ std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const 
   std::vector<Eigen::MatrixXd> sums(static_cast<size_t>(ch), Eigen::MatrixXd::Zero(modes, modes));
   const int mine = blocks_of_share(blocks, share);
   ProgressMeter progress("projecting", mine);
-  InOrderSums in_order(sums, progress);
+  InOrderSums in_order(sums, kStreamingBlocksAhead, &progress);
 #pragma omp parallel
   {
     std::vector<Eigen::MatrixXd> rows, out;

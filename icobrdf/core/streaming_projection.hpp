@@ -28,8 +28,9 @@ namespace icobrdf {
 // per channel of LUT rows (2.6 MB at level 5; icobrdf/pipeline/resource_estimate.hpp counts them).
 inline constexpr int kStreamingBlockRows = 32;
 // Finished blocks whose partial sums (modes x modes per channel and part) may wait for the blocks before
-// them to be added: enough that a thread finishing a cheap block goes on while the other finishes a costly
-// one (icobrdf/pipeline/resource_estimate.hpp counts them).
+// them to be added (icobrdf/core/in_order_sums.hpp; here and in the row-split projection): enough that a
+// thread finishing a cheap block goes on while the other finishes a costly one
+// (icobrdf/pipeline/resource_estimate.hpp counts them).
 inline constexpr int kStreamingBlocksAhead = 4;
 
 // One process's share of the blocks of incident rows (blocks of kStreamingBlockRows sampled rows, numbered

@@ -33,7 +33,7 @@ double model_fit_bytes(int level, int order, int channels, int threads, int part
     // of the widest pair (a block's columns plus its rows); G's solve and the sums.
     const double block = c / parts + 4;
     return 2 * c * kGridBytesPerCell + kDouble * (4 * block * m + t * kBlockRows * 2 * block * ch + (kGramBlocks + 3) * m * m +
-                                                  (2 * t + 4) * ch * m * m);
+                                                  (2 * (t + kStreamingBlocksAhead) + 4) * ch * m * m);
   }
   return 2 * c * kGridBytesPerCell + context_bytes(c, m) +
          kDouble * (2 * c * m + t * kBlockRows * c * ch + (2 * (t + kStreamingBlocksAhead) + 4) * ch * m * m);
