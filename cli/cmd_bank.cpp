@@ -32,6 +32,7 @@ extern "C" void on_stop_signal(int sig) { g_stop_signal.store(sig); }
 struct BuildArgs {
   std::string scene, output;
   bool resume = false, json = false, quiet = false, strict = false;
+  int materials_at_once = 0;
 };
 
 #ifdef ICOBRDF_WITH_MPI
@@ -79,6 +80,7 @@ int run_build(const BuildArgs& a) {
   o.resume = a.resume;
   o.stop = &g_stop_signal;
   o.strict = a.strict;
+  o.materials_at_once = a.materials_at_once;
   o.warnings = &std::cerr;
   // One write per line (cerr is unbuffered): under mpirun rank 0's lines and the other ranks' warnings share
   // one merged stream, and a line written in two pieces could take another rank's line into its middle.
@@ -194,6 +196,9 @@ void add_bank_command(CLI::App& app) {
   build->add_flag("--strict", a->strict, "A material with negative reflectance fails (default: a warning)");
   build->add_flag("--json", a->json, "Print the per-material choices as JSON");
   build->add_flag("--quiet,-q", a->quiet, "No progress lines on stderr");
+  build->add_option("--materials-at-once", a->materials_at_once,
+                    "Small materials fitted at once, each on its share of the threads (0: chosen from the threads and memory; 1: one at a time)")
+      ->check(CLI::NonNegativeNumber);
   build->callback([a] {
     const int code = run_build(*a);
     if (code != kExitOk) throw CLI::RuntimeError(code);

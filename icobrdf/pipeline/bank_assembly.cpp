@@ -12,6 +12,11 @@
 namespace icobrdf {
 
 const Grid& BankOperators::grid() {
+  std::lock_guard<std::mutex> g(lock_);
+  return grid_locked();
+}
+
+const Grid& BankOperators::grid_locked() {
   if (!grid_) grid_ = std::make_shared<const Grid>(build_equal_area_grid(scene_.level));
   return *grid_;
 }
@@ -19,10 +24,11 @@ const Grid& BankOperators::grid() {
 // B and G at any order; P only where the bank grid supports the order (icobrdf/core/discrete_basis.hpp), else it is
 // left out of the file.
 const BankOperators::Operators& BankOperators::operators(int order) {
+  std::lock_guard<std::mutex> g(lock_);
   auto& c = operators_[order];
   if (!c) {
     c = std::make_unique<Operators>();
-    c->basis = build_discrete_basis(grid(), order);
+    c->basis = build_discrete_basis(grid_locked(), order);
     if (c->basis.gram_error <= kDefaultGramTolerance) c->projection = make_projection(c->basis);
   }
   return *c;

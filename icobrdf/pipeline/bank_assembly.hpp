@@ -5,6 +5,7 @@
 // the order (its Gram error is within the default tolerance); reconstruction F = B C B^T needs only B.
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 
 #include "icobrdf/core/discrete_basis.hpp"
@@ -15,6 +16,8 @@
 
 namespace icobrdf {
 
+// Safe to call from several threads at once (a bank build fits several materials at once): one lock guards
+// the grid and the operators while they are built; what they return stays valid and is not changed after.
 class BankOperators {
  public:
   explicit BankOperators(const Scene& scene) : scene_(scene) {}
@@ -31,8 +34,10 @@ class BankOperators {
     std::optional<ProjectionOperator> projection;
   };
   const Operators& operators(int order);
+  const Grid& grid_locked();
 
   const Scene& scene_;
+  std::mutex lock_;
   std::shared_ptr<const Grid> grid_;
   std::map<int, std::unique_ptr<Operators>> operators_;
 };

@@ -2,10 +2,17 @@
 
 #include <unistd.h>
 
+#include <omp.h>
+
+#include <algorithm>
 #include <chrono>
+#include <condition_variable>
+#include <deque>
 #include <iostream>
 #include <map>
 #include <optional>
+#include <sstream>
+#include <thread>
 
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/io/bank_file.hpp"
@@ -16,6 +23,9 @@
 #include "icobrdf/pipeline/held_out.hpp"
 #include "icobrdf/pipeline/material_candidate.hpp"
 #include "icobrdf/pipeline/reflectance_check.hpp"
+#include "icobrdf/pipeline/resource_estimate.hpp"
+#include "icobrdf/core/memory_budget.hpp"
+#include "icobrdf/io/spectrum_file.hpp"
 
 namespace icobrdf {
 namespace {
@@ -38,7 +48,7 @@ void report_candidate(const MaterialCandidate& c, MaterialReport& rep) {
 
 // One material from its source: held-out pairs, the best representation, the record as stored.
 MaterialRecord fit_material(const Scene& scene, const SceneMaterial& m, FitContexts& contexts, BankOperators& bank,
-                            MaterialReport& rep, const Say& say, const BankBuildOptions& opt) {
+                            MaterialReport& rep, const Say& say, const BankBuildOptions& opt, std::ostream& warnings) {
   const auto t0 = std::chrono::steady_clock::now();
   const auto src = open_source(m.source);
   rep.source = src->spec();
@@ -62,7 +72,7 @@ MaterialRecord fit_material(const Scene& scene, const SceneMaterial& m, FitConte
   MaterialRecord rec = bank.finish_record(std::move(chosen));
   if (opt.strict || opt.warnings)
     check_fitted_albedo(rec.spectrum, bank.grid(), "material '" + m.name + "' (" + quoted_text(rep.source) + ")",
-                        {opt.strict, opt.warnings ? opt.warnings : &std::cerr});
+                        {opt.strict, &warnings});
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   store_choice(rec, rep);
   return rec;
@@ -77,9 +87,25 @@ MaterialFitter::~MaterialFitter() = default;
 
 MaterialRecord MaterialFitter::fit(std::size_t index, MaterialReport& rep) {
   const Say say = [this](const std::string& line) {
-    if (options_.progress) options_.progress(line);
+    if (!options_.progress) return;
+    std::lock_guard<std::mutex> g(output_lock_);
+    options_.progress(line);
   };
-  return fit_material(scene_, scene_.materials.at(index), *contexts_, *bank_, rep, say, options_);
+  // Warnings are gathered and passed on whole, after the fit.
+  std::ostringstream warnings;
+  const auto pass_on = [&] {
+    if (warnings.tellp() <= 0) return;
+    std::lock_guard<std::mutex> g(output_lock_);
+    *(options_.warnings ? options_.warnings : &std::cerr) << warnings.str() << std::flush;
+  };
+  try {
+    MaterialRecord rec = fit_material(scene_, scene_.materials.at(index), *contexts_, *bank_, rep, say, options_, warnings);
+    pass_on();
+    return rec;
+  } catch (...) {
+    pass_on();
+    throw;
+  }
 }
 
 BankCollector::BankCollector(const Scene& scene, const BankBuildOptions& opt)
@@ -179,27 +205,170 @@ BankBuildResult BankCollector::finish(BankOperators& operators, bool interrupted
   return result;
 }
 
+MaterialsAtOnce plan_materials_at_once(const Scene& scene, const std::vector<std::size_t>& todo, int threads, int requested) {
+  if (requested < 0) throw ArgumentError("bank build: materials at once = " + std::to_string(requested) + ", expected >= 0 (0 chooses)");
+  MaterialsAtOnce plan;
+  threads = std::max(1, threads);
+  int channels = 1;
+  double bytes = 0.0;  // the largest small fit's peak, on one thread
+  for (const std::size_t i : todo) {
+    const SceneMaterial& m = scene.materials.at(i);
+    const int level = m.level >= 0 ? m.level : *std::max_element(scene.levels.begin(), scene.levels.end());
+    const int order = m.order >= 0 ? m.order : scene.order_max;
+    if (static_cast<double>(equal_area_cells(level)) <= kConcurrentFitMaxCells) {
+      plan.at_once.push_back(i);
+      bytes = std::max(bytes, model_fit_bytes(level, order, channels, 1));
+    } else {
+      plan.alone.push_back(i);
+    }
+  }
+  int w = requested;
+  if (w == 0) {
+    w = threads;
+    if (bytes > 0.0) w = std::min(w, static_cast<int>(std::max(1.0, 0.5 * available_memory().bytes / bytes)));
+  }
+  w = std::min<int>(w, static_cast<int>(plan.at_once.size()));
+  if (w <= 1) {  // every material in turn on all threads
+    plan.alone = todo;
+    plan.at_once.clear();
+    plan.workers = 1;
+    plan.threads_each = threads;
+    return plan;
+  }
+  plan.workers = w;
+  plan.threads_each = std::max(1, threads / w);
+  return plan;
+}
+
+namespace {
+
+// One material's outcome from a fitting thread.
+struct Fitted {
+  std::size_t index = 0;
+  MaterialReport report;
+  std::optional<MaterialRecord> record;  // empty: failed with `error`
+  std::string error;
+};
+
+// The materials of plan.at_once fitted plan.workers at a time; each outcome goes to `out` on this thread, as
+// it arrives. Returns whether a stop left materials unfitted.
+bool fit_at_once(const Scene& scene, const BankBuildOptions& opt, const MaterialsAtOnce& plan, MaterialFitter& fitter,
+                 BankCollector& out, const std::function<void(std::size_t)>& say_start) {
+  std::mutex lock;
+  std::condition_variable arrived;
+  std::size_t next = 0;
+  int running = plan.workers;
+  bool stopped = false;
+  std::deque<Fitted> inbox;
+  const auto work = [&] {
+    omp_set_num_threads(plan.threads_each);  // this thread's OpenMP teams (and Eigen's products, which follow them)
+    for (;;) {
+      Fitted f;
+      {
+        std::lock_guard<std::mutex> g(lock);
+        if (next == plan.at_once.size()) break;
+        if (opt.stop && opt.stop->load() != 0) {
+          stopped = true;
+          break;
+        }
+        f.index = plan.at_once[next++];
+        say_start(f.index);
+      }
+      f.report = new_material_report(scene, f.index);
+      try {
+        f.record = fitter.fit(f.index, f.report);
+      } catch (const std::exception& e) {
+        f.error = e.what();
+      } catch (...) {
+        f.error = "unknown error";
+      }
+      {
+        std::lock_guard<std::mutex> g(lock);
+        inbox.push_back(std::move(f));
+      }
+      arrived.notify_one();
+    }
+    {
+      std::lock_guard<std::mutex> g(lock);
+      --running;
+    }
+    arrived.notify_one();
+  };
+  std::vector<std::thread> threads;
+  const auto join = [&] {
+    for (auto& t : threads)
+      if (t.joinable()) t.join();
+  };
+  try {
+    for (int w = 0; w < plan.workers; ++w) threads.emplace_back(work);
+    for (;;) {
+      std::unique_lock<std::mutex> g(lock);
+      arrived.wait(g, [&] { return !inbox.empty() || running == 0; });
+      if (inbox.empty()) break;
+      Fitted f = std::move(inbox.front());
+      inbox.pop_front();
+      g.unlock();
+      if (f.record)
+        out.finished(f.index, std::move(*f.record), std::move(f.report));
+      else
+        out.failed(f.index, std::move(f.report), f.error);
+    }
+  } catch (...) {  // the collector failed: no new material starts, the running ones end, the error goes up
+    {
+      std::lock_guard<std::mutex> g(lock);
+      next = plan.at_once.size();
+    }
+    join();
+    throw;
+  }
+  join();
+  return stopped;
+}
+
+}  // namespace
+
 BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& opt) {
   BankCollector out(scene, opt);
-  MaterialFitter fitter(scene, opt);
-  bool interrupted = false;
-  for (size_t i = 0; i < scene.materials.size(); ++i) {
+  std::mutex say_lock;  // progress lines from the fitting threads, one at a time
+  BankBuildOptions options = opt;
+  if (opt.progress)
+    options.progress = [&say_lock, &opt](const std::string& line) {
+      std::lock_guard<std::mutex> g(say_lock);
+      opt.progress(line);
+    };
+  MaterialFitter fitter(scene, options);
+  std::size_t started = 0;
+  const auto say_start = [&](std::size_t i) {
     const auto& m = scene.materials[i];
-    if (opt.stop && opt.stop->load() != 0) {
+    if (options.progress)
+      options.progress("[" + std::to_string(++started) + "/" + std::to_string(scene.materials.size()) + "] " + m.name + " (" + quoted_text(m.source) + ")");
+  };
+  const auto stopped = [&] { return opt.stop && opt.stop->load() != 0; };
+  // Materials of the resume file first, in scene order; then the plan.
+  std::vector<std::size_t> todo;
+  bool interrupted = false;
+  for (std::size_t i = 0; i < scene.materials.size() && !interrupted; ++i) {
+    if (out.take_resumed(i))
+      say_start(i);
+    else
+      todo.push_back(i);
+  }
+  const MaterialsAtOnce plan = plan_materials_at_once(scene, todo, omp_get_max_threads(), opt.materials_at_once);
+  for (const std::size_t i : plan.alone) {
+    if (stopped()) {
       interrupted = true;
       break;
     }
-    if (opt.progress)
-      opt.progress("[" + std::to_string(i + 1) + "/" + std::to_string(scene.materials.size()) + "] " + m.name + " (" + quoted_text(m.source) + ")");
+    say_start(i);
     MaterialReport rep = new_material_report(scene, i);
     try {
-      if (out.take_resumed(i)) continue;
       MaterialRecord rec = fitter.fit(i, rep);
       out.finished(i, std::move(rec), std::move(rep));
     } catch (const std::exception& e) {
       out.failed(i, std::move(rep), e.what());
     }
   }
+  if (!interrupted && !plan.at_once.empty()) interrupted = fit_at_once(scene, options, plan, fitter, out, say_start);
   return out.finish(fitter.operators(), interrupted);
 }
 

@@ -28,6 +28,7 @@
 #include <exception>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -65,6 +66,9 @@ struct BankBuildOptions {
   // `warnings` (none when null), or, when strict, the material fails.
   bool strict = false;
   std::ostream* warnings = nullptr;
+  // Materials fitted at once, each on its share of the OpenMP threads (see plan_materials_at_once): 0
+  // chooses, 1 fits every material in turn on all threads, W >= 2 fits the small ones W at a time.
+  int materials_at_once = 0;
 };
 
 struct BankBuildResult {
@@ -79,12 +83,33 @@ struct BankBuildResult {
 
 BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& options);
 
+// Fitting several materials at once. A small fit's parallel regions are short, and two threads gained only
+// 1.28x on a bank of 100 level-4 materials (benchmarks/RESULTS.md), while two such materials fitted side by
+// side, one thread each, take the time of one. So build_bank fits the small materials (fitting grid of at most
+// kConcurrentFitMaxCells cells) W at a time on T / W threads each, after the others, which it fits in turn on
+// all T threads (a large material alone on one thread would hold up the build's end).
+// W = options.materials_at_once, or when that is 0: T (one thread each) when T >= 2 and at least 2 small
+// materials are to be fitted, limited so that W fits at once need at most half the available memory
+// (icobrdf/pipeline/resource_estimate.hpp); else 1. The bank is byte-identical whatever W is (up to the
+// `seconds` figures): each material's fit does not depend on the thread count, and the bank is written in
+// scene order (BankCollector).
+inline constexpr double kConcurrentFitMaxCells = 3000;
+struct MaterialsAtOnce {
+  int workers = 1;                   // W
+  int threads_each = 1;              // OpenMP threads of each
+  std::vector<std::size_t> alone;    // materials fitted in turn on all threads, in scene order
+  std::vector<std::size_t> at_once;  // materials fitted W at a time, in scene order
+};
+// The plan for the materials `todo` (scene indices) on `threads` threads.
+MaterialsAtOnce plan_materials_at_once(const Scene& scene, const std::vector<std::size_t>& todo, int threads, int requested);
+
 // The two halves of build_bank, for builds that spread the materials over processes
 // (icobrdf/cluster/distributed_bank.hpp); build_bank is these two in one loop.
 //
 // MaterialFitter: fits material `index` of the scene (its source, held-out pairs, representation, record with
 // its LUT); it keeps the fitting caches (level contexts, bank operators) from one material to the next.
-// Throws what the fit throws (the material failed).
+// Throws what the fit throws (the material failed). `fit` may be called from several threads at once: the
+// caches are locked, and progress and warning lines are passed on one whole line at a time.
 // The report of material `index` of the scene with its name and key (icobrdf/pipeline/bank_resume.hpp) filled in.
 MaterialReport new_material_report(const Scene& scene, std::size_t index);
 
@@ -102,6 +127,7 @@ class MaterialFitter {
   const BankBuildOptions& options_;
   std::unique_ptr<FitContexts> contexts_;
   std::unique_ptr<BankOperators> bank_;
+  std::mutex output_lock_;  // progress and warning lines from concurrent fits
 };
 
 // BankCollector: the writing half. Its constructor checks both output paths and reads the resume file (with

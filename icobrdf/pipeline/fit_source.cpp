@@ -13,6 +13,11 @@ std::tuple<int, GridKind, bool> grid_key(const FitRequest& r) {
 }  // namespace
 
 std::shared_ptr<const Grid> FitContexts::grid(const FitRequest& request) {
+  std::lock_guard<std::mutex> g(lock_);
+  return grid_locked(request);
+}
+
+std::shared_ptr<const Grid> FitContexts::grid_locked(const FitRequest& request) {
   auto& g = grids_[grid_key(request)];
   if (!g)
     g = std::make_shared<const Grid>(build_fitting_grid(request.level, request.grid_kind, request.sampling == LutSampling::CellCentre));
@@ -20,17 +25,19 @@ std::shared_ptr<const Grid> FitContexts::grid(const FitRequest& request) {
 }
 
 std::shared_ptr<const ProjectionContext> FitContexts::context(const FitRequest& request) {
+  std::lock_guard<std::mutex> lock(lock_);
   auto& c = contexts_[{grid_key(request), request.order, request.gram_tolerance}];
   RowSplitExchange* rows = request.share ? request.share->rows.get() : nullptr;
   // One channel: the channel terms are small beside the C x M matrices that decide whether it fits.
   if (!c) require_model_fit_memory(request.level, request.order, 1, "a fit", rows ? rows->parts() : 1);
   if (!c && rows)
-    c = std::make_shared<const ProjectionContext>(make_split_projection_context(grid(request), request.order, request.gram_tolerance, *rows));
-  if (!c) c = std::make_shared<const ProjectionContext>(make_projection_context(grid(request), request.order, request.gram_tolerance));
+    c = std::make_shared<const ProjectionContext>(make_split_projection_context(grid_locked(request), request.order, request.gram_tolerance, *rows));
+  if (!c) c = std::make_shared<const ProjectionContext>(make_projection_context(grid_locked(request), request.order, request.gram_tolerance));
   return c;
 }
 
 int FitContexts::supported_order(const FitRequest& request) {
+  std::lock_guard<std::mutex> lock(lock_);
   const ContextKey key{grid_key(request), request.order, request.gram_tolerance};
   const auto it = supported_.find(key);
   if (it != supported_.end()) return it->second;
@@ -38,7 +45,7 @@ int FitContexts::supported_order(const FitRequest& request) {
   // order it may never reach, and orders beyond that one are never tried.
   const int in_memory = largest_order_in_memory(request.level, request.order, 1);
   if (in_memory < 0) require_model_fit_memory(request.level, 0, 1, "a fit");
-  return supported_[key] = largest_supported_order(build_discrete_basis(*grid(request), in_memory), request.gram_tolerance);
+  return supported_[key] = largest_supported_order(build_discrete_basis(*grid_locked(request), in_memory), request.gram_tolerance);
 }
 
 FitResult fit_source(const BrdfSource& source, const FitRequest& request) {

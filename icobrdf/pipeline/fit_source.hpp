@@ -15,6 +15,7 @@
 // grids); without one, each call builds its own.
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <tuple>
 
@@ -38,7 +39,9 @@ struct FitRequest {
   std::shared_ptr<const StreamingShare> share;          // optional: FitOptions::share (distributed projection)
 };
 
-// Grids and projection contexts by what defines them, built on first use.
+// Grids and projection contexts by what defines them, built on first use. Safe to call from several threads
+// at once (a bank build fits several materials at once, icobrdf/pipeline/bank_builder.hpp): one lock guards
+// the tables, and a thread asking for an entry another is building waits for it (entries are built once).
 class FitContexts {
  public:
   std::shared_ptr<const Grid> grid(const FitRequest& request);
@@ -47,6 +50,8 @@ class FitContexts {
   int supported_order(const FitRequest& request);
 
  private:
+  std::mutex lock_;
+  std::shared_ptr<const Grid> grid_locked(const FitRequest& request);
   using GridKey = std::tuple<int, GridKind, bool>;     // level, kind, centre
   using ContextKey = std::tuple<GridKey, int, double>; // grid, order, Gram tolerance
   std::map<GridKey, std::shared_ptr<const Grid>> grids_;
