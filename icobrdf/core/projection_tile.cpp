@@ -29,7 +29,8 @@ constexpr int kTileColumns = 4;
 #endif
 // Cells per chunk and LUT columns per sweep over the cells (icobrdf/core/projection_tile.hpp: what stays in
 // which cache). Measured on AVX-512 (Zen 5, CPU time of one thread, 2026-11-24): chunks of 128-256 cells beat
-// 512 and 1024 by 5-15%; sweeps of the whole 512-column block beat 64 and 128 columns by 2-5%.
+// 512 and 1024 by 5-15%; sweeps of the whole 512-column block beat 64 and 128 columns by 2-5%. With F read in
+// place (Zen 4, 2026-11-27) chunks of 128, 256 and 512 cells were within the host's noise of each other.
 constexpr std::ptrdiff_t kChunkCells = 256, kSweepColumns = 512;
 // Bytes of packed P per block of cells: a block is the most whole chunks whose P fits this (at least one
 // chunk), 1024 cells at order 8. Measured (Intel AVX-512, 2 MiB L2, 2 threads, F from memory, 20 blocks of
@@ -57,25 +58,31 @@ HWY_INLINE void keep_in_register(V& v) {
 #endif
 }
 
-// acc[(q * M + r) * L + lane] += sum over the vectors kk < vectors of p[(kk * M + r) * L + lane] f[(kk * N + q) * L + lane]:
-// P and F packed so that one step of the loop reads M + N consecutive vectors (two pointers, no spills).
+// acc[(q * M + r) * L + lane] += sum over the vectors kk < vectors of p[(kk * M + r) * L + lane] f[q ld + kk L + lane]:
+// P packed so that one step reads its M vectors consecutively; F's N columns read in place (stride ld). The
+// chunk of F columns stays in L1 for the mode groups after the first. (Copying each chunk of F into a packed
+// buffer first, as this tile did before, cost 7-10%: Zen 4, 2026-11-27.)
 template <int N>
-HWY_INLINE void dot_tile(const double* HWY_RESTRICT p, const double* HWY_RESTRICT f, std::ptrdiff_t vectors, double* HWY_RESTRICT acc) {
+HWY_INLINE void dot_tile(const double* HWY_RESTRICT p, const double* HWY_RESTRICT f, std::ptrdiff_t ld, std::ptrdiff_t vectors,
+                                double* HWY_RESTRICT acc) {
   const hn::ScalableTag<double> d;
   const std::ptrdiff_t lanes = static_cast<std::ptrdiff_t>(hn::Lanes(d));
   using V = hn::Vec<decltype(d)>;
   V c[N][kTileModes];
+  const double* col[N];
+#pragma GCC unroll 16
+  for (int q = 0; q < N; ++q) col[q] = f + q * ld;
 #pragma GCC unroll 16
   for (int q = 0; q < N; ++q)
 #pragma GCC unroll 16
     for (int r = 0; r < kTileModes; ++r) c[q][r] = hn::LoadU(d, acc + (q * kTileModes + r) * lanes);
-  for (std::ptrdiff_t kk = 0; kk < vectors; ++kk, p += kTileModes * lanes, f += N * lanes) {
+  for (std::ptrdiff_t kk = 0; kk < vectors; ++kk, p += kTileModes * lanes) {
     V x[kTileModes];
 #pragma GCC unroll 16
     for (int r = 0; r < kTileModes; ++r) x[r] = hn::Load(d, p + r * lanes);
 #pragma GCC unroll 16
     for (int q = 0; q < N; ++q) {
-      V y = hn::Load(d, f + q * lanes);
+      V y = hn::LoadU(d, col[q] + kk * lanes);
       keep_in_register(y);
 #pragma GCC unroll 16
       for (int r = 0; r < kTileModes; ++r) c[q][r] = hn::MulAdd(x[r], y, c[q][r]);
@@ -118,11 +125,10 @@ void ProjectionTile(const double* packed_p, const double* p, std::ptrdiff_t cell
   const std::ptrdiff_t per_column = kTileModes * lanes;  // accumulator doubles of one (mode group, column)
   const std::ptrdiff_t p_chunk_bytes = groups * kTileModes * kChunkCells * static_cast<std::ptrdiff_t>(sizeof(double));
   const std::ptrdiff_t block_cells = std::max<std::ptrdiff_t>(1, kBlockBytes / p_chunk_bytes) * kChunkCells;
-  const std::ptrdiff_t acc_size = groups * kSweepColumns * per_column, pack_f_size = kTileColumns * kChunkCells;
-  // One buffer: the packed chunk of F's columns (aligned), then the accumulators of one sweep.
-  scratch.resize(static_cast<size_t>(pack_f_size + acc_size) + kPackAlignBytes / sizeof(double));
-  double* pack_f = aligned_start(scratch.data());
-  double* acc = pack_f + pack_f_size;
+  const std::ptrdiff_t acc_size = groups * kSweepColumns * per_column;
+  // The accumulators of one sweep, aligned.
+  scratch.resize(static_cast<size_t>(acc_size) + kPackAlignBytes / sizeof(double));
+  double* acc = aligned_start(scratch.data());
   for (std::ptrdiff_t s0 = 0; s0 < w; s0 += kSweepColumns) {
     const std::ptrdiff_t sw = std::min(kSweepColumns, w - s0), swv = sw / kTileColumns * kTileColumns;
     std::fill(acc, acc + groups * sw * per_column, 0.0);
@@ -132,8 +138,7 @@ void ProjectionTile(const double* packed_p, const double* p, std::ptrdiff_t cell
         const std::ptrdiff_t n = j0 < swv ? kTileColumns : 1;
         for (std::ptrdiff_t k0 = kb; k0 < kb_end; k0 += kChunkCells) {
           const std::ptrdiff_t vectors = (std::min(kb_end, k0 + kChunkCells) - k0) / lanes;
-          pack_columns(f, ldf, s0 + j0, n, w - 1, k0, vectors, lanes, pack_f);
-          // Prefetch the F lines the next pack reads (the next chunk of this tile's columns, else the next
+          // Prefetch the F lines the tile reads next (the next chunk of this tile's columns, else the next
           // tile's first chunk of the block, else the next block's), a share of the lines per mode group.
           std::ptrdiff_t next_j = j0, next_k = k0 + kChunkCells, next_end = kb_end;
           if (next_k >= kb_end) {
@@ -152,10 +157,11 @@ void ProjectionTile(const double* packed_p, const double* p, std::ptrdiff_t cell
             }
             const double* pg = packed_p + g * kTileModes * packed_cells + k0 * kTileModes;
             double* a = acc + (g * sw + j0) * per_column;
+            const double* fj = f + (s0 + j0) * ldf + k0;
             if (n == kTileColumns)
-              dot_tile<kTileColumns>(pg, pack_f, vectors, a);
+              dot_tile<kTileColumns>(pg, fj, ldf, vectors, a);
             else
-              dot_tile<1>(pg, pack_f, vectors, a);
+              dot_tile<1>(pg, fj, ldf, vectors, a);
           }
         }
         j0 += n;

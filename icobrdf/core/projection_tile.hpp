@@ -2,13 +2,13 @@
 // The hot tile of project_lut (icobrdf/core/projection.hpp): T = P^T F_J (modes x w) for a block of w LUT columns,
 // as dot products along the cells, at the widest vectors the CPU has (run-time dispatch,
 // icobrdf/core/simd_target.hpp). P is packed once per projection (pack_projection: per group of 3 modes, the 3
-// modes' vectors of consecutive cells side by side); F's columns are packed a chunk at a time. Register
-// tile: 3 modes x 8 LUT columns of 8-lane accumulators on AVX-512 (32 vector registers), 3 modes x 4 columns
-// on narrower targets (16 registers). Loop order, outer to inner: blocks of cells (the block of packed P, at
-// most 384 KiB or one chunk, 1024 cells at order 8, stays in L2; each F column is read in runs of 8 KB there,
-// long enough for the hardware prefetcher), tiles of columns, chunks of 256 cells (the tile's F columns are
-// packed a chunk at a time, 16 KB, which stays in L1; the next chunk's F lines are prefetched meanwhile),
-// groups of modes, cells.
+// modes' vectors of consecutive cells side by side); F's columns are read in place. Register tile: 3 modes x 8
+// LUT columns of 8-lane accumulators on AVX-512 (32 vector registers), 3 modes x 4 columns on narrower
+// targets (16 registers). Loop order, outer to inner: blocks of cells (the block of packed P, at most 384 KiB
+// or one chunk, 1024 cells at order 8, stays in L2; each F column is read in runs of 8 KB there, long enough
+// for the hardware prefetcher), tiles of columns, chunks of 256 cells (the tile's chunk of F, 16 KB, stays in
+// L1 for the mode groups after the first; the next chunk's F lines are prefetched meanwhile), groups of
+// modes, cells.
 // A short last mode group repeats the last mode, columns beyond a multiple of the tile width take a
 // one-column tile, and cells beyond a multiple of the vector width are added in the final reduction.
 // Rounding: each entry is a sum over the cells taken in lanes, then the lanes summed pairwise; the order is
