@@ -46,65 +46,113 @@ void sample_lut_rows(const BrdfModel& model, const Grid& g, bool cosine, LutSamp
   sample_lut_block(model, g, cosine, sampling, row_cells, g.cells(), out);
 }
 
+namespace {
+
+// The rows of a LUT over its first col_end remitted cells, one incident cell at a time: what the sampling
+// needs of the remitted side is prepared once (their directions, or the cubature points with their
+// relative weights).
+class RowSampler {
+ public:
+  RowSampler(const BrdfModel& model, const Grid& g, bool cosine, LutSampling sampling, const std::vector<int>& row_cells, int col_end)
+      : model_(model), g_(g), cosine_(cosine), sampling_(sampling), col_end_(col_end) {
+    const int cells = g.cells();
+    for (int cell : row_cells)
+      if (cell < 0 || cell >= cells)
+        throw ArgumentError("LUT rows: cell " + std::to_string(cell) + " is outside [0, " + std::to_string(cells) + ")");
+    if (col_end < 0 || col_end > cells)
+      throw ArgumentError("LUT rows: column end " + std::to_string(col_end) + " is outside [0, " + std::to_string(cells) + "]");
+    if (sampling == LutSampling::CellCentre) {
+      // One incident direction at a time against every remitted cell's direction (copied only when some
+      // columns are left out).
+      if (col_end < cells) part_ = g.directions.topRows(col_end);
+      wr_ = col_end < cells ? &part_ : &g.directions;
+      return;
+    }
+    // Entry (i, r) = sum_p sum_q (w_p / Omega_i) (w_q / Omega_r) f(x_p, x_q) [cos theta_p]: for each incident
+    // point p the model runs against every remitted point at once; the incident cell's points are summed
+    // first (acc), then each remitted cell's points (contiguous in the cubature arrays).
+    const Eigen::Index points = g.cubature_offsets[static_cast<size_t>(col_end)];
+    rel_.resize(points);  // w_q / Omega_r of each point
+    for (int r = 0; r < col_end; ++r)
+      for (auto q = g.cubature_offsets[r]; q < g.cubature_offsets[r + 1]; ++q) rel_[q] = g.cubature_weights[q] / g.solid_angles[r];
+    if (points < g.cubature_points.rows()) part_ = g.cubature_points.topRows(points);
+    wr_ = points < g.cubature_points.rows() ? &part_ : &g.cubature_points;
+    f_.resize(points, model.channels());
+    acc_.resize(points, model.channels());
+  }
+
+  // The LUT row of incident cell `cell`: out is col_end x channels.
+  void row(int cell, Eigen::Ref<Eigen::MatrixXd> out) {
+    if (sampling_ == LutSampling::CellCentre) {
+      model_.eval_row(g_.directions.row(cell).transpose(), *wr_, out);
+      if (cosine_) out *= g_.directions(cell, 2);
+      return;
+    }
+    acc_.setZero();
+    for (auto p = g_.cubature_offsets[cell]; p < g_.cubature_offsets[cell + 1]; ++p) {
+      const double wp = g_.cubature_weights[p] / g_.solid_angles[cell] * (cosine_ ? g_.cubature_points(p, 2) : 1.0);
+      model_.eval_row(g_.cubature_points.row(p).transpose(), *wr_, f_);
+      acc_.noalias() += wp * f_;
+    }
+    for (Eigen::Index c = 0; c < acc_.cols(); ++c) {
+      weighted_ = rel_.cwiseProduct(acc_.col(c));
+      for (int r = 0; r < col_end_; ++r) {
+        const auto b = g_.cubature_offsets[r], e = g_.cubature_offsets[r + 1];
+        out(r, c) = weighted_.segment(b, e - b).sum();
+      }
+    }
+  }
+
+ private:
+  const BrdfModel& model_;
+  const Grid& g_;
+  bool cosine_;
+  LutSampling sampling_;
+  int col_end_;
+  RowMatrix3d part_;            // the remitted directions or points, when only some columns are sampled
+  const RowMatrix3d* wr_ = nullptr;
+  Eigen::VectorXd rel_, weighted_;
+  Eigen::MatrixXd f_, acc_;
+};
+
+}  // namespace
+
 void sample_lut_block(const BrdfModel& model, const Grid& g, bool cosine, LutSampling sampling, const std::vector<int>& row_cells,
                       int col_end, std::vector<Eigen::MatrixXd>& out) {
-  const int cells = g.cells(), rows = static_cast<int>(row_cells.size()), ch = model.channels();
-  for (int cell : row_cells)
-    if (cell < 0 || cell >= cells)
-      throw ArgumentError("LUT rows: cell " + std::to_string(cell) + " is outside [0, " + std::to_string(cells) + ")");
-  if (col_end < 0 || col_end > cells)
-    throw ArgumentError("LUT rows: column end " + std::to_string(col_end) + " is outside [0, " + std::to_string(cells) + "]");
+  RowSampler sampler(model, g, cosine, sampling, row_cells, col_end);
+  const int rows = static_cast<int>(row_cells.size()), ch = model.channels();
   // Every entry is written below: resize without clearing (buffers are reused across calls).
   out.resize(static_cast<size_t>(ch));
   for (auto& m : out) m.resize(rows, col_end);
-  if (sampling == LutSampling::CellCentre) {
-    // One incident direction at a time against every remitted cell's direction (no copy of that side).
-    RowMatrix3d part;  // the remitted directions, copied once per call when only some columns are sampled
-    if (col_end < cells) part = g.directions.topRows(col_end);
-    const RowMatrix3d& wr = col_end < cells ? part : g.directions;
-    // Rows are evaluated kRowGroup at a time into columns of `group`, then written to `out` by columns: a
-    // row of the column-major `out` is strided, and writing each row in turn touched every cache line of
-    // `out` (2.6 MB for 32 rows at level 5) once per row (perf: 30% of streaming GGX at level 5, order 8).
-    Eigen::MatrixXd f(col_end, ch);
-    std::vector<Eigen::MatrixXd> group(static_cast<size_t>(ch), Eigen::MatrixXd(col_end, kRowGroup));
-    for (int i0 = 0; i0 < rows; i0 += kRowGroup) {
-      const int n = std::min(kRowGroup, rows - i0);
-      for (int i = i0; i < i0 + n; ++i) {
-        const int cell = row_cells[static_cast<size_t>(i)];
-        model.eval_row(g.directions.row(cell).transpose(), wr, f);
-        const double scale = cosine ? g.directions(cell, 2) : 1.0;
-        for (int c = 0; c < ch; ++c) group[c].col(i - i0) = f.col(c) * scale;
-      }
-      for (int c = 0; c < ch; ++c) out[c].middleRows(i0, n) = group[c].leftCols(n).transpose();
+  // Rows are evaluated kRowGroup at a time into columns of `group`, then written to `out` by columns: a
+  // row of the column-major `out` is strided, and writing each row in turn touched every cache line of
+  // `out` (2.6 MB for 32 rows at level 5) once per row (perf: 30% of streaming GGX at level 5, order 8).
+  Eigen::MatrixXd f(col_end, ch);
+  std::vector<Eigen::MatrixXd> group(static_cast<size_t>(ch), Eigen::MatrixXd(col_end, kRowGroup));
+  for (int i0 = 0; i0 < rows; i0 += kRowGroup) {
+    const int n = std::min(kRowGroup, rows - i0);
+    for (int i = i0; i < i0 + n; ++i) {
+      sampler.row(row_cells[static_cast<size_t>(i)], f);
+      for (int c = 0; c < ch; ++c) group[c].col(i - i0) = f.col(c);
     }
+    for (int c = 0; c < ch; ++c) out[c].middleRows(i0, n) = group[c].leftCols(n).transpose();
+  }
+}
+
+void sample_lut_columns(const BrdfModel& model, const Grid& g, bool cosine, LutSampling sampling, const std::vector<int>& row_cells,
+                        int col_end, std::vector<Eigen::MatrixXd>& out) {
+  RowSampler sampler(model, g, cosine, sampling, row_cells, col_end);
+  const int rows = static_cast<int>(row_cells.size()), ch = model.channels();
+  out.resize(static_cast<size_t>(ch));
+  for (auto& m : out) m.resize(col_end, rows);
+  if (ch == 1) {  // straight into the column
+    for (int i = 0; i < rows; ++i) sampler.row(row_cells[static_cast<size_t>(i)], out[0].col(i));
     return;
   }
-  // Entry (i, r) = sum_p sum_q (w_p / Omega_i) (w_q / Omega_r) f(x_p, x_q) [cos theta_p]: for each incident
-  // point p the model runs against every remitted point at once; the incident cell's points are summed
-  // first (acc), then each remitted cell's points (contiguous in the cubature arrays).
-  const Eigen::Index points = g.cubature_offsets[static_cast<size_t>(col_end)];
-  Eigen::VectorXd rel(points);  // w_q / Omega_r of each point
-  for (int r = 0; r < col_end; ++r)
-    for (auto q = g.cubature_offsets[r]; q < g.cubature_offsets[r + 1]; ++q) rel[q] = g.cubature_weights[q] / g.solid_angles[r];
-  RowMatrix3d part;
-  if (points < g.cubature_points.rows()) part = g.cubature_points.topRows(points);
-  const RowMatrix3d& wr = points < g.cubature_points.rows() ? part : g.cubature_points;
-  Eigen::MatrixXd f(points, ch), acc(points, ch);
+  Eigen::MatrixXd f(col_end, ch);
   for (int i = 0; i < rows; ++i) {
-    const int cell = row_cells[static_cast<size_t>(i)];
-    acc.setZero();
-    for (auto p = g.cubature_offsets[cell]; p < g.cubature_offsets[cell + 1]; ++p) {
-      const double wp = g.cubature_weights[p] / g.solid_angles[cell] * (cosine ? g.cubature_points(p, 2) : 1.0);
-      model.eval_row(g.cubature_points.row(p).transpose(), wr, f);
-      acc.noalias() += wp * f;
-    }
-    for (int c = 0; c < ch; ++c) {
-      const Eigen::VectorXd weighted = rel.cwiseProduct(acc.col(c));
-      for (int r = 0; r < col_end; ++r) {
-        const auto b = g.cubature_offsets[r], e = g.cubature_offsets[r + 1];
-        out[c](i, r) = weighted.segment(b, e - b).sum();
-      }
-    }
+    sampler.row(row_cells[static_cast<size_t>(i)], f);
+    for (int c = 0; c < ch; ++c) out[c].col(i) = f.col(c);
   }
 }
 

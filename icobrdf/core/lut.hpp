@@ -45,6 +45,11 @@ void sample_lut_rows(const BrdfModel& model, const Grid& grid, bool cosine, LutS
 // subset of columns, e.g. one triangle of a symmetric LUT (icobrdf/core/streaming_projection.cpp).
 void sample_lut_block(const BrdfModel& model, const Grid& grid, bool cosine, LutSampling sampling,
                       const std::vector<int>& row_cells, int col_end, std::vector<Eigen::MatrixXd>& out);
+// The same block transposed: out[ch] is col_end x row_cells.size(), column k the LUT row of cell
+// row_cells[k] (each row contiguous, as icobrdf/core/projection_tile.hpp reads LUT columns). The same values,
+// bit for bit.
+void sample_lut_columns(const BrdfModel& model, const Grid& grid, bool cosine, LutSampling sampling,
+                        const std::vector<int>& row_cells, int col_end, std::vector<Eigen::MatrixXd>& out);
 
 // The whole LUT: regular part by blocks of rows (threads over rows; deterministic), plus delta parts in g
 // form. A model with delta parts requires cosine = true (ArgumentError otherwise: f is singular).

@@ -9,6 +9,7 @@
 #include "icobrdf/core/grid_symmetry.hpp"
 #include "icobrdf/core/in_order_sums.hpp"
 #include "icobrdf/core/progress.hpp"
+#include "icobrdf/core/projection_tile.hpp"
 
 namespace icobrdf {
 namespace {
@@ -81,6 +82,9 @@ std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const
     pq.row(k).head(modes) = proj.P.row(c);
     if (cosine) pq.row(k).tail(modes) = sg.directions(c, 2) * proj.P.row(c);
   }
+  // [P Q] packed once for the projection tile (icobrdf/core/projection_tile.hpp), which forms each block's
+  // (F [P Q])^T from the block's rows, sampled contiguous (sample_lut_columns).
+  const PackedProjection packed = pack_projection(pq);
   const int rows_total = static_cast<int>(row_cells.size());
   const int blocks = (rows_total + kStreamingBlockRows - 1) / kStreamingBlockRows;
   // Per block and channel: X1 = sum w_i Q_i (F P)_i and X2 = sum w_i P_i (F Q)_i over the block's rows,
@@ -97,15 +101,18 @@ std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const
     std::vector<int> block;
     Eigen::MatrixXd t, left;
     std::vector<Eigen::MatrixXd> out;
+    std::vector<double> scratch;
 #pragma omp for schedule(dynamic)
     for (int k_block = 0; k_block < mine; ++k_block) {
       const int b = block_of_share(k_block, share);
       const int r0 = b * kStreamingBlockRows, r1 = std::min(rows_total, r0 + kStreamingBlockRows);
       block.clear();
       for (int k = r0; k < r1; ++k) block.push_back(pos[static_cast<size_t>(row_cells[static_cast<size_t>(k)])]);
-      int col_end = 0;  // the longest prefix any row of the block needs
+      int col_end = 0;  // the longest prefix any row of the block needs, to a whole number of the tile's vectors
       for (int k = r0; k < r1; ++k) col_end = std::max(col_end, orbit_end[static_cast<size_t>(row_cells[static_cast<size_t>(k)])]);
-      sample_lut_block(model, rg, false, sampling, block, col_end, f);
+      const auto lanes = static_cast<int>(packed.lanes);
+      col_end = std::min(cells, (col_end + lanes - 1) / lanes * lanes);
+      sample_lut_columns(model, rg, false, sampling, block, col_end, f);  // f[c]: col_end x rows
       left.resize(r1 - r0, width);  // row k: w_k [Q_k  P_k] (the left factors of X1 and X2)
       for (int k = r0; k < r1; ++k) {
         const int i = row_cells[static_cast<size_t>(k)];
@@ -119,18 +126,19 @@ std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const
           left.row(k - r0) = w * pq.row(pk);
         }
         for (auto& m : f) {
-          m.row(k - r0).segment(first, last - first) *= 0.5;
-          m.row(k - r0).tail(col_end - last).setZero();
+          m.col(k - r0).segment(first, last - first) *= 0.5;
+          m.col(k - r0).tail(col_end - last).setZero();
         }
       }
       out.clear();
       for (int c = 0; c < ch; ++c) {
-        t.noalias() = f[static_cast<size_t>(c)] * pq.topRows(col_end);
+        const Eigen::MatrixXd& fc = f[static_cast<size_t>(c)];
+        projection_tile(packed, pq, fc.data(), fc.rows(), fc.cols(), t, scratch, 0, col_end);  // t = (F [P Q])^T: width x rows
         if (cosine) {
-          out.push_back(left.leftCols(modes).transpose() * t.leftCols(modes));     // X1 part
-          out.push_back(left.rightCols(modes).transpose() * t.rightCols(modes));   // X2 part
+          out.push_back(left.leftCols(modes).transpose() * t.topRows(modes).transpose());       // X1 part
+          out.push_back(left.rightCols(modes).transpose() * t.bottomRows(modes).transpose());   // X2 part
         } else {
-          out.push_back(left.transpose() * t);
+          out.push_back(left.transpose() * t.transpose());
         }
       }
       in_order.add(k_block, std::move(out));

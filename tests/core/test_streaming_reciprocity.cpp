@@ -11,6 +11,7 @@
 
 #include "icobrdf/core/discrete_basis.hpp"
 #include "icobrdf/core/error.hpp"
+#include "icobrdf/core/function_model.hpp"
 #include "icobrdf/core/grid_symmetry.hpp"
 #include "icobrdf/core/lut.hpp"
 #include "icobrdf/core/model_spec.hpp"
@@ -137,6 +138,41 @@ TEST(LutBlock, CentreEntriesAreTheModelAtTheCellDirections) {
       const double expected = f(0, 0) * g.directions(rows[i], 2);
       EXPECT_NEAR(block[0](static_cast<Eigen::Index>(i), r), expected, kPairRounding * std::abs(expected)) << "row " << i << ", column " << r;
     }
+}
+
+// sample_lut_columns is sample_lut_block transposed, bit for bit: both samplings, 1 and 3 channels, some
+// columns left out, rows in any order, and no rows or no columns at all.
+TEST(LutBlock, ColumnsAreTheBlockTransposedBitForBit) {
+  const Grid g = build_lat_long_grid(4, 8, 2);
+  const auto ggx = parse_model("ggx-aniso:alpha_x=0.4,alpha_y=0.2,azimuth=30");
+  const FunctionModel rgb(
+      3,
+      [&ggx](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) {
+        Eigen::MatrixXd f(wi.rows(), 1);
+        ggx->eval(wi, wr, f);
+        for (int c = 0; c < 3; ++c) out.col(c) = (1.0 + c) * f.col(0) + (wi.col(2) - 0.5 * c * wr.col(0)).matrix();
+      },
+      "test:rgb", false, false);
+  const std::vector<int> rows{5, 0, 17, 3, 30, 8, 9, 21, 2, 31, 12};
+  for (const BrdfModel* m : {static_cast<const BrdfModel*>(ggx.get()), static_cast<const BrdfModel*>(&rgb)})
+    for (auto sampling : {LutSampling::CellAverage, LutSampling::CellCentre})
+      for (bool cosine : {false, true})
+        for (int col_end : {g.cells(), g.cells() - 5, 0}) {
+          std::vector<Eigen::MatrixXd> block, columns;
+          sample_lut_block(*m, g, cosine, sampling, rows, col_end, block);
+          sample_lut_columns(*m, g, cosine, sampling, rows, col_end, columns);
+          ASSERT_EQ(columns.size(), static_cast<size_t>(m->channels()));
+          for (int c = 0; c < m->channels(); ++c) {
+            ASSERT_EQ(columns[c].rows(), col_end);
+            ASSERT_EQ(columns[c].cols(), static_cast<Eigen::Index>(rows.size()));
+            EXPECT_TRUE(columns[c] == block[c].transpose()) << m->spec() << ", channel " << c << ", col_end " << col_end;
+          }
+        }
+  std::vector<Eigen::MatrixXd> none;
+  sample_lut_columns(*ggx, g, false, LutSampling::CellCentre, {}, g.cells(), none);
+  EXPECT_EQ(none[0].rows(), g.cells());
+  EXPECT_EQ(none[0].cols(), 0);
+  EXPECT_THROW(sample_lut_columns(*ggx, g, false, LutSampling::CellCentre, {g.cells()}, 1, none), ArgumentError);
 }
 
 // sample_lut_block gives the leading columns of the full rows, bit for bit, in both samplings.
