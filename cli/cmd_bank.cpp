@@ -198,7 +198,7 @@ void add_bank_command(CLI::App& app) {
   build->add_flag("--quiet,-q", a->quiet, "No progress lines on stderr");
   build->add_option("--materials-at-once", a->materials_at_once,
                     "Small materials fitted at once, each on its share of the threads (0: chosen from the threads and memory; 1: one at a time)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, 4096));
   build->callback([a] {
     const int code = run_build(*a);
     if (code != kExitOk) throw CLI::RuntimeError(code);
