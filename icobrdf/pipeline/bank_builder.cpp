@@ -346,13 +346,19 @@ BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& opt) {
   const auto stopped = [&] { return opt.stop && opt.stop->load() != 0; };
   // Materials of the resume file first, in scene order; then the plan.
   std::vector<std::size_t> todo;
-  bool interrupted = false;
-  for (std::size_t i = 0; i < scene.materials.size() && !interrupted; ++i) {
-    if (out.take_resumed(i))
-      say_start(i);
-    else
-      todo.push_back(i);
+  for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+    try {
+      if (out.take_resumed(i)) {
+        say_start(i);
+        continue;
+      }
+    } catch (const std::exception& e) {  // the record could not be taken: the material fails, as a fit would
+      out.failed(i, new_material_report(scene, i), e.what());
+      continue;
+    }
+    todo.push_back(i);
   }
+  bool interrupted = false;
   const MaterialsAtOnce plan = plan_materials_at_once(scene, todo, omp_get_max_threads(), opt.materials_at_once);
   for (const std::size_t i : plan.alone) {
     if (stopped()) {
