@@ -124,6 +124,7 @@ void sample_lut_block(const BrdfModel& model, const Grid& g, bool cosine, LutSam
   // Every entry is written below: resize without clearing (buffers are reused across calls).
   out.resize(static_cast<size_t>(ch));
   for (auto& m : out) m.resize(rows, col_end);
+  if (rows == 0 || col_end == 0) return;  // nothing to sample (and no block of an empty matrix to take)
   // Rows are evaluated kRowGroup at a time into columns of `group`, then written to `out` by columns: a
   // row of the column-major `out` is strided, and writing each row in turn touched every cache line of
   // `out` (2.6 MB for 32 rows at level 5) once per row (perf: 30% of streaming GGX at level 5, order 8).
@@ -145,6 +146,7 @@ void sample_lut_columns(const BrdfModel& model, const Grid& g, bool cosine, LutS
   const int rows = static_cast<int>(row_cells.size()), ch = model.channels();
   out.resize(static_cast<size_t>(ch));
   for (auto& m : out) m.resize(col_end, rows);
+  if (rows == 0 || col_end == 0) return;
   if (ch == 1) {  // straight into the column
     for (int i = 0; i < rows; ++i) sampler.row(row_cells[static_cast<size_t>(i)], out[0].col(i));
     return;
