@@ -36,7 +36,7 @@ double model_fit_bytes(int level, int order, int channels, int threads, int part
                                                   (2 * (t + kStreamingBlocksAhead) + 4) * ch * m * m);
   }
   return 2 * c * kGridBytesPerCell + context_bytes(c, m) +
-         kDouble * (2 * c * m + t * kBlockRows * c * ch + (2 * (t + kStreamingBlocksAhead) + 4) * ch * m * m);
+         kDouble * (4 * c * m + t * kBlockRows * c * ch + (2 * (t + kStreamingBlocksAhead) + 4) * ch * m * m);
 }
 
 double lut_bytes(int level, int order, int channels, bool float32, int threads) {

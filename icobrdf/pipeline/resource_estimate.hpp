@@ -7,7 +7,8 @@
 // ch = channels, T = threads. The estimates count the arrays that grow with C and M, in doubles:
 //   grid                C x kGridBytesPerCell (directions, maps, a degree-9 cubature of ~37 points per cell)
 //   projection context  3 C M (B, P and the weighted basis alive while P is made) + (kGramPartialSums + 3) M^2
-//   streaming fit       + 2 C M (P with its cosine-weighted copy side by side) + T (kStreamingBlockRows C ch) LUT rows
+//   streaming fit       + 4 C M ([P Q]: P with its cosine-weighted copy side by side, and [P Q] packed for the
+//                       projection tile) + T (kStreamingBlockRows C ch) LUT rows
 //                       + (2 (T + A) + 4) ch M^2 partial and final sums, both parts of a cosine fit, with up to
 //                       A = kStreamingBlocksAhead finished blocks waiting to be added in order
 //   LUT                 ch C^2 (float64) + its row-major copy for writing (half of it for float32)
