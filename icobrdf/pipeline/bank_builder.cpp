@@ -85,12 +85,14 @@ MaterialFitter::MaterialFitter(const Scene& scene, const BankBuildOptions& opt)
 
 MaterialFitter::~MaterialFitter() = default;
 
+void MaterialFitter::say(const std::string& line) {
+  if (!options_.progress) return;
+  std::lock_guard<std::mutex> g(output_lock_);
+  options_.progress(line);
+}
+
 MaterialRecord MaterialFitter::fit(std::size_t index, MaterialReport& rep) {
-  const Say say = [this](const std::string& line) {
-    if (!options_.progress) return;
-    std::lock_guard<std::mutex> g(output_lock_);
-    options_.progress(line);
-  };
+  const Say say = [this](const std::string& line) { this->say(line); };
   // Warnings are gathered and passed on whole, after the fit.
   std::ostringstream warnings;
   const auto pass_on = [&] {
@@ -329,19 +331,11 @@ bool fit_at_once(const Scene& scene, const BankBuildOptions& opt, const Material
 
 BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& opt) {
   BankCollector out(scene, opt);
-  std::mutex say_lock;  // progress lines from the fitting threads, one at a time
-  BankBuildOptions options = opt;
-  if (opt.progress)
-    options.progress = [&say_lock, &opt](const std::string& line) {
-      std::lock_guard<std::mutex> g(say_lock);
-      opt.progress(line);
-    };
-  MaterialFitter fitter(scene, options);
+  MaterialFitter fitter(scene, opt);
   std::size_t started = 0;
-  const auto say_start = [&](std::size_t i) {
+  const auto say_start = [&](std::size_t i) {  // through the fitter: one line at a time with the fits' own lines
     const auto& m = scene.materials[i];
-    if (options.progress)
-      options.progress("[" + std::to_string(++started) + "/" + std::to_string(scene.materials.size()) + "] " + m.name + " (" + quoted_text(m.source) + ")");
+    fitter.say("[" + std::to_string(++started) + "/" + std::to_string(scene.materials.size()) + "] " + m.name + " (" + quoted_text(m.source) + ")");
   };
   const auto stopped = [&] { return opt.stop && opt.stop->load() != 0; };
   // Materials of the resume file first, in scene order; then the plan.
@@ -374,7 +368,7 @@ BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& opt) {
       out.failed(i, std::move(rep), e.what());
     }
   }
-  if (!interrupted && !plan.at_once.empty()) interrupted = fit_at_once(scene, options, plan, fitter, out, say_start);
+  if (!interrupted && !plan.at_once.empty()) interrupted = fit_at_once(scene, opt, plan, fitter, out, say_start);
   return out.finish(fitter.operators(), interrupted);
 }
 

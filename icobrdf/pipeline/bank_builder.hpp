@@ -120,6 +120,8 @@ class MaterialFitter {
   MaterialFitter(const Scene& scene, const BankBuildOptions& options);
   ~MaterialFitter();
   MaterialRecord fit(std::size_t index, MaterialReport& report);
+  // Passes a progress line on to options.progress, one line at a time with the fits' own (any thread).
+  void say(const std::string& line);
   BankOperators& operators() { return *bank_; }
 
  private:
