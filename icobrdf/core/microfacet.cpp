@@ -89,6 +89,13 @@ namespace {
 constexpr Eigen::Index kGgxBlock = 32;
 using GgxArray = Eigen::Array<double, kGgxBlock, 1>;
 using StridedColumn = Eigen::Map<const GgxArray, 0, Eigen::InnerStride<3>>;  // x, y or z of kGgxBlock directions (rows of 3)
+// Copies n <= kGgxBlock directions (3 doubles each, `stride` doubles apart; stride 0 repeats one) into `pad`
+// as a whole block, the lanes beyond n set to the harmless (0, 0, 1); returns pad's data.
+const double* padded_block(const double* w, Eigen::Index stride, Eigen::Index n, std::array<double, 3 * kGgxBlock>& pad) {
+  for (Eigen::Index k = 0; k < kGgxBlock; ++k)
+    for (int e = 0; e < 3; ++e) pad[static_cast<size_t>(3 * k + e)] = k < n ? w[stride * k + e] : (e == 2 ? 1.0 : 0.0);
+  return pad.data();
+}
 // Beckmann: D is set to 0 where its exponent exceeds this (there D < exp(-700) (1 + 700 alpha^2)^2 / (pi alpha^2),
 // below 1e-290 for every alpha >= 1e-3; the factor n^4/h_z^4 is bounded by the same condition, so no
 // overflow meets the underflow of exp).
@@ -146,17 +153,9 @@ void MicrofacetModel::eval_pairs(const double* wi_data, Eigen::Index wi_stride, 
     // one incident direction is replicated, so that every pair takes the same instructions wherever it is.
     const double* a = wi_data + wi_stride * r0;
     const double* b = wr_all.data() + 3 * r0;
-    if (nb < kGgxBlock) {
-      for (Eigen::Index k = 0; k < kGgxBlock; ++k)
-        for (int e = 0; e < 3; ++e) wr_pad[3 * k + e] = k < nb ? b[3 * k + e] : (e == 2 ? 1.0 : 0.0);
-      b = wr_pad.data();
-    }
+    if (nb < kGgxBlock) b = padded_block(b, 3, nb, wr_pad);
     if (new_incident) {
-      if (wi_stride == 0 || nb < kGgxBlock) {
-        for (Eigen::Index k = 0; k < kGgxBlock; ++k)
-          for (int e = 0; e < 3; ++e) wi_pad[3 * k + e] = k < nb ? a[wi_stride * k + e] : (e == 2 ? 1.0 : 0.0);
-        a = wi_pad.data();
-      }
+      if (wi_stride == 0 || nb < kGgxBlock) a = padded_block(a, wi_stride, nb, wi_pad);
       const StridedColumn ax0(a), ay0(a + 1), az0(a + 2);
       xi = cos_az_ * ax0 + sin_az_ * ay0;
       yi = -sin_az_ * ax0 + cos_az_ * ay0;

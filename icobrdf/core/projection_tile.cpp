@@ -64,7 +64,7 @@ HWY_INLINE void keep_in_register(V& v) {
 // buffer first, as this tile did before, cost 7-10%: Zen 4, 2026-11-27.)
 template <int N>
 HWY_INLINE void dot_tile(const double* HWY_RESTRICT p, const double* HWY_RESTRICT f, std::ptrdiff_t ld, std::ptrdiff_t vectors,
-                                double* HWY_RESTRICT acc) {
+                         double* HWY_RESTRICT acc) {
   const hn::ScalableTag<double> d;
   const std::ptrdiff_t lanes = static_cast<std::ptrdiff_t>(hn::Lanes(d));
   using V = hn::Vec<decltype(d)>;

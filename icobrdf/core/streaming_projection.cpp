@@ -85,6 +85,7 @@ std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const
   // [P Q] packed once for the projection tile (icobrdf/core/projection_tile.hpp), which forms each block's
   // (F [P Q])^T from the block's rows, sampled contiguous (sample_lut_columns).
   const PackedProjection packed = pack_projection(pq);
+  const auto lanes = static_cast<int>(packed.lanes);  // each block's columns are sampled to a multiple of these
   const int rows_total = static_cast<int>(row_cells.size());
   const int blocks = (rows_total + kStreamingBlockRows - 1) / kStreamingBlockRows;
   // Per block and channel: X1 = sum w_i Q_i (F P)_i and X2 = sum w_i P_i (F Q)_i over the block's rows,
@@ -110,7 +111,6 @@ std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const
       for (int k = r0; k < r1; ++k) block.push_back(pos[static_cast<size_t>(row_cells[static_cast<size_t>(k)])]);
       int col_end = 0;  // the longest prefix any row of the block needs, to a whole number of the tile's vectors
       for (int k = r0; k < r1; ++k) col_end = std::max(col_end, orbit_end[static_cast<size_t>(row_cells[static_cast<size_t>(k)])]);
-      const auto lanes = static_cast<int>(packed.lanes);
       col_end = std::min(cells, (col_end + lanes - 1) / lanes * lanes);
       sample_lut_columns(model, rg, false, sampling, block, col_end, f);  // f[c]: col_end x rows
       left.resize(r1 - r0, width);  // row k: w_k [Q_k  P_k] (the left factors of X1 and X2)
