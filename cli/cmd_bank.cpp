@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/error_report.hpp"
 #include "cli/exit_codes.hpp"
 #include "icobrdf/cluster/launcher.hpp"
 #include "icobrdf/core/error.hpp"
@@ -21,6 +22,10 @@
 #include "icobrdf/pipeline/bank_builder.hpp"
 #ifdef ICOBRDF_WITH_MPI
 #include "icobrdf/cluster/distributed_bank.hpp"
+#else
+namespace icobrdf {
+class Cluster;  // the ranks of an mpirun job: only in a build with MPI
+}
 #endif
 
 namespace icobrdf::cli {
@@ -55,11 +60,10 @@ std::optional<Scene> read_scene_on_every_rank(const std::string& path, Cluster& 
 }
 #endif
 
-// Exit code of a build that ended without error: 0, or the signal's conventional code.
-int run_build(const BuildArgs& a) {
+// Exit code of a build that ended without error: 0, or the signal's conventional code. `cluster`: the ranks
+// of an mpirun job, null in one process (always null in a build without MPI).
+int build_and_report(const BuildArgs& a, [[maybe_unused]] Cluster* cluster) {
 #ifdef ICOBRDF_WITH_MPI
-  std::unique_ptr<Cluster> cluster;
-  if (started_by_mpirun()) cluster = std::make_unique<Cluster>();
   const std::optional<Scene> read = cluster ? read_scene_on_every_rank(a.scene, *cluster) : read_scene(a.scene);
   if (!read) return kExitOk;  // another rank could not read the scene and says so
   const Scene& scene = *read;
@@ -150,6 +154,23 @@ int run_build(const BuildArgs& a) {
     throw UnsupportedError(fmt::format("bank not written: {}{} material(s) failed (see above); {}", which, failed, kept_for_resume(r)));
   }
   return kExitOk;
+}
+
+int run_build(const BuildArgs& a) {
+#ifdef ICOBRDF_WITH_MPI
+  std::unique_ptr<Cluster> cluster;
+  if (started_by_mpirun()) cluster = std::make_unique<Cluster>();
+  try {
+    return build_and_report(a, cluster.get());
+  } catch (...) {
+    if (!cluster) throw;
+    // Printed while `cluster` lives: its destructor waits for every rank, so this line is out before any
+    // rank ends (mpirun stops the whole job when one rank exits non-zero; cli/error_report.hpp).
+    print_now(std::current_exception());
+  }
+#else
+  return build_and_report(a, nullptr);
+#endif
 }
 
 void run_info(const std::string& path, bool json) {

@@ -12,6 +12,7 @@
 #include <new>
 
 #include "cli/commands.hpp"
+#include "cli/error_report.hpp"
 #include "cli/exit_codes.hpp"
 #include "icobrdf/cluster/launcher.hpp"
 #include "icobrdf/core/error.hpp"
@@ -25,28 +26,8 @@ namespace icobrdf::cli {
 namespace {
 
 #ifdef ICOBRDF_WITH_MPI
-// The exit code main() gives the error `e` (cli/main.cpp), for ranks that end without printing it.
-int exit_code_of(std::exception_ptr e) {
-  try {
-    std::rethrow_exception(e);
-  } catch (const ArgumentError&) {
-    return kExitUsage;
-  } catch (const InputError&) {
-    return kExitInput;
-  } catch (const UnsupportedError&) {
-    return kExitUnsupported;
-  } catch (const IoError&) {
-    return kExitIo;
-  } catch (const ResourceError&) {
-    return kExitResources;
-  } catch (const std::bad_alloc&) {
-    return kExitResources;
-  } catch (const CLI::RuntimeError& x) {
-    return x.get_exit_code();
-  } catch (...) {
-    return kExitInternal;
-  }
-}
+// The exit code main() gives the error `e` (cli/error_report.hpp), for ranks that end without printing it.
+int exit_code_of(std::exception_ptr e) { return report_of(e).code; }
 
 // SIGTERM under mpirun: mpirun sends it to every rank when one fails or is killed. Rank 0 says so in one
 // line (mpirun -q names the dead rank nowhere; without -q it does), every rank ends at once with 128 + 15:
@@ -108,12 +89,23 @@ void run_distributed(const std::string& what, int projections, const std::functi
   if (cluster.rank() != 0) set_progress_stream(nullptr);
   end_on_sigterm(cluster.rank(), cluster.size());
   const int rank = cluster.rank(), ranks = cluster.size();
+  // A rank prints its error here, while `cluster` lives: its destructor waits for every rank, so every line
+  // is out before any rank ends (mpirun stops the whole job when one rank exits non-zero). Once printed,
+  // a SIGTERM from mpirun ends rank 0 silently.
+  const auto print = [](std::exception_ptr e) {
+    try {
+      print_now(e);
+    } catch (...) {
+      g_sigterm_line_size = 0;
+      throw;
+    }
+  };
   try {
     command(run);
   } catch (const SetupFailed&) {
     throw CLI::RuntimeError(kExitUnsupported);
   } catch (const RankFailed& e) {  // from the exchange: rank 0 reports it
-    if (rank == 0) std::rethrow_exception(e.error);
+    if (rank == 0) print(e.error);
     throw CLI::RuntimeError(exit_code_of(e.error));
   } catch (const std::exception& e) {
     // This rank's own error. In set-up, the ranks agree first, and only the lowest failed rank prints its
@@ -131,7 +123,11 @@ void run_distributed(const std::string& what, int projections, const std::functi
       quiet = projection.fail(e) && rank != 0;
     }
     if (quiet) throw CLI::RuntimeError(exit_code_of(std::current_exception()));
-    rethrow_on_rank(e, rank, ranks);
+    try {
+      rethrow_on_rank(e, rank, ranks);
+    } catch (...) {
+      print(std::current_exception());
+    }
   }
 #else
   (void)projections;

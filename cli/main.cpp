@@ -11,6 +11,7 @@
 #include <new>
 
 #include "cli/commands.hpp"
+#include "cli/error_report.hpp"
 #include "cli/exit_codes.hpp"
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/memory_budget.hpp"
@@ -89,10 +90,6 @@ int main(int argc, char** argv) {
   if (const char* d = std::getenv("ICOBRDF_PROGRESS_DELAY")) icobrdf::set_progress_delay(std::atof(d));
   for (auto& [name, adder] : command_registry()) adder(app);
   app.failure_message([](const CLI::App*, const CLI::Error& e) { return icobrdf::message_line(e.what()) + "\n"; });
-  const auto fail = [](const std::exception& e, int code, const char* kind = "error") {
-    std::cerr << "icobrdf: " << kind << ": " << icobrdf::message_line(e.what()) << "\n";  // one short line
-    return code;
-  };
   try {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& e) {
@@ -100,24 +97,16 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? kExitOk : kExitUsage;
-  } catch (const icobrdf::ArgumentError& e) {
-    return fail(e, kExitUsage);
-  } catch (const icobrdf::InputError& e) {
-    return fail(e, kExitInput);
-  } catch (const icobrdf::UnsupportedError& e) {
-    return fail(e, kExitUnsupported);
-  } catch (const icobrdf::IoError& e) {
-    return fail(e, kExitIo);
-  } catch (const icobrdf::ResourceError& e) {
-    return fail(std::runtime_error(std::string(e.what()) + "; --memory-budget overrides the limit"), kExitResources);
   } catch (const std::bad_alloc&) {
     // Exit at once: after an allocation failed, libraries' exit handlers (OpenBLAS joining its threads) can hang.
     std::cout.flush();
     static const char kLine[] = "icobrdf: error: out of memory: an allocation failed; a lower level or order needs less\n";
     (void)!::write(STDERR_FILENO, kLine, sizeof kLine - 1);
     std::_Exit(kExitResources);
-  } catch (const std::exception& e) {
-    return fail(e, kExitInternal, "internal error");
+  } catch (...) {
+    const ErrorReport r = report_of(std::current_exception());  // one short line (cli/error_report.hpp)
+    std::cerr << r.line;
+    return r.code;
   }
   return kExitOk;
 }

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -81,6 +82,59 @@ TEST_F(FitMpi, TwoRanksAgreeWithOneProcessToRoundingAndWithEachOtherBitwise) {
     EXPECT_EQ((c3 - c2).cwiseAbs().maxCoeff(), 0.0) << m.spec << ": two runs on 2 ranks must give the same bits";
     // Each rank reports its peak memory.
     ASSERT_EQ(j.at("peak_rss_bytes_per_rank").size(), 2u) << b.out;
+  }
+}
+
+// More than two ranks: the ring of blocks of P takes floor(R / 2) steps for a reciprocal model (R = 4: the
+// pair half way round is split between its two ranks; R = 3: no such pair) and R - 1 steps for a
+// non-reciprocal g form (an anisotropic lobe with --cosine: every ordered pair of blocks). Each agrees with
+// one process to rounding.
+TEST_F(FitMpi, ThreeAndFourRanksAgreeWithOneProcessToRounding) {
+  struct Case {
+    std::string spec;
+    bool cosine;
+  };
+  for (const Case& m : {Case{"ggx:alpha=0.3", false}, Case{"ggx-aniso:alpha_x=0.2,alpha_y=0.4,azimuth=30", true}}) {
+    TempDir d;
+    auto args = fit_args("model:" + m.spec, d.file("one.h5"));
+    if (m.cosine) args.push_back("--cosine");
+    setenv("OMP_NUM_THREADS", "1", 1);
+    const auto a = run_cli(args);
+    unsetenv("OMP_NUM_THREADS");
+    ASSERT_EQ(a.exit_code, 0) << a.err;
+    const Eigen::MatrixXd c1 = read_spectrum_file(d.file("one.h5")).channels.at(0);
+    for (int ranks : {3, 4}) {
+      const std::string out = d.file(std::to_string(ranks) + ".h5");
+      *(std::find(args.begin(), args.end(), "-o") + 1) = out;
+      const auto b = run_shell(kMpiEnv + cli_command(args, shell_quote(ICOBRDF_MPIEXEC) + " -q -np " + std::to_string(ranks) + " --oversubscribe"));
+      ASSERT_EQ(b.exit_code, 0) << m.spec << " on " << ranks << " ranks: " << b.err << b.out;
+      EXPECT_EQ(json::parse(b.out).at("ranks").get<int>(), ranks) << b.out;
+      const Eigen::MatrixXd c = read_spectrum_file(out).channels.at(0);
+      EXPECT_LE((c - c1).cwiseAbs().maxCoeff(), kSplitRelTol * c1.cwiseAbs().maxCoeff()) << m.spec << " on " << ranks << " ranks";
+    }
+  }
+}
+
+// Every rank fails the same way after the ranks agreed on the set-up (order 8 is beyond the Gram tolerance
+// of a level-3 grid; each rank checks its G): exactly one line, rank 0's, every time. Each rank prints while
+// MPI still holds the ranks together (cli/error_report.hpp): printed after MPI_Finalize, rank 0's line was
+// lost in 3 of 42 runs on 3-4 ranks, replaced by the SIGTERM line, because mpirun stops every rank as soon
+// as one exits non-zero. kRepeats runs make a recurrence of that likely to be seen (this test with 6
+// repeats failed 1 run in 3 on that build).
+TEST_F(FitMpi, AnErrorOnEveryRankGivesRankZerosLineEveryTime) {
+  constexpr int kRepeats = 10;
+  TempDir d;
+  const std::string out = d.file("out.h5");
+  const std::vector<std::string> args = {"fit", "model:ggx:alpha=0.3", "--level", "3", "--order", "8", "-o", out};
+  for (int run = 0; run < kRepeats; ++run) {
+    const auto r = run_shell(kMpiEnv + cli_command(args, shell_quote(ICOBRDF_MPIEXEC) + " -q -np 3 --oversubscribe"));
+    EXPECT_EQ(r.exit_code, 4) << r.err;  // kExitUnsupported
+    EXPECT_FALSE(exists(out));
+    std::istringstream err(r.err);
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(err, line);) lines.push_back(line);
+    ASSERT_EQ(lines.size(), 1u) << "run " << run << ": " << r.err;
+    EXPECT_EQ(lines[0].rfind("icobrdf: error: on rank 0 of 3: order 8 exceeds what a grid of 656 cells resolves", 0), 0u) << lines[0];
   }
 }
 

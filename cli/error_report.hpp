@@ -1,0 +1,25 @@
+#pragma once
+// The one line and exit code the program gives an error (cli/exit_codes.hpp), shared by main() and by the
+// ranks of an mpirun job, which must print before they finish MPI: mpirun ends the whole job as soon as one
+// rank exits with a non-zero code, so a rank that printed after MPI_Finalize could be stopped first and its
+// line lost (icobrdf/cluster/cluster.hpp: the Cluster's destructor waits for every rank).
+#include <exception>
+#include <string>
+
+namespace icobrdf::cli {
+
+struct ErrorReport {
+  std::string line;  // "icobrdf: error: ...\n" (or "icobrdf: internal error: ...\n"), one line
+  int code = 0;      // the exit code of the error's kind
+};
+
+// ArgumentError 2, InputError 3, UnsupportedError 4, IoError 5, ResourceError and bad_alloc 6 (a
+// ResourceError's line says that --memory-budget overrides the limit), CLI::RuntimeError its own code and no
+// line (its message was printed already), anything else 70 as an internal error.
+ErrorReport report_of(std::exception_ptr e);
+
+// Prints report_of(e)'s line now and throws CLI::RuntimeError with its code (main() then exits with it
+// without printing again).
+[[noreturn]] void print_now(std::exception_ptr e);
+
+}  // namespace icobrdf::cli
