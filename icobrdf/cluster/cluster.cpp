@@ -2,8 +2,13 @@
 
 #include <mpi.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <climits>
+#include <cstdint>
 #include <cstdlib>
+#include <stdexcept>
+#include <string>
 #include <thread>
 
 #include "icobrdf/cluster/launcher.hpp"
@@ -11,7 +16,24 @@
 
 namespace icobrdf {
 
+namespace {
+
+// ICOBRDF_MPI_PIECE_BYTES, or kMessagePieceBytes when unset.
+std::size_t piece_bytes_from_environment() {
+  const char* v = std::getenv("ICOBRDF_MPI_PIECE_BYTES");
+  if (!v) return kMessagePieceBytes;
+  char* end = nullptr;
+  errno = 0;
+  const long long n = std::strtoll(v, &end, 10);
+  if (errno != 0 || end == v || *end != '\0' || n < 1 || n > INT_MAX)
+    throw ArgumentError(std::string("ICOBRDF_MPI_PIECE_BYTES: '") + v + "', expected a byte count from 1 to " + std::to_string(INT_MAX));
+  return static_cast<std::size_t>(n);
+}
+
+}  // namespace
+
 Cluster::Cluster() {
+  piece_bytes_ = piece_bytes_from_environment();  // before MPI starts: a refusal leaves no MPI to finish
   // Every rank on this machine (OpenMPI says so before MPI_Init): shared memory is the only transport needed,
   // and OpenMPI's ob1 layer starts in 0.04 s where its default first probes UCX for network devices (0.24 s
   // of MPI_Init here, the start-up of a whole 1,000-material bank build). A user's OMPI_MCA_pml wins.
@@ -29,7 +51,8 @@ Cluster::Cluster() {
 
 struct Cluster::Outgoing {
   std::string bytes;
-  MPI_Request request = MPI_REQUEST_NULL;
+  std::string header;                 // a large message's tag and size (two int64), else empty
+  std::vector<MPI_Request> requests;  // one, or the header's and one per piece
 };
 
 Cluster::~Cluster() {
@@ -51,27 +74,37 @@ int Cluster::first_failed(bool ok) {
   return lowest < size_ ? lowest : -1;
 }
 
-namespace {
-
-void check_count(std::size_t bytes, int destination) {
-  if (bytes > static_cast<std::size_t>(INT_MAX))
-    throw ResourceError("MPI: a message of " + std::to_string(bytes) + " bytes to rank " + std::to_string(destination) +
-                        ", expected at most " + std::to_string(INT_MAX) + " (MPI's count limit)");
-}
-
-}  // namespace
-
 void Cluster::send(int destination, int tag, const std::string& bytes) {
-  check_count(bytes.size(), destination);
+  if (tag == kPieceTag) throw std::logic_error("Cluster::send: tag " + std::to_string(tag) + " is reserved for message pieces");
+  if (bytes.size() > piece_bytes_) {
+    post(destination, tag, bytes);
+    finish_sends();
+    return;
+  }
   MPI_Send(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, destination, tag, MPI_COMM_WORLD);
 }
 
 void Cluster::post(int destination, int tag, std::string bytes) {
-  check_count(bytes.size(), destination);
+  if (tag == kPieceTag) throw std::logic_error("Cluster::post: tag " + std::to_string(tag) + " is reserved for message pieces");
   free_delivered();
   auto o = std::make_unique<Outgoing>();
   o->bytes = std::move(bytes);
-  MPI_Isend(o->bytes.data(), static_cast<int>(o->bytes.size()), MPI_BYTE, destination, tag, MPI_COMM_WORLD, &o->request);
+  const std::size_t size = o->bytes.size();
+  if (size <= piece_bytes_) {
+    o->requests.emplace_back();
+    MPI_Isend(o->bytes.data(), static_cast<int>(size), MPI_BYTE, destination, tag, MPI_COMM_WORLD, &o->requests.back());
+  } else {
+    const std::int64_t head[2] = {tag, static_cast<std::int64_t>(size)};
+    o->header.assign(reinterpret_cast<const char*>(head), sizeof head);
+    o->requests.reserve(1 + (size + piece_bytes_ - 1) / piece_bytes_);
+    o->requests.emplace_back();
+    MPI_Isend(o->header.data(), static_cast<int>(o->header.size()), MPI_BYTE, destination, kPieceTag, MPI_COMM_WORLD, &o->requests.back());
+    for (std::size_t at = 0; at < size; at += piece_bytes_) {
+      o->requests.emplace_back();
+      MPI_Isend(o->bytes.data() + at, static_cast<int>(std::min(piece_bytes_, size - at)), MPI_BYTE, destination, kPieceTag, MPI_COMM_WORLD,
+                &o->requests.back());
+    }
+  }
   outgoing_.push_back(std::move(o));
 }
 
@@ -79,7 +112,7 @@ void Cluster::free_delivered() {
   std::vector<std::unique_ptr<Outgoing>> pending;
   for (auto& o : outgoing_) {
     int done = 0;
-    MPI_Test(&o->request, &done, MPI_STATUS_IGNORE);
+    MPI_Testall(static_cast<int>(o->requests.size()), o->requests.data(), &done, MPI_STATUSES_IGNORE);
     if (!done) pending.push_back(std::move(o));
   }
   outgoing_ = std::move(pending);
@@ -104,8 +137,32 @@ std::optional<Cluster::Message> Cluster::poll(int source) {
   Message m;
   m.source = status.MPI_SOURCE;
   m.tag = status.MPI_TAG;
-  m.bytes.resize(static_cast<std::size_t>(count));
-  MPI_Recv(m.bytes.data(), count, MPI_BYTE, status.MPI_SOURCE, status.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  if (m.tag != kPieceTag) {
+    m.bytes.resize(static_cast<std::size_t>(count));
+    MPI_Recv(m.bytes.data(), count, MPI_BYTE, status.MPI_SOURCE, status.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    return m;
+  }
+  // A large message: its header, then its pieces, which the sender posted right after it.
+  const auto bad = [&m](const std::string& what) {
+    return InputError("MPI: a large message from rank " + std::to_string(m.source) + ": " + what);
+  };
+  std::int64_t head[2] = {0, -1};
+  if (count != static_cast<int>(sizeof head)) throw bad("a header of " + std::to_string(count) + " bytes, expected " + std::to_string(sizeof head));
+  MPI_Recv(head, count, MPI_BYTE, m.source, kPieceTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  if (head[0] < 0 || head[0] == kPieceTag || head[0] > INT_MAX || head[1] < 0)
+    throw bad("header with tag " + std::to_string(head[0]) + " and size " + std::to_string(head[1]));
+  m.tag = static_cast<int>(head[0]);
+  m.bytes.resize(static_cast<std::size_t>(head[1]));
+  for (std::size_t at = 0; at < m.bytes.size();) {
+    MPI_Status piece;
+    MPI_Probe(m.source, kPieceTag, MPI_COMM_WORLD, &piece);
+    int n = 0;
+    MPI_Get_count(&piece, MPI_BYTE, &n);
+    if (n <= 0 || static_cast<std::size_t>(n) > m.bytes.size() - at)
+      throw bad("a piece of " + std::to_string(n) + " bytes where " + std::to_string(m.bytes.size() - at) + " remained");
+    MPI_Recv(m.bytes.data() + at, n, MPI_BYTE, m.source, kPieceTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    at += static_cast<std::size_t>(n);
+  }
   return m;
 }
 

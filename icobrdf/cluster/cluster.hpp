@@ -11,10 +11,17 @@
 // MPI_THREAD_SERIALIZED: rank 0 talks to the other ranks from a helper thread while its main thread fits
 // (icobrdf/cluster/distributed_bank.hpp), never both at once.
 //
+// Messages of any size. MPI counts in int, so a message of more than kMessagePieceBytes goes as a header
+// (its tag and size, on the reserved tag kPieceTag) followed by its pieces of at most kMessagePieceBytes,
+// on the same tag; MPI keeps messages from one rank on one tag in order, so poll() takes the header and then
+// the pieces and returns the message whole, under its own tag. ICOBRDF_MPI_PIECE_BYTES (a positive byte
+// count, read at start-up) sets a smaller piece: for tests, and for MPI libraries with a lower limit.
+//
 // Waiting is by polling (MPI_Iprobe, then a sleep of kPollInterval): OpenMPI's blocking calls spin on a core,
 // which would take it from the fitting threads of the same node (mpirun --oversubscribe, OpenMP). The
 // destructor waits for every rank the same way (MPI_Ibarrier) before MPI_Finalize.
 #include <chrono>
+#include <cstddef>
 #include <memory>
 #include <optional>
 #include <string>
@@ -27,6 +34,12 @@ namespace icobrdf {
 // 1 ms about a fifth of that. The latency it adds is hidden: every rank holds materials ahead, enough for
 // 20 ms of its fitting (icobrdf/cluster/distributed_bank.cpp).
 inline constexpr std::chrono::microseconds kPollInterval{1000};
+
+// 1 GiB: under MPI's int count (2 GiB - 1) with room to spare, and large enough that the header and the
+// per-piece overhead are nothing against the copy of a piece.
+inline constexpr std::size_t kMessagePieceBytes = std::size_t{1} << 30;
+// Reserved for the headers and pieces of large messages; no icobrdf message uses it.
+inline constexpr int kPieceTag = 30000;
 
 class Cluster {
  public:
@@ -47,11 +60,13 @@ class Cluster {
     int tag = 0;
     std::string bytes;
   };
-  // Blocking send of `bytes` (ResourceError above 2 GiB, MPI's count limit).
+  // Blocking send of `bytes` (of any size: pieces above the piece size, as described above).
   void send(int destination, int tag, const std::string& bytes);
   // Non-blocking send: returns at once, the bytes are kept until delivered (a large message waits for its
   // receiver; the sender fits meanwhile). finish_sends() waits, polling, until every one was delivered.
   void post(int destination, int tag, std::string bytes);
+  // The piece size in bytes (kMessagePieceBytes unless ICOBRDF_MPI_PIECE_BYTES says otherwise).
+  std::size_t piece_bytes() const { return piece_bytes_; }
   void finish_sends();
   // Ends every rank of the job now (MPI_Abort with `code`): for a failure where the other ranks wait for
   // this one in a way no message can release.
@@ -66,6 +81,7 @@ class Cluster {
   // Completed posts are freed by the next post or finish_sends.
   void free_delivered();
   int rank_ = 0, size_ = 1;
+  std::size_t piece_bytes_ = kMessagePieceBytes;
   std::vector<std::unique_ptr<Outgoing>> outgoing_;
 };
 

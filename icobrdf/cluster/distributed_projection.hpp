@@ -50,7 +50,7 @@ class DistributedProjection {
   // `split_rows`: the share carries a row exchange (StreamingShare::rows; icobrdf/core/row_split_projection.hpp):
   // each projection then makes three exchanges (the sum of G, an empty one once every rank has its rows of
   // P, then the sum of C) and passes the blocks of P round the ring between the last two (tag kRing, one
-  // matrix per message: C M / R doubles, under MPI's 2 GiB count).
+  // matrix per message: C M / R doubles, in pieces of at most 1 GiB when larger, icobrdf/cluster/cluster.hpp).
   DistributedProjection(Cluster& cluster, int projections, bool split_rows = false);
   // This rank's share, for FitRequest::share / FitOptions::share.
   std::shared_ptr<const StreamingShare> share() const { return share_; }

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -113,6 +114,30 @@ TEST_F(FitMpi, ThreeAndFourRanksAgreeWithOneProcessToRounding) {
       EXPECT_LE((c - c1).cwiseAbs().maxCoeff(), kSplitRelTol * c1.cwiseAbs().maxCoeff()) << m.spec << " on " << ranks << " ranks";
     }
   }
+}
+
+// Messages in pieces (icobrdf/cluster/cluster.hpp): with ICOBRDF_MPI_PIECE_BYTES=4000 every block of P in
+// the ring (about 330 cells x 28 modes x 8 bytes = 74 kB on 2 ranks, 49 kB on 3) and every exchanged C
+// (6.3 kB) goes as a header and pieces. The spectrum is the same bits as with whole messages; a bad value
+// is a one-line error.
+TEST_F(FitMpi, MessagesInPiecesGiveTheSameBits) {
+  TempDir d;
+  for (int ranks : {2, 3}) {
+    const std::string whole = d.file("whole.h5"), pieces = d.file("pieces.h5");
+    const std::string np = shell_quote(ICOBRDF_MPIEXEC) + " -q -np " + std::to_string(ranks) + " --oversubscribe";
+    const auto a = run_shell(kMpiEnv + cli_command(fit_args("model:ggx:alpha=0.3", whole), np));
+    ASSERT_EQ(a.exit_code, 0) << a.err;
+    const auto b = run_shell(kMpiEnv + "ICOBRDF_MPI_PIECE_BYTES=4000 " + cli_command(fit_args("model:ggx:alpha=0.3", pieces), np));
+    ASSERT_EQ(b.exit_code, 0) << b.err;
+    EXPECT_EQ((read_spectrum_file(pieces).channels.at(0) - read_spectrum_file(whole).channels.at(0)).cwiseAbs().maxCoeff(), 0.0)
+        << ranks << " ranks";
+    std::remove(whole.c_str());
+    std::remove(pieces.c_str());
+  }
+  const auto c = run_shell(kMpiEnv + "ICOBRDF_MPI_PIECE_BYTES=0 " + cli_command(fit_args("model:ggx:alpha=0.3", d.file("x.h5")), mpirun()));
+  EXPECT_NE(c.exit_code, 0);
+  EXPECT_NE(c.err.find("ICOBRDF_MPI_PIECE_BYTES: '0', expected a byte count from 1 to 2147483647"), std::string::npos) << c.err;
+  EXPECT_FALSE(exists(d.file("x.h5")));
 }
 
 // Every rank fails the same way after the ranks agreed on the set-up (order 8 is beyond the Gram tolerance
