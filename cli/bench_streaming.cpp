@@ -3,7 +3,9 @@
 // Times the streaming projection of one material (C = P^T F P without its LUT, icobrdf/core/streaming_projection.hpp),
 // the fit `icobrdf fit` makes, apart from building the grid and the operators. Under `mpirun -np R` the
 // projection is spread over the ranks (cli/distributed_run.hpp) and the report, from rank 0, gives the
-// peak resident memory of every rank. Default SOURCE: model:ggx:alpha=0.1 (issue #18's level-7 case).
+// peak resident memory of every rank. The ranks split the operators by rows, as `fit` does (memory per rank
+// O(cells x modes / ranks), icobrdf/core/row_split_projection.hpp), except with --every K > 1: then every
+// rank holds them whole and projects every R-th block of incident rows. The report says which ("operators"). Default SOURCE: model:ggx:alpha=0.1 (issue #18's level-7 case).
 // --every K projects only every K-th block of incident rows (icobrdf/core/streaming_projection.hpp
 // StreamingShare::every), with every array at full size: the time of a projection too long to run whole
 // (times K) and its memory.
@@ -107,6 +109,7 @@ void run_streaming(const StreamArgs& a, const DistributedRun& run) {
     norm += c.squaredNorm();
   }
   const double best = *std::min_element(times.begin(), times.end());
+  const std::string operators = run.ranks == 1 ? "whole (one process)" : run.share && run.share->rows ? "split by rows" : "whole on every rank";
   const nlohmann::json j{{"source", s.source},
                          {"level", a.level},
                          {"cells", ctx->grid->cells()},
@@ -118,6 +121,7 @@ void run_streaming(const StreamArgs& a, const DistributedRun& run) {
                          {"ranks", run.ranks},
                          {"threads_per_rank", omp_get_max_threads()},
                          {"every", a.every},
+                         {"operators", operators},
                          {"projection_seconds_fixed", fixed},
                          {"projection_seconds_whole_estimate", fixed + a.every * (best - fixed)},
                          {"context_seconds", context_seconds},
@@ -133,8 +137,8 @@ void run_streaming(const StreamArgs& a, const DistributedRun& run) {
   }
   std::cout << fmt::format("streaming projection of {}: level {} ({} cells), order {} ({} modes), {} channel(s), {} sampling{}\n", s.source,
                            a.level, ctx->grid->cells(), s.order, s.modes(), s.channel_count(), a.sampling, s.cosine ? ", g form" : "")
-            << fmt::format("  {} rank(s) x {} thread(s); grid and operators {:.3f} s; projection {:.3f} s (best of {}){}\n", run.ranks,
-                           omp_get_max_threads(), context_seconds, best, a.repeat,
+            << fmt::format("  {} rank(s) x {} thread(s), operators {}; grid and operators {:.3f} s; projection {:.3f} s (best of {}){}\n", run.ranks,
+                           omp_get_max_threads(), operators, context_seconds, best, a.repeat,
                            a.every > 1 ? fmt::format(" for 1 block in {} ({:.1f} s of it fixed): {:.1f} s for all (estimate)", a.every, fixed,
                                                      fixed + a.every * (best - fixed)) : "");
   std::string mem;
@@ -162,7 +166,9 @@ void add_streaming(CLI::App& bench) {
   cmd->add_flag("--json", a->json, "JSON: projection_seconds, context_seconds, peak_rss_bytes_per_rank, ...");
   cmd->callback([a] {
     const int projections = a->repeat + (a->every > 1 ? 1 : 0);
-    run_distributed("bench streaming", projections, [a](const DistributedRun& run) { run_streaming(*a, run); });
+    // Under mpirun the ranks split the operators by rows, as `fit` does, unless --every samples the blocks
+    // (the ring has no such sampling): then every rank holds them whole and takes every R-th block.
+    run_distributed("bench streaming", projections, [a](const DistributedRun& run) { run_streaming(*a, run); }, a->every == 1);
   });
 }
 

@@ -134,7 +134,7 @@ DistributedProjection::DistributedProjection(Cluster& cluster, int projections, 
   share_->parts = cluster.size();
   share_->reduce = [this](std::vector<Eigen::MatrixXd>& m) { reduce(m); };
   if (split_rows_) {
-    projections_ = 3 * projections;  // the sum of G, the empty one, the sum of C
+    projections_ = 2 + projections;  // the context's sum of G and empty one, then a sum of C per projection
     share_->rows = std::make_shared<RingExchange>(*this);
   }
 }

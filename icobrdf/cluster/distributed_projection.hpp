@@ -21,6 +21,7 @@
 // A rank that dies (signal) makes mpirun end the job and name the rank.
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <exception>
 #include <memory>
 #include <stdexcept>
@@ -48,24 +49,26 @@ class DistributedProjection {
   // `projections`: how many projections every rank will make (1 for a fit, the repeats of a benchmark); a
   // failure after the last one needs no exchange.
   // `split_rows`: the share carries a row exchange (StreamingShare::rows; icobrdf/core/row_split_projection.hpp):
-  // each projection then makes three exchanges (the sum of G, an empty one once every rank has its rows of
-  // P, then the sum of C) and passes the blocks of P round the ring between the last two (tag kRing, one
-  // matrix per message: C M / R doubles, in pieces of at most 1 GiB when larger, icobrdf/cluster/cluster.hpp).
+  // the context (made once, then kept by FitContexts) makes two exchanges (the sum of G, an empty one once
+  // every rank has its rows of P), and each projection passes the blocks of P round the ring and then makes
+  // one (the sum of C): 2 + projections in all (tag kRing, one matrix per message: C M / R doubles, in pieces
+  // of at most 1 GiB when larger, icobrdf/cluster/cluster.hpp).
   DistributedProjection(Cluster& cluster, int projections, bool split_rows = false);
   // This rank's share, for FitRequest::share / FitOptions::share.
   std::shared_ptr<const StreamingShare> share() const { return share_; }
   int exchanges() const { return exchanges_; }
   // Projections whose sum of C was exchanged: a split fit's context makes two exchanges of its own (G and
   // the empty one), also for sources that then project nothing (fits of scattered samples).
-  int projections_done() const { return split_rows_ ? exchanges_ / 3 : exchanges_; }
+  int projections_done() const { return split_rows_ ? std::max(0, exchanges_ - 2) : exchanges_; }
   // After `error` on this rank: when a projection's exchange is still owed, take part in it with the error
   // (so that no rank waits for this one) and return true: rank 0 then reports it. False when no exchange
   // was owed (the error came after the last one, or an exchange already carried a failure). Never throws.
   // Also false while the blocks of P go round the ring (in_ring()): the other ranks wait for this one's
   // block there, not in an exchange, so the caller must end the job (Cluster::abort).
   bool fail(const std::exception& error) noexcept;
-  // Between the second exchange and the sum of C of a row-split projection.
-  bool in_ring() const { return split_rows_ && exchanges_ % 3 == 2 && !failed_; }
+  // After the context's two exchanges and before the last sum of C of a row-split run: the ranks may be
+  // passing blocks of P round the ring (also between two projections, where the next ring may have begun).
+  bool in_ring() const { return split_rows_ && exchanges_ >= 2 && exchanges_ < projections_ && !failed_; }
 
  private:
   class RingExchange;
