@@ -5,7 +5,8 @@
 // projection is spread over the ranks (cli/distributed_run.hpp) and the report, from rank 0, gives the
 // peak resident memory of every rank. The ranks split the operators by rows, as `fit` does (memory per rank
 // O(cells x modes / ranks), icobrdf/core/row_split_projection.hpp), except with --every K > 1: then every
-// rank holds them whole and projects every R-th block of incident rows. The report says which ("operators"). Default SOURCE: model:ggx:alpha=0.1 (issue #18's level-7 case).
+// rank holds them whole and projects every R-th block of incident rows. The report says which ("operators").
+// Default SOURCE: model:ggx:alpha=0.1 (issue #18's level-7 case).
 // --every K projects only every K-th block of incident rows (icobrdf/core/streaming_projection.hpp
 // StreamingShare::every), with every array at full size: the time of a projection too long to run whole
 // (times K) and its memory.

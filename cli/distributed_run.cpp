@@ -123,14 +123,11 @@ void run_distributed(const std::string& what, int projections, const std::functi
       quiet = projection.fail(e) && rank != 0;
     }
     if (quiet) throw CLI::RuntimeError(exit_code_of(std::current_exception()));
-    try {
-      rethrow_on_rank(e, rank, ranks);
-    } catch (...) {
-      print(std::current_exception());
-    }
+    print(error_on_rank(e, rank, ranks));
   }
 #else
   (void)projections;
+  (void)split_rows;
   if (launcher_world_size() > 1)
     throw UnsupportedError(fmt::format("{}: started by mpirun with {} processes, but this icobrdf was built without MPI (every process would "
                                        "do the whole work); install libopenmpi-dev and rebuild, or run it without mpirun",

@@ -30,7 +30,7 @@ ErrorReport report_of(std::exception_ptr e) {
   } catch (const ResourceError& x) {
     return error(x, kExitResources, "error", "; --memory-budget overrides the limit");
   } catch (const std::bad_alloc&) {
-    return ErrorReport{"icobrdf: error: out of memory: an allocation failed; a lower level or order needs less\n", kExitResources};
+    return ErrorReport{kOutOfMemoryLine, kExitResources};
   } catch (const std::exception& x) {
     return error(x, kExitInternal, "internal error");
   } catch (...) {

@@ -8,6 +8,9 @@
 
 namespace icobrdf::cli {
 
+// The line of an allocation failure; main() writes it without allocating (cli/main.cpp).
+inline constexpr char kOutOfMemoryLine[] = "icobrdf: error: out of memory: an allocation failed; a lower level or order needs less\n";
+
 struct ErrorReport {
   std::string line;  // "icobrdf: error: ...\n" (or "icobrdf: internal error: ...\n"), one line
   int code = 0;      // the exit code of the error's kind

@@ -100,8 +100,7 @@ int main(int argc, char** argv) {
   } catch (const std::bad_alloc&) {
     // Exit at once: after an allocation failed, libraries' exit handlers (OpenBLAS joining its threads) can hang.
     std::cout.flush();
-    static const char kLine[] = "icobrdf: error: out of memory: an allocation failed; a lower level or order needs less\n";
-    (void)!::write(STDERR_FILENO, kLine, sizeof kLine - 1);
+    (void)!::write(STDERR_FILENO, kOutOfMemoryLine, sizeof kOutOfMemoryLine - 1);
     std::_Exit(kExitResources);
   } catch (...) {
     const ErrorReport r = report_of(std::current_exception());  // one short line (cli/error_report.hpp)

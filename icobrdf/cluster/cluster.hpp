@@ -65,8 +65,6 @@ class Cluster {
   // Non-blocking send: returns at once, the bytes are kept until delivered (a large message waits for its
   // receiver; the sender fits meanwhile). finish_sends() waits, polling, until every one was delivered.
   void post(int destination, int tag, std::string bytes);
-  // The piece size in bytes (kMessagePieceBytes unless ICOBRDF_MPI_PIECE_BYTES says otherwise).
-  std::size_t piece_bytes() const { return piece_bytes_; }
   void finish_sends();
   // Ends every rank of the job now (MPI_Abort with `code`): for a failure where the other ranks wait for
   // this one in a way no message can release.
@@ -81,7 +79,7 @@ class Cluster {
   // Completed posts are freed by the next post or finish_sends.
   void free_delivered();
   int rank_ = 0, size_ = 1;
-  std::size_t piece_bytes_ = kMessagePieceBytes;
+  std::size_t piece_bytes_ = kMessagePieceBytes;  // ICOBRDF_MPI_PIECE_BYTES when set
   std::vector<std::unique_ptr<Outgoing>> outgoing_;
 };
 

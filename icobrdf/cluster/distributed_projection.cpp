@@ -220,8 +220,8 @@ bool DistributedProjection::fail(const std::exception& error) noexcept {
   return true;
 }
 
-void rethrow_on_rank(const std::exception& e, int rank, int ranks) {
-  std::rethrow_exception(error_of_kind(kind_of(e), on_rank(rank, ranks, message_line(e.what()))));
+std::exception_ptr error_on_rank(const std::exception& e, int rank, int ranks) {
+  return error_of_kind(kind_of(e), on_rank(rank, ranks, message_line(e.what())));
 }
 
 std::vector<double> gather_on_rank0(Cluster& cluster, double value) {

@@ -40,9 +40,9 @@ struct RankFailed : std::runtime_error {
   std::exception_ptr error;  // the failed rank's error, of its kind (ResourceError, ...), as rank 0 reports it
 };
 
-// Throws an error of the kind of `e` (icobrdf/core/error.hpp; std::runtime_error for others) whose message
-// is "on rank RANK of RANKS: " and e's.
-[[noreturn]] void rethrow_on_rank(const std::exception& e, int rank, int ranks);
+// An error of the kind of `e` (icobrdf/core/error.hpp; std::runtime_error for others) whose message is
+// "on rank RANK of RANKS: " and e's.
+std::exception_ptr error_on_rank(const std::exception& e, int rank, int ranks);
 
 class DistributedProjection {
  public:

@@ -38,7 +38,7 @@ constexpr double kSplitRelTol = 1e-12;
 
 const std::string kMpiEnv = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1 ";
 
-std::string mpirun(const std::string& extra = "") { return shell_quote(ICOBRDF_MPIEXEC) + " -q -np 2 --oversubscribe" + extra; }
+std::string mpirun(int ranks = 2) { return shell_quote(ICOBRDF_MPIEXEC) + " -q -np " + std::to_string(ranks) + " --oversubscribe"; }
 
 CliResult run_mpi(const std::vector<std::string>& args) { return run_shell(kMpiEnv + cli_command(args, mpirun())); }
 
@@ -107,7 +107,7 @@ TEST_F(FitMpi, ThreeAndFourRanksAgreeWithOneProcessToRounding) {
     for (int ranks : {3, 4}) {
       const std::string out = d.file(std::to_string(ranks) + ".h5");
       *(std::find(args.begin(), args.end(), "-o") + 1) = out;
-      const auto b = run_shell(kMpiEnv + cli_command(args, shell_quote(ICOBRDF_MPIEXEC) + " -q -np " + std::to_string(ranks) + " --oversubscribe"));
+      const auto b = run_shell(kMpiEnv + cli_command(args, mpirun(ranks)));
       ASSERT_EQ(b.exit_code, 0) << m.spec << " on " << ranks << " ranks: " << b.err << b.out;
       EXPECT_EQ(json::parse(b.out).at("ranks").get<int>(), ranks) << b.out;
       const Eigen::MatrixXd c = read_spectrum_file(out).channels.at(0);
@@ -124,7 +124,7 @@ TEST_F(FitMpi, MessagesInPiecesGiveTheSameBits) {
   TempDir d;
   for (int ranks : {2, 3}) {
     const std::string whole = d.file("whole.h5"), pieces = d.file("pieces.h5");
-    const std::string np = shell_quote(ICOBRDF_MPIEXEC) + " -q -np " + std::to_string(ranks) + " --oversubscribe";
+    const std::string np = mpirun(ranks);
     const auto a = run_shell(kMpiEnv + cli_command(fit_args("model:ggx:alpha=0.3", whole), np));
     ASSERT_EQ(a.exit_code, 0) << a.err;
     const auto b = run_shell(kMpiEnv + "ICOBRDF_MPI_PIECE_BYTES=4000 " + cli_command(fit_args("model:ggx:alpha=0.3", pieces), np));
@@ -152,7 +152,7 @@ TEST_F(FitMpi, AnErrorOnEveryRankGivesRankZerosLineEveryTime) {
   const std::string out = d.file("out.h5");
   const std::vector<std::string> args = {"fit", "model:ggx:alpha=0.3", "--level", "3", "--order", "8", "-o", out};
   for (int run = 0; run < kRepeats; ++run) {
-    const auto r = run_shell(kMpiEnv + cli_command(args, shell_quote(ICOBRDF_MPIEXEC) + " -q -np 3 --oversubscribe"));
+    const auto r = run_shell(kMpiEnv + cli_command(args, mpirun(3)));
     EXPECT_EQ(r.exit_code, 4) << r.err;  // kExitUnsupported
     EXPECT_FALSE(exists(out));
     std::istringstream err(r.err);
