@@ -52,11 +52,12 @@ class MicrofacetModel final : public ScalarBrdfModel {
   // ArgumentError for an anisotropic Beckmann (no SOURCE name) or non-positive alphas.
   explicit MicrofacetModel(const MicrofacetParams& p);
   double value(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const override;
-  // Batch form: pairs are evaluated in blocks with vectorized array code (the same formulas and
-  // horizon/grazing rules as value(), equal to it up to rounding: a few ulps, the Beckmann exponential being
-  // Eigen's vectorized exp, <= 1.5 ulp from std::exp); Beckmann's erfc is std::erfc, evaluated once per run
-  // of equal consecutive directions. Exactly reciprocal: swapping wi and wr gives bitwise the same values.
-  // Beckmann D is 0 where its exponent exceeds 700 (D < 1e-290 there for alpha >= 1e-3).
+  // Batch form: the vectorized kernel of icobrdf/core/microfacet_kernel.hpp, run-time dispatched to the
+  // CPU's widest vectors (the same formulas and horizon/grazing rules as value(), equal to it up to rounding:
+  // a few ulps, the Beckmann exponential being Highway's vectorized exp, <= 1 ulp from std::exp); Beckmann's
+  // erfc is std::erfc, evaluated once per run of equal consecutive directions. Exactly reciprocal: swapping wi
+  // and wr gives bitwise the same values. Beckmann D is 0 where its exponent exceeds 700 (D < 1e-290 there
+  // for alpha >= 1e-3).
   using ScalarBrdfModel::eval;
   void eval(const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const override;
   // The same values, bit for bit, with the incident side (its frame and Lambda_i: a square root and a

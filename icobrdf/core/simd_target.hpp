@@ -1,7 +1,8 @@
 #pragma once
 // The SIMD instruction sets of the run-time dispatched kernels (Google Highway dynamic dispatch): the
 // projection tile (icobrdf/core/projection_tile.hpp), the spectrum tile (icobrdf/core/spectrum_tile.hpp), the block
-// basis kernel (hemisphere_basis_block, hemisphere_basis_weighted_sum) and lab/'s FP64 peak loop. Each dispatched translation unit is
+// basis kernel (hemisphere_basis_block, hemisphere_basis_weighted_sum), the microfacet kernel (GGX and
+// Beckmann at pairs, icobrdf/core/microfacet_kernel.hpp) and lab/'s FP64 peak loop. Each dispatched translation unit is
 // compiled once per target of Highway's list for this build's baseline (with -march=native only the
 // native target, otherwise SSSE3 .. AVX-512); on its first call a kernel picks the best target this CPU runs.
 // Results differ between targets in rounding only (wider vectors sum the cells in a different order); for

@@ -1,0 +1,219 @@
+// Compiled once per SIMD target (Highway foreach_target); see icobrdf/core/microfacet_kernel.hpp.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "icobrdf/core/microfacet_kernel.cpp"
+#include <hwy/foreach_target.h>  // re-includes this file once per target
+#include <hwy/highway.h>
+#include <hwy/contrib/math/math-inl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+
+#include "icobrdf/core/brdf_model.hpp"
+#include "icobrdf/core/microfacet_kernel.hpp"
+
+#ifndef ICOBRDF_MICROFACET_KERNEL_ONCE
+#define ICOBRDF_MICROFACET_KERNEL_ONCE
+namespace icobrdf {
+namespace {
+// Beckmann: D is set to 0 where its exponent exceeds this (there D < exp(-700) (1 + 700 alpha^2)^2 / (pi alpha^2),
+// below 1e-290 for every alpha >= 1e-3; the factor n^4/h_z^4 is bounded by the same condition, so no
+// overflow meets the underflow of exp).
+constexpr double kBeckmannExponentMax = 700.0;
+// Lanes of the widest vector of any target Highway has (256 bytes: SVE, RVV; AVX-512 has 8 doubles): the size
+// of the per-lane buffers (each target checks its own width against it below; HWY_MAX_BYTES is the width of
+// the target being compiled, so it cannot size a buffer shared by all).
+constexpr std::ptrdiff_t kMaxLanes = 32;
+constexpr double kTiny = std::numeric_limits<double>::min();
+
+// Copies n <= lanes directions (3 doubles each, `stride` doubles apart; stride 0 repeats one) into `pad` as a
+// whole vector's worth, the lanes beyond n set to the harmless (0, 0, 1); returns pad.
+const double* padded_directions(const double* w, std::ptrdiff_t stride, std::ptrdiff_t n, std::ptrdiff_t lanes, double* pad) {
+  for (std::ptrdiff_t k = 0; k < lanes; ++k)
+    for (int e = 0; e < 3; ++e) pad[3 * k + e] = k < n ? w[stride * k + e] : (e == 2 ? 1.0 : 0.0);
+  return pad;
+}
+
+// Beckmann's L = (q exp(-a^2)/sqrt(pi) - z erfc(a))/2 lane by lane from the vectorized parts (q^2, q, a and
+// exp(-a^2)); `prev` carries the last direction and its L across calls (prev[3] = L), so erfc runs once per
+// run of equal consecutive directions (every lane of a LUT row's replicated incident direction).
+void beckmann_l_lanes(std::ptrdiff_t lanes, const double* x, const double* y, const double* z, const double* q2, const double* q,
+                      const double* a, const double* e, double* prev, double* out) {
+  for (std::ptrdiff_t k = 0; k < lanes; ++k) {
+    if (x[k] == prev[0] && y[k] == prev[1] && z[k] == prev[2]) {
+      out[k] = prev[3];
+      continue;
+    }
+    out[k] = q2[k] == 0.0 ? 0.0 : 0.5 * (q[k] * e[k] / std::sqrt(M_PI) - z[k] * std::erfc(a[k]));
+    prev[0] = x[k];
+    prev[1] = y[k];
+    prev[2] = z[k];
+    prev[3] = out[k];
+  }
+}
+}  // namespace
+}  // namespace icobrdf
+#endif
+
+HWY_BEFORE_NAMESPACE();
+namespace icobrdf {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using D = hn::ScalableTag<double>;
+using V = hn::Vec<D>;
+static_assert(HWY_MAX_BYTES / sizeof(double) <= kMaxLanes, "the per-lane buffers are narrower than this target's vectors");
+
+// One side of a pair in the tangent frame: x, y, the given z (for the horizon test) and z clamped at 0.
+struct Side {
+  V x, y, z_given, z;
+};
+
+HWY_INLINE Side LoadSide(D d, const double* w, V cos_az, V sin_az) {
+  V wx, wy, wz;
+  hn::LoadInterleaved3(d, w, wx, wy, wz);
+  Side s;
+  s.x = hn::Add(hn::Mul(cos_az, wx), hn::Mul(sin_az, wy));
+  s.y = hn::Sub(hn::Mul(cos_az, wy), hn::Mul(sin_az, wx));
+  s.z_given = wz;
+  s.z = hn::Max(wz, hn::Zero(d));
+  return s;
+}
+
+// L(w) of one side (microfacet.hpp): GGX q^2 / (2 (sqrt(z^2 + q^2) + z)), floored denominator (only q = z = 0,
+// not a unit vector, meets the floor: L = 0 there instead of 0/0); Beckmann lane by lane for erfc.
+HWY_INLINE V SideL(D d, const Side& s, bool ggx, V ax2, V ay2, double* prev) {
+  const V q2 = hn::Add(hn::Mul(ax2, hn::Mul(s.x, s.x)), hn::Mul(ay2, hn::Mul(s.y, s.y)));
+  if (ggx) {
+    const V root = hn::Sqrt(hn::Add(hn::Mul(s.z, s.z), q2));
+    return hn::Div(q2, hn::Max(hn::Mul(hn::Set(d, 2.0), hn::Add(root, s.z)), hn::Set(d, kTiny)));
+  }
+  const V q = hn::Sqrt(q2);
+  const V a = hn::Div(s.z, hn::Max(q, hn::Set(d, kTiny)));
+  const V e = hn::Exp(d, hn::Neg(hn::Mul(a, a)));
+  HWY_ALIGN double xs[kMaxLanes], ys[kMaxLanes], zs[kMaxLanes], q2s[kMaxLanes], qs[kMaxLanes], as[kMaxLanes], es[kMaxLanes], out[kMaxLanes];
+  hn::Store(s.x, d, xs);
+  hn::Store(s.y, d, ys);
+  hn::Store(s.z, d, zs);
+  hn::Store(q2, d, q2s);
+  hn::Store(q, d, qs);
+  hn::Store(a, d, as);
+  hn::Store(e, d, es);
+  beckmann_l_lanes(static_cast<std::ptrdiff_t>(hn::Lanes(d)), xs, ys, zs, q2s, qs, as, es, prev, out);
+  return hn::Load(d, out);
+}
+
+// Fresnel at c = w_i . h: Schlick f0 + (1 - f0)(1 - c)^5, or the exact dielectric (icobrdf/core/fresnel.hpp:
+// total reflection where g^2 < 0, 0 where g + c = 0), or 1.
+HWY_INLINE V FresnelOf(D d, const MicrofacetKernelParams& p, V c) {
+  const V one = hn::Set(d, 1.0);
+  if (p.fresnel == 1) {
+    const V m = hn::Sub(one, c), m2 = hn::Mul(m, m);
+    return hn::Add(hn::Set(d, p.f0), hn::Mul(hn::Mul(hn::Mul(hn::Set(d, 1.0 - p.f0), m2), m2), m));
+  }
+  if (p.fresnel == 2) {
+    const V g2 = hn::Add(hn::Set(d, p.ior * p.ior - 1.0), hn::Mul(c, c));
+    const V g = hn::Sqrt(hn::Max(g2, hn::Zero(d)));
+    const V gpc = hn::Add(g, c), gmc = hn::Sub(g, c);
+    const V a = hn::Div(gmc, gpc);
+    const V b = hn::Div(hn::Sub(hn::Mul(c, gpc), one), hn::Add(hn::Mul(c, gmc), one));
+    const V f = hn::Mul(hn::Mul(hn::Mul(hn::Set(d, 0.5), a), a), hn::Add(one, hn::Mul(b, b)));
+    return hn::IfThenElse(hn::Lt(g2, hn::Zero(d)), one, hn::IfThenZeroElse(hn::Eq(gpc, hn::Zero(d)), f));
+  }
+  return one;
+}
+
+void MicrofacetValues(const MicrofacetKernelParams& p, const double* wi, std::ptrdiff_t wi_stride, const double* wr, std::ptrdiff_t n,
+                      double* out) {
+  const D d;
+  const std::ptrdiff_t lanes = static_cast<std::ptrdiff_t>(hn::Lanes(d));
+  const double ax = p.alpha_x, ay = p.alpha_y;
+  const V cos_az = hn::Set(d, p.cos_az), sin_az = hn::Set(d, p.sin_az);
+  const V ax2 = hn::Set(d, ax * ax), ay2 = hn::Set(d, ay * ay);
+  const V inv_ax2 = hn::Set(d, 1.0 / (ax * ax)), inv_ay2 = hn::Set(d, 1.0 / (ay * ay));
+  const V d_scale = hn::Set(d, 1.0 / (M_PI * ax * ay));
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0), four = hn::Set(d, 4.0), tiny = hn::Set(d, kTiny);
+  const V horizon = hn::Set(d, -kHorizonSlack), grazing = hn::Set(d, kGrazingCosFloor);
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  double prev_i[4] = {nan, nan, nan, 0.0}, prev_r[4] = {nan, nan, nan, 0.0};
+  HWY_ALIGN double wi_pad[3 * kMaxLanes], wr_pad[3 * kMaxLanes], tail[kMaxLanes];
+  Side si{zero, zero, zero, zero};
+  V li = zero;
+  for (std::ptrdiff_t r0 = 0; r0 < n; r0 += lanes) {
+    const std::ptrdiff_t nb = std::min(lanes, n - r0);
+    // The incident side lives across vectors: with one incident direction (wi_stride 0) the first vector's is
+    // every vector's (a short first vector is the only one), so both forms take the same instructions.
+    if (wi_stride != 0 || r0 == 0) {
+      const double* a = wi + wi_stride * r0;
+      if (wi_stride == 0 || nb < lanes) a = padded_directions(a, wi_stride, nb, lanes, wi_pad);
+      si = LoadSide(d, a, cos_az, sin_az);
+      li = SideL(d, si, p.ggx, ax2, ay2, prev_i);
+    }
+    const double* b = wr + 3 * r0;
+    if (nb < lanes) b = padded_directions(b, 3, nb, lanes, wr_pad);
+    const Side sr = LoadSide(d, b, cos_az, sin_az);
+    const V lr = SideL(d, sr, p.ggx, ax2, ay2, prev_r);
+    // Below the horizon: f = 0; within the slack: z = 0 (icobrdf/core/brdf_model.hpp).
+    const auto below = hn::Or(hn::Lt(si.z_given, horizon), hn::Lt(sr.z_given, horizon));
+    const V hx = hn::Add(si.x, sr.x), hy = hn::Add(si.y, sr.y), hz = hn::Add(si.z, sr.z);
+    const V n2 = hn::Add(hn::Add(hn::Mul(hx, hx), hn::Mul(hy, hy)), hn::Mul(hz, hz));
+    // w_i . h = |w_i + w_r| / 2 for unit vectors: symmetric and accurate.
+    const V c = hn::Min(hn::Mul(hn::Set(d, 0.5), hn::Sqrt(n2)), one);
+    const V f = FresnelOf(d, p, c);
+    V denom;
+    if (p.height_correlated) {
+      const V zfi = hn::Max(si.z, grazing), zfr = hn::Max(sr.z, grazing);
+      // z_r L_i + z_i L_r summed as max + min of the two products: no product can be fused into the addition
+      // (which would round the two orders differently), so swapping w_i and w_r gives bitwise the same sum.
+      const V u = hn::Mul(zfr, li), v = hn::Mul(zfi, lr);
+      denom = hn::Mul(four, hn::Add(hn::Mul(zfi, zfr), hn::Add(hn::Max(u, v), hn::Min(u, v))));
+    } else {
+      denom = hn::Mul(hn::Mul(four, hn::Add(si.z, li)), hn::Add(sr.z, lr));
+    }
+    V value;
+    if (p.ggx) {
+      // D(h/|h|) = 1 / (pi ax ay t^2), t = s / n^2, s = hx^2/ax^2 + hy^2/ay^2 + hz^2 (hz >= 0 here): the division
+      // folded into the final one, D = n^4 / (pi ax ay s^2).
+      const V s = hn::Add(hn::Add(hn::Mul(hn::Mul(hx, hx), inv_ax2), hn::Mul(hn::Mul(hy, hy), inv_ay2)), hn::Mul(hz, hz));
+      value = hn::Div(hn::Mul(hn::Mul(hn::Mul(d_scale, n2), n2), f), hn::Mul(hn::Mul(s, s), denom));
+    } else {
+      // D(h/|h|) = exp(-t) n^4 / (pi ax ay hz^4), t = (hx^2/ax^2 + hy^2/ay^2) / hz^2; its limit 0 at hz = 0 and
+      // beyond kBeckmannExponentMax.
+      const V hz2 = hn::Max(hn::Mul(hz, hz), tiny);
+      const V t = hn::Div(hn::Add(hn::Mul(hn::Mul(hx, hx), inv_ax2), hn::Mul(hn::Mul(hy, hy), inv_ay2)), hz2);
+      const V r = hn::Div(n2, hz2);
+      const V e = hn::Exp(d, hn::Neg(hn::Min(t, hn::Set(d, kBeckmannExponentMax))));
+      const V dv = hn::IfThenElseZero(hn::Le(t, hn::Set(d, kBeckmannExponentMax)), hn::Mul(hn::Mul(d_scale, e), hn::Mul(r, r)));
+      value = hn::Div(hn::Mul(dv, f), denom);
+    }
+    // Zero below the horizon, without a half vector (opposite horizontal directions) and for a vanishing
+    // denominator (guards 0/0), as value() does.
+    const auto dropped = hn::Or(below, hn::Or(hn::Eq(n2, zero), hn::Eq(denom, zero)));
+    const V kept = hn::IfThenZeroElse(dropped, value);
+    if (nb == lanes) {
+      hn::StoreU(kept, d, out + r0);
+    } else {
+      hn::Store(kept, d, tail);
+      std::copy(tail, tail + nb, out + r0);
+    }
+  }
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace icobrdf
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace icobrdf {
+
+HWY_EXPORT(MicrofacetValues);
+
+void microfacet_kernel_values(const MicrofacetKernelParams& p, const double* wi, std::ptrdiff_t wi_stride, const double* wr,
+                              std::ptrdiff_t n, double* out) {
+  if (n <= 0) return;
+  HWY_DYNAMIC_DISPATCH(MicrofacetValues)(p, wi, wi_stride, wr, n, out);
+}
+
+}  // namespace icobrdf
+#endif

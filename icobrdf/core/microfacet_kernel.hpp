@@ -1,0 +1,30 @@
+#pragma once
+// The vectorized microfacet kernel behind MicrofacetModel::eval and eval_row (icobrdf/core/microfacet.hpp):
+// f at n pairs of directions, run-time dispatched to the CPU's widest vectors (Google Highway;
+// icobrdf/core/simd_target.hpp), so a portable build evaluates GGX and Beckmann at AVX-512 or AVX2 width.
+// The formulas and horizon/grazing rules are microfacet.hpp's; the values equal value()'s up to rounding (a
+// few ulps; Beckmann's exponential is Highway's vectorized exp, <= 1 ulp from std::exp by its documentation,
+// and its erfc is std::erfc, once per run of equal consecutive directions). Exactly reciprocal: swapping the
+// incident and remitted directions gives bitwise the same values, on every target. Different targets differ
+// in rounding only.
+#include <cstddef>
+
+namespace icobrdf {
+
+// Everything the kernel needs from MicrofacetParams, in plain numbers (the dispatched code sees no Eigen).
+struct MicrofacetKernelParams {
+  bool ggx = true;                // else Beckmann
+  int fresnel = 0;                // 0 none, 1 Schlick (f0), 2 exact dielectric (ior)
+  bool height_correlated = true;  // else separable masking
+  double cos_az = 1.0, sin_az = 0.0;  // the tangent frame: rotation about z by -azimuth
+  double alpha_x = 0.3, alpha_y = 0.3;
+  double f0 = 0.04, ior = 1.5;
+};
+
+// out[k] = f(wi_k, wr_k) for k < n. wr: n directions as rows of 3 doubles (x, y, z), world frame. wi: rows of
+// 3 doubles `wi_stride` doubles apart; wi_stride 0 makes one incident direction every pair's, its frame and
+// Lambda then computed once, by the same instructions as for pairs (the same bits as repeating it).
+void microfacet_kernel_values(const MicrofacetKernelParams& p, const double* wi, std::ptrdiff_t wi_stride, const double* wr,
+                              std::ptrdiff_t n, double* out);
+
+}  // namespace icobrdf
