@@ -54,9 +54,9 @@ class MicrofacetModel final : public ScalarBrdfModel {
   double value(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const override;
   // Batch form: the vectorized kernel of icobrdf/core/microfacet_kernel.hpp, run-time dispatched to the
   // CPU's widest vectors (the same formulas and horizon/grazing rules as value(), equal to it up to rounding:
-  // a few ulps, the Beckmann exponential being Highway's vectorized exp, <= 1 ulp from std::exp); Beckmann's
-  // erfc is std::erfc, evaluated once per run of equal consecutive directions. Exactly reciprocal: swapping wi
-  // and wr gives bitwise the same values. Beckmann D is 0 where its exponent exceeds 700 (D < 1e-290 there
+  // a few ulps: the Beckmann exponential is Highway's vectorized exp, <= 1 ulp from std::exp, and its erfc a
+  // vectorized expansion of a few ulps). Exactly reciprocal: swapping wi and wr gives bitwise the same values.
+  // Beckmann D is 0 where its exponent exceeds 700 (D < 1e-290 there
   // for alpha >= 1e-3).
   using ScalarBrdfModel::eval;
   void eval(const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const override;

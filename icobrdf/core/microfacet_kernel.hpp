@@ -4,9 +4,9 @@
 // icobrdf/core/simd_target.hpp), so a portable build evaluates GGX and Beckmann at AVX-512 or AVX2 width.
 // The formulas and horizon/grazing rules are microfacet.hpp's; the values equal value()'s up to rounding (a
 // few ulps; Beckmann's exponential is Highway's vectorized exp, <= 1 ulp from std::exp by its documentation,
-// and its erfc is std::erfc, once per run of equal consecutive directions). Exactly reciprocal: swapping the
-// incident and remitted directions gives bitwise the same values, on every target. Different targets differ
-// in rounding only.
+// and its erfc is exp(-a^2) erfcx(a) with erfcx a Chebyshev expansion of about 2 ulps, vectorized too: see
+// microfacet_kernel_erfc). Exactly reciprocal: swapping the incident and remitted directions gives bitwise the
+// same values, on every target. Different targets differ in rounding only.
 #include <cstddef>
 
 namespace icobrdf {
@@ -26,5 +26,11 @@ struct MicrofacetKernelParams {
 // Lambda then computed once, by the same instructions as for pairs (the same bits as repeating it).
 void microfacet_kernel_values(const MicrofacetKernelParams& p, const double* wi, std::ptrdiff_t wi_stride, const double* wr,
                               std::ptrdiff_t n, double* out);
+
+// out[k] = erfc(a[k]) for a[k] >= 0 as the kernel's Beckmann term computes it: exp(-a^2) erfcx(a), erfcx by
+// the Chebyshev expansion of scripts/derive/erfcx_chebyshev.py (about 2 ulps), the exponential Highway's (<= 1
+// ulp; a^2 rounded, so the relative error grows as a^2 ulp: 1e-13 near a = 26, where erfc underflows).
+// ArgumentError for a negative or NaN argument. Exposed for its accuracy test.
+void microfacet_kernel_erfc(const double* a, std::ptrdiff_t n, double* out);
 
 }  // namespace icobrdf

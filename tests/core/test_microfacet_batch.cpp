@@ -5,11 +5,14 @@
 // bit, for the microfacet models and a sum of models: each on every SIMD target compiled in that this CPU runs.
 #include <gtest/gtest.h>
 
+#include <cfloat>
 #include <cmath>
 #include <memory>
 #include <vector>
 
+#include "icobrdf/core/error.hpp"
 #include "icobrdf/core/microfacet.hpp"
+#include "icobrdf/core/microfacet_kernel.hpp"
 #include "icobrdf/core/model_spec.hpp"
 #include "icobrdf/core/simd_target.hpp"
 #include "tests/core/brdf_quadrature.hpp"
@@ -175,6 +178,41 @@ TEST_P(MicrofacetOnTarget, EvalRowIsEvalWithTheIncidentRepeatedBitForBit) {
         EXPECT_EQ(differ, 0) << target.name << ", " << m->spec() << ", " << n << " pairs, wi = " << wi.transpose();
       }
   }
+}
+
+// The kernel's erfc (exp(-a^2) erfcx(a)) against glibc's std::erfc (< 1 ulp): 2 ulps of the erfcx expansion
+// (scripts/derive/erfcx_chebyshev.py, against 40 digits), 1 of Highway's exp, 1 of std::erfc, 1 for the product;
+// the rounding of a^2 adds a^2 ulps (relative error of exp(-a^2) is |a^2| times that of a^2).
+constexpr double kErfcUlps = 5.0;
+// Beyond a = 26.5 erfc < 1e-306 falls into the subnormals; only its smallness matters to the model there.
+constexpr double kErfcSubnormalFrom = 26.5, kErfcSubnormalAbsTol = 1e-300;
+
+TEST_P(MicrofacetOnTarget, ErfcIsStdErfcWithinItsUlps) {
+  const SimdTarget& target = GetParam();
+  if (!target.runs_here) GTEST_SKIP() << "SIMD target " << target.name << " is compiled in but this CPU cannot run it";
+  const ScopedSimdTarget on(target);
+  std::vector<double> a;
+  for (int k = 0; k <= 6000; ++k) a.push_back(k * 1e-3);                            // [0, 6]: the lobe's working range
+  for (int k = 0; k <= 2000; ++k) a.push_back(6.0 * std::pow(30.0 / 6.0, k / 2000.0));  // to beyond the underflow
+  for (double x : {1e-300, 5e-324, 1e3, 1e150, 1e300, 1.7e308}) a.push_back(x);
+  std::vector<double> out(a.size(), -1.0);
+  microfacet_kernel_erfc(a.data(), static_cast<std::ptrdiff_t>(a.size()), out.data());
+  double worst_ulps = 0.0;
+  for (size_t k = 0; k < a.size(); ++k) {
+    const double ref = std::erfc(a[k]);
+    if (a[k] > kErfcSubnormalFrom) {
+      EXPECT_LE(std::abs(out[k] - ref), kErfcSubnormalAbsTol) << target.name << ", a = " << a[k];
+      continue;
+    }
+    const double ulps = std::abs(out[k] - ref) / (ref * DBL_EPSILON);
+    worst_ulps = std::max(worst_ulps, ulps / (kErfcUlps + a[k] * a[k]));
+    EXPECT_LE(ulps, kErfcUlps + a[k] * a[k]) << target.name << ", a = " << a[k] << ": " << out[k] << " against " << ref;
+  }
+  RecordProperty("worst_share_of_bound_" + target.name, std::to_string(worst_ulps));
+  const double negative = -1e-3, nan = std::nan("");
+  double sink = 0.0;
+  EXPECT_THROW(microfacet_kernel_erfc(&negative, 1, &sink), ArgumentError);
+  EXPECT_THROW(microfacet_kernel_erfc(&nan, 1, &sink), ArgumentError);
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryCompiledTarget, MicrofacetOnTarget, ::testing::ValuesIn(compiled_simd_targets()),
