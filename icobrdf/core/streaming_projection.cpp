@@ -212,27 +212,32 @@ std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const 
   const int rows_total = static_cast<int>(row_cells.size());
   const int blocks = (rows_total + kStreamingBlockRows - 1) / kStreamingBlockRows;
   // Per block: X_b = P_rows^T diag(weight) (F_rows P), added in block order (InOrderSums), so the result
-  // does not depend on the number of threads.
+  // does not depend on the number of threads. F_rows P by the projection tile (icobrdf/core/projection_tile.hpp,
+  // P packed once), from the block's rows sampled contiguous (sample_lut_columns).
   std::vector<Eigen::MatrixXd> sums(static_cast<size_t>(ch), Eigen::MatrixXd::Zero(modes, modes));
+  const PackedProjection packed = pack_projection(proj.P);
+  const int cells = g.cells();
   const int mine = blocks_of_share(blocks, share);
   ProgressMeter progress("projecting", mine);
   InOrderSums in_order(sums, kStreamingBlocksAhead, &progress);
 #pragma omp parallel
   {
-    std::vector<Eigen::MatrixXd> rows, out;
+    std::vector<Eigen::MatrixXd> f, out;
+    std::vector<double> scratch;
     Eigen::MatrixXd t, pr;
 #pragma omp for schedule(dynamic)
     for (int k_block = 0; k_block < mine; ++k_block) {
       const int b = block_of_share(k_block, share);
       const int r0 = b * kStreamingBlockRows, r1 = std::min(rows_total, r0 + kStreamingBlockRows);
       const std::vector<int> block(row_cells.begin() + r0, row_cells.begin() + r1);
-      sample_lut_rows(model, sg, cosine, sampling, block, rows);
+      sample_lut_columns(model, sg, cosine, sampling, block, cells, f);  // f[c]: cells x rows
       pr.resize(r1 - r0, modes);
       for (int k = r0; k < r1; ++k) pr.row(k - r0) = row_weight[static_cast<size_t>(k)] * proj.P.row(row_cells[static_cast<size_t>(k)]);
       out.clear();
       for (int c = 0; c < ch; ++c) {
-        t.noalias() = rows[c] * proj.P;
-        out.push_back(pr.transpose() * t);
+        const Eigen::MatrixXd& fc = f[static_cast<size_t>(c)];
+        projection_tile(packed, proj.P, fc.data(), fc.rows(), fc.cols(), t, scratch, 0, cells);  // t = (F_rows P)^T: modes x rows
+        out.push_back(pr.transpose() * t.transpose());
       }
       in_order.add(k_block, std::move(out));
       out.clear();
