@@ -88,33 +88,38 @@ HWY_INLINE Side LoadSide(D d, const double* w, V cos_az, V sin_az) {
 // erfcx(a) = exp(a^2) erfc(a), a >= 0 (the expansion above, Clenshaw's recurrence).
 HWY_INLINE V Erfcx(D d, V a) {
   const V l = hn::Set(d, kErfcxL);
-  const V lpa = hn::Add(l, a);
-  const V z = hn::Div(hn::Sub(a, l), lpa), z2 = hn::Add(z, z);
+  const V inv = hn::Div(hn::Set(d, 1.0), hn::Add(l, a));
+  const V z = hn::Mul(hn::Sub(a, l), inv), z2 = hn::Add(z, z);
   V b1 = hn::Zero(d), b2 = hn::Zero(d);
   for (int j = kErfcxTerms - 1; j >= 1; --j) {
-    const V b0 = hn::Add(hn::MulSub(z2, b1, b2), hn::Set(d, kErfcxChebyshev[j]));
+    // b_j = 2 z b_{j+1} - b_{j+2} + c_j with c_j - b_{j+2} formed off the chain: one multiply-add per term on it.
+    const V b0 = hn::MulAdd(z2, b1, hn::Sub(hn::Set(d, kErfcxChebyshev[j]), b2));
     b2 = b1;
     b1 = b0;
   }
   const V p = hn::Add(hn::MulSub(z, b1, b2), hn::Set(d, kErfcxChebyshev[0]));
-  const V inv = hn::Div(hn::Set(d, 1.0), lpa);
   return hn::Mul(inv, hn::MulAdd(hn::Add(p, p), inv, hn::Set(d, 1.0 / std::sqrt(M_PI))));
 }
 
-// L(w) of one side (microfacet.hpp): GGX q^2 / (2 (sqrt(z^2 + q^2) + z)), floored denominator (only q = z = 0,
-// not a unit vector, meets the floor: L = 0 there instead of 0/0); Beckmann
-// (q exp(-a^2)/sqrt(pi) - z erfc(a))/2 = exp(-a^2) (q/sqrt(pi) - z erfcx(a))/2, a = z/q, 0 at the normal (q = 0).
-HWY_INLINE V SideL(D d, const Side& s, bool ggx, V ax2, V ay2) {
+// L(w) = num / den of one side (microfacet.hpp). GGX: num = q^2, den = 2 (sqrt(z^2 + q^2) + z), floored (only
+// q = z = 0, not a unit vector, meets the floor: L = 0 there instead of 0/0); the division is left to the final
+// one. Beckmann: num = L = (q exp(-a^2)/sqrt(pi) - z erfc(a))/2 = exp(-a^2) (q/sqrt(pi) - z erfcx(a))/2, a = z/q,
+// 0 at the normal (q = 0), and den = 1.
+struct SideL {
+  V num, den;
+};
+
+HWY_INLINE SideL SideLOf(D d, const Side& s, bool ggx, V ax2, V ay2) {
   const V q2 = hn::Add(hn::Mul(ax2, hn::Mul(s.x, s.x)), hn::Mul(ay2, hn::Mul(s.y, s.y)));
   if (ggx) {
     const V root = hn::Sqrt(hn::Add(hn::Mul(s.z, s.z), q2));
-    return hn::Div(q2, hn::Max(hn::Mul(hn::Set(d, 2.0), hn::Add(root, s.z)), hn::Set(d, kTiny)));
+    return {q2, hn::Max(hn::Mul(hn::Set(d, 2.0), hn::Add(root, s.z)), hn::Set(d, kTiny))};
   }
   const V q = hn::Sqrt(q2);
   const V a = hn::Div(s.z, hn::Max(q, hn::Set(d, kTiny)));
   const V e = hn::Exp(d, hn::Neg(hn::Mul(a, a)));
   const V l = hn::Mul(hn::Mul(hn::Set(d, 0.5), e), hn::Sub(hn::Mul(q, hn::Set(d, 1.0 / std::sqrt(M_PI))), hn::Mul(s.z, Erfcx(d, a))));
-  return hn::IfThenZeroElse(hn::Eq(q2, hn::Zero(d)), l);
+  return {hn::IfThenZeroElse(hn::Eq(q2, hn::Zero(d)), l), hn::Set(d, 1.0)};
 }
 
 // Fresnel at c = w_i . h: Schlick f0 + (1 - f0)(1 - c)^5, or the exact dielectric (icobrdf/core/fresnel.hpp:
@@ -163,7 +168,7 @@ void MicrofacetValues(const MicrofacetKernelParams& p, const double* wi, std::pt
   const V horizon = hn::Set(d, -kHorizonSlack), grazing = hn::Set(d, kGrazingCosFloor);
   HWY_ALIGN double wi_pad[3 * kMaxLanes], wr_pad[3 * kMaxLanes], tail[kMaxLanes];
   Side si{zero, zero, zero, zero};
-  V li = zero;
+  SideL li{zero, one};
   for (std::ptrdiff_t r0 = 0; r0 < n; r0 += lanes) {
     const std::ptrdiff_t nb = std::min(lanes, n - r0);
     // The incident side lives across vectors: with one incident direction (wi_stride 0) the first vector's is
@@ -172,41 +177,44 @@ void MicrofacetValues(const MicrofacetKernelParams& p, const double* wi, std::pt
       const double* a = wi + wi_stride * r0;
       if (wi_stride == 0 || nb < lanes) a = padded_directions(a, wi_stride, nb, lanes, wi_pad);
       si = LoadSide(d, a, cos_az, sin_az);
-      li = SideL(d, si, p.ggx, ax2, ay2);
+      li = SideLOf(d, si, p.ggx, ax2, ay2);
     }
     const double* b = wr + 3 * r0;
     if (nb < lanes) b = padded_directions(b, 3, nb, lanes, wr_pad);
     const Side sr = LoadSide(d, b, cos_az, sin_az);
-    const V lr = SideL(d, sr, p.ggx, ax2, ay2);
+    const SideL lr = SideLOf(d, sr, p.ggx, ax2, ay2);
     // Below the horizon: f = 0; within the slack: z = 0 (icobrdf/core/brdf_model.hpp).
     const auto below = hn::Or(hn::Lt(si.z_given, horizon), hn::Lt(sr.z_given, horizon));
     const V hx = hn::Add(si.x, sr.x), hy = hn::Add(si.y, sr.y), hz = hn::Add(si.z, sr.z);
     const V n2 = hn::Add(hn::Add(hn::Mul(hx, hx), hn::Mul(hy, hy)), hn::Mul(hz, hz));
-    // w_i . h = |w_i + w_r| / 2 for unit vectors: symmetric and accurate.
-    const V c = hn::Min(hn::Mul(hn::Set(d, 0.5), hn::Sqrt(n2)), one);
-    const V f = FresnelOf(d, p, c);
+    // w_i . h = |w_i + w_r| / 2 for unit vectors: symmetric and accurate (not needed without Fresnel).
+    const V f = p.fresnel == 0 ? one : FresnelOf(d, p, hn::Min(hn::Mul(hn::Set(d, 0.5), hn::Sqrt(n2)), one));
+    // The masking denominator times den_i den_r (L = num / den on each side), so that GGX's L costs no
+    // division of its own: height-correlated 4 (z_i z_r + z_r L_i + z_i L_r) den_i den_r
+    // = 4 (A_i A_r + A_r num_i + A_i num_r), A = z den; separable 4 (z_i + L_i)(z_r + L_r) den_i den_r
+    // = 4 (z_i den_i + num_i)(z_r den_r + num_r). Beckmann's den = 1 leaves its terms as they were.
     V denom;
     if (p.height_correlated) {
-      const V zfi = hn::Max(si.z, grazing), zfr = hn::Max(sr.z, grazing);
-      // z_r L_i + z_i L_r summed as max + min of the two products: no product can be fused into the addition
+      const V ai = hn::Mul(hn::Max(si.z, grazing), li.den), ar = hn::Mul(hn::Max(sr.z, grazing), lr.den);
+      // A_r num_i + A_i num_r summed as max + min of the two products: no product can be fused into the addition
       // (which would round the two orders differently), so swapping w_i and w_r gives bitwise the same sum.
-      const V u = hn::Mul(zfr, li), v = hn::Mul(zfi, lr);
-      denom = hn::Mul(four, hn::Add(hn::Mul(zfi, zfr), hn::Add(hn::Max(u, v), hn::Min(u, v))));
+      const V u = hn::Mul(ar, li.num), v = hn::Mul(ai, lr.num);
+      denom = hn::Mul(four, hn::Add(hn::Mul(ai, ar), hn::Add(hn::Max(u, v), hn::Min(u, v))));
     } else {
-      denom = hn::Mul(hn::Mul(four, hn::Add(si.z, li)), hn::Add(sr.z, lr));
+      denom = hn::Mul(hn::Mul(four, hn::Add(hn::Mul(si.z, li.den), li.num)), hn::Add(hn::Mul(sr.z, lr.den), lr.num));
     }
     V value;
     if (p.ggx) {
       // D(h/|h|) = 1 / (pi ax ay t^2), t = s / n^2, s = hx^2/ax^2 + hy^2/ay^2 + hz^2 (hz >= 0 here): the division
       // folded into the final one, D = n^4 / (pi ax ay s^2).
       const V s = hn::Add(hn::Add(hn::Mul(hn::Mul(hx, hx), inv_ax2), hn::Mul(hn::Mul(hy, hy), inv_ay2)), hn::Mul(hz, hz));
-      value = hn::Div(hn::Mul(hn::Mul(hn::Mul(d_scale, n2), n2), f), hn::Mul(hn::Mul(s, s), denom));
+      value = hn::Div(hn::Mul(hn::Mul(hn::Mul(hn::Mul(d_scale, n2), n2), f), hn::Mul(li.den, lr.den)), hn::Mul(hn::Mul(s, s), denom));
     } else {
       // D(h/|h|) = exp(-t) n^4 / (pi ax ay hz^4), t = (hx^2/ax^2 + hy^2/ay^2) / hz^2; its limit 0 at hz = 0 and
       // beyond kBeckmannExponentMax.
-      const V hz2 = hn::Max(hn::Mul(hz, hz), tiny);
-      const V t = hn::Div(hn::Add(hn::Mul(hn::Mul(hx, hx), inv_ax2), hn::Mul(hn::Mul(hy, hy), inv_ay2)), hz2);
-      const V r = hn::Div(n2, hz2);
+      const V inv_hz2 = hn::Div(one, hn::Max(hn::Mul(hz, hz), tiny));
+      const V t = hn::Mul(hn::Add(hn::Mul(hn::Mul(hx, hx), inv_ax2), hn::Mul(hn::Mul(hy, hy), inv_ay2)), inv_hz2);
+      const V r = hn::Mul(n2, inv_hz2);
       const V e = hn::Exp(d, hn::Neg(hn::Min(t, hn::Set(d, kBeckmannExponentMax))));
       const V dv = hn::IfThenElseZero(hn::Le(t, hn::Set(d, kBeckmannExponentMax)), hn::Mul(hn::Mul(d_scale, e), hn::Mul(r, r)));
       value = hn::Div(hn::Mul(dv, f), denom);
