@@ -13,6 +13,7 @@
 #include "cli/commands.hpp"
 #include "cli/error_report.hpp"
 #include "cli/exit_codes.hpp"
+#include "icobrdf/cluster/launcher.hpp"
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/memory_budget.hpp"
 #include "icobrdf/core/progress.hpp"
@@ -95,6 +96,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::RuntimeError& e) {
     return e.get_exit_code();  // a command's own exit code (e.g. 130 after SIGINT), message already printed
   } catch (const CLI::ParseError& e) {
+    // Under mpirun every rank parses the same command line and would print the same usage error (or the help):
+    // rank 0 prints it and exits with the code; the others exit quietly with 0, since a non-zero exit makes
+    // mpirun stop rank 0, possibly before its line is out (mpirun still returns rank 0's code).
+    if (icobrdf::launcher_rank() > 0) return kExitOk;
     const int code = app.exit(e);
     return code == 0 ? kExitOk : kExitUsage;
   } catch (const std::bad_alloc&) {

@@ -21,6 +21,19 @@ inline int launcher_world_size() {
 
 inline bool started_by_mpirun() { return launcher_world_size() > 0; }
 
+// This process's rank as the launcher numbered it: OMPI_COMM_WORLD_RANK (OpenMPI), PMI_RANK (PMI-2) or
+// PMIX_RANK (PMIx); -1 when no launcher says. Known before MPI_Init, so that output every rank would print
+// alike (a usage error: every rank parses the same command line) can come from rank 0 alone.
+inline int launcher_rank() {
+  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"})
+    if (const char* v = std::getenv(name)) {
+      char* end = nullptr;
+      const long r = std::strtol(v, &end, 10);
+      if (end != v && *end == '\0' && r >= 0) return static_cast<int>(r);
+    }
+  return -1;
+}
+
 // The processes the launcher started on this machine: OMPI_COMM_WORLD_LOCAL_SIZE (OpenMPI), or
 // 1 when OpenMPI does not say (srun: pass --memory-budget, since SLURM_TASKS_PER_NODE can list several nodes).
 inline int launcher_local_size() {

@@ -165,6 +165,25 @@ TEST_F(FitMpi, AnErrorOnEveryRankGivesRankZerosLineEveryTime) {
 
 // A source that projects nothing (a stored spectrum, re-expanded exactly): each rank fits it whole and rank
 // 0 says so, although the split context made its own exchanges (G and the empty one).
+// A usage error is found before MPI starts, by every rank alike (each parses the same command line): rank 0
+// alone prints it and mpirun returns its usage code (the other ranks exit quietly); the help is printed once.
+TEST_F(FitMpi, AUsageErrorIsPrintedOnceNotOncePerRank) {
+  TempDir d;
+  const std::string out = d.file("out.h5");
+  const auto r = run_shell(kMpiEnv + cli_command({"fit", "model:ggx:alpha=0.3", "--level", "3", "--no-such-option", "-o", out}, mpirun(3)));
+  EXPECT_EQ(r.exit_code, 2) << r.err;  // kExitUsage
+  EXPECT_FALSE(exists(out));
+  std::istringstream err(r.err);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(err, line);) lines.push_back(line);
+  ASSERT_EQ(lines.size(), 1u) << r.err;
+  EXPECT_NE(lines[0].find("--no-such-option"), std::string::npos) << lines[0];
+  const auto help = run_shell(kMpiEnv + cli_command({"fit", "--help"}, mpirun(2)));
+  EXPECT_EQ(help.exit_code, 0) << help.err;
+  ASSERT_NE(help.out.find("Usage:"), std::string::npos) << help.out;
+  EXPECT_EQ(help.out.find("Usage:"), help.out.rfind("Usage:")) << "help printed once: " << help.out;
+}
+
 TEST_F(FitMpi, ASourceWithoutProjectionIsNotedAsFittedWhole) {
   TempDir d;
   const std::string stored = d.file("stored.h5"), out = d.file("out.h5");
