@@ -9,7 +9,6 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
-
 #include <string>
 
 #include "icobrdf/core/brdf_model.hpp"
@@ -250,6 +249,9 @@ void microfacet_kernel_erfc(const double* a, std::ptrdiff_t n, double* out) {
 
 void microfacet_kernel_values(const MicrofacetKernelParams& p, const double* wi, std::ptrdiff_t wi_stride, const double* wr,
                               std::ptrdiff_t n, double* out) {
+  // Whole vectors of incident rows are loaded de-interleaved, which needs rows of 3 one after another.
+  if (wi_stride != 0 && wi_stride != 3)
+    throw ArgumentError("microfacet kernel: incident stride " + std::to_string(wi_stride) + ", expected 0 (one direction) or 3 (rows of 3)");
   if (n <= 0) return;
   HWY_DYNAMIC_DISPATCH(MicrofacetValues)(p, wi, wi_stride, wr, n, out);
 }

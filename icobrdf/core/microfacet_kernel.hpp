@@ -21,9 +21,9 @@ struct MicrofacetKernelParams {
   double f0 = 0.04, ior = 1.5;
 };
 
-// out[k] = f(wi_k, wr_k) for k < n. wr: n directions as rows of 3 doubles (x, y, z), world frame. wi: rows of
-// 3 doubles `wi_stride` doubles apart; wi_stride 0 makes one incident direction every pair's, its frame and
-// Lambda then computed once, by the same instructions as for pairs (the same bits as repeating it).
+// out[k] = f(wi_k, wr_k) for k < n. wr: n directions as rows of 3 doubles (x, y, z), world frame. wi: n such
+// rows (wi_stride 3), or one direction that is every pair's (wi_stride 0; its frame and Lambda then computed
+// once, by the same instructions as for pairs: the same bits as repeating it). ArgumentError for another stride.
 void microfacet_kernel_values(const MicrofacetKernelParams& p, const double* wi, std::ptrdiff_t wi_stride, const double* wr,
                               std::ptrdiff_t n, double* out);
 

@@ -215,6 +215,17 @@ TEST_P(MicrofacetOnTarget, ErfcIsStdErfcWithinItsUlps) {
   EXPECT_THROW(microfacet_kernel_erfc(&nan, 1, &sink), ArgumentError);
 }
 
+// The kernel loads whole vectors of incident rows de-interleaved: rows of 3 one after another, or one direction.
+TEST(MicrofacetKernel, AnIncidentStrideOtherThanZeroOrThreeIsRefused) {
+  const double wi[6] = {0, 0, 1, 0, 0, 1}, wr[6] = {0, 0, 1, 0, 0, 1};
+  double out[2] = {-1, -1};
+  EXPECT_THROW(microfacet_kernel_values(MicrofacetKernelParams{}, wi, 6, wr, 1, out), ArgumentError);
+  EXPECT_EQ(out[0], -1.0) << "nothing written";
+  microfacet_kernel_values(MicrofacetKernelParams{}, wi, 3, wr, 2, out);
+  EXPECT_GT(out[0], 0.0);
+  EXPECT_EQ(out[0], out[1]);
+}
+
 INSTANTIATE_TEST_SUITE_P(EveryCompiledTarget, MicrofacetOnTarget, ::testing::ValuesIn(compiled_simd_targets()),
                          [](const ::testing::TestParamInfo<SimdTarget>& info) { return info.param.name; });
 
