@@ -91,17 +91,7 @@ void MicrofacetModel::eval_row(const Eigen::Vector3d& wi, const RowMatrix3d& wr_
 }
 
 void MicrofacetModel::eval_pairs(const double* wi_data, Eigen::Index wi_stride, const RowMatrix3d& wr_all, Eigen::Ref<Eigen::MatrixXd> out) const {
-  MicrofacetKernelParams k;
-  k.ggx = p_.distribution == MicrofacetDistribution::Ggx;
-  k.fresnel = p_.fresnel == FresnelMode::Schlick ? 1 : p_.fresnel == FresnelMode::Dielectric ? 2 : 0;
-  k.height_correlated = p_.masking == SmithMasking::HeightCorrelated;
-  k.cos_az = cos_az_;
-  k.sin_az = sin_az_;
-  k.alpha_x = p_.alpha_x;
-  k.alpha_y = p_.alpha_y;
-  k.f0 = p_.f0;
-  k.ior = p_.ior;
-  microfacet_kernel_values(k, wi_data, wi_stride, wr_all.data(), wr_all.rows(), out.col(0).data());
+  microfacet_kernel_values(p_, cos_az_, sin_az_, wi_data, wi_stride, wr_all.data(), wr_all.rows(), out.col(0).data());
 }
 
 const char* fresnel_mode_name(FresnelMode m) {

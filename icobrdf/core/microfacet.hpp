@@ -56,8 +56,7 @@ class MicrofacetModel final : public ScalarBrdfModel {
   // CPU's widest vectors (the same formulas and horizon/grazing rules as value(), equal to it up to rounding:
   // a few ulps: the Beckmann exponential is Highway's vectorized exp, <= 1 ulp from std::exp, and its erfc a
   // vectorized expansion of a few ulps). Exactly reciprocal: swapping wi and wr gives bitwise the same values.
-  // Beckmann D is 0 where its exponent exceeds 700 (D < 1e-290 there
-  // for alpha >= 1e-3).
+  // Beckmann D is 0 where its exponent exceeds 700 (D < 1e-290 there for alpha >= 1e-3).
   using ScalarBrdfModel::eval;
   void eval(const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const override;
   // The same values, bit for bit, with the incident side (its frame and Lambda_i: a square root and a

@@ -123,13 +123,13 @@ HWY_INLINE SideL SideLOf(D d, const Side& s, bool ggx, V ax2, V ay2) {
 
 // Fresnel at c = w_i . h: Schlick f0 + (1 - f0)(1 - c)^5, or the exact dielectric (icobrdf/core/fresnel.hpp:
 // total reflection where g^2 < 0, 0 where g + c = 0), or 1.
-HWY_INLINE V FresnelOf(D d, const MicrofacetKernelParams& p, V c) {
+HWY_INLINE V FresnelOf(D d, const MicrofacetParams& p, V c) {
   const V one = hn::Set(d, 1.0);
-  if (p.fresnel == 1) {
+  if (p.fresnel == FresnelMode::Schlick) {
     const V m = hn::Sub(one, c), m2 = hn::Mul(m, m);
     return hn::Add(hn::Set(d, p.f0), hn::Mul(hn::Mul(hn::Mul(hn::Set(d, 1.0 - p.f0), m2), m2), m));
   }
-  if (p.fresnel == 2) {
+  if (p.fresnel == FresnelMode::Dielectric) {
     const V g2 = hn::Add(hn::Set(d, p.ior * p.ior - 1.0), hn::Mul(c, c));
     const V g = hn::Sqrt(hn::Max(g2, hn::Zero(d)));
     const V gpc = hn::Add(g, c), gmc = hn::Sub(g, c);
@@ -154,12 +154,13 @@ void ErfcValues(const double* a, std::ptrdiff_t n, double* out) {
   }
 }
 
-void MicrofacetValues(const MicrofacetKernelParams& p, const double* wi, std::ptrdiff_t wi_stride, const double* wr, std::ptrdiff_t n,
-                      double* out) {
+void MicrofacetValues(const MicrofacetParams& p, double cos_azimuth, double sin_azimuth, const double* wi, std::ptrdiff_t wi_stride,
+                      const double* wr, std::ptrdiff_t n, double* out) {
+  const bool ggx = p.distribution == MicrofacetDistribution::Ggx;
   const D d;
   const std::ptrdiff_t lanes = static_cast<std::ptrdiff_t>(hn::Lanes(d));
   const double ax = p.alpha_x, ay = p.alpha_y;
-  const V cos_az = hn::Set(d, p.cos_az), sin_az = hn::Set(d, p.sin_az);
+  const V cos_az = hn::Set(d, cos_azimuth), sin_az = hn::Set(d, sin_azimuth);
   const V ax2 = hn::Set(d, ax * ax), ay2 = hn::Set(d, ay * ay);
   const V inv_ax2 = hn::Set(d, 1.0 / (ax * ax)), inv_ay2 = hn::Set(d, 1.0 / (ay * ay));
   const V d_scale = hn::Set(d, 1.0 / (M_PI * ax * ay));
@@ -176,24 +177,24 @@ void MicrofacetValues(const MicrofacetKernelParams& p, const double* wi, std::pt
       const double* a = wi + wi_stride * r0;
       if (wi_stride == 0 || nb < lanes) a = padded_directions(a, wi_stride, nb, lanes, wi_pad);
       si = LoadSide(d, a, cos_az, sin_az);
-      li = SideLOf(d, si, p.ggx, ax2, ay2);
+      li = SideLOf(d, si, ggx, ax2, ay2);
     }
     const double* b = wr + 3 * r0;
     if (nb < lanes) b = padded_directions(b, 3, nb, lanes, wr_pad);
     const Side sr = LoadSide(d, b, cos_az, sin_az);
-    const SideL lr = SideLOf(d, sr, p.ggx, ax2, ay2);
+    const SideL lr = SideLOf(d, sr, ggx, ax2, ay2);
     // Below the horizon: f = 0; within the slack: z = 0 (icobrdf/core/brdf_model.hpp).
     const auto below = hn::Or(hn::Lt(si.z_given, horizon), hn::Lt(sr.z_given, horizon));
     const V hx = hn::Add(si.x, sr.x), hy = hn::Add(si.y, sr.y), hz = hn::Add(si.z, sr.z);
     const V n2 = hn::Add(hn::Add(hn::Mul(hx, hx), hn::Mul(hy, hy)), hn::Mul(hz, hz));
     // w_i . h = |w_i + w_r| / 2 for unit vectors: symmetric and accurate (not needed without Fresnel).
-    const V f = p.fresnel == 0 ? one : FresnelOf(d, p, hn::Min(hn::Mul(hn::Set(d, 0.5), hn::Sqrt(n2)), one));
+    const V f = p.fresnel == FresnelMode::None ? one : FresnelOf(d, p, hn::Min(hn::Mul(hn::Set(d, 0.5), hn::Sqrt(n2)), one));
     // The masking denominator times den_i den_r (L = num / den on each side), so that GGX's L costs no
     // division of its own: height-correlated 4 (z_i z_r + z_r L_i + z_i L_r) den_i den_r
     // = 4 (A_i A_r + A_r num_i + A_i num_r), A = z den; separable 4 (z_i + L_i)(z_r + L_r) den_i den_r
     // = 4 (z_i den_i + num_i)(z_r den_r + num_r). Beckmann's den = 1 leaves its terms as they were.
     V denom;
-    if (p.height_correlated) {
+    if (p.masking == SmithMasking::HeightCorrelated) {
       const V ai = hn::Mul(hn::Max(si.z, grazing), li.den), ar = hn::Mul(hn::Max(sr.z, grazing), lr.den);
       // A_r num_i + A_i num_r summed as max + min of the two products: no product can be fused into the addition
       // (which would round the two orders differently), so swapping w_i and w_r gives bitwise the same sum.
@@ -203,7 +204,7 @@ void MicrofacetValues(const MicrofacetKernelParams& p, const double* wi, std::pt
       denom = hn::Mul(hn::Mul(four, hn::Add(hn::Mul(si.z, li.den), li.num)), hn::Add(hn::Mul(sr.z, lr.den), lr.num));
     }
     V value;
-    if (p.ggx) {
+    if (ggx) {
       // D(h/|h|) = 1 / (pi ax ay t^2), t = s / n^2, s = hx^2/ax^2 + hy^2/ay^2 + hz^2 (hz >= 0 here): the division
       // folded into the final one, D = n^4 / (pi ax ay s^2).
       const V s = hn::Add(hn::Add(hn::Mul(hn::Mul(hx, hx), inv_ax2), hn::Mul(hn::Mul(hy, hy), inv_ay2)), hn::Mul(hz, hz));
@@ -247,13 +248,13 @@ void microfacet_kernel_erfc(const double* a, std::ptrdiff_t n, double* out) {
   if (n > 0) HWY_DYNAMIC_DISPATCH(ErfcValues)(a, n, out);
 }
 
-void microfacet_kernel_values(const MicrofacetKernelParams& p, const double* wi, std::ptrdiff_t wi_stride, const double* wr,
-                              std::ptrdiff_t n, double* out) {
+void microfacet_kernel_values(const MicrofacetParams& p, double cos_azimuth, double sin_azimuth, const double* wi,
+                              std::ptrdiff_t wi_stride, const double* wr, std::ptrdiff_t n, double* out) {
   // Whole vectors of incident rows are loaded de-interleaved, which needs rows of 3 one after another.
   if (wi_stride != 0 && wi_stride != 3)
     throw ArgumentError("microfacet kernel: incident stride " + std::to_string(wi_stride) + ", expected 0 (one direction) or 3 (rows of 3)");
   if (n <= 0) return;
-  HWY_DYNAMIC_DISPATCH(MicrofacetValues)(p, wi, wi_stride, wr, n, out);
+  HWY_DYNAMIC_DISPATCH(MicrofacetValues)(p, cos_azimuth, sin_azimuth, wi, wi_stride, wr, n, out);
 }
 
 }  // namespace icobrdf

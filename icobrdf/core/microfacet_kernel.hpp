@@ -9,23 +9,16 @@
 // same values, on every target. Different targets differ in rounding only.
 #include <cstddef>
 
+#include "icobrdf/core/microfacet.hpp"
+
 namespace icobrdf {
 
-// Everything the kernel needs from MicrofacetParams, in plain numbers (the dispatched code sees no Eigen).
-struct MicrofacetKernelParams {
-  bool ggx = true;                // else Beckmann
-  int fresnel = 0;                // 0 none, 1 Schlick (f0), 2 exact dielectric (ior)
-  bool height_correlated = true;  // else separable masking
-  double cos_az = 1.0, sin_az = 0.0;  // the tangent frame: rotation about z by -azimuth
-  double alpha_x = 0.3, alpha_y = 0.3;
-  double f0 = 0.04, ior = 1.5;
-};
-
-// out[k] = f(wi_k, wr_k) for k < n. wr: n directions as rows of 3 doubles (x, y, z), world frame. wi: n such
+// out[k] = f(wi_k, wr_k) for k < n, f the microfacet model of `p` (alpha_y used as given: MicrofacetModel sets
+// it to alpha_x for an isotropic model) with its tangent frame at the azimuth whose cosine and sine are given. wr: n directions as rows of 3 doubles (x, y, z), world frame. wi: n such
 // rows (wi_stride 3), or one direction that is every pair's (wi_stride 0; its frame and Lambda then computed
 // once, by the same instructions as for pairs: the same bits as repeating it). ArgumentError for another stride.
-void microfacet_kernel_values(const MicrofacetKernelParams& p, const double* wi, std::ptrdiff_t wi_stride, const double* wr,
-                              std::ptrdiff_t n, double* out);
+void microfacet_kernel_values(const MicrofacetParams& p, double cos_azimuth, double sin_azimuth, const double* wi,
+                              std::ptrdiff_t wi_stride, const double* wr, std::ptrdiff_t n, double* out);
 
 // out[k] = erfc(a[k]) for a[k] >= 0 as the kernel's Beckmann term computes it: exp(-a^2) erfcx(a), erfcx by
 // the Chebyshev expansion of scripts/derive/erfcx_chebyshev.py (about 2 ulps), the exponential Highway's (<= 1

@@ -219,9 +219,9 @@ TEST_P(MicrofacetOnTarget, ErfcIsStdErfcWithinItsUlps) {
 TEST(MicrofacetKernel, AnIncidentStrideOtherThanZeroOrThreeIsRefused) {
   const double wi[6] = {0, 0, 1, 0, 0, 1}, wr[6] = {0, 0, 1, 0, 0, 1};
   double out[2] = {-1, -1};
-  EXPECT_THROW(microfacet_kernel_values(MicrofacetKernelParams{}, wi, 6, wr, 1, out), ArgumentError);
+  EXPECT_THROW(microfacet_kernel_values(MicrofacetParams{}, 1.0, 0.0, wi, 6, wr, 1, out), ArgumentError);
   EXPECT_EQ(out[0], -1.0) << "nothing written";
-  microfacet_kernel_values(MicrofacetKernelParams{}, wi, 3, wr, 2, out);
+  microfacet_kernel_values(MicrofacetParams{}, 1.0, 0.0, wi, 3, wr, 2, out);
   EXPECT_GT(out[0], 0.0);
   EXPECT_EQ(out[0], out[1]);
 }
