@@ -2,7 +2,8 @@
 // Projects a BRDF onto the Helmholtz modes on a tessellation and writes its spectrum. Scattered samples
 // (CSV) without --order get a cross-validated order; a fit longer than kProgressDelaySeconds reports its
 // stages on stderr. Under `mpirun -np R` the streaming projection of a model (or an RGL material, or a
-// half-angle lobe) is spread over the R ranks (cli/distributed_run.hpp); rank 0 writes and prints.
+// half-angle lobe) is spread over the R ranks (cli/distributed_run.hpp), and so are the passes of a
+// least-squares fit over its samples (MERL tables, CSV samples); rank 0 writes and prints.
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
@@ -86,7 +87,7 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
   if (!run.writes()) return;  // rank 0 checks, writes and reports
   const Spectrum& s = fit.spectrum;
   const ProjectionContext& ctx = *fit.context;
-  if (run.ranks > 1 && run.exchanges() == 0)
+  if (run.ranks > 1 && run.exchanges() == 0 && run.sample_sums() == 0)
     std::cerr << "icobrdf: note: " << s.source << " is not fitted by streaming projection; each of the " << run.ranks
               << " ranks fitted it whole\n";
   check_fitted_albedo(s, *ctx.grid, "fit " + quoted_text(s.source), {a.strict, &std::cerr});
@@ -111,6 +112,8 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
                    {"seconds", seconds}};
   if (run.ranks > 1) {
     j["ranks"] = run.ranks;
+    // What the ranks split: the projection's operators, the passes over the samples, or nothing.
+    j["split"] = run.exchanges() > 0 ? "operators by rows" : run.sample_sums() > 0 ? "samples" : "none";
     j["peak_rss_bytes_per_rank"] = rss;  // the operators are split by rows: O(cells x modes / ranks) each
   }
   // Scattered-sample fits (MERL, CSV): the least-squares figures, so rank-deficient data is visible.

@@ -86,6 +86,7 @@ void run_distributed(const std::string& what, int projections, const std::functi
   };
   run.gather = [&cluster](double v) { return gather_on_rank0(cluster, v); };
   run.exchanges = [&projection] { return projection.projections_done(); };
+  run.sample_sums = [&projection] { return projection.sample_sums(); };
   if (cluster.rank() != 0) set_progress_stream(nullptr);
   end_on_sigterm(cluster.rank(), cluster.size());
   const int rank = cluster.rank(), ranks = cluster.size();

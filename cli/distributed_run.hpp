@@ -29,6 +29,8 @@ struct DistributedRun {
   std::function<std::vector<double>(double)> gather = [](double v) { return std::vector<double>{v}; };
   // Projections whose result was exchanged so far (0 in one process).
   std::function<int()> exchanges = [] { return 0; };
+  // Sums of a fit of scattered samples split over the ranks so far (0 in one process).
+  std::function<int()> sample_sums = [] { return 0; };
   bool writes() const { return rank == 0; }
 };
 

@@ -133,6 +133,12 @@ DistributedProjection::DistributedProjection(Cluster& cluster, int projections, 
   share_->part = cluster.rank();
   share_->parts = cluster.size();
   share_->reduce = [this](std::vector<Eigen::MatrixXd>& m) { reduce(m); };
+  // An exchange nobody planned: owed from here on like a projection's, so that a rank failing before it joins it.
+  share_->sample_sum = [this](std::vector<Eigen::MatrixXd>& m) {
+    ++projections_;
+    ++sample_sums_;
+    reduce(m);
+  };
   if (split_rows_) {
     projections_ = 2 + projections;  // the context's sum of G and empty one, then a sum of C per projection
     share_->rows = std::make_shared<RingExchange>(*this);

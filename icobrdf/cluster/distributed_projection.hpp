@@ -58,8 +58,9 @@ class DistributedProjection {
   std::shared_ptr<const StreamingShare> share() const { return share_; }
   int exchanges() const { return exchanges_; }
   // Projections whose sum of C was exchanged: a split fit's context makes two exchanges of its own (G and
-  // the empty one), also for sources that then project nothing (fits of scattered samples).
-  int projections_done() const { return split_rows_ ? std::max(0, exchanges_ - 2) : exchanges_; }
+  // the empty one), also for sources that then project nothing (fits of scattered samples, whose own sums
+  // are sample_sums(), not projections).
+  int projections_done() const { return (split_rows_ ? std::max(0, exchanges_ - 2) : exchanges_) - sample_sums_; }
   // After `error` on this rank: when a projection's exchange is still owed, take part in it with the error
   // (so that no rank waits for this one) and return true: rank 0 then reports it. False when no exchange
   // was owed (the error came after the last one, or an exchange already carried a failure). Never throws.
@@ -68,14 +69,17 @@ class DistributedProjection {
   bool fail(const std::exception& error) noexcept;
   // After the context's two exchanges and before the last sum of C of a row-split run: the ranks may be
   // passing blocks of P round the ring (also between two projections, where the next ring may have begun).
-  bool in_ring() const { return split_rows_ && exchanges_ >= 2 && exchanges_ < projections_ && !failed_; }
+  // A sample fit (sample_sums() > 0) runs no ring.
+  bool in_ring() const { return split_rows_ && exchanges_ >= 2 && exchanges_ < projections_ && !failed_ && sample_sums_ == 0; }
+  // Sums made for a fit of scattered samples (StreamingShare::sample_sum); each also counts as an exchange.
+  int sample_sums() const { return sample_sums_; }
 
  private:
   class RingExchange;
   void reduce(std::vector<Eigen::MatrixXd>& matrices);
   bool split_rows_ = false;
   Cluster& cluster_;
-  int projections_ = 1, exchanges_ = 0;
+  int projections_ = 1, exchanges_ = 0, sample_sums_ = 0;
   bool failed_ = false;  // an exchange carried a failure: every rank stops, no exchange follows
   std::shared_ptr<StreamingShare> share_;
 };

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstddef>
 #include <exception>
 #include <functional>
 #include <limits>
@@ -103,6 +104,20 @@ std::vector<Eigen::Index> positive_rows(const Eigen::VectorXd& weights, const st
       if (weights[i] > 0.0) idx.push_back(i);
   }
   return idx;
+}
+
+bool split_fit(const SampleFitOptions& o) { return o.split && o.split->parts > 1; }
+
+// This process's rows of the rows `idx` (SampleFitSplit; all of them when the fit is not split).
+std::vector<Eigen::Index> part_of_rows(const std::vector<Eigen::Index>& idx, const SampleFitOptions& o) {
+  if (!split_fit(o)) return idx;
+  const auto n = idx.size(), part = static_cast<size_t>(o.split->part), parts = static_cast<size_t>(o.split->parts);
+  return {idx.begin() + static_cast<std::ptrdiff_t>(n * part / parts), idx.begin() + static_cast<std::ptrdiff_t>(n * (part + 1) / parts)};
+}
+
+// Replaces `m` by its sum over the processes of a split fit (unchanged otherwise).
+void sum_over_parts(const SampleFitOptions& o, std::vector<Eigen::MatrixXd>& m) {
+  if (split_fit(o)) o.split->sum(m);
 }
 
 // Writes rows [lo, lo + m) of the rows `idx` into ab (W^(1/2) A: the modes at the samples times the square
@@ -395,12 +410,14 @@ std::optional<SampleFitResult> solve_normal_equations(const SampleFitOptions& op
                      cs[static_cast<size_t>(t)].noalias() += ab.transpose() * r;
                      rs[static_cast<size_t>(t)] += r.colwise().squaredNorm().transpose();
                    });
-    Eigen::MatrixXd c = Eigen::MatrixXd::Zero(k, channels);
-    rss = Eigen::VectorXd::Zero(channels);
+    std::vector<Eigen::MatrixXd> sums{Eigen::MatrixXd::Zero(k, channels), Eigen::MatrixXd::Zero(channels, 1)};
     for (int t = 0; t < threads; ++t) {
-      c += cs[static_cast<size_t>(t)];
-      rss += rs[static_cast<size_t>(t)];
+      sums[0] += cs[static_cast<size_t>(t)];
+      sums[1] += rs[static_cast<size_t>(t)];
     }
+    sum_over_parts(options, sums);  // the other processes' rows
+    const Eigen::MatrixXd c = std::move(sums[0]);
+    rss = sums[1].col(0);
     const Eigen::MatrixXd dx = lltl.solve(c - d.asDiagonal() * x);
     for (Eigen::Index ch = 0; ch < channels; ++ch)
       rss[ch] = std::max(0.0, rss[ch] - 2.0 * dx.col(ch).dot(c.col(ch)) + dx.col(ch).dot(g.selfadjointView<Eigen::Lower>() * dx.col(ch)));
@@ -523,13 +540,14 @@ void check_sample_fit_input(const SampleFitOptions& options, const RowMatrix3d& 
   check_rows(wi, wr, values, weights, values.cols());
 }
 
-NormalEquations assemble_normal_equations(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr,
-                                          const Eigen::MatrixXd& values, const Eigen::VectorXd& weights,
-                                          const std::vector<Eigen::Index>& rows, const FitProgress& progress,
-                                          const DenseKernels* kernels, bool single_products) {
+namespace {
+
+// assemble_normal_equations over the rows `idx` (all of positive weight).
+NormalEquations assemble_rows(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
+                              const Eigen::VectorXd& weights, const std::vector<Eigen::Index>& idx, const FitProgress& progress,
+                              const DenseKernels* kernels, bool single_products) {
   const int k = unknown_count(order, isotropic);
   const Eigen::Index channels = values.cols();
-  const std::vector<Eigen::Index> idx = positive_rows(weights, rows);
   NormalEquations ne;
   ne.gram = Eigen::MatrixXd::Zero(k, k);
   ne.rhs = Eigen::MatrixXd::Zero(k, channels);
@@ -549,6 +567,27 @@ NormalEquations assemble_normal_equations(int order, bool isotropic, const RowMa
   fill_upper(ne.gram);
   ne.samples = static_cast<long long>(idx.size());
   return ne;
+}
+
+// The normal equations of this process's rows -> those of every process's (a split fit; unchanged otherwise).
+void sum_normal_equations(const SampleFitOptions& o, NormalEquations& ne) {
+  if (!split_fit(o)) return;
+  std::vector<Eigen::MatrixXd> m{std::move(ne.gram), std::move(ne.rhs), ne.yy, Eigen::Vector2d(ne.weight_sum, static_cast<double>(ne.samples))};
+  o.split->sum(m);
+  ne.gram = std::move(m[0]);
+  ne.rhs = std::move(m[1]);
+  ne.yy = m[2].col(0);
+  ne.weight_sum = m[3](0, 0);
+  ne.samples = std::llround(m[3](1, 0));  // a count below 2^53: exact in double
+}
+
+}  // namespace
+
+NormalEquations assemble_normal_equations(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr,
+                                          const Eigen::MatrixXd& values, const Eigen::VectorXd& weights,
+                                          const std::vector<Eigen::Index>& rows, const FitProgress& progress,
+                                          const DenseKernels* kernels, bool single_products) {
+  return assemble_rows(order, isotropic, wi, wr, values, weights, positive_rows(weights, rows), progress, kernels, single_products);
 }
 
 Eigen::VectorXd tikhonov_penalties(int order, bool isotropic, double power) {
@@ -582,6 +621,19 @@ void SampleFitAccumulator::absorb(const Eigen::MatrixXd& block) {
   stacked.bottomRows(block.rows()) = block;
   Eigen::HouseholderQR<Eigen::MatrixXd> qr(stacked);
   r_ = qr.matrixQR().topRows(k).triangularView<Eigen::Upper>();
+}
+
+void SampleFitAccumulator::merge_parts() {
+  if (!split_fit(options_)) return;
+  const auto parts = static_cast<size_t>(options_.split->parts), part = static_cast<size_t>(options_.split->part);
+  std::vector<Eigen::MatrixXd> m(parts + 1, Eigen::MatrixXd::Zero(r_.rows(), r_.cols()));
+  m[part] = r_;
+  m[parts] = Eigen::Vector2d(weight_sum_, static_cast<double>(samples_));
+  options_.split->sum(m);  // every process's factor, each in its own slot (the others add zeros)
+  r_.setZero();
+  for (size_t p = 0; p < parts; ++p) absorb(m[p]);
+  weight_sum_ = m[parts](0, 0);
+  samples_ = std::llround(m[parts](1, 0));
 }
 
 void SampleFitAccumulator::add(const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
@@ -714,25 +766,45 @@ SampleFitResult fit_samples(const RowMatrix3d& wi, const RowMatrix3d& wr, const 
                             const NormalEquations* assembled, const NormalEquationsProbe* probed) {
   const Eigen::VectorXd w = weights.size() == 0 ? Eigen::VectorXd::Ones(wi.rows()).eval() : weights;
   check_sample_fit_input(options, wi, wr, values, w);
-  const std::vector<Eigen::Index> idx = positive_rows(w, {});
-  if (idx.empty()) throw ArgumentError("sample fit: no sample with positive weight");
+  const std::vector<Eigen::Index> all = positive_rows(w, {});
+  if (all.empty()) throw ArgumentError("sample fit: no sample with positive weight");
+  const std::vector<Eigen::Index> idx = part_of_rows(all, options);  // this process's rows (SampleFitSplit)
   const int k = unknown_count(options.order, options.isotropic);
+  const auto assemble = [&](bool single) {
+    NormalEquations ne = assemble_rows(options.order, options.isotropic, wi, wr, values, w, idx, options.progress, options.kernels, single);
+    sum_normal_equations(options, ne);
+    return ne;
+  };
   NormalEquations own;
-  if (!assembled)
-    own = assemble_normal_equations(options.order, options.isotropic, wi, wr, values, w, {}, options.progress, options.kernels,
-                                    single_gram_products(options.gram, static_cast<long long>(idx.size()), k));
+  if (!assembled) own = assemble(single_gram_products(options.gram, static_cast<long long>(all.size()), k));
   if (!assembled) probed = nullptr;  // a probe of other normal equations
   const NormalEquations* ne = assembled ? assembled : &own;
-  if (ne->gram.rows() != k || ne->samples != static_cast<long long>(idx.size()))
+  if (ne->gram.rows() != k || ne->samples != static_cast<long long>(all.size()))
     throw ArgumentError("sample fit: the assembled normal equations do not match the samples and modes");
   bool needs_double = false;
   if (auto fast = solve_normal_equations(options, *ne, wi, wr, values, w, idx, probed, needs_double)) return *fast;
   if (needs_double) {  // a single-precision Gram that cannot be refined: assemble it again in double
-    own = assemble_normal_equations(options.order, options.isotropic, wi, wr, values, w, {}, options.progress, options.kernels, false);
+    own = assemble(false);
     if (auto fast = solve_normal_equations(options, own, wi, wr, values, w, idx, nullptr, needs_double)) return *fast;
   }
   SampleFitAccumulator acc(options, static_cast<int>(values.cols()));
-  acc.add(wi, wr, values, w);
+  if (!split_fit(options)) {
+    acc.add(wi, wr, values, w);
+  } else {  // this process's rows, then every process's factor
+    const auto n = static_cast<Eigen::Index>(idx.size());
+    RowMatrix3d a(n, 3), b(n, 3);
+    Eigen::MatrixXd y(n, values.cols());
+    Eigen::VectorXd v(n);
+    for (Eigen::Index t = 0; t < n; ++t) {
+      const Eigen::Index i = idx[static_cast<size_t>(t)];
+      a.row(t) = wi.row(i);
+      b.row(t) = wr.row(i);
+      y.row(t) = values.row(i);
+      v[t] = w[i];
+    }
+    acc.add(a, b, y, v);
+    acc.merge_parts();
+  }
   return acc.solve();
 }
 

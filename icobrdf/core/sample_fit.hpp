@@ -108,6 +108,22 @@ inline bool refinement_converged(double previous, double last, double size, doub
 // Precision of the products of the Gram matrix's rank-k updates (see "Single-precision Gram products").
 enum class GramPrecision { Automatic, Double, Single };
 
+// A fit split over processes (`mpirun icobrdf fit`, icobrdf/cluster/distributed_projection.hpp). Every process
+// holds every sample; process `part` of `parts` passes over its contiguous share of the rows of positive weight
+// (rows [n part / parts, n (part + 1) / parts) of them) and nothing else, and every pass ends in `sum`, which
+// replaces matrices (the same sizes on every process) by their sum over the processes, added in part order,
+// every process getting the sum. The normal equations, each refinement pass and the residual are sums; the QR
+// path's triangular factors are combined instead (each process's factor is gathered through `sum` and the
+// factors absorbed in part order: parts x (unknowns + channels)^2 doubles per process). Every decision (the
+// solver, the refinement's end) is then taken from the same summed figures on every process, so all reach
+// the same solution: the same bits for a fixed number of processes running the same build on the same
+// instruction set, and one process's solution up to the order of the sums. `sum` is collective: every
+// process calls it the same number of times.
+struct SampleFitSplit {
+  int part = 0, parts = 1;
+  std::function<void(std::vector<Eigen::MatrixXd>&)> sum;
+};
+
 // SampleFitResult::solver of a normal-equation fit whose Gram matrix had single-precision products.
 inline constexpr const char* kSingleGramSolver = "normal equations, single-precision Gram";
 
@@ -123,6 +139,9 @@ struct SampleFitOptions {
   const DenseKernels* kernels = nullptr;
   // Products of the Gram matrix when the fit assembles it (fit_samples without `assembled`; fit_samples_checked).
   GramPrecision gram = GramPrecision::Automatic;
+  // Optional: this process's part of a fit split over processes (SampleFitSplit): fit_samples and
+  // fit_samples_checked (icobrdf/core/sample_fit_selection.hpp) pass over its rows only.
+  std::shared_ptr<const SampleFitSplit> split;
 };
 
 struct SampleFitResult {
@@ -236,6 +255,9 @@ class SampleFitAccumulator {
   void add(const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values, const Eigen::VectorXd& weights);
   // ArgumentError when no sample with positive weight was added.
   SampleFitResult solve() const;
+  // With options.split over several parts: makes this process's factor (of its rows) the factor of every
+  // process's rows, and the counts their sums (collective, see SampleFitSplit).
+  void merge_parts();
   long long samples() const { return samples_; }
   int unknowns() const { return unknowns_; }
 
@@ -250,7 +272,9 @@ class SampleFitAccumulator {
 };
 
 // One-shot fit (fast path above, QR otherwise); weights empty means all 1. Same errors as the accumulator.
-// `assembled`, when given, must be the normal equations of these samples (all rows) for these modes;
+// With options.split (several parts) the fit passes over this process's part of the rows only (SampleFitSplit).
+// `assembled`, when given, must be the normal equations of these samples (all rows, summed over the processes
+// of a split) for these modes;
 // `probed`, when given, probe_normal_equations(*assembled, options.rank_tolerance) (saves a factorization).
 SampleFitResult fit_samples(const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
                             const Eigen::VectorXd& weights, const SampleFitOptions& options,

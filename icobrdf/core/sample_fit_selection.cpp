@@ -8,7 +8,9 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <iterator>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -45,18 +47,33 @@ struct Folds {
   const Eigen::MatrixXd* values = nullptr;
   const Eigen::VectorXd* weights = nullptr;
   std::vector<int> fold_of_row;
+  // A fit split over processes (SampleFitSplit): the folds hold the sums over every process's rows, and
+  // fold_of_row lists this process's rows only (the others -1).
+  std::shared_ptr<const SampleFitSplit> split;
 };
+
+bool split_over_parts(const std::shared_ptr<const SampleFitSplit>& split) { return split && split->parts > 1; }
 
 Folds assemble_folds(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
                      const Eigen::VectorXd& weights, int folds, const FitProgress& progress, const DenseKernels* kernels,
-                     bool single_products = false) {
+                     bool single_products = false, const std::shared_ptr<const SampleFitSplit>& split = nullptr) {
   std::vector<std::vector<Eigen::Index>> rows(static_cast<size_t>(folds));
   Folds f;
+  f.split = split;
   f.fold_of_row.assign(static_cast<size_t>(weights.size()), -1);
+  // This process's share of the rows of positive weight: [first, last) of them (SampleFitSplit).
+  long long first = 0, last = std::numeric_limits<long long>::max();
+  if (split_over_parts(split)) {
+    const auto n = static_cast<long long>((weights.array() > 0.0).count());
+    first = n * split->part / split->parts;
+    last = n * (split->part + 1) / split->parts;
+  }
   long long index = 0;
   for (Eigen::Index i = 0; i < weights.size(); ++i)
     if (weights[i] > 0.0) {
-      const int k = cross_validation_fold(index++, folds);
+      const long long at = index++;
+      if (at < first || at >= last) continue;
+      const int k = cross_validation_fold(at, folds);
       rows[static_cast<size_t>(k)].push_back(i);
       f.fold_of_row[static_cast<size_t>(i)] = k;
     }
@@ -84,6 +101,24 @@ Folds assemble_folds(int order, bool isotropic, const RowMatrix3d& wi, const Row
     }
     f.fold.push_back(
         assemble_normal_equations(order, isotropic, wi, wr, values, weights, rows[static_cast<size_t>(k)], p, kernels, single_products));
+  }
+  if (split_over_parts(split)) {  // every process's rows: one sum of every fold's normal equations
+    std::vector<Eigen::MatrixXd> m;
+    for (NormalEquations& ne : f.fold) {
+      m.push_back(std::move(ne.gram));
+      m.push_back(std::move(ne.rhs));
+      m.push_back(ne.yy);
+      m.push_back(Eigen::Vector2d(ne.weight_sum, static_cast<double>(ne.samples)));
+    }
+    split->sum(m);
+    for (size_t k = 0; k < f.fold.size(); ++k) {
+      NormalEquations& ne = f.fold[k];
+      ne.gram = std::move(m[4 * k]);
+      ne.rhs = std::move(m[4 * k + 1]);
+      ne.yy = m[4 * k + 2].col(0);
+      ne.weight_sum = m[4 * k + 3](0, 0);
+      ne.samples = std::llround(m[4 * k + 3](1, 0));  // a count below 2^53: exact in double
+    }
   }
   f.total = f.fold[0];
   for (int k = 1; k < folds; ++k) {
@@ -185,7 +220,16 @@ class FoldScoring {
     std::vector<int> passes(n, 0);         // with its current factor
     std::vector<Eigen::MatrixXd> dx(n);
     for (;;) {
-      const HeldOutPass h = held_out_pass(order_, f_.isotropic, *f_.wi, *f_.wr, *f_.values, *f_.weights, f_.fold_of_row, x);
+      HeldOutPass h = held_out_pass(order_, f_.isotropic, *f_.wi, *f_.wr, *f_.values, *f_.weights, f_.fold_of_row, x);
+      if (split_over_parts(f_.split)) {  // this process's rows -> every process's
+        std::vector<Eigen::MatrixXd> m(std::make_move_iterator(h.c.begin()), std::make_move_iterator(h.c.end()));
+        for (const Eigen::VectorXd& v : h.held) m.push_back(v);
+        f_.split->sum(m);
+        for (size_t u = 0; u < n; ++u) {
+          h.c[u] = std::move(m[u]);
+          h.held[u] = m[n + u].col(0);
+        }
+      }
       // The folds' corrections are independent (two triangular solves each, bound by memory): one thread each.
 #pragma omp parallel for schedule(dynamic, 1) if (static_cast<double>(k_) * k_ >= kParallelFoldSolveMinEntries)
       for (size_t a = 0; a < active.size(); ++a) {
@@ -473,7 +517,7 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
     const double training = static_cast<double>(positive) * (plan.folds - 1) / plan.folds;
     int top = 0;
     while (top < cap && sample_fit_unknowns(top + 1, o.isotropic) * kMinSamplesPerUnknown <= training) ++top;
-    folds = assemble_folds(top, o.isotropic, wi, wr, values, w, plan.folds, o.progress, o.kernels);
+    folds = assemble_folds(top, o.isotropic, wi, wr, values, w, plan.folds, o.progress, o.kernels, false, o.split);
     out.order_cv = score_orders(folds, 0, top, o.tikhonov, o.tikhonov_power, o.progress);
     if (out.order_cv.chosen < 0)
       throw UnsupportedError("sample fit: the " + std::to_string(positive) + " samples determine no order of the " +
@@ -487,7 +531,7 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
                         " 1/sr; lowest order within 0.5% of the best mean square)");
   } else {
     folds = assemble_folds(o.order, o.isotropic, wi, wr, values, w, plan.folds, o.progress, o.kernels,
-                           single_gram_products(o.gram, positive, sample_fit_unknowns(o.order, o.isotropic)));
+                           single_gram_products(o.gram, positive, sample_fit_unknowns(o.order, o.isotropic)), o.split);
   }
   NormalEquations total = leading(folds.total, sample_fit_unknowns(o.order, o.isotropic));
 
@@ -518,7 +562,7 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
     for (int i = 0; i < early->folds(); ++i) fold_jobs.emplace_back([&early, i] { early->run(i); });
     probed = probe_normal_equations(total, o.rank_tolerance, o.kernels, fold_jobs);
     if (!total.single_products || single_gram_refinable(probed.determinacy)) break;
-    folds = assemble_folds(o.order, o.isotropic, wi, wr, values, w, plan.folds, o.progress, o.kernels, false);
+    folds = assemble_folds(o.order, o.isotropic, wi, wr, values, w, plan.folds, o.progress, o.kernels, false, o.split);
     total = leading(folds.total, sample_fit_unknowns(o.order, o.isotropic));
   }
   const NormalEquationsDeterminacy& pre = probed.determinacy;
@@ -539,7 +583,7 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
     bool done = false;
     if (!o.isotropic) {
       o.isotropic = true;
-      folds = assemble_folds(o.order, true, wi, wr, values, w, plan.folds, o.progress, o.kernels);
+      folds = assemble_folds(o.order, true, wi, wr, values, w, plan.folds, o.progress, o.kernels, false, o.split);
       total = folds.total;
       out.fit = fit_samples(wi, wr, values, w, o, &total);
       if (determined(out.fit)) {

@@ -33,6 +33,10 @@
 //      the largest |sample|, the fit is refused (UnsupportedError, one line): the samples cannot bound it
 //      where they do not lie.
 //   3. the CV error of the final configuration (same folds) is recorded.
+// Split over processes (SampleFitPlan::options.split, icobrdf/core/sample_fit.hpp SampleFitSplit): the folds
+// keep their hash of the sample's index among all samples; each process assembles the folds' normal
+// equations of its rows and one sum gives every fold's, and each held-out pass is summed the same way, so
+// every choice (order, lambda, fallback) is made from the same figures on every process.
 #include <Eigen/Core>
 
 #include <string>

@@ -43,7 +43,8 @@ struct FitOptions {
   FitProgress progress;  // optional: fits of scattered samples report their stages (icobrdf/core/sample_fit.hpp)
   // Optional: this process's share of a model's streaming projection, the other shares projected elsewhere
   // (icobrdf/core/streaming_projection.hpp StreamingShare; icobrdf/cluster/distributed_projection.hpp under
-  // mpirun). Fits of LUTs and of scattered samples do not use it.
+  // mpirun). Fits of scattered samples (MERL tables, CSV samples) split their passes over the samples
+  // through its sample_sum (icobrdf/core/sample_fit.hpp SampleFitSplit); fits of LUTs do not use it.
   std::shared_ptr<const StreamingShare> share;
 };
 

@@ -55,6 +55,10 @@ struct StreamingShare {
   // a fit's context then holds this process's rows of P only, and its projection runs the ring through this
   // exchange. part, parts and reduce are then not used by the fit.
   std::shared_ptr<RowSplitExchange> rows;
+  // Optional: a sum like `reduce` for fits that are not projections and split their own work over the
+  // processes (fits of scattered samples: icobrdf/core/sample_fit.hpp SampleFitSplit, with part and parts);
+  // it may be called any number of times, the same on every process.
+  std::function<void(std::vector<Eigen::MatrixXd>&)> sample_sum;
 };
 
 // Tolerance of the check that P is D2-equivariant (the sampling's own check is sampling_is_d2_symmetric,

@@ -135,6 +135,16 @@ class SampleFitHolder {
   mutable bool has_ = false;
 };
 
+// The split of a sample fit over the processes of a distributed fit (null in one process).
+std::shared_ptr<const SampleFitSplit> sample_fit_split(const FitOptions& o) {
+  if (!o.share || o.share->parts <= 1 || !o.share->sample_sum) return nullptr;
+  auto split = std::make_shared<SampleFitSplit>();
+  split->part = o.share->part;
+  split->parts = o.share->parts;
+  split->sum = o.share->sample_sum;
+  return split;
+}
+
 class MerlSource final : public BrdfSource, public SampleFitHolder {
  public:
   MerlSource(std::shared_ptr<const MerlTable> t, std::string text) : table_(t), model_(std::move(t)), text_(std::move(text)) {}
@@ -155,6 +165,7 @@ class MerlSource final : public BrdfSource, public SampleFitHolder {
     so.isotropic = true;
     so.progress = o.progress;
     so.kernels = &fit_dense_kernels();
+    so.split = sample_fit_split(o);  // under mpirun: each rank passes over its part of the samples
     CheckedSampleFit c;
     c.fit = fit_samples(smp.wi, smp.wr, smp.values, smp.weights, so);
     c.cv_rms = std::numeric_limits<double>::quiet_NaN();  // not measured for MERL tables
@@ -190,6 +201,7 @@ class SampleCsvSource final : public BrdfSource, public SampleFitHolder {
     plan.options.isotropic = o.isotropic;
     plan.options.progress = o.progress;
     plan.options.kernels = &fit_dense_kernels();
+    plan.options.split = sample_fit_split(o);  // under mpirun: each rank passes over its part of the samples
     plan.choose_order = o.order == kChooseOrder;
     // An automatic order comes with an automatic lambda unless one was given.
     plan.choose_tikhonov = tikhonov_auto_ || (plan.choose_order && !tikhonov_given());

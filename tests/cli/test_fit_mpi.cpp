@@ -7,12 +7,18 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/core/sample_fit.hpp"
+#include "icobrdf/io/merl.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 #include "tests/cli/cli_runner.hpp"
 #include "tests/support/unity_id.hpp"
@@ -194,6 +200,113 @@ TEST_F(FitMpi, ASourceWithoutProjectionIsNotedAsFittedWhole) {
   EXPECT_NE(b.err.find("is not fitted by streaming projection; each of the 2 ranks fitted it whole"), std::string::npos) << b.err;
   EXPECT_EQ((read_spectrum_file(out).channels.at(0) - read_spectrum_file(stored).channels.at(0)).cwiseAbs().maxCoeff(), 0.0)
       << "the same order: re-expansion is the identity";
+}
+
+// A MERL table's least-squares fit under mpirun (icobrdf/core/sample_fit.hpp SampleFitSplit): each rank
+// passes over its part of the table's 1.46 million samples, and the normal equations and each refinement
+// pass are summed over the ranks. 2 ranks and 3 (parts of unequal size) agree with one process to
+// rounding, two runs on 2 ranks give the same bits, and the ranks say they split the samples.
+TEST_F(FitMpi, AMerlFitSplitsItsSamplesOverTheRanks) {
+  // Normal equations summed in another order differ by a few roundings of G; the refined solution then
+  // differs by about cond(W^(1/2) A) eps relative (Bjorck, sec. 2.9); 1000 such roundings, relative to
+  // max|C|, is far below what a missing or doubled part of the samples changes (a third of a GGX table's
+  // samples carries a third of every sum).
+  constexpr double kRoundings = 1000.0;
+  TempDir d;
+  const std::string table = d.file("ggx.binary");
+  write_merl(table, *parse_model("ggx:alpha=0.3"));
+  const auto args = [&](const std::string& out) {
+    return std::vector<std::string>{"fit", table, "--level", "3", "--order", "6", "-o", out, "--json"};
+  };
+  setenv("OMP_NUM_THREADS", "1", 1);
+  const auto a = run_cli(args(d.file("one.h5")));
+  unsetenv("OMP_NUM_THREADS");
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const json ja = json::parse(a.out);
+  const double condition = ja.at("sample_fit").at("condition_of_kept_part").get<double>();
+  ASSERT_TRUE(condition >= 1.0 && condition < kNormalEquationsMaxCondition) << a.out;
+  const Eigen::MatrixXd one = read_spectrum_file(d.file("one.h5")).channels.at(0);
+  const double bound = kRoundings * condition * std::numeric_limits<double>::epsilon() * one.cwiseAbs().maxCoeff();
+  for (int ranks : {2, 3}) {
+    const std::string out = d.file("r" + std::to_string(ranks) + ".h5");
+    const auto b = run_shell(kMpiEnv + cli_command(args(out), mpirun(ranks)));
+    ASSERT_EQ(b.exit_code, 0) << b.err << b.out;
+    const json j = json::parse(b.out);
+    EXPECT_EQ(j.at("split").get<std::string>(), "samples") << b.out;
+    EXPECT_EQ(b.err.find("fitted it whole"), std::string::npos) << b.err;
+    EXPECT_EQ(j.at("sample_fit").at("samples").get<long long>(), ja.at("sample_fit").at("samples").get<long long>());
+    const Eigen::MatrixXd c = read_spectrum_file(out).channels.at(0);
+    EXPECT_LE((c - one).cwiseAbs().maxCoeff(), bound) << ranks << " ranks";
+  }
+  const auto again = run_shell(kMpiEnv + cli_command(args(d.file("again.h5")), mpirun(2)));
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ((read_spectrum_file(d.file("again.h5")).channels.at(0) - read_spectrum_file(d.file("r2.h5")).channels.at(0)).cwiseAbs().maxCoeff(), 0.0)
+      << "two runs on 2 ranks must give the same bits";
+}
+
+// CSV samples under mpirun, every choice automatic: the order by 5-fold cross-validation (each fold's normal
+// equations summed over the ranks), lambda by GCV. 2 ranks choose as one process does and reach its fit.
+TEST_F(FitMpi, ACsvSampleFitChoosesAsOneProcessDoes) {
+  constexpr double kRoundings = 1000.0;  // as for the MERL table above
+  TempDir d;
+  const std::string csv = d.file("s.csv");
+  {
+    std::ofstream o(csv);
+    o << "theta_i,phi_i,theta_r,phi_r,value\n";
+    std::mt19937 g(17);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    char line[240];
+    for (int k = 0; k < 3000; ++k) {  // a smooth anisotropic function plus 1% noise
+      const double ti = std::acos(u(g)), tr = std::acos(u(g)), pi = 2 * M_PI * u(g), pr = 2 * M_PI * u(g);
+      const double f = 0.3 + 0.1 * std::cos(ti) * std::cos(tr) + 0.05 * std::sin(ti) * std::sin(tr) * std::cos(pi - pr + 0.3) + 0.003 * (u(g) - 0.5);
+      std::snprintf(line, sizeof line, "%.12f,%.12f,%.12f,%.12f,%.17g\n", ti * 180 / M_PI, pi * 180 / M_PI, tr * 180 / M_PI, pr * 180 / M_PI, f);
+      o << line;
+    }
+  }
+  const auto args = [&](const std::string& out) { return std::vector<std::string>{"fit", csv, "--level", "3", "-o", out, "--json"}; };
+  setenv("OMP_NUM_THREADS", "1", 1);
+  const auto a = run_cli(args(d.file("one.h5")));
+  unsetenv("OMP_NUM_THREADS");
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const json ja = json::parse(a.out);
+  ASSERT_EQ(ja.at("sample_fit").at("order_choice").get<std::string>(), "cross-validation") << a.out;
+  const auto b = run_mpi(args(d.file("two.h5")));
+  ASSERT_EQ(b.exit_code, 0) << b.err << b.out;
+  const json jb = json::parse(b.out);
+  EXPECT_EQ(jb.at("split").get<std::string>(), "samples") << b.out;
+  EXPECT_EQ(jb.at("order").get<int>(), ja.at("order").get<int>());
+  const double condition = ja.at("sample_fit").at("condition_of_kept_part").get<double>();
+  const Eigen::MatrixXd one = read_spectrum_file(d.file("one.h5")).channels.at(0), two = read_spectrum_file(d.file("two.h5")).channels.at(0);
+  ASSERT_EQ(one.rows(), two.rows());
+  EXPECT_LE((two - one).cwiseAbs().maxCoeff(), kRoundings * condition * std::numeric_limits<double>::epsilon() * one.cwiseAbs().maxCoeff());
+  const double cv1 = ja.at("sample_fit").at("cv_rms").get<double>(), cv2 = jb.at("sample_fit").at("cv_rms").get<double>();
+  EXPECT_NEAR(cv2, cv1, kRoundings * condition * std::numeric_limits<double>::epsilon() * cv1);
+}
+
+// A sample fit that every rank refuses after its sums (samples in a 5-degree cap cannot bound an order-2
+// fit elsewhere: the scale check): rank 0's line alone, exit code 4, no output. The refusal comes after
+// the last sum of the samples, where the ranks still owe one exchange, which carries it.
+TEST_F(FitMpi, ASampleFitRefusedOnEveryRankGivesOneLine) {
+  TempDir d;
+  const std::string csv = d.file("cap.csv"), out = d.file("cap.h5");
+  {
+    std::ofstream o(csv);
+    o << "theta_i,phi_i,theta_r,phi_r,value\n";
+    std::mt19937 g(5);
+    std::uniform_real_distribution<double> th(0, 5), ph(0, 360), v(0.3, 0.35);
+    for (int k = 0; k < 200; ++k) o << th(g) << "," << ph(g) << "," << th(g) << "," << ph(g) << "," << v(g) << "\n";
+  }
+  for (int run = 0; run < 3; ++run) {
+    const auto r = run_mpi({"fit", csv + "#tikhonov=1e-12", "--order", "2", "--isotropic", "-q", "-o", out});
+    EXPECT_EQ(r.exit_code, 4) << r.err;
+    EXPECT_FALSE(exists(out));
+    std::istringstream err(r.err);
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(err, line);)
+      if (!line.empty()) lines.push_back(line);
+    ASSERT_EQ(lines.size(), 1u) << r.err;
+    EXPECT_EQ(lines[0].rfind("icobrdf: error: on rank 0 of 2: sample fit: the samples cannot bound a fit", 0), 0u) << lines[0];
+  }
 }
 
 // Rank 1 alone gets a memory budget too small for the fit (mpirun's MPMD form: a second program context

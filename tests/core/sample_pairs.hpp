@@ -1,5 +1,6 @@
 #pragma once
-// Direction pairs for tests of sample fits: uniform in cos(theta) and phi over the hemisphere, seeded.
+// Direction pairs for tests of sample fits: uniform in cos(theta) and phi over the hemisphere, seeded; and
+// seeded normal vectors (coefficients, noise).
 #include <Eigen/Core>
 
 #include <cmath>
@@ -29,6 +30,15 @@ inline Pairs random_pairs(int count, unsigned seed) {
     p.wr.row(i) = random_direction(g).transpose();
   }
   return p;
+}
+
+// n standard normal values, seeded.
+inline Eigen::VectorXd random_vector(Eigen::Index n, unsigned seed) {
+  std::mt19937 g(seed);
+  std::normal_distribution<double> nd(0.0, 1.0);
+  Eigen::VectorXd v(n);
+  for (Eigen::Index i = 0; i < n; ++i) v[i] = nd(g);
+  return v;
 }
 
 }  // namespace icobrdf::test

@@ -37,6 +37,7 @@ constexpr double kConditionTol = 2e-4;
 
 using test::Pairs;
 using test::random_pairs;
+using test::random_vector;
 
 // Pairs in the plane of incidence y = 0 (phi in {0, pi}); y is exactly 0 so the sine-type K_n^l (l < 0)
 // vanish exactly there.
@@ -55,14 +56,6 @@ Pairs plane_pairs(int count, unsigned seed) {
     p.wr.row(i) = dir();
   }
   return p;
-}
-
-Eigen::VectorXd random_vector(Eigen::Index n, unsigned seed) {
-  std::mt19937 g(seed);
-  std::normal_distribution<double> nd(0.0, 1.0);
-  Eigen::VectorXd v(n);
-  for (Eigen::Index i = 0; i < n; ++i) v[i] = nd(g);
-  return v;
 }
 
 TEST(SampleFit, RecoversGeneralSpectrumFromRandomSamples) {
