@@ -4,12 +4,12 @@
 // the fit `icobrdf fit` makes, apart from building the grid and the operators. Under `mpirun -np R` the
 // projection is spread over the ranks (cli/distributed_run.hpp) and the report, from rank 0, gives the
 // peak resident memory of every rank. The ranks split the operators by rows, as `fit` does (memory per rank
-// O(cells x modes / ranks), icobrdf/core/row_split_projection.hpp), except with --every K > 1: then every
-// rank holds them whole and projects every R-th block of incident rows. The report says which ("operators").
+// O(cells x modes / ranks), icobrdf/core/row_split_projection.hpp); the report says so ("operators").
 // Default SOURCE: model:ggx:alpha=0.1 (issue #18's level-7 case).
-// --every K projects only every K-th block of incident rows (icobrdf/core/streaming_projection.hpp
-// StreamingShare::every), with every array at full size: the time of a projection too long to run whole
-// (times K) and its memory.
+// --every K projects only every K-th block of incident rows (one process: icobrdf/core/streaming_projection.hpp
+// StreamingShare::every; under mpirun: every K-th batch of each pair of blocks, row_split_projection's
+// `every`), with every array at full size: the time of a projection too long to run whole (times K) and its
+// memory.
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
 #include <omp.h>
@@ -167,9 +167,8 @@ void add_streaming(CLI::App& bench) {
   cmd->add_flag("--json", a->json, "JSON: projection_seconds, context_seconds, peak_rss_bytes_per_rank, ...");
   cmd->callback([a] {
     const int projections = a->repeat + (a->every > 1 ? 1 : 0);
-    // Under mpirun the ranks split the operators by rows, as `fit` does, unless --every samples the blocks
-    // (the ring has no such sampling): then every rank holds them whole and takes every R-th block.
-    run_distributed("bench streaming", projections, [a](const DistributedRun& run) { run_streaming(*a, run); }, a->every == 1);
+    // Under mpirun the ranks split the operators by rows, as `fit` does (with --every K too).
+    run_distributed("bench streaming", projections, [a](const DistributedRun& run) { run_streaming(*a, run); }, true);
   });
 }
 

@@ -51,9 +51,9 @@ struct PairRow {
 class PartProjector {
  public:
   PartProjector(const BrdfModel& model, const Grid& g, const Grid& sg, const CellBlocks& cb, int part, bool cosine, LutSampling sampling,
-                bool use_symmetry, bool reciprocal, Eigen::Index modes)
+                bool use_symmetry, bool reciprocal, Eigen::Index modes, int every = 1)
       : model_(model), g_(g), sg_(sg), cb_(cb), part_(part), cosine_(cosine), sampling_(sampling), symmetric_(use_symmetry),
-        reciprocal_(reciprocal), modes_(modes), deltas_(model.delta_parts()) {
+        reciprocal_(reciprocal), modes_(modes), every_(every), deltas_(model.delta_parts()) {
     const int ch = model.channels();
     const int sums = reciprocal && cosine ? 2 : 1;
     x_.assign(static_cast<size_t>(ch * sums), Eigen::MatrixXd::Zero(modes, modes));
@@ -179,7 +179,12 @@ class PartProjector {
   // The rows' products with the columns pc (rows of P of the pair grid's first n cells), in batches of
   // kStreamingBlockRows added in batch order (icobrdf/core/in_order_sums.hpp: the same bits for any thread
   // count).
-  void run(const Grid& lg, const std::vector<PairRow>& rows, const Eigen::MatrixXd& pc, int n) {
+  void run(const Grid& lg, const std::vector<PairRow>& all_rows, const Eigen::MatrixXd& pc, int n) {
+    std::vector<PairRow> kept;  // with every_ > 1: the batches b with b % every_ == 0 only
+    if (every_ > 1)
+      for (size_t k = 0; k < all_rows.size(); ++k)
+        if ((k / kStreamingBlockRows) % static_cast<size_t>(every_) == 0) kept.push_back(all_rows[k]);
+    const std::vector<PairRow>& rows = every_ > 1 ? kept : all_rows;
     const int total = static_cast<int>(rows.size());
     const int batches = (total + kStreamingBlockRows - 1) / kStreamingBlockRows;
     const int ch = model_.channels();
@@ -240,6 +245,7 @@ class PartProjector {
   LutSampling sampling_;
   bool symmetric_, reciprocal_;
   Eigen::Index modes_;
+  int every_;  // project every every_-th batch of each pair's incident rows (benchmarks: --every)
   std::vector<DeltaPart> deltas_;
   std::vector<Eigen::MatrixXd> x_;
   Eigen::MatrixXd delta_;
@@ -415,13 +421,15 @@ SplitOperators split_operators(const Grid& grid, int order, double gram_toleranc
 }
 
 std::vector<Eigen::MatrixXd> row_split_projection(const BrdfModel& model, const Grid& grid, const SplitOperators& ops, bool cosine,
-                                                  LutSampling sampling, const Grid* sampling_grid, RowSplitExchange& exchange) {
+                                                  LutSampling sampling, const Grid* sampling_grid, RowSplitExchange& exchange, int every) {
   const Grid& sg = sampling_grid ? *sampling_grid : grid;
+  if (every < 1) throw ArgumentError("row split projection: every " + std::to_string(every) + ", expected >= 1");
   if (!ops.blocks || ops.blocks->parts() != exchange.parts() || ops.part != exchange.part() ||
       static_cast<int>(ops.blocks->order.size()) != grid.cells() || ops.P.rows() != ops.blocks->size(ops.part))
     throw ArgumentError("row split projection: the operators were split for another grid or another set of processes");
   const StreamingShortcuts k = streaming_shortcuts(model, grid, sg, cosine, sampling);
-  PartProjector projector(model, grid, sg, *ops.blocks, ops.part, cosine, sampling, k.d2 && ops.rows_equivariant, k.reciprocal, ops.P.cols());
+  PartProjector projector(model, grid, sg, *ops.blocks, ops.part, cosine, sampling, k.d2 && ops.rows_equivariant, k.reciprocal, ops.P.cols(),
+                          every);
   const RingSchedule s = ring_schedule(ops.part, exchange.parts(), k.reciprocal);
   ProgressMeter progress("projecting", s.steps());
   Eigen::MatrixXd held;  // the visiting block's rows (steps >= 1)

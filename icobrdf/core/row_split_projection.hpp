@@ -90,8 +90,13 @@ SplitOperators split_operators(const Grid& grid, int order, double gram_toleranc
 
 // C per model channel, as streaming_projection(model, grid, P, cosine, sampling, sampling_grid) would give.
 // Collective (the shifts, one exchange.sum). `sampling_grid`: as streaming_projection's.
+// `every` > 1 (benchmarks only: `icobrdf bench streaming --every K`, as StreamingShare::every): each pair of
+// blocks projects only its batches of kStreamingBlockRows incident rows b with b % every == 0, for the time
+// of a projection too long to run whole (about 1 / every of the pairs' work; the ring, the sums and the
+// memory stay whole); the matrices are then not C. ArgumentError for every < 1.
 std::vector<Eigen::MatrixXd> row_split_projection(const BrdfModel& model, const Grid& grid, const SplitOperators& ops, bool cosine,
-                                                  LutSampling sampling, const Grid* sampling_grid, RowSplitExchange& exchange);
+                                                  LutSampling sampling, const Grid* sampling_grid, RowSplitExchange& exchange,
+                                                  int every = 1);
 
 // The pairs of blocks part `part` computes at each ring step s = 0, 1, ...: at step s it holds the rows of
 // block (part + s) mod parts, and computes with them when `compute[s]` (all of the pair's rows, or with

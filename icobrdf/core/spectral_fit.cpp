@@ -81,7 +81,7 @@ Spectrum fit_model(const BrdfModel& model, const ProjectionContext& ctx, const F
   if (ctx.split) {
     if (!o.share || !o.share->rows)
       throw ArgumentError("fit of '" + quoted_text(model.spec()) + "': the operators are split by rows, but no row exchange was given");
-    channels = row_split_projection(model, *ctx.grid, *ctx.split, cosine, o.sampling, ctx.sampling_grid.get(), *o.share->rows);
+    channels = row_split_projection(model, *ctx.grid, *ctx.split, cosine, o.sampling, ctx.sampling_grid.get(), *o.share->rows, o.share->every);
   } else {
     channels = streaming_projection(model, *ctx.grid, ctx.projection, cosine, o.sampling, ctx.sampling_grid.get(), o.share.get());
   }

@@ -53,7 +53,7 @@ struct StreamingShare {
   std::function<void(std::vector<Eigen::MatrixXd>&)> reduce;
   // Optional: split the operators by rows over the processes instead (icobrdf/core/row_split_projection.hpp):
   // a fit's context then holds this process's rows of P only, and its projection runs the ring through this
-  // exchange. part, parts and reduce are then not used by the fit.
+  // exchange. part, parts and reduce are then not used by the fit; every is (row_split_projection's).
   std::shared_ptr<RowSplitExchange> rows;
   // Optional: a sum like `reduce` for fits that are not projections and split their own work over the
   // processes (fits of scattered samples: icobrdf/core/sample_fit.hpp SampleFitSplit, with part and parts);

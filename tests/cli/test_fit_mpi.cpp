@@ -333,7 +333,7 @@ TEST_F(FitMpi, AFailingRankEndsTheFitWithOneLineNamingIt) {
 // bench streaming under mpirun: rank 0 reports both ranks' peak memory and the same C as one process (the
 // max|C| and Frobenius figures, to rounding). The ranks split the operators by rows, as `fit` does; three
 // repeats reuse the context (two exchanges) and make one sum of C each, so a miscount of the exchanges
-// would hang or fail here. With --every 2 the ranks hold the operators whole and sample the blocks.
+// would hang or fail here. With --every 2 the ranks still split the operators and sample the batches.
 TEST_F(FitMpi, BenchStreamingReportsEveryRank) {
   std::vector<std::string> args = {"bench", "streaming", "model:ggx:alpha=0.3", "--level", std::to_string(kLevel), "--order",
                                    std::to_string(kOrder), "--json", "--repeat", "3"};
@@ -354,10 +354,15 @@ TEST_F(FitMpi, BenchStreamingReportsEveryRank) {
     const double m1 = k.at(figure).get<double>(), m2 = j.at(figure).get<double>();
     EXPECT_LE(std::abs(m2 - m1), kSplitRelTol * m1) << figure;
   }
+  // --every 2: the ranks still split the operators by rows and project every other batch of incident rows
+  // of each pair of blocks, so the matrices are not C.
   args.insert(args.end(), {"--every", "2"});
   const auto e = run_mpi(args);
   ASSERT_EQ(e.exit_code, 0) << e.err;
-  EXPECT_EQ(json::parse(e.out).at("operators").get<std::string>(), "whole on every rank");
+  const json je = json::parse(e.out);
+  EXPECT_EQ(je.at("operators").get<std::string>(), "split by rows");
+  EXPECT_NE(je.at("frobenius_norm").get<double>(), j.at("frobenius_norm").get<double>()) << "every other batch only";
+  EXPECT_EQ(je.at("every").get<int>(), 2);
 }
 
 }  // namespace ICOBRDF_UNITY_ID

@@ -241,5 +241,34 @@ TEST(RowSplitProjection, DriverOnThreadsGivesTheSerialResultOnEveryPart) {
   }
 }
 
+// `every` (bench streaming --every K under mpirun): every K-th batch of each pair's incident rows. K = 1 is the
+// projection; K = 2 drops every other batch (a different matrix); K < 1 is refused on every part.
+TEST(RowSplitProjection, EveryKeepsEveryKthBatchOfEachPair) {
+  const Grid g = build_lat_long_grid(16, 32, 2);
+  const auto m = parse_model("ggx-aniso:alpha_x=0.4,alpha_y=0.2,azimuth=30");
+  const auto serial = row_split_projection_serial(*m, g, 4, 2, true, LutSampling::CellAverage);
+  std::map<int, Eigen::MatrixXd> by_every;
+  for (int every : {1, 2}) {
+    ThreadExchange x(2);
+    std::vector<Eigen::MatrixXd> out(2);
+    std::vector<std::thread> threads;
+    for (int p = 0; p < 2; ++p)
+      threads.emplace_back([&, p] {
+        ThreadExchange::Part e(x, p);
+        const SplitOperators ops = split_operators(g, 4, kDefaultGramTolerance, e);
+        out[static_cast<size_t>(p)] = row_split_projection(*m, g, ops, true, LutSampling::CellAverage, nullptr, e, every)[0];
+      });
+    for (auto& t : threads) t.join();
+    EXPECT_EQ((out[1] - out[0]).cwiseAbs().maxCoeff(), 0.0) << "every " << every << ": both parts the same bits";
+    by_every[every] = out[0];
+  }
+  EXPECT_EQ((by_every[1] - serial[0]).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_GT((by_every[2] - serial[0]).cwiseAbs().maxCoeff(), 1e-3 * serial[0].cwiseAbs().maxCoeff()) << "every other batch dropped";
+  ThreadExchange one(1);
+  ThreadExchange::Part e(one, 0);
+  const SplitOperators ops = split_operators(g, 4, kDefaultGramTolerance, e);
+  EXPECT_THROW(row_split_projection(*m, g, ops, true, LutSampling::CellAverage, nullptr, e, 0), ArgumentError);
+}
+
 }  // namespace
 }  // namespace icobrdf
