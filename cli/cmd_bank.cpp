@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/distributed_run.hpp"
 #include "cli/error_report.hpp"
 #include "cli/exit_codes.hpp"
 #include "icobrdf/cluster/launcher.hpp"
@@ -159,7 +160,7 @@ int build_and_report(const BuildArgs& a, [[maybe_unused]] Cluster* cluster) {
 int run_build(const BuildArgs& a) {
 #ifdef ICOBRDF_WITH_MPI
   std::unique_ptr<Cluster> cluster;
-  if (started_by_mpirun()) cluster = std::make_unique<Cluster>();
+  if (started_by_mpirun()) cluster = start_cluster();
   try {
     return build_and_report(a, cluster.get());
   } catch (...) {

@@ -60,6 +60,17 @@ struct SetupFailed : std::exception {};
 
 }  // namespace
 
+#ifdef ICOBRDF_WITH_MPI
+std::unique_ptr<Cluster> start_cluster() {
+  try {
+    return std::make_unique<Cluster>();
+  } catch (const std::exception&) {
+    if (launcher_rank() > 0) throw CLI::RuntimeError(kExitOk);
+    throw;
+  }
+}
+#endif
+
 double peak_resident_bytes() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
@@ -73,7 +84,8 @@ void run_distributed(const std::string& what, int projections, const std::functi
   if (!started_by_mpirun()) return command(DistributedRun{});
   // The ranks on one machine share its memory.
   set_memory_sharers(launcher_local_size());
-  Cluster cluster;
+  const std::unique_ptr<Cluster> started = start_cluster();
+  Cluster& cluster = *started;
   DistributedProjection projection(cluster, projections, split_rows);
   DistributedRun run;
   run.rank = cluster.rank();

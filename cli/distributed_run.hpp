@@ -19,6 +19,12 @@
 
 #include "icobrdf/core/streaming_projection.hpp"
 
+#ifdef ICOBRDF_WITH_MPI
+namespace icobrdf {
+class Cluster;
+}
+#endif
+
 namespace icobrdf::cli {
 
 struct DistributedRun {
@@ -41,6 +47,14 @@ struct DistributedRun {
 // and ends the job (mpirun's own lines follow).
 void run_distributed(const std::string& what, int projections, const std::function<void(const DistributedRun&)>& command,
                      bool split_rows = false);
+
+#ifdef ICOBRDF_WITH_MPI
+// Starts MPI (icobrdf/cluster/cluster.hpp) on a rank of an mpirun job. An error raised before MPI starts (a bad
+// ICOBRDF_MPI_PIECE_BYTES) is the same on every rank: rank 0 rethrows it (main prints its one line), the others
+// end quietly with exit code 0, as for a usage error (cli/main.cpp: a non-zero exit would make mpirun stop
+// rank 0 before its line is out; mpirun returns rank 0's code).
+std::unique_ptr<Cluster> start_cluster();
+#endif
 
 // Peak resident memory of this process so far, in bytes (getrusage).
 double peak_resident_bytes();

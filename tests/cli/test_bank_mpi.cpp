@@ -139,6 +139,14 @@ TEST_F(BankMpi, ThreeRanksWithMessagesInPiecesGiveTheOneProcessBank) {
                                        icobrdf::test::shell_quote(ICOBRDF_MPIEXEC) + " -q -np 3 --oversubscribe"));
   ASSERT_EQ(b.exit_code, 0) << b.err << b.out;
   EXPECT_TRUE(banks_identical(one, three));
+  // A bad piece size is refused before MPI starts, by every rank alike: one line (rank 0's), exit code 2.
+  const std::string bad = d.file("bad.h5");
+  const auto c = run_shell("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ICOBRDF_MPI_PIECE_BYTES=-5 " +
+                           cli_command({"bank", "build", scene, "-o", bad, "--quiet"},
+                                       icobrdf::test::shell_quote(ICOBRDF_MPIEXEC) + " -q -np 3 --oversubscribe"));
+  EXPECT_EQ(c.exit_code, 2) << c.err;
+  EXPECT_EQ(c.err, "icobrdf: error: ICOBRDF_MPI_PIECE_BYTES: '-5', expected a byte count from 1 to 2147483647\n");
+  EXPECT_FALSE(exists(bad));
 }
 
 TEST_F(BankMpi, AFailingMaterialFailsTheBuildNamingItsRankAndResumeFinishesIt) {
