@@ -199,41 +199,44 @@ class PartProjector {
       Eigen::MatrixXd t, left_q, left_p;
 #pragma omp for schedule(dynamic)
       for (int bt = 0; bt < batches; ++bt) {
-        const int r0 = bt * kStreamingBlockRows, r1 = std::min(total, r0 + kStreamingBlockRows), nr = r1 - r0;
-        idx.clear();
-        int col_end = 0;
-        for (int k = r0; k < r1; ++k) {
-          idx.push_back(rows[static_cast<size_t>(k)].local);
-          col_end = std::max(col_end, rows[static_cast<size_t>(k)].col_end);
-        }
-        sample_lut_block(model_, lg, g_form, sampling_, idx, col_end, f);
-        left_q.resize(nr, modes_);
-        left_p.resize(nr, modes_);
-        for (int k = r0; k < r1; ++k) {
-          const PairRow& row = rows[static_cast<size_t>(k)];
-          const Eigen::Map<const Eigen::RowVectorXd, 0, Eigen::InnerStride<>> p(row.p, modes_, Eigen::InnerStride<>(row.p_stride));
-          left_p.row(k - r0) = row.weight * p;
-          left_q.row(k - r0) = (reciprocal_ && cosine_ ? lg.directions(row.local, 2) : 1.0) * left_p.row(k - r0);
-          for (auto& m : f) {
-            if (row.half_end > row.half_begin) m.row(k - r0).segment(row.half_begin, row.half_end - row.half_begin) *= 0.5;
-            if (row.col_end < col_end) m.row(k - r0).tail(col_end - row.col_end).setZero();
+        in_order.run(bt, [&] {  // a failure is kept and rethrown below (icobrdf/core/in_order_sums.hpp)
+          const int r0 = bt * kStreamingBlockRows, r1 = std::min(total, r0 + kStreamingBlockRows), nr = r1 - r0;
+          idx.clear();
+          int col_end = 0;
+          for (int k = r0; k < r1; ++k) {
+            idx.push_back(rows[static_cast<size_t>(k)].local);
+            col_end = std::max(col_end, rows[static_cast<size_t>(k)].col_end);
           }
-        }
-        out.clear();
-        for (int c = 0; c < ch; ++c) {
-          Eigen::MatrixXd& fc = f[static_cast<size_t>(c)];
-          t.noalias() = fc * pc.topRows(col_end);
-          out.push_back(left_q.transpose() * t);  // X1 (Q_i (F P)_i), or X in the general case
-          if (reciprocal_ && cosine_) {
-            fc.array().rowwise() *= col_cos.head(col_end).transpose().array();
+          sample_lut_block(model_, lg, g_form, sampling_, idx, col_end, f);
+          left_q.resize(nr, modes_);
+          left_p.resize(nr, modes_);
+          for (int k = r0; k < r1; ++k) {
+            const PairRow& row = rows[static_cast<size_t>(k)];
+            const Eigen::Map<const Eigen::RowVectorXd, 0, Eigen::InnerStride<>> p(row.p, modes_, Eigen::InnerStride<>(row.p_stride));
+            left_p.row(k - r0) = row.weight * p;
+            left_q.row(k - r0) = (reciprocal_ && cosine_ ? lg.directions(row.local, 2) : 1.0) * left_p.row(k - r0);
+            for (auto& m : f) {
+              if (row.half_end > row.half_begin) m.row(k - r0).segment(row.half_begin, row.half_end - row.half_begin) *= 0.5;
+              if (row.col_end < col_end) m.row(k - r0).tail(col_end - row.col_end).setZero();
+            }
+          }
+          out.clear();
+          for (int c = 0; c < ch; ++c) {
+            Eigen::MatrixXd& fc = f[static_cast<size_t>(c)];
             t.noalias() = fc * pc.topRows(col_end);
-            out.push_back(left_p.transpose() * t);  // X2 (P_i (F Q)_i)
+            out.push_back(left_q.transpose() * t);  // X1 (Q_i (F P)_i), or X in the general case
+            if (reciprocal_ && cosine_) {
+              fc.array().rowwise() *= col_cos.head(col_end).transpose().array();
+              t.noalias() = fc * pc.topRows(col_end);
+              out.push_back(left_p.transpose() * t);  // X2 (P_i (F Q)_i)
+            }
           }
-        }
-        in_order.add(bt, std::move(out));
+          return std::move(out);
+        });
         out.clear();
       }
     }
+    in_order.rethrow();
   }
 
   const BrdfModel& model_;

@@ -105,46 +105,49 @@ std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const
     std::vector<double> scratch;
 #pragma omp for schedule(dynamic)
     for (int k_block = 0; k_block < mine; ++k_block) {
-      const int b = block_of_share(k_block, share);
-      const int r0 = b * kStreamingBlockRows, r1 = std::min(rows_total, r0 + kStreamingBlockRows);
-      block.clear();
-      for (int k = r0; k < r1; ++k) block.push_back(pos[static_cast<size_t>(row_cells[static_cast<size_t>(k)])]);
-      int col_end = 0;  // the longest prefix any row of the block needs, to a whole number of the tile's vectors
-      for (int k = r0; k < r1; ++k) col_end = std::max(col_end, orbit_end[static_cast<size_t>(row_cells[static_cast<size_t>(k)])]);
-      col_end = std::min(cells, (col_end + lanes - 1) / lanes * lanes);
-      sample_lut_columns(model, rg, false, sampling, block, col_end, f);  // f[c]: col_end x rows
-      left.resize(r1 - r0, width);  // row k: w_k [Q_k  P_k] (the left factors of X1 and X2)
-      for (int k = r0; k < r1; ++k) {
-        const int i = row_cells[static_cast<size_t>(k)];
-        const int first = pos[static_cast<size_t>(i)], last = orbit_end[static_cast<size_t>(i)];
-        const double w = row_weight[static_cast<size_t>(k)];
-        const int pk = first;
-        if (cosine) {
-          left.row(k - r0).head(modes) = w * pq.row(pk).tail(modes);
-          left.row(k - r0).tail(modes) = w * pq.row(pk).head(modes);
-        } else {
-          left.row(k - r0) = w * pq.row(pk);
+      in_order.run(k_block, [&] {  // a failure is kept and rethrown below (icobrdf/core/in_order_sums.hpp)
+        const int b = block_of_share(k_block, share);
+        const int r0 = b * kStreamingBlockRows, r1 = std::min(rows_total, r0 + kStreamingBlockRows);
+        block.clear();
+        for (int k = r0; k < r1; ++k) block.push_back(pos[static_cast<size_t>(row_cells[static_cast<size_t>(k)])]);
+        int col_end = 0;  // the longest prefix any row of the block needs, to a whole number of the tile's vectors
+        for (int k = r0; k < r1; ++k) col_end = std::max(col_end, orbit_end[static_cast<size_t>(row_cells[static_cast<size_t>(k)])]);
+        col_end = std::min(cells, (col_end + lanes - 1) / lanes * lanes);
+        sample_lut_columns(model, rg, false, sampling, block, col_end, f);  // f[c]: col_end x rows
+        left.resize(r1 - r0, width);  // row k: w_k [Q_k  P_k] (the left factors of X1 and X2)
+        for (int k = r0; k < r1; ++k) {
+          const int i = row_cells[static_cast<size_t>(k)];
+          const int first = pos[static_cast<size_t>(i)], last = orbit_end[static_cast<size_t>(i)];
+          const double w = row_weight[static_cast<size_t>(k)];
+          const int pk = first;
+          if (cosine) {
+            left.row(k - r0).head(modes) = w * pq.row(pk).tail(modes);
+            left.row(k - r0).tail(modes) = w * pq.row(pk).head(modes);
+          } else {
+            left.row(k - r0) = w * pq.row(pk);
+          }
+          for (auto& m : f) {
+            m.col(k - r0).segment(first, last - first) *= 0.5;
+            m.col(k - r0).tail(col_end - last).setZero();
+          }
         }
-        for (auto& m : f) {
-          m.col(k - r0).segment(first, last - first) *= 0.5;
-          m.col(k - r0).tail(col_end - last).setZero();
+        out.clear();
+        for (int c = 0; c < ch; ++c) {
+          const Eigen::MatrixXd& fc = f[static_cast<size_t>(c)];
+          projection_tile(packed, pq, fc.data(), fc.rows(), fc.cols(), t, scratch, 0, col_end);  // t = (F [P Q])^T: width x rows
+          if (cosine) {
+            out.push_back(left.leftCols(modes).transpose() * t.topRows(modes).transpose());       // X1 part
+            out.push_back(left.rightCols(modes).transpose() * t.bottomRows(modes).transpose());   // X2 part
+          } else {
+            out.push_back(left.transpose() * t.transpose());
+          }
         }
-      }
-      out.clear();
-      for (int c = 0; c < ch; ++c) {
-        const Eigen::MatrixXd& fc = f[static_cast<size_t>(c)];
-        projection_tile(packed, pq, fc.data(), fc.rows(), fc.cols(), t, scratch, 0, col_end);  // t = (F [P Q])^T: width x rows
-        if (cosine) {
-          out.push_back(left.leftCols(modes).transpose() * t.topRows(modes).transpose());       // X1 part
-          out.push_back(left.rightCols(modes).transpose() * t.bottomRows(modes).transpose());   // X2 part
-        } else {
-          out.push_back(left.transpose() * t.transpose());
-        }
-      }
-      in_order.add(k_block, std::move(out));
+        return std::move(out);
+      });
       out.clear();
     }
   }
+  in_order.rethrow();
   std::vector<Eigen::MatrixXd> out;
   for (int c = 0; c < ch; ++c) {
     Eigen::MatrixXd& x1 = sums[static_cast<size_t>(c * parts)];
@@ -227,22 +230,25 @@ std::vector<Eigen::MatrixXd> streaming_projection(const BrdfModel& model, const 
     Eigen::MatrixXd t, pr;
 #pragma omp for schedule(dynamic)
     for (int k_block = 0; k_block < mine; ++k_block) {
-      const int b = block_of_share(k_block, share);
-      const int r0 = b * kStreamingBlockRows, r1 = std::min(rows_total, r0 + kStreamingBlockRows);
-      const std::vector<int> block(row_cells.begin() + r0, row_cells.begin() + r1);
-      sample_lut_columns(model, sg, cosine, sampling, block, cells, f);  // f[c]: cells x rows
-      pr.resize(r1 - r0, modes);
-      for (int k = r0; k < r1; ++k) pr.row(k - r0) = row_weight[static_cast<size_t>(k)] * proj.P.row(row_cells[static_cast<size_t>(k)]);
-      out.clear();
-      for (int c = 0; c < ch; ++c) {
-        const Eigen::MatrixXd& fc = f[static_cast<size_t>(c)];
-        projection_tile(packed, proj.P, fc.data(), fc.rows(), fc.cols(), t, scratch, 0, cells);  // t = (F_rows P)^T: modes x rows
-        out.push_back(pr.transpose() * t.transpose());
-      }
-      in_order.add(k_block, std::move(out));
+      in_order.run(k_block, [&] {  // a failure is kept and rethrown below (icobrdf/core/in_order_sums.hpp)
+        const int b = block_of_share(k_block, share);
+        const int r0 = b * kStreamingBlockRows, r1 = std::min(rows_total, r0 + kStreamingBlockRows);
+        const std::vector<int> block(row_cells.begin() + r0, row_cells.begin() + r1);
+        sample_lut_columns(model, sg, cosine, sampling, block, cells, f);  // f[c]: cells x rows
+        pr.resize(r1 - r0, modes);
+        for (int k = r0; k < r1; ++k) pr.row(k - r0) = row_weight[static_cast<size_t>(k)] * proj.P.row(row_cells[static_cast<size_t>(k)]);
+        out.clear();
+        for (int c = 0; c < ch; ++c) {
+          const Eigen::MatrixXd& fc = f[static_cast<size_t>(c)];
+          projection_tile(packed, proj.P, fc.data(), fc.rows(), fc.cols(), t, scratch, 0, cells);  // t = (F_rows P)^T: modes x rows
+          out.push_back(pr.transpose() * t.transpose());
+        }
+        return std::move(out);
+      });
       out.clear();
     }
   }
+  in_order.rethrow();
   std::vector<Eigen::MatrixXd> out;
   for (int c = 0; c < ch; ++c) {
     Eigen::MatrixXd x = std::move(sums[static_cast<size_t>(c)]);
