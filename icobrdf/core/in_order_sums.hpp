@@ -10,20 +10,18 @@
 // is kept, which bounds the partial sums alive to `ahead` blocks beside those being computed (one per block
 // would be, at level 6, order 40, 1,284 blocks x 861^2 doubles = 7.6 GB).
 //
-// Failures: an exception must not leave an OpenMP region (the process would end at once, with no message of
-// ours). A block whose work throws calls fail(block) from its catch: the first exception is kept, the block
-// counts as added with nothing, and the blocks after it skip their work; run(block, fn) does all of this
-// around a block's work. After the parallel region the caller calls rethrow(), which throws that exception.
+// Failures (icobrdf/core/first_failure.hpp): run(block, fn) runs a block's work in a worker and catches its
+// exception; the first one is kept, the block counts as added with nothing, and the blocks after it skip
+// their work. After the parallel region the caller calls rethrow(), which throws that exception.
 #include <Eigen/Core>
-#include <atomic>
 #include <condition_variable>
 #include <cstddef>
-#include <exception>
 #include <map>
 #include <mutex>
 #include <utility>
 #include <vector>
 
+#include "icobrdf/core/first_failure.hpp"
 #include "icobrdf/core/progress.hpp"
 
 namespace icobrdf {
@@ -47,44 +45,27 @@ class InOrderSums {
     changed_.notify_all();
   }
   // Adds the partial sums fn() returns for `block` (fn runs in a worker thread), or nothing once a block
-  // failed; an exception of fn is kept by fail() (see above).
+  // failed; an exception of fn is kept (see above).
   template <class Fn>
   void run(int block, Fn&& fn) noexcept {
-    if (skip()) {
-      fail_quietly(block);
-      return;
+    if (!failure_.failed()) {
+      try {
+        add(block, fn());
+        return;
+      } catch (...) {
+        failure_.keep();
+      }
     }
     try {
-      add(block, fn());
-    } catch (...) {
-      fail(block);
-    }
-  }
-  // From the catch of a block's work (see above).
-  void fail(int block) noexcept {
-    {
-      std::lock_guard<std::mutex> lock(error_mutex_);
-      if (!error_) error_ = std::current_exception();
-    }
-    failed_.store(true, std::memory_order_relaxed);
-    fail_quietly(block);
-  }
-  // A block failed: the blocks after it only add nothing.
-  bool skip() const { return failed_.load(std::memory_order_relaxed); }
-  // After the parallel region: the first block's exception, if any.
-  void rethrow() const {
-    if (error_) std::rethrow_exception(error_);
-  }
-
- private:
-  // The block counts as added, with nothing.
-  void fail_quietly(int block) noexcept {
-    try {
-      add(block, {});
+      add(block, {});  // the block counts as added, with nothing
     } catch (...) {
       // Only the allocation of the empty entry can fail here; nothing more can be done.
     }
   }
+  // After the parallel region: the first block's exception, if any.
+  void rethrow() const { failure_.rethrow(); }
+
+ private:
   std::vector<Eigen::MatrixXd>& sums_;
   const int ahead_;
   ProgressMeter* progress_;
@@ -92,9 +73,7 @@ class InOrderSums {
   std::condition_variable changed_;
   int next_ = 0;
   std::map<int, std::vector<Eigen::MatrixXd>> pending_;
-  std::mutex error_mutex_;
-  std::exception_ptr error_;
-  std::atomic<bool> failed_{false};
+  FirstFailure failure_;
 };
 
 }  // namespace icobrdf

@@ -1,9 +1,8 @@
 #include "icobrdf/core/lut.hpp"
+#include "icobrdf/core/first_failure.hpp"
 #include "icobrdf/core/progress.hpp"
 
 #include <algorithm>
-#include <atomic>
-#include <exception>
 #include <cmath>
 #include <string>
 
@@ -180,13 +179,10 @@ Lut build_lut(const BrdfModel& model, const Grid& g, bool cosine, LutSampling sa
   for (auto& m : lut.channels) m.setZero(cells, cells);
   const int blocks = (cells + kRowBlock - 1) / kRowBlock;
   ProgressMeter progress("sampling the LUT", blocks);
-  // The first exception of a block (an exception must not leave the OpenMP region: the process would end),
-  // rethrown after it; the blocks after it skip their work.
-  std::exception_ptr error;
-  std::atomic<bool> failed{false};
+  FirstFailure failure;  // a block's exception, rethrown after the region (icobrdf/core/first_failure.hpp)
 #pragma omp parallel for schedule(dynamic)
   for (int b = 0; b < blocks; ++b) {
-    if (failed.load(std::memory_order_relaxed)) continue;
+    if (failure.failed()) continue;
     try {
       const int r0 = b * kRowBlock, r1 = std::min(cells, r0 + kRowBlock);
       std::vector<Eigen::MatrixXd> part;
@@ -194,12 +190,10 @@ Lut build_lut(const BrdfModel& model, const Grid& g, bool cosine, LutSampling sa
       for (int c = 0; c < ch; ++c) lut.channels[c].middleRows(r0, r1 - r0) = part[c];
       progress.step();
     } catch (...) {
-#pragma omp critical(icobrdf_build_lut_error)
-      if (!error) error = std::current_exception();
-      failed.store(true, std::memory_order_relaxed);
+      failure.keep();
     }
   }
-  if (error) std::rethrow_exception(error);
+  failure.rethrow();
   for (const auto& d : deltas)
     for (auto& m : lut.channels) add_delta_lut(d, g, m);
   return lut;

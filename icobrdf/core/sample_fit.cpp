@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <cstddef>
 #include <exception>
 #include <functional>
 #include <limits>
@@ -106,18 +105,16 @@ std::vector<Eigen::Index> positive_rows(const Eigen::VectorXd& weights, const st
   return idx;
 }
 
-bool split_fit(const SampleFitOptions& o) { return o.split && o.split->parts > 1; }
-
 // This process's rows of the rows `idx` (SampleFitSplit; all of them when the fit is not split).
 std::vector<Eigen::Index> part_of_rows(const std::vector<Eigen::Index>& idx, const SampleFitOptions& o) {
-  if (!split_fit(o)) return idx;
-  const auto n = idx.size(), part = static_cast<size_t>(o.split->part), parts = static_cast<size_t>(o.split->parts);
-  return {idx.begin() + static_cast<std::ptrdiff_t>(n * part / parts), idx.begin() + static_cast<std::ptrdiff_t>(n * (part + 1) / parts)};
+  if (!splits_work(o.split)) return idx;
+  const auto [first, last] = o.split->rows_of_part(static_cast<long long>(idx.size()));
+  return {idx.begin() + first, idx.begin() + last};
 }
 
 // Replaces `m` by its sum over the processes of a split fit (unchanged otherwise).
 void sum_over_parts(const SampleFitOptions& o, std::vector<Eigen::MatrixXd>& m) {
-  if (split_fit(o)) o.split->sum(m);
+  if (splits_work(o.split)) o.split->sum(m);
 }
 
 // Writes rows [lo, lo + m) of the rows `idx` into ab (W^(1/2) A: the modes at the samples times the square
@@ -569,19 +566,27 @@ NormalEquations assemble_rows(int order, bool isotropic, const RowMatrix3d& wi, 
   return ne;
 }
 
-// The normal equations of this process's rows -> those of every process's (a split fit; unchanged otherwise).
-void sum_normal_equations(const SampleFitOptions& o, NormalEquations& ne) {
-  if (!split_fit(o)) return;
-  std::vector<Eigen::MatrixXd> m{std::move(ne.gram), std::move(ne.rhs), ne.yy, Eigen::Vector2d(ne.weight_sum, static_cast<double>(ne.samples))};
-  o.split->sum(m);
-  ne.gram = std::move(m[0]);
-  ne.rhs = std::move(m[1]);
-  ne.yy = m[2].col(0);
-  ne.weight_sum = m[3](0, 0);
-  ne.samples = std::llround(m[3](1, 0));  // a count below 2^53: exact in double
-}
-
 }  // namespace
+
+void sum_normal_equations(const std::shared_ptr<const SampleFitSplit>& split, std::vector<NormalEquations>& ne) {
+  if (!splits_work(split)) return;
+  std::vector<Eigen::MatrixXd> m;
+  for (NormalEquations& e : ne) {
+    m.push_back(std::move(e.gram));
+    m.push_back(std::move(e.rhs));
+    m.push_back(e.yy);
+    m.push_back(Eigen::Vector2d(e.weight_sum, static_cast<double>(e.samples)));
+  }
+  split->sum(m);
+  for (size_t k = 0; k < ne.size(); ++k) {
+    NormalEquations& e = ne[k];
+    e.gram = std::move(m[4 * k]);
+    e.rhs = std::move(m[4 * k + 1]);
+    e.yy = m[4 * k + 2].col(0);
+    e.weight_sum = m[4 * k + 3](0, 0);
+    e.samples = std::llround(m[4 * k + 3](1, 0));  // a count below 2^53: exact in double
+  }
+}
 
 NormalEquations assemble_normal_equations(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr,
                                           const Eigen::MatrixXd& values, const Eigen::VectorXd& weights,
@@ -624,7 +629,7 @@ void SampleFitAccumulator::absorb(const Eigen::MatrixXd& block) {
 }
 
 void SampleFitAccumulator::merge_parts() {
-  if (!split_fit(options_)) return;
+  if (!splits_work(options_.split)) return;
   const auto parts = static_cast<size_t>(options_.split->parts), part = static_cast<size_t>(options_.split->part);
   std::vector<Eigen::MatrixXd> m(parts + 1, Eigen::MatrixXd::Zero(r_.rows(), r_.cols()));
   m[part] = r_;
@@ -771,9 +776,9 @@ SampleFitResult fit_samples(const RowMatrix3d& wi, const RowMatrix3d& wr, const 
   const std::vector<Eigen::Index> idx = part_of_rows(all, options);  // this process's rows (SampleFitSplit)
   const int k = unknown_count(options.order, options.isotropic);
   const auto assemble = [&](bool single) {
-    NormalEquations ne = assemble_rows(options.order, options.isotropic, wi, wr, values, w, idx, options.progress, options.kernels, single);
-    sum_normal_equations(options, ne);
-    return ne;
+    std::vector<NormalEquations> ne{assemble_rows(options.order, options.isotropic, wi, wr, values, w, idx, options.progress, options.kernels, single)};
+    sum_normal_equations(options.split, ne);
+    return std::move(ne[0]);
   };
   NormalEquations own;
   if (!assembled) own = assemble(single_gram_products(options.gram, static_cast<long long>(all.size()), k));
@@ -788,21 +793,12 @@ SampleFitResult fit_samples(const RowMatrix3d& wi, const RowMatrix3d& wr, const 
     if (auto fast = solve_normal_equations(options, own, wi, wr, values, w, idx, nullptr, needs_double)) return *fast;
   }
   SampleFitAccumulator acc(options, static_cast<int>(values.cols()));
-  if (!split_fit(options)) {
+  if (!splits_work(options.split)) {
     acc.add(wi, wr, values, w);
-  } else {  // this process's rows, then every process's factor
-    const auto n = static_cast<Eigen::Index>(idx.size());
-    RowMatrix3d a(n, 3), b(n, 3);
-    Eigen::MatrixXd y(n, values.cols());
-    Eigen::VectorXd v(n);
-    for (Eigen::Index t = 0; t < n; ++t) {
-      const Eigen::Index i = idx[static_cast<size_t>(t)];
-      a.row(t) = wi.row(i);
-      b.row(t) = wr.row(i);
-      y.row(t) = values.row(i);
-      v[t] = w[i];
-    }
-    acc.add(a, b, y, v);
+  } else {  // this process's rows (the others' weights 0: skipped), then every process's factor
+    Eigen::VectorXd mine = Eigen::VectorXd::Zero(w.size());
+    for (const Eigen::Index i : idx) mine[i] = w[i];
+    acc.add(wi, wr, values, mine);
     acc.merge_parts();
   }
   return acc.solve();

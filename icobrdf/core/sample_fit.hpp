@@ -65,6 +65,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "icobrdf/core/dense_kernels.hpp"
@@ -122,7 +123,11 @@ enum class GramPrecision { Automatic, Double, Single };
 struct SampleFitSplit {
   int part = 0, parts = 1;
   std::function<void(std::vector<Eigen::MatrixXd>&)> sum;
+  // This process's positions [first, second) among n rows of positive weight.
+  std::pair<long long, long long> rows_of_part(long long n) const { return {n * part / parts, n * (part + 1) / parts}; }
 };
+// Whether `split` divides the work (not null, more than one part).
+inline bool splits_work(const std::shared_ptr<const SampleFitSplit>& split) { return split && split->parts > 1; }
 
 // SampleFitResult::solver of a normal-equation fit whose Gram matrix had single-precision products.
 inline constexpr const char* kSingleGramSolver = "normal equations, single-precision Gram";
@@ -182,6 +187,9 @@ struct NormalEquations {
   double weight_sum = 0.0;
   long long samples = 0;
 };
+// The normal equations of each process's rows -> the sums over every process's, in one collective sum of all of
+// `ne` (nothing when `split` does not divide the work).
+void sum_normal_equations(const std::shared_ptr<const SampleFitSplit>& split, std::vector<NormalEquations>& ne);
 NormalEquations assemble_normal_equations(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr,
                                           const Eigen::MatrixXd& values, const Eigen::VectorXd& weights,
                                           const std::vector<Eigen::Index>& rows = {}, const FitProgress& progress = {},

@@ -13,6 +13,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
 
 #include "icobrdf/core/error.hpp"
@@ -52,8 +53,6 @@ struct Folds {
   std::shared_ptr<const SampleFitSplit> split;
 };
 
-bool split_over_parts(const std::shared_ptr<const SampleFitSplit>& split) { return split && split->parts > 1; }
-
 Folds assemble_folds(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
                      const Eigen::VectorXd& weights, int folds, const FitProgress& progress, const DenseKernels* kernels,
                      bool single_products = false, const std::shared_ptr<const SampleFitSplit>& split = nullptr) {
@@ -63,11 +62,7 @@ Folds assemble_folds(int order, bool isotropic, const RowMatrix3d& wi, const Row
   f.fold_of_row.assign(static_cast<size_t>(weights.size()), -1);
   // This process's share of the rows of positive weight: [first, last) of them (SampleFitSplit).
   long long first = 0, last = std::numeric_limits<long long>::max();
-  if (split_over_parts(split)) {
-    const auto n = static_cast<long long>((weights.array() > 0.0).count());
-    first = n * split->part / split->parts;
-    last = n * (split->part + 1) / split->parts;
-  }
+  if (splits_work(split)) std::tie(first, last) = split->rows_of_part(static_cast<long long>((weights.array() > 0.0).count()));
   long long index = 0;
   for (Eigen::Index i = 0; i < weights.size(); ++i)
     if (weights[i] > 0.0) {
@@ -102,24 +97,7 @@ Folds assemble_folds(int order, bool isotropic, const RowMatrix3d& wi, const Row
     f.fold.push_back(
         assemble_normal_equations(order, isotropic, wi, wr, values, weights, rows[static_cast<size_t>(k)], p, kernels, single_products));
   }
-  if (split_over_parts(split)) {  // every process's rows: one sum of every fold's normal equations
-    std::vector<Eigen::MatrixXd> m;
-    for (NormalEquations& ne : f.fold) {
-      m.push_back(std::move(ne.gram));
-      m.push_back(std::move(ne.rhs));
-      m.push_back(ne.yy);
-      m.push_back(Eigen::Vector2d(ne.weight_sum, static_cast<double>(ne.samples)));
-    }
-    split->sum(m);
-    for (size_t k = 0; k < f.fold.size(); ++k) {
-      NormalEquations& ne = f.fold[k];
-      ne.gram = std::move(m[4 * k]);
-      ne.rhs = std::move(m[4 * k + 1]);
-      ne.yy = m[4 * k + 2].col(0);
-      ne.weight_sum = m[4 * k + 3](0, 0);
-      ne.samples = std::llround(m[4 * k + 3](1, 0));  // a count below 2^53: exact in double
-    }
-  }
+  sum_normal_equations(split, f.fold);  // every process's rows: one sum of every fold's normal equations
   f.total = f.fold[0];
   for (int k = 1; k < folds; ++k) {
     f.total.gram += f.fold[static_cast<size_t>(k)].gram;
@@ -221,7 +199,7 @@ class FoldScoring {
     std::vector<Eigen::MatrixXd> dx(n);
     for (;;) {
       HeldOutPass h = held_out_pass(order_, f_.isotropic, *f_.wi, *f_.wr, *f_.values, *f_.weights, f_.fold_of_row, x);
-      if (split_over_parts(f_.split)) {  // this process's rows -> every process's
+      if (splits_work(f_.split)) {  // this process's rows -> every process's
         std::vector<Eigen::MatrixXd> m(std::make_move_iterator(h.c.begin()), std::make_move_iterator(h.c.end()));
         for (const Eigen::VectorXd& v : h.held) m.push_back(v);
         f_.split->sum(m);

@@ -6,9 +6,7 @@
 // memory gives the serial driver's bits.
 #include <gtest/gtest.h>
 
-#include <condition_variable>
 #include <map>
-#include <mutex>
 #include <set>
 #include <string>
 #include <thread>
@@ -23,10 +21,13 @@
 #include "icobrdf/core/reference_grids.hpp"
 #include "icobrdf/core/row_split_projection.hpp"
 #include "icobrdf/core/streaming_projection.hpp"
+#include "tests/core/thread_exchange.hpp"
 #include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
 namespace ICOBRDF_UNITY_ID {
+
+using test::ThreadExchange;
 
 // Split against whole operators, relative to max|C|: the split P comes from G summed in another order and
 // from B rows evaluated directly instead of by symmetry, each off by a few ulps times cond(G) (below 2 at
@@ -34,6 +35,10 @@ namespace ICOBRDF_UNITY_ID {
 // rounding u each); 1e-12 is 100x that budget, and far below what any missing or doubled pair gives (a
 // part alone is off by more than 1e-3, checked below).
 constexpr double kSplitRelTol = 1e-12;
+// A projection missing work (one part's share alone, or every other batch of rows) differs from the whole by
+// at least this, relative to max|C|: each share carries a sizeable fraction of every coefficient, so the
+// gap is of order 0.1-1, and 1e-3 stays 1e9 times above kSplitRelTol.
+constexpr double kMissingWorkRelGap = 1e-3;
 
 // The 15 x 21 grid resolves order 4 to a Gram error of 0.12 (condition 1.14): above the default tolerance,
 // harmless for comparing two ways of computing the same projection.
@@ -143,72 +148,6 @@ TEST(RowSplitProjection, SumOfPartsEqualsTheWholeProjectionToRounding) {
   }
 }
 
-// An exchange through memory for threads standing in for processes: sums in part order, mailboxes for the
-// ring.
-class ThreadExchange {
- public:
-  explicit ThreadExchange(int parts) : parts_(parts), boxes_(static_cast<size_t>(parts)) {}
-  class Part : public RowSplitExchange {
-   public:
-    Part(ThreadExchange& x, int part) : x_(x), part_(part) {}
-    int part() const override { return part_; }
-    int parts() const override { return x_.parts_; }
-    void sum(std::vector<Eigen::MatrixXd>& m) override { x_.sum(part_, m); }
-    Eigen::MatrixXd shift(Eigen::MatrixXd block, bool send, bool receive) override {
-      if (send) x_.put((part_ + x_.parts_ - 1) % x_.parts_, std::move(block));
-      return receive ? x_.take(part_) : Eigen::MatrixXd();
-    }
-
-   private:
-    ThreadExchange& x_;
-    int part_;
-  };
-
- private:
-  void sum(int part, std::vector<Eigen::MatrixXd>& m) {
-    std::unique_lock<std::mutex> lock(mutex_);
-    const long round = round_;
-    contributions_[part] = m;
-    if (static_cast<int>(contributions_.size()) == parts_) {
-      result_ = contributions_[0];
-      for (int p = 1; p < parts_; ++p)
-        for (size_t k = 0; k < result_.size(); ++k) result_[k] += contributions_[p][k];
-      last_contributions_ = std::move(contributions_);
-      contributions_.clear();
-      ++round_;
-      changed_.notify_all();
-    } else {
-      changed_.wait(lock, [&] { return round_ != round; });
-    }
-    m = result_;
-  }
-  void put(int to, Eigen::MatrixXd block) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    boxes_[static_cast<size_t>(to)].push_back(std::move(block));
-    changed_.notify_all();
-  }
-  Eigen::MatrixXd take(int part) {
-    std::unique_lock<std::mutex> lock(mutex_);
-    auto& box = boxes_[static_cast<size_t>(part)];
-    changed_.wait(lock, [&] { return !box.empty(); });
-    Eigen::MatrixXd b = std::move(box.front());
-    box.erase(box.begin());
-    return b;
-  }
-  int parts_;
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  long round_ = 0;
-  std::map<int, std::vector<Eigen::MatrixXd>> contributions_;
-
- public:
-  std::map<int, std::vector<Eigen::MatrixXd>> last_contributions_;  // of the last sum, by part
-
- private:
-  std::vector<Eigen::MatrixXd> result_;
-  std::vector<std::vector<Eigen::MatrixXd>> boxes_;
-};
-
 // The driver itself (operators built split, the ring shifts, one sum), on threads: every part ends with the
 // serial driver's bits, and holds only its own block's rows of P.
 TEST(RowSplitProjection, DriverOnThreadsGivesTheSerialResultOnEveryPart) {
@@ -235,7 +174,7 @@ TEST(RowSplitProjection, DriverOnThreadsGivesTheSerialResultOnEveryPart) {
         EXPECT_LE(rows[static_cast<size_t>(p)], g.cells() / parts + 4) << "rows of P held by part " << p;
         // Each part's own matrices are far from the whole: the sum is not one part doing all the work.
         const Eigen::MatrixXd& own = x.last_contributions_.at(p)[0];
-        EXPECT_GT((own - serial[0]).cwiseAbs().maxCoeff(), 1e-3 * serial[0].cwiseAbs().maxCoeff()) << c.spec << ", part " << p;
+        EXPECT_GT((own - serial[0]).cwiseAbs().maxCoeff(), kMissingWorkRelGap * serial[0].cwiseAbs().maxCoeff()) << c.spec << ", part " << p;
       }
     }
   }
@@ -263,7 +202,7 @@ TEST(RowSplitProjection, EveryKeepsEveryKthBatchOfEachPair) {
     by_every[every] = out[0];
   }
   EXPECT_EQ((by_every[1] - serial[0]).cwiseAbs().maxCoeff(), 0.0);
-  EXPECT_GT((by_every[2] - serial[0]).cwiseAbs().maxCoeff(), 1e-3 * serial[0].cwiseAbs().maxCoeff()) << "every other batch dropped";
+  EXPECT_GT((by_every[2] - serial[0]).cwiseAbs().maxCoeff(), kMissingWorkRelGap * serial[0].cwiseAbs().maxCoeff()) << "every other batch dropped";
   ThreadExchange one(1);
   ThreadExchange::Part e(one, 0);
   const SplitOperators ops = split_operators(g, 4, kDefaultGramTolerance, e);

@@ -7,10 +7,8 @@
 // double the sums.
 #include <gtest/gtest.h>
 
-#include <condition_variable>
 #include <cstddef>
 #include <memory>
-#include <mutex>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -22,6 +20,7 @@
 #include "icobrdf/core/sample_fit.hpp"
 #include "icobrdf/core/sample_fit_selection.hpp"
 #include "tests/core/sample_pairs.hpp"
+#include "tests/core/thread_exchange.hpp"
 #include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
@@ -33,46 +32,14 @@ namespace ICOBRDF_UNITY_ID {
 constexpr double kSplitTol = 1e-11;
 
 using test::random_vector;
+using test::ThreadExchange;
 
-// Sums over parts that run as threads: each part leaves its matrices, the last to arrive adds them in part
-// order, every part takes the sum. Counts the sums.
-class ThreadSums {
- public:
-  explicit ThreadSums(int parts) : parts_(parts), slots_(static_cast<size_t>(parts)) {}
-  void sum(int part, std::vector<Eigen::MatrixXd>& m) {
-    std::unique_lock<std::mutex> lock(mu_);
-    const long long round = round_;
-    slots_[static_cast<size_t>(part)] = m;
-    if (++arrived_ == parts_) {
-      result_ = slots_[0];
-      for (size_t p = 1; p < slots_.size(); ++p) {
-        ASSERT_EQ(slots_[p].size(), result_.size());
-        for (size_t i = 0; i < result_.size(); ++i) result_[i] += slots_[p][i];
-      }
-      arrived_ = 0;
-      ++round_;
-      cv_.notify_all();
-    } else {
-      cv_.wait(lock, [&] { return round_ != round; });
-    }
-    m = result_;  // valid until this part arrives again: a round needs every part
-  }
-  long long rounds() const { return round_; }
-
- private:
-  int parts_, arrived_ = 0;
-  long long round_ = 0;
-  std::vector<std::vector<Eigen::MatrixXd>> slots_;
-  std::vector<Eigen::MatrixXd> result_;
-  std::mutex mu_;
-  std::condition_variable cv_;
-};
-
-// fit(part, split) on `parts` threads, one part each, with the sums of ThreadSums; the results in part order.
+// fit(part, split) on `parts` threads, one part each, with the sums of a ThreadExchange (in part order, as
+// mpirun's ranks add them); the results in part order.
 // Every part fails at the same point (they share the sums' results), so an error is recorded, not rethrown.
 template <class Result, class Fit>
 std::vector<Result> run_parts(int parts, Fit fit, long long* sums = nullptr) {
-  ThreadSums s(parts);
+  ThreadExchange x(parts);
   std::vector<Result> out(static_cast<size_t>(parts));
   std::vector<std::string> errors(static_cast<size_t>(parts));
   std::vector<std::thread> threads;
@@ -80,7 +47,7 @@ std::vector<Result> run_parts(int parts, Fit fit, long long* sums = nullptr) {
     auto split = std::make_shared<SampleFitSplit>();
     split->part = q;
     split->parts = parts;
-    split->sum = [&s, q](std::vector<Eigen::MatrixXd>& m) { s.sum(q, m); };
+    split->sum = [&x, q](std::vector<Eigen::MatrixXd>& m) { ThreadExchange::Part(x, q).sum(m); };
     threads.emplace_back([&, split, q] {
       try {
         out[static_cast<size_t>(q)] = fit(split);
@@ -91,7 +58,7 @@ std::vector<Result> run_parts(int parts, Fit fit, long long* sums = nullptr) {
   }
   for (auto& t : threads) t.join();
   for (int q = 0; q < parts; ++q) EXPECT_EQ(errors[static_cast<size_t>(q)], "") << "part " << q << " of " << parts;
-  if (sums) *sums = s.rounds();
+  if (sums) *sums = x.rounds();
   return out;
 }
 
@@ -211,7 +178,9 @@ TEST(SampleFitSplit, TheCheckedFitChoosesAsOneProcessDoes) {
         EXPECT_EQ(c.fit.order, one.fit.order) << "part " << q;
         EXPECT_EQ(c.order_cv.chosen, one.order_cv.chosen) << "part " << q;
         for (size_t i = 0; i < one.order_cv.rms.size(); ++i)
-          if (one.order_cv.determined[i]) EXPECT_NEAR(c.order_cv.rms[i], one.order_cv.rms[i], kSplitTol * one.order_cv.rms[i]) << i;
+          if (one.order_cv.determined[i]) {
+            EXPECT_NEAR(c.order_cv.rms[i], one.order_cv.rms[i], kSplitTol * one.order_cv.rms[i]) << i;
+          }
         EXPECT_NEAR(c.fit.tikhonov, one.fit.tikhonov, kSplitTol * one.fit.tikhonov) << "the same GCV grid point";
         EXPECT_NEAR(c.cv_rms, one.cv_rms, kSplitTol * one.cv_rms) << "part " << q;
         EXPECT_EQ(c.cv_rms, split[0].cv_rms) << "every part the same bits";
