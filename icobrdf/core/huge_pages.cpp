@@ -21,4 +21,10 @@ void advise_huge_pages(void* data, std::size_t bytes) {
 #endif
 }
 
+Eigen::MatrixXd huge_page_matrix(Eigen::Index rows, Eigen::Index cols) {
+  Eigen::MatrixXd m(rows, cols);
+  advise_huge_pages(m.data(), sizeof(double) * static_cast<std::size_t>(m.size()));
+  return m;
+}
+
 }  // namespace icobrdf

@@ -1,5 +1,6 @@
 #include "icobrdf/core/lut.hpp"
 #include "icobrdf/core/first_failure.hpp"
+#include "icobrdf/core/huge_pages.hpp"
 #include "icobrdf/core/progress.hpp"
 
 #include <algorithm>
@@ -176,7 +177,10 @@ Lut build_lut(const BrdfModel& model, const Grid& g, bool cosine, LutSampling sa
   Lut lut;
   lut.cosine = cosine;
   lut.channels.resize(static_cast<size_t>(ch));  // each cells x cells matrix allocated once, no temporary
-  for (auto& m : lut.channels) m.setZero(cells, cells);
+  for (auto& m : lut.channels) {
+    m = huge_page_matrix(cells, cells);  // advised before the first write (icobrdf/core/huge_pages.hpp)
+    m.setZero();
+  }
   const int blocks = (cells + kRowBlock - 1) / kRowBlock;
   ProgressMeter progress("sampling the LUT", blocks);
   FirstFailure failure;  // a block's exception, rethrown after the region (icobrdf/core/first_failure.hpp)

@@ -18,14 +18,15 @@ namespace icobrdf {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// Modes per register tile.
-constexpr int kTileModes = kProjectionTileModes;
+// Modes and LUT columns per register tile.
 #if HWY_TARGET <= HWY_AVX3
-// 32 vector registers: 24 accumulators, 3 P vectors and 1 F vector.
-constexpr int kTileColumns = 8;
+// 32 vector registers: 25 accumulators, 5 P vectors and 1 F vector. Measured against 3 modes x 8 columns
+// (Zen 4, level 5, order 8, 2 threads, alternated in one process, 2026-11-28): 1-4% faster (F is read from L1
+// 9 times per chunk instead of 15, and 10 loads feed 25 FMAs instead of 11 feeding 24).
+constexpr int kTileModes = 5, kTileColumns = 5;
 #else
 // 16 vector registers: 12 accumulators, 3 P vectors and 1 F vector.
-constexpr int kTileColumns = 4;
+constexpr int kTileModes = 3, kTileColumns = 4;
 #endif
 // Cells per chunk and LUT columns per sweep over the cells (icobrdf/core/projection_tile.hpp: what stays in
 // which cache). Measured on AVX-512 (Zen 5, CPU time of one thread, 2026-11-24): chunks of 128-256 cells beat
@@ -58,40 +59,55 @@ HWY_INLINE void keep_in_register(V& v) {
 #endif
 }
 
-// acc[(q * M + r) * L + lane] += sum over the vectors kk < vectors of p[(kk * M + r) * L + lane] f[q ld + kk L + lane]:
-// P packed so that one step reads its M vectors consecutively; F's N columns read in place (stride ld). The
-// chunk of F columns stays in L1 for the mode groups after the first. (Copying each chunk of F into a packed
-// buffer first, as this tile did before, cost 7-10%: Zen 4, 2026-11-27.)
-template <int N>
+// acc[(q * kTileModes + r) * L + lane] += sum over the vectors kk < vectors of p[(kk * M + r) * L + lane]
+// f[q ld + kk L + lane] for the M <= kTileModes modes of a group: P packed so that one step reads its M
+// vectors consecutively; F's N columns read in place (stride ld). The chunk of F columns stays in L1 for the
+// mode groups after the first. (Copying each chunk of F into a packed buffer first, as this tile did before,
+// cost 7-10%: Zen 4, 2026-11-27.) Step kk also prefetches line kk of `pf` (one column of the chunk the tile
+// reads next) while kk < pf_vectors: one prefetch among the step's FMAs. (Issuing a chunk's prefetches in a
+// burst before each group stalled on the outstanding misses: 7% of the tile's samples in `perf`, and 2-4%
+// of its time, Zen 4, 2026-11-28.)
+template <int N, int M>
 HWY_INLINE void dot_tile(const double* HWY_RESTRICT p, const double* HWY_RESTRICT f, std::ptrdiff_t ld, std::ptrdiff_t vectors,
-                         double* HWY_RESTRICT acc) {
+                         double* HWY_RESTRICT acc, const double* pf, std::ptrdiff_t pf_vectors) {
   const hn::ScalableTag<double> d;
   const std::ptrdiff_t lanes = static_cast<std::ptrdiff_t>(hn::Lanes(d));
   using V = hn::Vec<decltype(d)>;
-  V c[N][kTileModes];
+  V c[N][M];
   const double* col[N];
 #pragma GCC unroll 16
   for (int q = 0; q < N; ++q) col[q] = f + q * ld;
 #pragma GCC unroll 16
   for (int q = 0; q < N; ++q)
 #pragma GCC unroll 16
-    for (int r = 0; r < kTileModes; ++r) c[q][r] = hn::LoadU(d, acc + (q * kTileModes + r) * lanes);
-  for (std::ptrdiff_t kk = 0; kk < vectors; ++kk, p += kTileModes * lanes) {
-    V x[kTileModes];
+    for (int r = 0; r < M; ++r) c[q][r] = hn::LoadU(d, acc + (q * kTileModes + r) * lanes);
+  for (std::ptrdiff_t kk = 0; kk < vectors; ++kk, p += M * lanes) {
+    if (kk < pf_vectors && (kk * lanes) % kLineDoubles == 0) hwy::Prefetch(pf + kk * lanes);
+    V x[M];
 #pragma GCC unroll 16
-    for (int r = 0; r < kTileModes; ++r) x[r] = hn::Load(d, p + r * lanes);
+    for (int r = 0; r < M; ++r) x[r] = hn::Load(d, p + r * lanes);
 #pragma GCC unroll 16
     for (int q = 0; q < N; ++q) {
       V y = hn::LoadU(d, col[q] + kk * lanes);
       keep_in_register(y);
 #pragma GCC unroll 16
-      for (int r = 0; r < kTileModes; ++r) c[q][r] = hn::MulAdd(x[r], y, c[q][r]);
+      for (int r = 0; r < M; ++r) c[q][r] = hn::MulAdd(x[r], y, c[q][r]);
     }
   }
 #pragma GCC unroll 16
   for (int q = 0; q < N; ++q)
 #pragma GCC unroll 16
-    for (int r = 0; r < kTileModes; ++r) hn::StoreU(c[q][r], d, acc + (q * kTileModes + r) * lanes);
+    for (int r = 0; r < M; ++r) hn::StoreU(c[q][r], d, acc + (q * kTileModes + r) * lanes);
+}
+
+// dot_tile for a group of m modes, 1 <= m <= kTileModes (only the last group has fewer than kTileModes).
+template <int N, int M = kTileModes>
+HWY_INLINE void dot_tile_modes(std::ptrdiff_t m, const double* HWY_RESTRICT p, const double* HWY_RESTRICT f, std::ptrdiff_t ld,
+                               std::ptrdiff_t vectors, double* HWY_RESTRICT acc, const double* pf, std::ptrdiff_t pf_vectors) {
+  if constexpr (M > 1) {
+    if (m < M) return dot_tile_modes<N, M - 1>(m, p, f, ld, vectors, acc, pf, pf_vectors);
+  }
+  dot_tile<N, M>(p, f, ld, vectors, acc, pf, pf_vectors);
 }
 
 // Copies `n` columns (stride ld) of cells [k0, k0 + vectors L) to out[(kk * n + q) * L + lane]; a column
@@ -106,13 +122,18 @@ void pack_columns(const double* src, std::ptrdiff_t ld, std::ptrdiff_t first, st
 }
 
 std::ptrdiff_t TileLanes() { return static_cast<std::ptrdiff_t>(hn::Lanes(hn::ScalableTag<double>())); }
+std::ptrdiff_t TileModes() { return kTileModes; }
 
-// out[g][kk][r][lane] = P(kk L + lane, min(g M + r, modes - 1)) for the cv = cells / L * L vector cells.
+// Modes of group g: kTileModes, fewer for the last group.
+std::ptrdiff_t group_modes(std::ptrdiff_t g, std::ptrdiff_t modes) { return std::min<std::ptrdiff_t>(kTileModes, modes - g * kTileModes); }
+
+// out[g M cv + (kk m + r) L + lane] = P(kk L + lane, g M + r) for the cv = cells / L * L vector cells, with M
+// = kTileModes and m = group_modes(g): modes x cv values in all.
 void PackProjection(const double* p, std::ptrdiff_t cells, std::ptrdiff_t modes, double* out) {
   const std::ptrdiff_t lanes = TileLanes(), cv = cells / lanes * lanes;
   const std::ptrdiff_t groups = (modes + kTileModes - 1) / kTileModes;
   for (std::ptrdiff_t g = 0; g < groups; ++g)
-    pack_columns(p, cells, g * kTileModes, kTileModes, modes - 1, 0, cv / lanes, lanes, out + g * kTileModes * cv);
+    pack_columns(p, cells, g * kTileModes, group_modes(g, modes), modes - 1, 0, cv / lanes, lanes, out + g * kTileModes * cv);
 }
 
 void ProjectionTile(const double* packed_p, const double* p, std::ptrdiff_t cells, std::ptrdiff_t modes, const double* f,
@@ -139,7 +160,7 @@ void ProjectionTile(const double* packed_p, const double* p, std::ptrdiff_t cell
         for (std::ptrdiff_t k0 = kb; k0 < kb_end; k0 += kChunkCells) {
           const std::ptrdiff_t vectors = (std::min(kb_end, k0 + kChunkCells) - k0) / lanes;
           // Prefetch the F lines the tile reads next (the next chunk of this tile's columns, else the next
-          // tile's first chunk of the block, else the next block's), a share of the lines per mode group.
+          // tile's first chunk of the block, else the next block's) while this chunk's groups run.
           std::ptrdiff_t next_j = j0, next_k = k0 + kChunkCells, next_end = kb_end;
           if (next_k >= kb_end) {
             next_j = j0 + n, next_k = kb;
@@ -147,21 +168,26 @@ void ProjectionTile(const double* packed_p, const double* p, std::ptrdiff_t cell
           }
           const std::ptrdiff_t next_n = next_j < swv ? kTileColumns : 1;
           const std::ptrdiff_t next_cells = std::max<std::ptrdiff_t>(0, std::min(next_end, next_k + kChunkCells) - next_k);
-          const std::ptrdiff_t column_lines = (next_cells + kLineDoubles - 1) / kLineDoubles, lines = next_n * column_lines;
-          // The lines are walked column by column with counters (a division per line cost a quarter of the tile).
-          std::ptrdiff_t pf_column = 0, pf_line = 0, pf_done = 0;
+          const std::ptrdiff_t next_vectors = (next_cells + lanes - 1) / lanes;
+          const auto next_column = [&](std::ptrdiff_t q) { return f + std::min(s0 + next_j + q, w - 1) * ldf + next_k; };
+          // Group g < next_n prefetches column g of the next chunk, a line per step of its tile; with fewer
+          // groups than columns (few modes), the first group prefetches every line at once instead.
+          const bool per_group = groups >= next_n;
           for (std::ptrdiff_t g = 0; g < groups; ++g) {
-            for (const std::ptrdiff_t pf_end = (g + 1) * lines / groups; pf_done < pf_end; ++pf_done) {
-              hwy::Prefetch(f + std::min(s0 + next_j + pf_column, w - 1) * ldf + next_k + pf_line * kLineDoubles);
-              if (++pf_line == column_lines) pf_line = 0, ++pf_column;
-            }
-            const double* pg = packed_p + g * kTileModes * packed_cells + k0 * kTileModes;
+            if (!per_group && g == 0)
+              for (std::ptrdiff_t q = 0; q < next_n; ++q)
+                for (std::ptrdiff_t l = 0; l < next_cells; l += kLineDoubles) hwy::Prefetch(next_column(q) + l);
+            const double* pf = next_column(std::min(g, next_n - 1));
+            const std::ptrdiff_t pf_vectors = per_group && g < next_n ? next_vectors : 0;
+            const std::ptrdiff_t m = group_modes(g, modes);
+            const double* pg = packed_p + g * kTileModes * packed_cells + k0 * m;
             double* a = acc + (g * sw + j0) * per_column;
             const double* fj = f + (s0 + j0) * ldf + k0;
             if (n == kTileColumns)
-              dot_tile<kTileColumns>(pg, fj, ldf, vectors, a);
+              dot_tile_modes<kTileColumns>(m, pg, fj, ldf, vectors, a, pf, pf_vectors);
             else
-              dot_tile<1>(pg, fj, ldf, vectors, a);
+              dot_tile_modes<1>(m, pg, fj, ldf, vectors, a, pf, pf_vectors);
+            for (std::ptrdiff_t l = vectors * lanes; l < pf_vectors * lanes; l += kLineDoubles) hwy::Prefetch(pf + l);  // beyond a short chunk
           }
         }
         j0 += n;
@@ -190,6 +216,7 @@ HWY_AFTER_NAMESPACE();
 namespace icobrdf {
 
 HWY_EXPORT(TileLanes);
+HWY_EXPORT(TileModes);
 HWY_EXPORT(PackProjection);
 HWY_EXPORT(ProjectionTile);
 
@@ -198,9 +225,9 @@ PackedProjection pack_projection(const Eigen::MatrixXd& p) {
   packed.cells = p.rows();
   packed.modes = p.cols();
   packed.lanes = HWY_DYNAMIC_DISPATCH(TileLanes)();
-  const Eigen::Index groups = (packed.modes + kProjectionTileModes - 1) / kProjectionTileModes;
+  packed.group_modes = HWY_DYNAMIC_DISPATCH(TileModes)();
   const Eigen::Index cv = packed.cells / packed.lanes * packed.lanes;
-  packed.storage.assign(static_cast<size_t>(groups * kProjectionTileModes * cv) + kPackAlignBytes / sizeof(double), 0.0);
+  packed.storage.assign(static_cast<size_t>(packed.modes * cv) + kPackAlignBytes / sizeof(double), 0.0);
   while (reinterpret_cast<std::uintptr_t>(packed.storage.data() + packed.offset) % kPackAlignBytes != 0) ++packed.offset;
   if (packed.modes > 0) HWY_DYNAMIC_DISPATCH(PackProjection)(p.data(), p.rows(), p.cols(), packed.storage.data() + packed.offset);
   return packed;
@@ -209,10 +236,11 @@ PackedProjection pack_projection(const Eigen::MatrixXd& p) {
 void projection_tile(const PackedProjection& packed, const Eigen::MatrixXd& p, const double* f, Eigen::Index ldf, Eigen::Index w,
                      Eigen::MatrixXd& t, std::vector<double>& scratch, Eigen::Index first_cell, Eigen::Index end_cell) {
   if (end_cell < 0) end_cell = p.rows();
-  if (packed.lanes != HWY_DYNAMIC_DISPATCH(TileLanes)() || packed.cells != p.rows() || packed.modes != p.cols())
-    throw ArgumentError("projection: P was packed for " + std::to_string(packed.lanes) + " lanes and " + std::to_string(packed.cells) + " x " +
-                        std::to_string(packed.modes) + ", used with " + std::to_string(HWY_DYNAMIC_DISPATCH(TileLanes)()) + " lanes and " +
-                        std::to_string(p.rows()) + " x " + std::to_string(p.cols()));
+  const Eigen::Index lanes = HWY_DYNAMIC_DISPATCH(TileLanes)(), group_modes = HWY_DYNAMIC_DISPATCH(TileModes)();
+  if (packed.lanes != lanes || packed.group_modes != group_modes || packed.cells != p.rows() || packed.modes != p.cols())
+    throw ArgumentError("projection: P was packed for " + std::to_string(packed.lanes) + " lanes, groups of " + std::to_string(packed.group_modes) +
+                        " modes and " + std::to_string(packed.cells) + " x " + std::to_string(packed.modes) + ", used with " + std::to_string(lanes) +
+                        " lanes, groups of " + std::to_string(group_modes) + " modes and " + std::to_string(p.rows()) + " x " + std::to_string(p.cols()));
   const bool aligned_end = end_cell == p.rows() || end_cell % packed.lanes == 0;
   if (first_cell < 0 || first_cell > end_cell || end_cell > p.rows() || first_cell % packed.lanes != 0 || !aligned_end)
     throw ArgumentError("projection: cell range [" + std::to_string(first_cell) + ", " + std::to_string(end_cell) + ") of " +

@@ -8,6 +8,7 @@
 #include "icobrdf/core/error.hpp"
 #include "icobrdf/core/finite_values.hpp"
 #include "icobrdf/core/helmholtz_modes.hpp"
+#include "icobrdf/core/huge_pages.hpp"
 #include "icobrdf/core/isotropic_modes.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/half_angle_file.hpp"
@@ -470,9 +471,11 @@ MaterialRecord read_material(const h5::Group& materials, const std::string& name
           g.fail(obj, "expected finite values, found " + std::to_string(a.data[i]) + " at channel " + std::to_string(i / per) +
                           ", incident cell " + std::to_string(i % per / cells) + ", remitted cell " + std::to_string(i % cells));
       rec.lut.resize(ch);
-      for (int c = 0; c < ch; ++c)
+      for (int c = 0; c < ch; ++c) {
+        rec.lut[c] = huge_page_matrix(cells, cells);  // advised before the first write (icobrdf/core/huge_pages.hpp)
         rec.lut[c] = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
             a.data.data() + c * per, cells, cells);
+      }
     }
   }
   if (g.has("choice")) {

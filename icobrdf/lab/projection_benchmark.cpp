@@ -4,11 +4,14 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <chrono>
 #include <functional>
 #include <limits>
 #include <random>
+#include <thread>
 
 #include "icobrdf/core/discrete_basis.hpp"
+#include "icobrdf/core/huge_pages.hpp"
 #include "icobrdf/core/projection.hpp"
 #include "icobrdf/lab/timing.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
@@ -16,7 +19,7 @@
 namespace icobrdf::lab {
 
 Eigen::MatrixXd random_lut(Eigen::Index cells, unsigned seed) {
-  Eigen::MatrixXd f(cells, cells);
+  Eigen::MatrixXd f = huge_page_matrix(cells, cells);  // as the library's own LUTs (icobrdf/core/huge_pages.hpp)
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (Eigen::Index k = 0; k < f.size(); ++k) f.data()[k] = u(rng);
@@ -75,9 +78,16 @@ Problem problem_at(int level, int order, int threads, bool symmetric) {
   return {make_projection(basis), symmetric ? random_symmetric_lut(g.cells()) : random_lut(g.cells())};
 }
 
+// Rest before each timed call: the worker threads of the call before (OpenBLAS's spin, yielding, for up to
+// 2^28 cycles, about 70 ms at 3.7 GHz, after a call; OpenMP's for its spin count) are asleep by then and do
+// not take a core from it. Without it (Zen 4, 2 threads, level 5, order 8, 2026-11-28) each path ran 2-6%
+// slower after the other: icobrdf 0.1046-0.1058 s against 0.1019-0.1038 s, OpenBLAS 0.130-0.137 s against
+// 0.122 s.
+constexpr auto kRestBeforeEachCall = std::chrono::milliseconds(100);
+
 // Times OpenBLAS in both orders and, when `ours` is given, the library's call too, `repeat` rounds of one
 // call each, interleaved (ours, P^T (F P), (P^T F) P, ours, ...) so that a change of the machine's load
-// during the run reaches every path alike; the best of each is kept.
+// during the run reaches every path alike, each after kRestBeforeEachCall; the best of each is kept.
 BlasProjection time_paths(const Problem& p, int repeat, const std::function<void()>& ours, CpuWall* ours_best) {
   const Eigen::Index c = p.lut.rows(), m = p.proj.P.cols();
   Eigen::MatrixXd fp(c, m), pf(m, c), out_fp(m, m), out_pf(m, m);
@@ -88,9 +98,12 @@ BlasProjection time_paths(const Problem& p, int repeat, const std::function<void
     best.cpu = std::min(best.cpu, t.cpu);
     best.wall = std::min(best.wall, t.wall);
   };
+  const auto rest = [] { std::this_thread::sleep_for(kRestBeforeEachCall); };
   for (int k = 0; k < repeat; ++k) {
-    if (ours_best != nullptr) keep(*ours_best, cpu_and_wall_of(ours));
+    if (ours_best != nullptr) rest(), keep(*ours_best, cpu_and_wall_of(ours));
+    rest();
     keep(best_fp, cpu_and_wall_of([&] { blas_project(p.proj.P, p.lut, false, fp, out_fp); }));
+    rest();
     keep(best_pf, cpu_and_wall_of([&] { blas_project(p.proj.P, p.lut, true, pf, out_pf); }));
   }
   BlasProjection b;
