@@ -64,12 +64,12 @@ HWY_INLINE void keep_in_register(V& v) {
 // vectors consecutively; F's N columns read in place (stride ld). The chunk of F columns stays in L1 for the
 // mode groups after the first. (Copying each chunk of F into a packed buffer first, as this tile did before,
 // cost 7-10%: Zen 4, 2026-11-27.) Step kk also prefetches line kk of `pf` (one column of the chunk the tile
-// reads next) while kk < pf_vectors: one prefetch among the step's FMAs. (Issuing a chunk's prefetches in a
-// burst before each group stalled on the outstanding misses: 7% of the tile's samples in `perf`, and 2-4%
-// of its time, Zen 4, 2026-11-28.)
+// reads next, or into L2 only a column of the chunk after it: `to_l2`) while kk < pf_vectors: one prefetch
+// among the step's FMAs. (Issuing a chunk's prefetches in a burst before each group stalled on the
+// outstanding misses: 7% of the tile's samples in `perf`, and 2-4% of its time, Zen 4, 2026-11-28.)
 template <int N, int M>
 HWY_INLINE void dot_tile(const double* HWY_RESTRICT p, const double* HWY_RESTRICT f, std::ptrdiff_t ld, std::ptrdiff_t vectors,
-                         double* HWY_RESTRICT acc, const double* pf, std::ptrdiff_t pf_vectors) {
+                         double* HWY_RESTRICT acc, const double* pf, std::ptrdiff_t pf_vectors, bool to_l2) {
   const hn::ScalableTag<double> d;
   const std::ptrdiff_t lanes = static_cast<std::ptrdiff_t>(hn::Lanes(d));
   using V = hn::Vec<decltype(d)>;
@@ -82,7 +82,12 @@ HWY_INLINE void dot_tile(const double* HWY_RESTRICT p, const double* HWY_RESTRIC
 #pragma GCC unroll 16
     for (int r = 0; r < M; ++r) c[q][r] = hn::LoadU(d, acc + (q * kTileModes + r) * lanes);
   for (std::ptrdiff_t kk = 0; kk < vectors; ++kk, p += M * lanes) {
-    if (kk < pf_vectors && (kk * lanes) % kLineDoubles == 0) hwy::Prefetch(pf + kk * lanes);
+    if (kk < pf_vectors && (kk * lanes) % kLineDoubles == 0) {
+      if (to_l2)
+        __builtin_prefetch(pf + kk * lanes, 0, 2);  // locality 2: into L2 (x86 prefetcht1)
+      else
+        hwy::Prefetch(pf + kk * lanes);
+    }
     V x[M];
 #pragma GCC unroll 16
     for (int r = 0; r < M; ++r) x[r] = hn::Load(d, p + r * lanes);
@@ -103,11 +108,12 @@ HWY_INLINE void dot_tile(const double* HWY_RESTRICT p, const double* HWY_RESTRIC
 // dot_tile for a group of m modes, 1 <= m <= kTileModes (only the last group has fewer than kTileModes).
 template <int N, int M = kTileModes>
 HWY_INLINE void dot_tile_modes(std::ptrdiff_t m, const double* HWY_RESTRICT p, const double* HWY_RESTRICT f, std::ptrdiff_t ld,
-                               std::ptrdiff_t vectors, double* HWY_RESTRICT acc, const double* pf, std::ptrdiff_t pf_vectors) {
+                               std::ptrdiff_t vectors, double* HWY_RESTRICT acc, const double* pf, std::ptrdiff_t pf_vectors,
+                               bool to_l2) {
   if constexpr (M > 1) {
-    if (m < M) return dot_tile_modes<N, M - 1>(m, p, f, ld, vectors, acc, pf, pf_vectors);
+    if (m < M) return dot_tile_modes<N, M - 1>(m, p, f, ld, vectors, acc, pf, pf_vectors, to_l2);
   }
-  dot_tile<N, M>(p, f, ld, vectors, acc, pf, pf_vectors);
+  dot_tile<N, M>(p, f, ld, vectors, acc, pf, pf_vectors, to_l2);
 }
 
 // Copies `n` columns (stride ld) of cells [k0, k0 + vectors L) to out[(kk * n + q) * L + lane]; a column
@@ -159,35 +165,49 @@ void ProjectionTile(const double* packed_p, const double* p, std::ptrdiff_t cell
         const std::ptrdiff_t n = j0 < swv ? kTileColumns : 1;
         for (std::ptrdiff_t k0 = kb; k0 < kb_end; k0 += kChunkCells) {
           const std::ptrdiff_t vectors = (std::min(kb_end, k0 + kChunkCells) - k0) / lanes;
-          // Prefetch the F lines the tile reads next (the next chunk of this tile's columns, else the next
-          // tile's first chunk of the block, else the next block's) while this chunk's groups run.
-          std::ptrdiff_t next_j = j0, next_k = k0 + kChunkCells, next_end = kb_end;
-          if (next_k >= kb_end) {
-            next_j = j0 + n, next_k = kb;
-            if (next_j >= sw) next_j = 0, next_k = kb_end, next_end = std::min(cv, kb_end + block_cells);
-          }
-          const std::ptrdiff_t next_n = next_j < swv ? kTileColumns : 1;
-          const std::ptrdiff_t next_cells = std::max<std::ptrdiff_t>(0, std::min(next_end, next_k + kChunkCells) - next_k);
-          const std::ptrdiff_t next_vectors = (next_cells + lanes - 1) / lanes;
-          const auto next_column = [&](std::ptrdiff_t q) { return f + std::min(s0 + next_j + q, w - 1) * ldf + next_k; };
-          // Group g < next_n prefetches column g of the next chunk, a line per step of its tile; with fewer
-          // groups than columns (few modes), the first group prefetches every line at once instead.
+          // The chunks the tile reads next, in the loops' order: the next chunk of this tile's columns, else
+          // the next tile's first chunk of the block, else the next block's first; none past the sweep.
+          struct Chunk {
+            std::ptrdiff_t j, k, begin, end;  // first column, first cell, the block's cells [begin, end)
+            std::ptrdiff_t columns(std::ptrdiff_t swv_) const { return j < swv_ ? kTileColumns : 1; }
+          };
+          const auto after = [&](const Chunk& c) {
+            Chunk d{c.j, c.k + kChunkCells, c.begin, c.end};
+            if (d.k >= c.end) {
+              d.j = c.j + c.columns(swv), d.k = c.begin;
+              if (d.j >= sw) d = {0, c.end, c.end, std::min(cv, c.end + block_cells)};
+            }
+            return d;
+          };
+          const Chunk next = after({j0, k0, kb, kb_end}), second = after(next);
+          const auto cells_of = [&](const Chunk& c) { return std::max<std::ptrdiff_t>(0, std::min(c.end, c.k + kChunkCells) - c.k); };
+          const auto column_of = [&](const Chunk& c, std::ptrdiff_t q) { return f + std::min(s0 + c.j + q, w - 1) * ldf + c.k; };
+          const std::ptrdiff_t next_n = next.columns(swv), next_cells = cells_of(next), second_cells = cells_of(second);
+          // While this chunk's groups run, group g < next_n prefetches column g of the next chunk into L1, and
+          // the groups after them the columns of the chunk after that into L2, a line per step of their
+          // tiles (with 9 groups of 5 columns, 4 of its 5 columns; the fifth comes from memory into L1 a
+          // chunk ahead, as all did before). Measured (Zen 4, level 5, order 8, 2 threads, 2026-11-28): the
+          // L2 prefetch gained 1.3-3.5% in 4 alternated runs. With fewer groups than columns (few modes)
+          // the first group prefetches the next chunk's lines at once instead.
           const bool per_group = groups >= next_n;
           for (std::ptrdiff_t g = 0; g < groups; ++g) {
             if (!per_group && g == 0)
               for (std::ptrdiff_t q = 0; q < next_n; ++q)
-                for (std::ptrdiff_t l = 0; l < next_cells; l += kLineDoubles) hwy::Prefetch(next_column(q) + l);
-            const double* pf = next_column(std::min(g, next_n - 1));
-            const std::ptrdiff_t pf_vectors = per_group && g < next_n ? next_vectors : 0;
+                for (std::ptrdiff_t l = 0; l < next_cells; l += kLineDoubles) hwy::Prefetch(column_of(next, q) + l);
+            const double* pf = column_of(next, std::min(g, next_n - 1));
+            std::ptrdiff_t pf_vectors = per_group && g < next_n ? (next_cells + lanes - 1) / lanes : 0;
+            const bool to_l2 = per_group && g >= next_n && g - next_n < second.columns(swv) && second_cells > 0;
+            if (to_l2) pf = column_of(second, g - next_n), pf_vectors = (second_cells + lanes - 1) / lanes;
             const std::ptrdiff_t m = group_modes(g, modes);
             const double* pg = packed_p + g * kTileModes * packed_cells + k0 * m;
             double* a = acc + (g * sw + j0) * per_column;
             const double* fj = f + (s0 + j0) * ldf + k0;
             if (n == kTileColumns)
-              dot_tile_modes<kTileColumns>(m, pg, fj, ldf, vectors, a, pf, pf_vectors);
+              dot_tile_modes<kTileColumns>(m, pg, fj, ldf, vectors, a, pf, pf_vectors, to_l2);
             else
-              dot_tile_modes<1>(m, pg, fj, ldf, vectors, a, pf, pf_vectors);
-            for (std::ptrdiff_t l = vectors * lanes; l < pf_vectors * lanes; l += kLineDoubles) hwy::Prefetch(pf + l);  // beyond a short chunk
+              dot_tile_modes<1>(m, pg, fj, ldf, vectors, a, pf, pf_vectors, to_l2);
+            if (!to_l2)
+              for (std::ptrdiff_t l = vectors * lanes; l < pf_vectors * lanes; l += kLineDoubles) hwy::Prefetch(pf + l);  // beyond a short chunk
           }
         }
         j0 += n;
