@@ -159,6 +159,7 @@ void run_project(const BenchArgs& a) {
                    {"measured_peak_gflops", measured_peak}, {"nominal_peak_gflops", nominal},
                    {"fma_chains_per_thread", lab::kFmaChains}, {"simd_target", lab::simd_target_description()},
                    {"bandwidth_gbs", bandwidth}, {"stream_seconds", stream_seconds}, {"stream_ratio", stream_seconds / ours},
+                   {"lut_huge_page_fraction", b.lut_huge_page_fraction},
                    {"blas_seconds", blas},  {"blas_ratio", blas / ours}, {"blas_gflops", b.flops / blas / 1e9},
                    {"cpu_seconds", b.cpu_seconds}, {"blas_cpu_seconds", b.blas.cpu_seconds}, {"blas_cpu_ratio", b.blas.cpu_seconds / b.cpu_seconds},
                    {"blas_core", b.blas.core}, {"blas_config", b.blas.config},
@@ -179,8 +180,8 @@ void run_project(const BenchArgs& a) {
             << fmt::format("  FP64 peak: {:.1f} GFLOP/s {}; nominal {:.1f} ({:.0f} MHz x {} flops/cycle x cores)\n", peak,
                            a.peak_gflops > 0 ? "(--peak-gflops)" : "measured (FMA throughput on all threads)", nominal, lab::cpu_mhz(),
                            lab::flops_per_cycle_per_core())
-            << fmt::format("  memory: {:.1f} GB/s (triad); reading F once ({:.0f} MB) takes {:.4f} s\n", bandwidth, lut_bytes / 1e6,
-                           stream_seconds)
+            << fmt::format("  memory: {:.1f} GB/s (triad); reading F once ({:.0f} MB) takes {:.4f} s; {:.0f}% of F in huge pages\n",
+                           bandwidth, lut_bytes / 1e6, stream_seconds, 100 * b.lut_huge_page_fraction)
             << fmt::format("  icobrdf:                {:.4f} s ({:.4f} s CPU), {:.1f} GFLOP/s = {:.0f}% of the FP64 peak\n", ours, b.cpu_seconds,
                            gflops, 100 * performed_gflops / peak)
             << fmt::format("  OpenBLAS ({}): {:.4f} s ({:.4f} s CPU), {:.1f} GFLOP/s; icobrdf is {:.2f}x its speed ({:.2f}x in CPU time; results "

@@ -20,4 +20,11 @@ void advise_huge_pages(void* data, std::size_t bytes);
 // A rows x cols matrix, uninitialized, its storage advised as above before anything is written to it.
 Eigen::MatrixXd huge_page_matrix(Eigen::Index rows, Eigen::Index cols);
 
+// Bytes of [data, data + bytes) that huge pages back now: the sum of AnonHugePages over the mappings of
+// /proc/self/smaps that the range overlaps, at most `bytes` (the advised interior of a buffer is a mapping
+// of its own; one mapping that also holds other memory could count that memory too). 0 off Linux, or when
+// smaps cannot be read. Whether the kernel found the huge pages depends on how fragmented memory is, so a
+// benchmark reports it (bench project: `lut_huge_page_fraction`).
+std::size_t huge_page_bytes(const void* data, std::size_t bytes);
+
 }  // namespace icobrdf

@@ -129,6 +129,8 @@ ProjectionBenchmark measure_projection(int level, int order, int threads, int re
   ProjectionBenchmark b;
   b.cells = p.lut.rows();
   b.modes = p.proj.P.cols();
+  const std::size_t lut_bytes = sizeof(double) * static_cast<std::size_t>(p.lut.size());
+  b.lut_huge_page_fraction = static_cast<double>(huge_page_bytes(p.lut.data(), lut_bytes)) / static_cast<double>(lut_bytes);
   CpuWall best;
   b.blas = time_paths(p, repeat, [&] { b.coefficients = project_lut(p.proj, p.lut, symmetry); }, &best);
   b.seconds = best.wall;

@@ -45,6 +45,7 @@ struct ProjectionBenchmark {
   double relative_difference_to_blas = 0.0;        // max|C - C_blas| / max|C|
   double flops = 0.0;                              // 2 cells^2 modes + 2 cells modes^2 (the general product)
   double performed_flops = 0.0;                    // what the library's call does: `flops`, or about half for a symmetric F
+  double lut_huge_page_fraction = 0.0;             // of F's bytes in transparent huge pages (icobrdf/core/huge_pages.hpp)
 };
 
 // max|a - b| / max|a|: how well two coefficient matrices of the same product agree.

@@ -56,6 +56,10 @@ TEST(CliBench, ProjectReportsTheContractKeysAndBothPathsAgree) {
   const double bw = j["bandwidth_gbs"].get<double>();
   ASSERT_GT(bw, 0.0);
   EXPECT_NEAR(j["stream_seconds"].get<double>(), 8.0 * 168 * 168 / (bw * 1e9), 1e-12 * j["stream_seconds"].get<double>());
+  // The share of F in huge pages, a fraction (0 for this 226 KB LUT under THP "madvise": too small to advise).
+  ASSERT_TRUE(j.contains("lut_huge_page_fraction"));
+  EXPECT_GE(j["lut_huge_page_fraction"].get<double>(), 0.0);
+  EXPECT_LE(j["lut_huge_page_fraction"].get<double>(), 1.0);
   EXPECT_FALSE(j["blas_core"].get<std::string>().empty());
   // OpenBLAS on its own kernel, in a child without OPENBLAS_CORETYPE / OPENBLAS_L2_SIZE. When this process
   // has neither variable, the child's OpenBLAS loads exactly as this one did: it must run and agree.

@@ -31,8 +31,9 @@ std::string thp_mode() {
   return open == std::string::npos || close == std::string::npos ? "" : all.substr(open + 1, close - open - 1);
 }
 
-// THPeligible of the mapping of /proc/self/smaps that holds `address`: 1 or 0, -1 when not found.
-int thp_eligible(const void* address) {
+// The number after `field` (e.g. "THPeligible:", "AnonHugePages:") in the mapping of /proc/self/smaps that
+// holds `address`; -1 when not found.
+long long smaps_field(const void* address, const std::string& field) {
   const auto a = reinterpret_cast<std::uintptr_t>(address);
   std::ifstream in("/proc/self/smaps");
   std::string line;
@@ -45,10 +46,12 @@ int thp_eligible(const void* address) {
       inside = lo <= a && a < hi;
       continue;
     }
-    if (inside && line.rfind("THPeligible:", 0) == 0) return std::stoi(line.substr(12));
+    if (inside && line.rfind(field, 0) == 0) return std::stoll(line.substr(field.size()));
   }
   return -1;
 }
+
+int thp_eligible(const void* address) { return static_cast<int>(smaps_field(address, "THPeligible:")); }
 
 // The first 2 MiB boundary inside a buffer.
 const void* first_huge_boundary(const double* data) {
@@ -66,6 +69,21 @@ TEST(HugePages, AnAdvisedBufferIsEligibleAndAPlainOneIsNotUnderMadvise) {
   EXPECT_EQ(thp_eligible(first_huge_boundary(advised.data())), 1);
   if (mode == "always") GTEST_SKIP() << "with THP 'always' every mapping is eligible: the plain buffer cannot be told apart";
   EXPECT_EQ(thp_eligible(first_huge_boundary(plain.data())), 0);
+}
+
+TEST(HugePages, HugePageBytesIsWhatTheKernelReportsOfTheRange) {
+  const std::string mode = thp_mode();
+  if (mode != "madvise") GTEST_SKIP() << "transparent huge pages are '" << mode << "' here, not 'madvise': a plain buffer may have them too";
+  constexpr std::size_t kBytes = sizeof(double) * 2048 * 1024;
+  Eigen::MatrixXd advised = huge_page_matrix(2048, 1024), plain(2048, 1024);
+  advised.setConstant(1.0);  // written: the kernel backs the advised part now, with huge pages where it finds them
+  plain.setConstant(1.0);
+  EXPECT_EQ(huge_page_bytes(plain.data(), kBytes), 0u) << "a buffer never advised has no huge page under 'madvise'";
+  const std::size_t h = huge_page_bytes(advised.data(), kBytes);
+  EXPECT_LE(h, kBytes);
+  EXPECT_EQ(h % kHugePage, 0u) << "huge pages are whole 2 MiB pages";
+  // The advised interior is a mapping of its own (madvise splits it off): its AnonHugePages is all of them.
+  EXPECT_EQ(static_cast<long long>(h), 1024 * smaps_field(first_huge_boundary(advised.data()), "AnonHugePages:"));
 }
 
 TEST(HugePages, BuildLutAdvisesItsMatrices) {
