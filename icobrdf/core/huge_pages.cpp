@@ -14,7 +14,7 @@ namespace icobrdf {
 
 void advise_huge_pages(void* data, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-  constexpr std::uintptr_t kHuge = std::uintptr_t{1} << 21;  // 2 MiB
+  constexpr std::uintptr_t kHuge = kHugePageBytes;
   if (data == nullptr || bytes < 2 * kHuge) return;
   const std::uintptr_t begin = (reinterpret_cast<std::uintptr_t>(data) + kHuge - 1) & ~(kHuge - 1);
   const std::uintptr_t end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(kHuge - 1);

@@ -15,6 +15,8 @@
 
 namespace icobrdf {
 
+constexpr std::size_t kHugePageBytes = std::size_t{1} << 21;  // 2 MiB: x86-64's transparent huge page
+
 void advise_huge_pages(void* data, std::size_t bytes);
 
 // A rows x cols matrix, uninitialized, its storage advised as above before anything is written to it.

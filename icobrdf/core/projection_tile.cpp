@@ -116,12 +116,11 @@ HWY_INLINE void dot_tile_modes(std::ptrdiff_t m, const double* HWY_RESTRICT p, c
   dot_tile<N, M>(p, f, ld, vectors, acc, pf, pf_vectors, to_l2);
 }
 
-// Copies `n` columns (stride ld) of cells [k0, k0 + vectors L) to out[(kk * n + q) * L + lane]; a column
-// index beyond `last` repeats column `last`.
-void pack_columns(const double* src, std::ptrdiff_t ld, std::ptrdiff_t first, std::ptrdiff_t n, std::ptrdiff_t last, std::ptrdiff_t k0,
-                  std::ptrdiff_t vectors, std::ptrdiff_t lanes, double* HWY_RESTRICT out) {
+// Copies columns first .. first + n - 1 (stride ld) of cells [0, vectors L) to out[(kk * n + q) * L + lane].
+void pack_columns(const double* src, std::ptrdiff_t ld, std::ptrdiff_t first, std::ptrdiff_t n, std::ptrdiff_t vectors,
+                  std::ptrdiff_t lanes, double* HWY_RESTRICT out) {
   for (std::ptrdiff_t q = 0; q < n; ++q) {
-    const double* col = src + std::min(first + q, last) * ld + k0;
+    const double* col = src + (first + q) * ld;
     for (std::ptrdiff_t kk = 0; kk < vectors; ++kk)
       for (std::ptrdiff_t l = 0; l < lanes; ++l) out[(kk * n + q) * lanes + l] = col[kk * lanes + l];
   }
@@ -139,7 +138,7 @@ void PackProjection(const double* p, std::ptrdiff_t cells, std::ptrdiff_t modes,
   const std::ptrdiff_t lanes = TileLanes(), cv = cells / lanes * lanes;
   const std::ptrdiff_t groups = (modes + kTileModes - 1) / kTileModes;
   for (std::ptrdiff_t g = 0; g < groups; ++g)
-    pack_columns(p, cells, g * kTileModes, group_modes(g, modes), modes - 1, 0, cv / lanes, lanes, out + g * kTileModes * cv);
+    pack_columns(p, cells, g * kTileModes, group_modes(g, modes), cv / lanes, lanes, out + g * kTileModes * cv);
 }
 
 void ProjectionTile(const double* packed_p, const double* p, std::ptrdiff_t cells, std::ptrdiff_t modes, const double* f,
@@ -158,31 +157,32 @@ void ProjectionTile(const double* packed_p, const double* p, std::ptrdiff_t cell
   double* acc = aligned_start(scratch.data());
   for (std::ptrdiff_t s0 = 0; s0 < w; s0 += kSweepColumns) {
     const std::ptrdiff_t sw = std::min(kSweepColumns, w - s0), swv = sw / kTileColumns * kTileColumns;
+    // LUT columns of the tile starting at sweep column j: a whole tile, or one column past the last whole one.
+    const auto tile_columns = [&](std::ptrdiff_t j) { return j < swv ? std::ptrdiff_t{kTileColumns} : std::ptrdiff_t{1}; };
+    // A chunk of F, and the chunk the tile reads after it in the loops' order: the next chunk of the same
+    // columns, else the next tile's first chunk of the block, else the next block's first; none past the sweep.
+    struct Chunk {
+      std::ptrdiff_t j, k, begin, end;  // first column, first cell, the block's cells [begin, end)
+    };
+    const auto after = [&](const Chunk& c) {
+      Chunk d{c.j, c.k + kChunkCells, c.begin, c.end};
+      if (d.k >= c.end) {
+        d.j = c.j + tile_columns(c.j), d.k = c.begin;
+        if (d.j >= sw) d = {0, c.end, c.end, std::min(cv, c.end + block_cells)};
+      }
+      return d;
+    };
+    const auto cells_of = [&](const Chunk& c) { return std::max<std::ptrdiff_t>(0, std::min(c.end, c.k + kChunkCells) - c.k); };
+    const auto column_of = [&](const Chunk& c, std::ptrdiff_t q) { return f + std::min(s0 + c.j + q, w - 1) * ldf + c.k; };
     std::fill(acc, acc + groups * sw * per_column, 0.0);
     for (std::ptrdiff_t kb = k_begin; kb < cv; kb += block_cells) {
       const std::ptrdiff_t kb_end = std::min(cv, kb + block_cells);
       for (std::ptrdiff_t j0 = 0; j0 < sw;) {
-        const std::ptrdiff_t n = j0 < swv ? kTileColumns : 1;
+        const std::ptrdiff_t n = tile_columns(j0);
         for (std::ptrdiff_t k0 = kb; k0 < kb_end; k0 += kChunkCells) {
           const std::ptrdiff_t vectors = (std::min(kb_end, k0 + kChunkCells) - k0) / lanes;
-          // The chunks the tile reads next, in the loops' order: the next chunk of this tile's columns, else
-          // the next tile's first chunk of the block, else the next block's first; none past the sweep.
-          struct Chunk {
-            std::ptrdiff_t j, k, begin, end;  // first column, first cell, the block's cells [begin, end)
-            std::ptrdiff_t columns(std::ptrdiff_t swv_) const { return j < swv_ ? kTileColumns : 1; }
-          };
-          const auto after = [&](const Chunk& c) {
-            Chunk d{c.j, c.k + kChunkCells, c.begin, c.end};
-            if (d.k >= c.end) {
-              d.j = c.j + c.columns(swv), d.k = c.begin;
-              if (d.j >= sw) d = {0, c.end, c.end, std::min(cv, c.end + block_cells)};
-            }
-            return d;
-          };
           const Chunk next = after({j0, k0, kb, kb_end}), second = after(next);
-          const auto cells_of = [&](const Chunk& c) { return std::max<std::ptrdiff_t>(0, std::min(c.end, c.k + kChunkCells) - c.k); };
-          const auto column_of = [&](const Chunk& c, std::ptrdiff_t q) { return f + std::min(s0 + c.j + q, w - 1) * ldf + c.k; };
-          const std::ptrdiff_t next_n = next.columns(swv), next_cells = cells_of(next), second_cells = cells_of(second);
+          const std::ptrdiff_t next_n = tile_columns(next.j), next_cells = cells_of(next), second_cells = cells_of(second);
           // While this chunk's groups run, group g < next_n prefetches column g of the next chunk into L1, and
           // the groups after them the columns of the chunk after that into L2, a line per step of their
           // tiles (with 9 groups of 5 columns, 4 of its 5 columns; the fifth comes from memory into L1 a
@@ -196,7 +196,7 @@ void ProjectionTile(const double* packed_p, const double* p, std::ptrdiff_t cell
                 for (std::ptrdiff_t l = 0; l < next_cells; l += kLineDoubles) hwy::Prefetch(column_of(next, q) + l);
             const double* pf = column_of(next, std::min(g, next_n - 1));
             std::ptrdiff_t pf_vectors = per_group && g < next_n ? (next_cells + lanes - 1) / lanes : 0;
-            const bool to_l2 = per_group && g >= next_n && g - next_n < second.columns(swv) && second_cells > 0;
+            const bool to_l2 = per_group && g >= next_n && g - next_n < tile_columns(second.j) && second_cells > 0;
             if (to_l2) pf = column_of(second, g - next_n), pf_vectors = (second_cells + lanes - 1) / lanes;
             const std::ptrdiff_t m = group_modes(g, modes);
             const double* pg = packed_p + g * kTileModes * packed_cells + k0 * m;

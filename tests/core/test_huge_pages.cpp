@@ -20,7 +20,7 @@
 namespace icobrdf {
 namespace ICOBRDF_UNITY_ID {
 
-constexpr std::uintptr_t kHugePage = std::uintptr_t{1} << 21;  // 2 MiB, x86-64's transparent huge page
+constexpr std::uintptr_t kHugePage = kHugePageBytes;
 
 // The bracketed word of /sys/kernel/mm/transparent_hugepage/enabled ("always", "madvise" or "never"), or ""
 // where the file does not exist.
