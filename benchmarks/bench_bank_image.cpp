@@ -12,7 +12,7 @@
 #include <cstdio>
 #include <string>
 
-#include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/record_wire.hpp"
 

@@ -1,4 +1,4 @@
-// Building the sampled basis (icobrdf/core/discrete_basis.hpp) on the level-5 equal-area grid with its default
+// Building the sampled basis (icobrdf/core/projection/discrete_basis.hpp) on the level-5 equal-area grid with its default
 // cell cubature (287 300 points): issue 6 target "B with cell cubature at level 5, order 32 in <= 50 ms".
 // build_discrete_basis returns B (cell averages of the 561 K_n^l), the Gram matrix G = B^T W B, its error
 // max|G - I| and its condition number (eigenvalues of G). The grid's cubature is D2-equivariant, so only
@@ -13,8 +13,8 @@
 #include <Eigen/Eigenvalues>
 #include <memory>
 
-#include "icobrdf/core/discrete_basis.hpp"
-#include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/projection/discrete_basis.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 
 namespace {

@@ -1,4 +1,4 @@
-// The dense kernels of the sample fits (icobrdf/core/dense_kernels.hpp): the symmetric rank-k update G += A^T A
+// The dense kernels of the sample fits (icobrdf/core/fit/dense_kernels.hpp): the symmetric rank-k update G += A^T A
 // of one assembly panel (the 20,000-sample order-10 fit: 2,211 unknowns, panels of 1,809 rows) and the
 // Cholesky factorization of G, with Eigen's kernels and with OpenBLAS's as loaded (its core in the label:
 // run once as is and once with OPENBLAS_CORETYPE=SkylakeX, say, to compare OpenBLAS's kernels). Counters:
@@ -13,7 +13,7 @@
 
 #include <string>
 
-#include "icobrdf/core/dense_kernels.hpp"
+#include "icobrdf/core/fit/dense_kernels.hpp"
 #include "icobrdf/io/blas_dense_kernels.hpp"
 #include "icobrdf/lab/machine.hpp"
 
@@ -22,7 +22,7 @@ extern "C" char* openblas_get_corename();
 namespace {
 
 constexpr Eigen::Index kUnknowns = 2211;  // order 10, general Helmholtz modes
-constexpr Eigen::Index kPanelRows = 1809;  // icobrdf/core/sample_fit.cpp: 4e6 / unknowns rows per panel
+constexpr Eigen::Index kPanelRows = 1809;  // icobrdf/core/fit/sample_fit.cpp: 4e6 / unknowns rows per panel
 
 double peak() {
   static const double p = icobrdf::lab::measure_fp64_peak_gflops(omp_get_max_threads());

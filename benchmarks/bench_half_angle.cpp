@@ -18,10 +18,11 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/direction.hpp"
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/half_angle_factors.hpp"
-#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/core/basis/direction.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/fit/half_angle_fit.hpp"
+#include "icobrdf/core/models/half_angle_factors.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
 
 using namespace icobrdf;
 

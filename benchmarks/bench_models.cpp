@@ -1,4 +1,4 @@
-// Batch evaluation of the analytic BRDF models (icobrdf/core/model_spec.hpp): f at 4096 random direction pairs per
+// Batch evaluation of the analytic BRDF models (icobrdf/core/models/model_registry.hpp): f at 4096 random direction pairs per
 // call (ModelEval), or one incident direction against 4096 remitted ones as in a LUT row (ModelEvalRow), one
 // thread.   bench_models [--benchmark_filter=...]
 // Results: benchmarks/RESULTS.md, section "Analytic BRDF models".
@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// Projection C = P^T F P of a dense LUT (icobrdf/core/projection.hpp project_lut) against raw OpenBLAS doing the
+// Projection C = P^T F P of a dense LUT (icobrdf/core/projection/projection.hpp project_lut) against raw OpenBLAS doing the
 // same products in the same run (icobrdf/lab/projection_benchmark.hpp); target at level 5, order 8: >= 60% of the
 // FP64 peak in the GEMM part and at least as fast as raw OpenBLAS. The LUT is random and written before
 // timing (no page faults in the timed region). OpenBLAS runs both association orders; the faster is the baseline.
@@ -14,8 +14,8 @@
 
 #include <memory>
 
-#include "icobrdf/core/discrete_basis.hpp"
-#include "icobrdf/core/projection.hpp"
+#include "icobrdf/core/projection/discrete_basis.hpp"
+#include "icobrdf/core/projection/projection.hpp"
 #include "icobrdf/lab/machine.hpp"
 #include "icobrdf/lab/projection_benchmark.hpp"
 #include "icobrdf/mesh/tessellation.hpp"

@@ -9,10 +9,10 @@
 #include <random>
 #include <string>
 
-#include "icobrdf/core/helmholtz_modes.hpp"
-#include "icobrdf/core/isotropic_modes.hpp"
-#include "icobrdf/core/model_spec.hpp"
-#include "icobrdf/core/sample_fit.hpp"
+#include "icobrdf/core/basis/helmholtz_modes.hpp"
+#include "icobrdf/core/basis/isotropic_modes.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
+#include "icobrdf/core/fit/sample_fit.hpp"
 #include "icobrdf/io/merl.hpp"
 
 namespace {

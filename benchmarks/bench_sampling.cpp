@@ -9,7 +9,7 @@
 
 #include <random>
 
-#include "icobrdf/core/direction.hpp"
+#include "icobrdf/core/basis/direction.hpp"
 #include "icobrdf/io/material_sampler.hpp"
 
 namespace {

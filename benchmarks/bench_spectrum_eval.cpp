@@ -1,8 +1,8 @@
-// Spectrum evaluation f(w_i, w_r) = K(w_i)^T C K(w_r) at many direction pairs (icobrdf/core/spectrum_ops.hpp
+// Spectrum evaluation f(w_i, w_r) = K(w_i)^T C K(w_r) at many direction pairs (icobrdf/core/spectrum/spectrum_ops.hpp
 // evaluate_coefficients): issue 6 target ">= 10 million direction pairs per second at order 8", issue 17
 // ">= 40 million on 2 cores". Per block of 192 pairs the basis of both sides is evaluated by the block
 // kernel (BM_BasisBlock: directions per second, in cache), then the dispatched tile
-// (icobrdf/core/spectrum_tile.hpp, BM_SpectrumTile) forms sum_j K_j(w_r) sum_k K_k(w_i) C_kj. For a general C
+// (icobrdf/core/spectrum/spectrum_tile.hpp, BM_SpectrumTile) forms sum_j K_j(w_r) sum_k K_k(w_i) C_kj. For a general C
 // that needs M^2 = 2025 multiply-adds per pair at order 8 (4050 flops): at a 2-core FP64 peak P GFLOP/s
 // it alone bounds the rate at P / 4050e-9 pairs/s (40 M pairs/s needs P >= 162); the basis of two
 // directions per pair comes on top. An isotropic C (BM_EvaluateIsotropic) takes the sparse path.
@@ -16,10 +16,10 @@
 #include <random>
 #include <vector>
 
-#include "icobrdf/core/hemisphere_basis.hpp"
-#include "icobrdf/core/isotropic_modes.hpp"
-#include "icobrdf/core/spectrum_tile.hpp"
-#include "icobrdf/core/spectrum_ops.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
+#include "icobrdf/core/basis/isotropic_modes.hpp"
+#include "icobrdf/core/spectrum/spectrum_tile.hpp"
+#include "icobrdf/core/spectrum/spectrum_ops.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// Streaming projection of an analytic GGX material without its LUT (icobrdf/core/streaming_projection.hpp), the
+// Streaming projection of an analytic GGX material without its LUT (icobrdf/core/projection/streaming_projection.hpp), the
 // path behind `icobrdf fit`: issue 6 target "level 5, order 8 in <= 0.25 s on 2 cores".
 //   bench_streaming [--benchmark_filter=...]   (threads: OMP_NUM_THREADS, default all cores)
 // Grids: "fit" = build_fitting_grid(level, GridKind::EqualArea, false), the cell-averaged sampling `icobrdf fit`
@@ -13,12 +13,12 @@
 #include <memory>
 #include <string>
 
-#include "icobrdf/core/discrete_basis.hpp"
-#include "icobrdf/core/lut.hpp"
-#include "icobrdf/core/model_spec.hpp"
-#include "icobrdf/core/projection.hpp"
-#include "icobrdf/core/spectral_fit.hpp"
-#include "icobrdf/core/streaming_projection.hpp"
+#include "icobrdf/core/projection/discrete_basis.hpp"
+#include "icobrdf/core/projection/lut.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
+#include "icobrdf/core/projection/projection.hpp"
+#include "icobrdf/core/fit/spectral_fit.hpp"
+#include "icobrdf/core/projection/streaming_projection.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 
 namespace {

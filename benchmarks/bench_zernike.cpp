@@ -8,10 +8,10 @@
 #include <random>
 #include <vector>
 
-#include "icobrdf/core/helmholtz_modes.hpp"
-#include "icobrdf/core/hemisphere_basis.hpp"
-#include "icobrdf/core/isotropic_modes.hpp"
-#include "icobrdf/core/zernike.hpp"
+#include "icobrdf/core/basis/helmholtz_modes.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
+#include "icobrdf/core/basis/isotropic_modes.hpp"
+#include "icobrdf/core/basis/zernike.hpp"
 
 namespace {
 

@@ -22,8 +22,8 @@
 
 #include "cli/bench_commands.hpp"
 #include "cli/option_checks.hpp"
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/simd_target.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/simd_target.hpp"
 #include "icobrdf/io/blas_dense_kernels.hpp"
 #include "icobrdf/lab/child_process.hpp"
 #include "icobrdf/lab/machine.hpp"
@@ -124,7 +124,7 @@ nlohmann::json best_blas(const BenchArgs& a, int threads, const lab::ProjectionB
   return forced;
 }
 
-// The compiled target named `name` (icobrdf/core/simd_target.hpp); ArgumentError listing the compiled ones otherwise.
+// The compiled target named `name` (icobrdf/core/support/simd_target.hpp); ArgumentError listing the compiled ones otherwise.
 SimdTarget target_named(const std::string& name) {
   std::string names;
   for (const auto& t : compiled_simd_targets()) {

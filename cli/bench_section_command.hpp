@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "cli/option_checks.hpp"
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/atomic_write.hpp"
 #include "icobrdf/lab/report_section.hpp"
 

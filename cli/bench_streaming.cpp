@@ -1,12 +1,12 @@
 // icobrdf bench streaming [SOURCE] --level L --order N [--sampling average|centre] [--cosine] [--every K] [--repeat R]
 //                         [-o SPECTRUM.h5] [--json]
-// Times the streaming projection of one material (C = P^T F P without its LUT, icobrdf/core/streaming_projection.hpp),
+// Times the streaming projection of one material (C = P^T F P without its LUT, icobrdf/core/projection/streaming_projection.hpp),
 // the fit `icobrdf fit` makes, apart from building the grid and the operators. Under `mpirun -np R` the
 // projection is spread over the ranks (cli/distributed_run.hpp) and the report, from rank 0, gives the
 // peak resident memory of every rank. The ranks split the operators by rows, as `fit` does (memory per rank
-// O(cells x modes / ranks), icobrdf/core/row_split_projection.hpp); the report says so ("operators").
+// O(cells x modes / ranks), icobrdf/core/projection/row_split_projection.hpp); the report says so ("operators").
 // Default SOURCE: model:ggx:alpha=0.1 (issue #18's level-7 case).
-// --every K projects only every K-th block of incident rows (one process: icobrdf/core/streaming_projection.hpp
+// --every K projects only every K-th block of incident rows (one process: icobrdf/core/projection/streaming_projection.hpp
 // StreamingShare::every; under mpirun: every K-th batch of each pair of blocks, row_split_projection's
 // `every`), with every array at full size: the time of a projection too long to run whole (times K) and its
 // memory.
@@ -24,8 +24,8 @@
 
 #include "cli/bench_commands.hpp"
 #include "cli/distributed_run.hpp"
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/hemisphere_basis.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/io/output_path.hpp"
 #include "icobrdf/io/spectrum_file.hpp"

@@ -25,8 +25,8 @@
 
 #include "cli/bench_commands.hpp"
 #include "cli/bench_section_command.hpp"
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
 #include "icobrdf/io/output_path.hpp"
 #include "icobrdf/lab/invocation.hpp"
 #include "icobrdf/lab/staged_folder.hpp"

@@ -15,8 +15,8 @@
 #include "cli/error_report.hpp"
 #include "cli/exit_codes.hpp"
 #include "icobrdf/cluster/launcher.hpp"
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/progress.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/progress.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/half_angle_file.hpp"
 #include "icobrdf/io/scene.hpp"
@@ -90,7 +90,7 @@ int build_and_report(const BuildArgs& a, [[maybe_unused]] Cluster* cluster) {
   // One write per line (cerr is unbuffered): under mpirun rank 0's lines and the other ranks' warnings share
   // one merged stream, and a line written in two pieces could take another rank's line into its middle.
   if (!a.quiet) o.progress = [](const std::string& line) { std::cerr << (line + "\n") << std::flush; };
-  if (a.quiet) set_progress_stream(nullptr);  // no lines from long projections either (icobrdf/core/progress.hpp)
+  if (a.quiet) set_progress_stream(nullptr);  // no lines from long projections either (icobrdf/core/support/progress.hpp)
 #ifdef ICOBRDF_WITH_MPI
   BankBuildResult r;
   if (cluster) {

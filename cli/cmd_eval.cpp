@@ -16,7 +16,7 @@
 #include <string>
 
 #include "cli/commands.hpp"
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/io/direction_csv.hpp"
 #include "icobrdf/pipeline/reflectance_check.hpp"

@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/scatmech_coefficients.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/output_path.hpp"

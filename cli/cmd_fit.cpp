@@ -20,8 +20,8 @@
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/io/measured_sources.hpp"
 #include "icobrdf/io/output_path.hpp"
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/progress.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/progress.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 #include "icobrdf/pipeline/fit_source.hpp"
 #include "icobrdf/pipeline/reflectance_check.hpp"
@@ -40,7 +40,7 @@ struct FitArgs {
   double gram_tol = kDefaultGramTolerance;
 };
 
-// Stage and percentage on the progress stream (icobrdf/core/progress.hpp: its delay and interval), from the
+// Stage and percentage on the progress stream (icobrdf/core/support/progress.hpp: its delay and interval), from the
 // start of the command.
 FitProgress progress_printer(std::chrono::steady_clock::time_point start) {
   auto last = std::make_shared<double>(-1.0);

@@ -11,11 +11,11 @@
 #include <memory>
 
 #include "cli/commands.hpp"
-#include "icobrdf/core/direction.hpp"
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/reflection.hpp"
-#include "icobrdf/core/spectral_fit.hpp"
-#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/core/basis/direction.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/projection/reflection.hpp"
+#include "icobrdf/core/fit/spectral_fit.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
 #include "icobrdf/pipeline/reflectance_check.hpp"
 #include "icobrdf/pipeline/resource_estimate.hpp"
 #include "icobrdf/pipeline/source_model.hpp"

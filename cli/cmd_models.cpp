@@ -13,7 +13,7 @@
 #include <memory>
 
 #include "cli/commands.hpp"
-#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
 
 namespace icobrdf::cli {
 

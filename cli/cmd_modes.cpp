@@ -18,11 +18,11 @@
 #include <string>
 
 #include "cli/commands.hpp"
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/helmholtz_modes.hpp"
-#include "icobrdf/core/hemisphere_basis.hpp"
-#include "icobrdf/core/isotropic_modes.hpp"
-#include "icobrdf/core/zernike.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/basis/helmholtz_modes.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
+#include "icobrdf/core/basis/isotropic_modes.hpp"
+#include "icobrdf/core/basis/zernike.hpp"
 #include "icobrdf/io/direction_csv.hpp"
 
 namespace icobrdf::cli {

@@ -15,8 +15,8 @@
 
 #include "cli/commands.hpp"
 #include "cli/option_checks.hpp"
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/lowpass_filter.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/basis/lowpass_filter.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/output_path.hpp"
 #include "icobrdf/io/spectrum_file.hpp"

@@ -16,8 +16,8 @@
 
 #include "cli/commands.hpp"
 #include "cli/option_checks.hpp"
-#include "icobrdf/core/direction.hpp"
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/basis/direction.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/material_sampler.hpp"
 
 namespace icobrdf::cli {

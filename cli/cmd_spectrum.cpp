@@ -1,6 +1,6 @@
 // icobrdf spectrum SPECTRUM.h5[#MATERIAL] [--json]: the coefficients with their indices.
 // Isotropic spectra print the IBSSS a_nm^l with [n, m, l]; others the Helmholtz BSSS a_ab with
-// [n, l, m, l'] (the order of icobrdf/core/helmholtz_modes.hpp), as `icobrdf modes` indexes them.
+// [n, l, m, l'] (the order of icobrdf/core/basis/helmholtz_modes.hpp), as `icobrdf modes` indexes them.
 // A spectrum fitted to samples also prints its fit record (samples, rank, condition, residual RMS, CV error,
 // choices) and each coefficient's standard error ("+- se").
 #include <fmt/core.h>
@@ -9,10 +9,10 @@
 #include <iostream>
 
 #include "cli/commands.hpp"
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/helmholtz_modes.hpp"
-#include "icobrdf/core/isotropic_modes.hpp"
-#include "icobrdf/core/spectrum_ops.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/basis/helmholtz_modes.hpp"
+#include "icobrdf/core/basis/isotropic_modes.hpp"
+#include "icobrdf/core/spectrum/spectrum_ops.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/half_angle_file.hpp"
 #include "icobrdf/io/spectrum_file.hpp"

@@ -2,7 +2,7 @@
 // Subcommand registry. Each subcommand lives in its own cli/cmd_<name>.cpp and registers itself with
 //   static const icobrdf::cli::CommandRegistrar reg("name", [](CLI::App& app) { ... add_subcommand ... });
 // main() adds every registered command to the root app in name order. A command's callback throws
-// icobrdf errors (icobrdf/core/error.hpp); main() turns them into one-line messages and exit codes.
+// icobrdf errors (icobrdf/core/support/error.hpp); main() turns them into one-line messages and exit codes.
 #include <CLI/CLI.hpp>
 
 #include <functional>

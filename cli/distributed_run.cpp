@@ -15,9 +15,9 @@
 #include "cli/error_report.hpp"
 #include "cli/exit_codes.hpp"
 #include "icobrdf/cluster/launcher.hpp"
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/memory_budget.hpp"
-#include "icobrdf/core/progress.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/memory_budget.hpp"
+#include "icobrdf/core/support/progress.hpp"
 #ifdef ICOBRDF_WITH_MPI
 #include "icobrdf/cluster/distributed_projection.hpp"
 #endif

@@ -17,7 +17,7 @@
 #include <memory>
 #include <string>
 
-#include "icobrdf/core/streaming_projection.hpp"
+#include "icobrdf/core/projection/streaming_projection.hpp"
 
 #ifdef ICOBRDF_WITH_MPI
 namespace icobrdf {
@@ -42,7 +42,7 @@ struct DistributedRun {
 
 // Runs `command` as described above; `what` names the command in messages ("fit"), `projections` is how
 // many projections every rank makes (DistributedProjection).
-// `split_rows`: the ranks split the projection operators by rows (icobrdf/core/row_split_projection.hpp: memory
+// `split_rows`: the ranks split the projection operators by rows (icobrdf/core/projection/row_split_projection.hpp: memory
 // per rank O(cells x modes / ranks)); a rank that fails while the blocks go round the ring prints its error
 // and ends the job (mpirun's own lines follow).
 void run_distributed(const std::string& what, int projections, const std::function<void(const DistributedRun&)>& command,

@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 #include "cli/exit_codes.hpp"
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 
 namespace icobrdf::cli {
 

@@ -14,9 +14,9 @@
 #include "cli/error_report.hpp"
 #include "cli/exit_codes.hpp"
 #include "icobrdf/cluster/launcher.hpp"
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/memory_budget.hpp"
-#include "icobrdf/core/progress.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/memory_budget.hpp"
+#include "icobrdf/core/support/progress.hpp"
 #include "icobrdf/io/atomic_write.hpp"
 
 namespace {

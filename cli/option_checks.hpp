@@ -9,7 +9,7 @@
 #include <limits>
 #include <string>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 
 namespace icobrdf::cli {
 

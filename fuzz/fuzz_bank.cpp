@@ -24,7 +24,7 @@
 #include <sstream>
 #include <vector>
 
-#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/basis/isotropic_modes.hpp"
 #include "fuzz/fuzz_support.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/h5_file.hpp"

@@ -1,4 +1,4 @@
-// libFuzzer target: the model spec parser (icobrdf/core/model_spec.hpp parse_model), on the input bytes as the spec
+// libFuzzer target: the model spec parser (icobrdf/core/models/model_registry.hpp parse_model), on the input bytes as the spec
 // text a user gives after "model:". The parser returns a model or throws ArgumentError with a one-line
 // message. A returned model must behave at a fixed set of direction pairs (normal incidence, grazing both
 // ways, the horizon itself, a mirror pair and scattered pairs): every channel's value finite and >= 0, and
@@ -6,8 +6,8 @@
 #include <cmath>
 #include <string>
 
-#include "icobrdf/core/direction.hpp"
-#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/core/basis/direction.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
 #include "fuzz/fuzz_support.hpp"
 
 using namespace icobrdf;

@@ -5,7 +5,7 @@
 // Seeds: fuzz/corpus/rgl_bsdf/ (small valid RGB, spectral and anisotropic files).
 #include <cmath>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "fuzz/fuzz_support.hpp"
 #include "icobrdf/io/rgl_bsdf.hpp"
 

@@ -1,7 +1,7 @@
 // libFuzzer target: the SCATMECH coefficient-file reader (icobrdf/io/scatmech_coefficients.hpp) and, for files it
 // accepts, the import as a Spectrum (at a wavelength of 0.6328 um, so p != 0 rows are accepted).
 // On success: rows counted consistently, order within kMaxScatmechOrder, finite spectrum coefficients.
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "fuzz/fuzz_support.hpp"
 #include "icobrdf/io/scatmech_coefficients.hpp"
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <set>
 
-#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
 #include "fuzz/fuzz_support.hpp"
 #include "icobrdf/io/scene.hpp"
 

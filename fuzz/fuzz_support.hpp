@@ -1,6 +1,6 @@
 #pragma once
 // Shared by the libFuzzer targets (fuzz/fuzz_<reader>.cpp): the fuzz input as a file on disk, and the rule
-// every target checks: a reader returns, or throws InputError / IoError (icobrdf/core/error.hpp) with a one-line
+// every target checks: a reader returns, or throws InputError / IoError (icobrdf/core/support/error.hpp) with a one-line
 // message. Anything else (another exception type, a multi-line message, a crash, a sanitizer report, a hang
 // beyond libFuzzer's -timeout) is a finding: the target aborts so that libFuzzer saves the input.
 #include <fcntl.h>
@@ -14,7 +14,7 @@
 #include <typeinfo>
 #include <utility>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 
 namespace icobrdf::fuzz {
 

@@ -23,7 +23,7 @@ cmake --install "$build" --prefix "$work/staging" >"$work/install.log"
 mv "$work/staging" "$work/prefix"
 prefix="$work/prefix"
 for f in lib/cmake/icobrdf/icobrdfConfig.cmake lib/cmake/icobrdf/icobrdfConfigVersion.cmake include/icobrdf/icobrdf.hpp \
-  include/icobrdf/core/grid.hpp lib/libicobrdf_core.a lib/libicobrdf_pipeline.a; do
+  include/icobrdf/core/grid/grid.hpp lib/libicobrdf_core.a lib/libicobrdf_pipeline.a; do
   [ -e "$prefix/$f" ] || { echo "check-install: the package lacks $f" >&2; exit 1; }
 done
 if grep -rq "$root" "$prefix/lib/cmake/icobrdf"; then
@@ -71,7 +71,7 @@ target_link_libraries(core_only PRIVATE icobrdf::core)
 CMAKE
 cat >"$work/core-only/main.cpp" <<'CPP'
 #include <cstdio>
-#include <icobrdf/core/hemisphere_basis.hpp>
+#include <icobrdf/core/basis/hemisphere_basis.hpp>
 int main() { std::printf("%d modes up to order 8\n", icobrdf::hemisphere_basis_count(8)); }
 CPP
 cmake -S "$work/core-only" -B "$work/core-only/build" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_DISABLE_FIND_PACKAGE_OpenMesh=ON \

@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <random>
 
-#include "icobrdf/core/direction.hpp"
+#include "icobrdf/core/basis/direction.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/material_sampler.hpp"
 

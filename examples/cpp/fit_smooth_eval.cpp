@@ -5,10 +5,10 @@
 #include <cstdio>
 #include <memory>
 
-#include "icobrdf/core/direction.hpp"
-#include "icobrdf/core/lowpass_filter.hpp"
-#include "icobrdf/core/projection.hpp"
-#include "icobrdf/core/spectrum_ops.hpp"
+#include "icobrdf/core/basis/direction.hpp"
+#include "icobrdf/core/basis/lowpass_filter.hpp"
+#include "icobrdf/core/projection/projection.hpp"
+#include "icobrdf/core/spectrum/spectrum_ops.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 #include "icobrdf/pipeline/fit_source.hpp"

@@ -5,11 +5,11 @@
 #include <cstdio>
 #include <memory>
 
-#include "icobrdf/core/discrete_basis.hpp"
-#include "icobrdf/core/lut.hpp"
-#include "icobrdf/core/model_spec.hpp"
-#include "icobrdf/core/projection.hpp"
-#include "icobrdf/core/reflection.hpp"
+#include "icobrdf/core/projection/discrete_basis.hpp"
+#include "icobrdf/core/projection/lut.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
+#include "icobrdf/core/projection/projection.hpp"
+#include "icobrdf/core/projection/reflection.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 
 int main() {

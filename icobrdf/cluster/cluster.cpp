@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "icobrdf/cluster/launcher.hpp"
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 
 namespace icobrdf {
 

@@ -15,7 +15,7 @@
 #include <optional>
 #include <thread>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/atomic_write.hpp"
 #include "icobrdf/io/record_wire.hpp"
 #include "icobrdf/pipeline/bank_assembly.hpp"

@@ -4,7 +4,7 @@
 #include <cstring>
 #include <new>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 
 namespace icobrdf {
 namespace {

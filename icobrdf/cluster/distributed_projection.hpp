@@ -1,6 +1,6 @@
 #pragma once
 // `mpirun -np R icobrdf fit SOURCE ...`: the streaming projection of one material (C = P^T F P, no LUT,
-// icobrdf/core/streaming_projection.hpp) spread over R ranks.
+// icobrdf/core/projection/streaming_projection.hpp) spread over R ranks.
 //
 // Work: rank r projects the blocks of incident rows b with b % R == r (StreamingShare, interleaved: the
 // blocks of the reciprocal triangle grow with b, so every rank gets the same mix). Each rank builds the
@@ -29,7 +29,7 @@
 #include <vector>
 
 #include "icobrdf/cluster/cluster.hpp"
-#include "icobrdf/core/streaming_projection.hpp"
+#include "icobrdf/core/projection/streaming_projection.hpp"
 
 namespace icobrdf {
 
@@ -40,7 +40,7 @@ struct RankFailed : std::runtime_error {
   std::exception_ptr error;  // the failed rank's error, of its kind (ResourceError, ...), as rank 0 reports it
 };
 
-// An error of the kind of `e` (icobrdf/core/error.hpp; std::runtime_error for others) whose message is
+// An error of the kind of `e` (icobrdf/core/support/error.hpp; std::runtime_error for others) whose message is
 // "on rank RANK of RANKS: " and e's.
 std::exception_ptr error_on_rank(const std::exception& e, int rank, int ranks);
 
@@ -48,7 +48,7 @@ class DistributedProjection {
  public:
   // `projections`: how many projections every rank will make (1 for a fit, the repeats of a benchmark); a
   // failure after the last one needs no exchange.
-  // `split_rows`: the share carries a row exchange (StreamingShare::rows; icobrdf/core/row_split_projection.hpp):
+  // `split_rows`: the share carries a row exchange (StreamingShare::rows; icobrdf/core/projection/row_split_projection.hpp):
   // the context (made once, then kept by FitContexts) makes two exchanges (the sum of G, an empty one once
   // every rank has its rows of P), and each projection passes the blocks of P round the ring and then makes
   // one (the sum of C): 2 + projections in all (tag kRing, one matrix per message: C M / R doubles, in pieces

@@ -11,7 +11,7 @@
 #include <mutex>
 #include <set>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/output_path.hpp"
 
 namespace icobrdf {

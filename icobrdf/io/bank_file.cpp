@@ -5,8 +5,8 @@
 #include <map>
 #include <set>
 
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/finite_values.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/finite_values.hpp"
 #include "icobrdf/io/atomic_write.hpp"
 #include "icobrdf/io/bank_format.hpp"
 #include "icobrdf/io/output_path.hpp"

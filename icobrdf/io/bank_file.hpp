@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 #include "icobrdf/io/h5_file.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 

@@ -9,8 +9,8 @@
 
 #include <Eigen/Core>
 
-#include "icobrdf/core/build_isa.hpp"
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/build_isa.hpp"
+#include "icobrdf/core/support/error.hpp"
 
 extern "C" void dpotrf_(const char* uplo, const blasint* n, double* a, const blasint* lda, blasint* info);
 extern "C" char* openblas_get_corename();

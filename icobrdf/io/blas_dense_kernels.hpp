@@ -1,5 +1,5 @@
 #pragma once
-// The dense kernels of the least-squares fits (icobrdf/core/dense_kernels.hpp) from OpenBLAS: dsyrk for the
+// The dense kernels of the least-squares fits (icobrdf/core/fit/dense_kernels.hpp) from OpenBLAS: dsyrk for the
 // rank-k updates of the normal equations and LAPACK's dpotrf for the Cholesky factorizations. Each call runs
 // on OpenBLAS's own threads (all cores unless OPENBLAS_NUM_THREADS says otherwise), so `threaded` is set and
 // the fits call them from one thread at a time. Results agree with Eigen's kernels to rounding (the sums run
@@ -8,7 +8,7 @@
 // Which set a fit uses: fit_dense_kernels(). OpenBLAS picks its kernel when the library loads, from the CPU
 // it recognizes (or OPENBLAS_CORETYPE). A CPU newer than the OpenBLAS build gets a generic fallback: Debian's
 // OpenBLAS 0.3.21 runs its SSE3 "Prescott" kernel on an Emerald Rapids Xeon, where dsyrk at 2,211 unknowns
-// measured 15-26 GFLOP/s on 2 threads against 80-93 for Eigen's kernel (icobrdf/core/dense_kernels.hpp) and 61-72
+// measured 15-26 GFLOP/s on 2 threads against 80-93 for Eigen's kernel (icobrdf/core/fit/dense_kernels.hpp) and 61-72
 // for OpenBLAS's own SkylakeX kernel under load (benchmarks/RESULTS.md, "Dense kernels of the sample fits").
 // So OpenBLAS serves the fits only when its kernel
 // uses vectors at least as wide as Eigen's in this build; otherwise Eigen's kernels do. The choice depends
@@ -16,7 +16,7 @@
 #include <string>
 #include <string_view>
 
-#include "icobrdf/core/dense_kernels.hpp"
+#include "icobrdf/core/fit/dense_kernels.hpp"
 
 namespace icobrdf {
 

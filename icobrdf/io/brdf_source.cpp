@@ -4,11 +4,11 @@
 
 #include <optional>
 
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/function_model.hpp"
-#include "icobrdf/core/hemisphere_basis.hpp"
-#include "icobrdf/core/model_spec.hpp"
-#include "icobrdf/core/spectrum_ops.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/models/function_model.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
+#include "icobrdf/core/spectrum/spectrum_ops.hpp"
 #include "icobrdf/io/measured_sources.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/material_eval.hpp"

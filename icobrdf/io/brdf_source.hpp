@@ -2,7 +2,7 @@
 // BRDF sources: what a SOURCE argument names, opened behind one interface. Every command that takes a SOURCE
 // (fit, eval, lut, plot, bank scenes) opens it here.
 //
-//   model:NAME[:key=value,...]   an analytic model (icobrdf/core/model_spec.hpp; `icobrdf models` lists them)
+//   model:NAME[:key=value,...]   an analytic model (icobrdf/core/models/model_registry.hpp; `icobrdf models` lists them)
 //   FILE.h5[#MATERIAL]           a spectrum in an icobrdf HDF5 file (spectrum file or bank); without
 //                                #MATERIAL the file must hold exactly one material
 //   MERL tables, RGL materials, CSV samples, SCATMECH coefficient files (icobrdf/io/measured_sources.hpp)
@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/grid.hpp"
-#include "icobrdf/core/spectral_fit.hpp"
-#include "icobrdf/core/spectrum.hpp"
+#include "icobrdf/core/grid/grid.hpp"
+#include "icobrdf/core/fit/spectral_fit.hpp"
+#include "icobrdf/core/spectrum/spectrum.hpp"
 
 namespace icobrdf {
 

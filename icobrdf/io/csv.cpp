@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 
 namespace icobrdf {
 namespace {

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <string>
 
-#include "icobrdf/core/direction.hpp"
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/basis/direction.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/csv.hpp"
 
 namespace icobrdf {

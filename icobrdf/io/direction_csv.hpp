@@ -13,7 +13,7 @@
 // Errors are InputError naming file:line and the offending value (see icobrdf/io/csv.hpp for the format rules).
 #include <vector>
 
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 
 namespace icobrdf {
 

@@ -4,7 +4,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 
 namespace icobrdf {
 

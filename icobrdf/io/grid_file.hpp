@@ -7,7 +7,7 @@
 // mirror_yz (C). Absent optional datasets read back as empty members, so a round trip is exact.
 #include <string>
 
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 #include "icobrdf/io/h5_file.hpp"
 
 namespace icobrdf {

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/atomic_write.hpp"
 #include "icobrdf/mesh/grid_obj.hpp"
 

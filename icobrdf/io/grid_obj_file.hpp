@@ -4,7 +4,7 @@
 // grid has no triangle mesh or the file system refuses; no file is left behind then.
 #include <string>
 
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 
 namespace icobrdf {
 

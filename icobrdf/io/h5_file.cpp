@@ -12,7 +12,7 @@
 #include <limits>
 #include <utility>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 
 namespace icobrdf::h5 {
 

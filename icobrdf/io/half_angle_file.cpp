@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 
 namespace icobrdf {
 namespace {

@@ -1,5 +1,5 @@
 #pragma once
-// The half-angle factorized lobe of a material (icobrdf/core/half_angle_factors.hpp) <-> the subgroup
+// The half-angle factorized lobe of a material (icobrdf/core/models/half_angle_factors.hpp) <-> the subgroup
 // /materials/<name>/half_angle of a bank (docs/file-format.md, format 2.0).
 //
 //   attributes  quantity ("f" | "cosine"), isotropic (uint8), h_warp (float64), n_t, n_phi_h, n_theta_d,
@@ -15,7 +15,7 @@
 
 #include <string>
 
-#include "icobrdf/core/half_angle_factors.hpp"
+#include "icobrdf/core/models/half_angle_factors.hpp"
 #include "icobrdf/io/h5_file.hpp"
 
 namespace icobrdf {

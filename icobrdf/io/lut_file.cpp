@@ -1,6 +1,6 @@
 #include "icobrdf/io/lut_file.hpp"
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 
 namespace icobrdf {
 

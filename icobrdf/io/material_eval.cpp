@@ -1,6 +1,6 @@
 #include "icobrdf/io/material_eval.hpp"
 
-#include "icobrdf/core/spectrum_ops.hpp"
+#include "icobrdf/core/spectrum/spectrum_ops.hpp"
 
 namespace icobrdf {
 

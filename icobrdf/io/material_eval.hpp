@@ -1,7 +1,7 @@
 #pragma once
 // f of a stored material (icobrdf/io/spectrum_file.hpp MaterialRecord) at direction pairs, for every representation:
 //   modes       sum_ab C_ab K_a(w_i) K_b(w_r), divided by cos(theta_i) when the spectrum is of g = f cos
-//   half-angle  the lobe (icobrdf/core/half_angle_factors.hpp), C being zero
+//   half-angle  the lobe (icobrdf/core/models/half_angle_factors.hpp), C being zero
 //   hybrid      modes + lobe
 // A material with a lobe returns max(0, modes + lobe): a BRDF is never negative, and the lobe's linear
 // interpolation across the horizon boundary of its valid region (near double grazing) can undershoot; the
@@ -12,9 +12,9 @@
 
 #include <optional>
 
-#include "icobrdf/core/grid.hpp"
-#include "icobrdf/core/half_angle_factors.hpp"
-#include "icobrdf/core/spectrum.hpp"
+#include "icobrdf/core/grid/grid.hpp"
+#include "icobrdf/core/models/half_angle_factors.hpp"
+#include "icobrdf/core/spectrum/spectrum.hpp"
 
 namespace icobrdf {
 

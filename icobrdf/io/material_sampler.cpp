@@ -6,9 +6,9 @@
 #include <string>
 #include <utility>
 
-#include "icobrdf/core/direction.hpp"
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/horizon.hpp"
+#include "icobrdf/core/basis/direction.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/basis/horizon.hpp"
 
 namespace icobrdf {
 namespace {

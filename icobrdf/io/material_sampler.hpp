@@ -48,8 +48,8 @@
 #include <memory>
 #include <string>
 
-#include "icobrdf/core/grid.hpp"
-#include "icobrdf/core/lut.hpp"
+#include "icobrdf/core/grid/grid.hpp"
+#include "icobrdf/core/projection/lut.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/mesh/direction_sampler.hpp"
 

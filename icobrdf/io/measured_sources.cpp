@@ -11,13 +11,13 @@
 #include <sstream>
 #include <vector>
 
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/helmholtz_modes.hpp"
-#include "icobrdf/core/hemisphere_basis.hpp"
-#include "icobrdf/core/isotropic_modes.hpp"
-#include "icobrdf/core/projection.hpp"
-#include "icobrdf/core/sample_fit_selection.hpp"
-#include "icobrdf/core/spectrum_ops.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/basis/helmholtz_modes.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
+#include "icobrdf/core/basis/isotropic_modes.hpp"
+#include "icobrdf/core/projection/projection.hpp"
+#include "icobrdf/core/fit/sample_fit_selection.hpp"
+#include "icobrdf/core/spectrum/spectrum_ops.hpp"
 #include "icobrdf/io/merl.hpp"
 #include "icobrdf/io/rgl_bsdf.hpp"
 #include "icobrdf/io/sample_csv.hpp"
@@ -281,7 +281,7 @@ class ScatmechSource final : public BrdfSource {
 };
 
 // f of an RGL material (icobrdf/io/rgl_bsdf.hpp): evaluated as Mitsuba's measured BSDF does, divided by cos(theta_r);
-// fitted like an analytic model (its values sampled on the context's grid, icobrdf/core/spectral_fit.hpp fit_model).
+// fitted like an analytic model (its values sampled on the context's grid, icobrdf/core/fit/spectral_fit.hpp fit_model).
 class RglSource final : public BrdfSource {
  public:
   RglSource(std::shared_ptr<const RglBsdf> b, std::vector<double> lambdas, std::vector<std::string> names, std::string text)

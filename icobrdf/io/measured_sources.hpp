@@ -15,19 +15,19 @@
 // Fitting (fit()):
 //   * MERL: the table's valid nodes are scattered samples (icobrdf/io/merl.hpp merl_samples: node directions, bin
 //     solid-angle weights; nodes with a missing channel or a direction below the horizon are excluded),
-//     fitted by weighted least squares (icobrdf/core/sample_fit.hpp) on the isotropic modes of the requested order
+//     fitted by weighted least squares (icobrdf/core/fit/sample_fit.hpp) on the isotropic modes of the requested order
 //     (a MERL table holds only isotropic BRDFs, so the spectrum is isotropic whatever --isotropic says).
 //     The grid of the context is not used for the fit (only for the max-albedo figure); the LUT sampling
 //     and projection kind do not apply.
 //   * CSV samples: weighted least squares of the samples (weights = duplicate counts) on the Helmholtz
 //     modes, or the isotropic modes with --isotropic, with the Tikhonov options above, through the checked
-//     fit of icobrdf/core/sample_fit_selection.hpp: order kChooseOrder = chosen by K-fold cross-validation (with
+//     fit of icobrdf/core/fit/sample_fit_selection.hpp: order kChooseOrder = chosen by K-fold cross-validation (with
 //     lambda by GCV unless tikhonov=LAMBDA is given), tikhonov=auto = lambda by GCV, fallbacks when the
 //     samples do not determine the modes, UnsupportedError when the fit is not bounded by the samples.
 //     The grid is likewise unused except for the max-albedo figure. The spectrum carries the fit's record
 //     (Spectrum::sample_fit: standard errors, CV error, rank, condition, residual).
 //   * SCATMECH: the file's isotropic spectrum truncated or zero-padded to the requested order (exact, no grid).
-//   * RGL: like an analytic model (icobrdf/core/spectral_fit.hpp fit_model: f sampled on the context's grid, not
+//   * RGL: like an analytic model (icobrdf/core/fit/spectral_fit.hpp fit_model: f sampled on the context's grid, not
 //     reciprocal, not assumed isotropic); 1 or 3 channels only (a spectral file needs #lambda).
 //   MERL, CSV and SCATMECH refuse --cosine (UnsupportedError): their expansions are of f; a low-pass filter applies after the fit.
 // notes(): SCATMECH sources count the polarized rows (Mueller elements other than 11) and the k != l rows.
@@ -39,8 +39,8 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/sample_fit.hpp"
-#include "icobrdf/core/sample_fit_selection.hpp"
+#include "icobrdf/core/fit/sample_fit.hpp"
+#include "icobrdf/core/fit/sample_fit_selection.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/io/merl.hpp"
 #include "icobrdf/io/sample_csv.hpp"
@@ -69,7 +69,7 @@ std::unique_ptr<BrdfSource> samples_source_without(const BrdfSource& source, con
 // lookup there is NaN.
 std::unique_ptr<BrdfSource> merl_source_without(const BrdfSource& source, const std::vector<std::int64_t>& held_out);
 // The largest order of the modes (isotropic or general) a fit of the source's samples can determine: at least
-// kMinSamplesPerUnknown samples per unknown, at most the kMaxAutoOrder* bound (icobrdf/core/sample_fit_selection.hpp);
+// kMinSamplesPerUnknown samples per unknown, at most the kMaxAutoOrder* bound (icobrdf/core/fit/sample_fit_selection.hpp);
 // MERL tables only isotropic ones. -1 for sources without samples; ArgumentError...never.
 int largest_sample_order(const BrdfSource& source, bool isotropic);
 

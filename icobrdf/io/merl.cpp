@@ -9,8 +9,8 @@
 #include <limits>
 #include <string>
 
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/horizon.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/basis/horizon.hpp"
 #include "icobrdf/io/atomic_write.hpp"
 
 namespace icobrdf {

@@ -32,8 +32,8 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/brdf_model.hpp"
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/models/brdf_model.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 
 namespace icobrdf {
 

@@ -3,7 +3,7 @@
 #include <cstring>
 #include <type_traits>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 
 namespace icobrdf {
 namespace {

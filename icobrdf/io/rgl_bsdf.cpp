@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/tensor_file.hpp"
 
 namespace icobrdf {

@@ -33,10 +33,10 @@
 //   2. m = normalize(w_i + w_r); theta = 2 asin(|w - z| / 2), phi = atan2(y, x) for w_i and m;
 //      u(theta) = sqrt(2 theta / pi), u(phi) = (phi + pi) / (2 pi); for m the azimuth is phi_m - phi_i when
 //      n_p <= 2 (isotropic) and phi_m otherwise, wrapped to [0, 1).
-//   3. The vndf warp of slice parameters (phi_i, theta_i) (icobrdf/core/marginal_warp.hpp, inverse direction, x =
+//   3. The vndf warp of slice parameters (phi_i, theta_i) (icobrdf/core/tables/marginal_warp.hpp, inverse direction, x =
 //      u_theta along W_v, y = u_phi along H_v) maps u_m to a sample s in the unit square.
 //   4. v_c = the value table at s (bilinear, x along W) with parameters (phi_i, theta_i, lambda_c)
-//      (icobrdf/core/bilinear_slices.hpp; lambda_c = 0, 1, 2 for rgb, the wavelength for spectra).
+//      (icobrdf/core/tables/bilinear_slices.hpp; lambda_c = 0, 1, 2 for rgb, the wavelength for spectra).
 //   5. jacobian: v_c *= ndf(u_m) / (4 sigma(u(theta_i), u(phi_i))) (bilinear, no parameters).
 //   6. f_c = v_c / max(cos theta_r, kGrazingCosFloor).
 // Parameters between nodes are interpolated linearly in radians (nanometres) and held at the ends.
@@ -45,9 +45,9 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/bilinear_slices.hpp"
-#include "icobrdf/core/brdf_model.hpp"
-#include "icobrdf/core/marginal_warp.hpp"
+#include "icobrdf/core/tables/bilinear_slices.hpp"
+#include "icobrdf/core/models/brdf_model.hpp"
+#include "icobrdf/core/tables/marginal_warp.hpp"
 
 namespace icobrdf {
 

@@ -5,7 +5,7 @@
 //   theta_i,phi_i,theta_r,phi_r,r,g,b          three channels (names of the value columns are free)
 // A header row is required and must begin with theta_i,phi_i,theta_r,phi_r; 5 or 7 columns in all.
 // Angles in degrees (radians with `radians`): theta in [0, 90] deg, phi in [-360, 360] deg; surface
-// normal +z, phi from +x towards +y, both directions pointing away from the surface (icobrdf/core/direction.hpp).
+// normal +z, phi from +x towards +y, both directions pointing away from the surface (icobrdf/core/basis/direction.hpp).
 // Values f in 1/sr; negative values are accepted (measurement noise) and counted.
 // Generic CSV rules (BOM, CRLF, '#' comments, blank lines; NaN, Inf, wrong field counts and decimal
 // commas refused with file:line) are those of icobrdf/io/csv.hpp. Out-of-range angles: InputError with file:line.
@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 
 namespace icobrdf {
 

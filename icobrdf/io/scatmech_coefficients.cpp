@@ -11,9 +11,9 @@
 
 #include <Eigen/QR>
 
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/finite_values.hpp"
-#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/finite_values.hpp"
+#include "icobrdf/core/basis/isotropic_modes.hpp"
 #include "icobrdf/io/atomic_write.hpp"
 
 namespace icobrdf {
@@ -68,7 +68,7 @@ bool parse_double(const std::string& f, double& v) {
 }
 
 // The divisor A_nml in the normalization of the isotropic mode I_nm^l as this program defines it
-// (icobrdf/core/isotropic_modes.hpp): n >= m >= l >= 0.
+// (icobrdf/core/basis/isotropic_modes.hpp): n >= m >= l >= 0.
 int isotropic_norm_divisor(int n, int m, int l) {
   if (n == m && l == 0) return 4;
   if (n == m || l == 0) return 2;

@@ -17,7 +17,7 @@
 // with the azimuthal order read from column l (the documentation's formula writes k: rows with k != l
 // are accepted, follow the code, and are counted). With w_i the direction to the source at azimuth pi,
 // w_r = (theta_s, phi_s), I^S_{nml} = sqrt(A_{NM|l|} / A^S_{nml}) I_{NM}^{|l|}(w_i, w_r) with N = max(n, m),
-// M = min(n, m) and I, A those of icobrdf/core/isotropic_modes.hpp: the factor is 1 except for n = 0 < m
+// M = min(n, m) and I, A those of icobrdf/core/basis/isotropic_modes.hpp: the factor is 1 except for n = 0 < m
 // (1/sqrt(2)). So the IBSSS coefficient of I_NM^L is the sum over the rows mapping to it of
 // a lambda^p r sqrt(A / A^S).
 // Strictness (InputError with file:line): fields not 8, non-integer indices, i or j outside 1..4, i > j,
@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/spectrum.hpp"
+#include "icobrdf/core/spectrum/spectrum.hpp"
 
 namespace icobrdf {
 
@@ -89,7 +89,7 @@ ScatmechWavelengthPolynomial fit_wavelength_polynomial(const std::vector<double>
 // Rows "1,1,N,M,L,L,p,a" for p = 0..P and every isotropic mode (Table 2 order within each p), ';' comment
 // lines first, 17 significant digits, LF line ends: read back by read_scatmech_coefficients +
 // scatmech_wavelength_polynomial to the last bits (the basis factor is 1 for n >= m). UnsupportedError
-// (icobrdf/core/finite_values.hpp require_finite) for a non-finite coefficient.
+// (icobrdf/core/support/finite_values.hpp require_finite) for a non-finite coefficient.
 std::string format_scatmech_polynomial(const ScatmechWavelengthPolynomial& polynomial, const std::string& source);
 
 // sqrt(A_{max(n,m) min(n,m) |l|} / A^S_{nml}): the factor from SCATMECH's basis function to ours.
@@ -115,7 +115,7 @@ ScatmechExport format_scatmech_coefficients(const Spectrum& spectrum, int channe
 // Relative anisotropic energy treated as rounding: C built from isotropic modes has ~1e-32.
 inline constexpr double kScatmechIsotropyTolerance = 1e-20;
 
-// format_scatmech_coefficients written atomically to `path`, after require_finite (icobrdf/core/finite_values.hpp) of
+// format_scatmech_coefficients written atomically to `path`, after require_finite (icobrdf/core/support/finite_values.hpp) of
 // the coefficients and the anisotropic energy fraction: a spectrum whose conversion overflows (coefficients
 // near 1e308) is refused with an UnsupportedError naming `path`, `material` and the step; nothing is written.
 ScatmechExport write_scatmech_coefficients(const std::string& path, const Spectrum& spectrum, int channel,

@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <set>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 
 namespace icobrdf {

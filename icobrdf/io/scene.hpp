@@ -34,7 +34,7 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/lut.hpp"
+#include "icobrdf/core/projection/lut.hpp"
 
 namespace icobrdf {
 

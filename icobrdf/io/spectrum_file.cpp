@@ -5,11 +5,11 @@
 #include <cfloat>
 #include <cmath>
 
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/finite_values.hpp"
-#include "icobrdf/core/helmholtz_modes.hpp"
-#include "icobrdf/core/huge_pages.hpp"
-#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/finite_values.hpp"
+#include "icobrdf/core/basis/helmholtz_modes.hpp"
+#include "icobrdf/core/support/huge_pages.hpp"
+#include "icobrdf/core/basis/isotropic_modes.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/half_angle_file.hpp"
 
@@ -199,7 +199,7 @@ void require_finite_material(const std::string& file, const MaterialRecord& rec)
     if (!std::isnan(x)) require_finite(x, where + " attribute " + name, "the fit's figure " + std::string(name));
 }
 
-// The `sample_fit` subgroup: the record of a fit of scattered samples (icobrdf/core/spectrum.hpp SampleFitRecord).
+// The `sample_fit` subgroup: the record of a fit of scattered samples (icobrdf/core/spectrum/spectrum.hpp SampleFitRecord).
 bool sample_fit_record_matches(const Spectrum& s) {
   if (!s.sample_fit) return false;
   const SampleFitRecord& f = *s.sample_fit;
@@ -472,7 +472,7 @@ MaterialRecord read_material(const h5::Group& materials, const std::string& name
                           ", incident cell " + std::to_string(i % per / cells) + ", remitted cell " + std::to_string(i % cells));
       rec.lut.resize(ch);
       for (int c = 0; c < ch; ++c) {
-        rec.lut[c] = huge_page_matrix(cells, cells);  // advised before the first write (icobrdf/core/huge_pages.hpp)
+        rec.lut[c] = huge_page_matrix(cells, cells);  // advised before the first write (icobrdf/core/support/huge_pages.hpp)
         rec.lut[c] = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
             a.data.data() + c * per, cells, cells);
       }

@@ -5,7 +5,7 @@
 //   ibsss          channels x K   isotropic (IBSSS) coefficients [1], with
 //   ibsss_indices  K x 3          (n, m, l) of each column, n >= m >= l >= 0, n - l and m - l even, n <= order
 //   lut            channels x (cells x cells)  the BRDF per (incident cell, remitted cell) [1/sr]
-//   lobe           a half-angle factorized lobe (icobrdf/core/half_angle_factors.hpp, icobrdf/io/half_angle_file.hpp) added to
+//   lobe           a half-angle factorized lobe (icobrdf/core/models/half_angle_factors.hpp, icobrdf/io/half_angle_file.hpp) added to
 //                  the modes: f = sum_ab C_ab K_a(w_i) K_b(w_r) + lobe(w_i, w_r). Representation "half-angle"
 //                  when C is all zero (a lobe alone), "hybrid" otherwise; "modes" without a lobe.
 // The writer stores the LUT as float32 when lut_float32 is set, recording the largest
@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/grid.hpp"
-#include "icobrdf/core/half_angle_factors.hpp"
-#include "icobrdf/core/spectrum.hpp"
+#include "icobrdf/core/grid/grid.hpp"
+#include "icobrdf/core/models/half_angle_factors.hpp"
+#include "icobrdf/core/spectrum/spectrum.hpp"
 #include "icobrdf/io/grid_file.hpp"
 #include "icobrdf/io/h5_file.hpp"
 
@@ -88,7 +88,7 @@ void write_material(h5::Group& materials, const MaterialRecord& rec);
 // Reads `materials/<name>` with every check of docs/file-format.md. When `grid` is given (the bank's
 // /grid attributes) and the material's level and grid kind match it, the LUT must have its cell count.
 // `read_lut` false skips the LUT (its metadata is still validated).
-// UnsupportedError (icobrdf/core/finite_values.hpp) naming `file`, the material and the dataset or attribute when C,
+// UnsupportedError (icobrdf/core/support/finite_values.hpp) naming `file`, the material and the dataset or attribute when C,
 // ibsss, the LUT or the lobe factors hold Inf or NaN, or a figure (gram_error, ..., max_albedo) is infinite
 // (NaN there means "not measured"). Every bank writer runs it before anything is written.
 void require_finite_material(const std::string& file, const MaterialRecord& rec);

@@ -8,7 +8,7 @@
 #include <limits>
 #include <set>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/atomic_write.hpp"
 
 namespace icobrdf {

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <limits>
 
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/reference_grids.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/grid/reference_grids.hpp"
 #include "icobrdf/lab/direct_vs_matrix.hpp"
 #include "icobrdf/lab/grid_comparison.hpp"
 #include "icobrdf/lab/report_format.hpp"

@@ -6,11 +6,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include "icobrdf/core/discrete_basis.hpp"
-#include "icobrdf/core/gauss_legendre.hpp"
-#include "icobrdf/core/hemisphere_basis.hpp"
-#include "icobrdf/core/reference_grids.hpp"
-#include "icobrdf/core/zernike.hpp"
+#include "icobrdf/core/projection/discrete_basis.hpp"
+#include "icobrdf/core/grid/gauss_legendre.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
+#include "icobrdf/core/grid/reference_grids.hpp"
+#include "icobrdf/core/basis/zernike.hpp"
 #include "icobrdf/lab/order_chart.hpp"
 #include "icobrdf/lab/report_format.hpp"
 #include "icobrdf/lab/timing.hpp"

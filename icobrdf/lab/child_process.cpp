@@ -10,7 +10,7 @@
 #include <cstring>
 #include <filesystem>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 
 extern char** environ;
 

@@ -2,11 +2,11 @@
 
 #include <Eigen/LU>
 
-#include "icobrdf/core/direct_projection.hpp"
-#include "icobrdf/core/discrete_basis.hpp"
-#include "icobrdf/core/model_spec.hpp"
-#include "icobrdf/core/projection.hpp"
-#include "icobrdf/core/streaming_projection.hpp"
+#include "icobrdf/core/projection/direct_projection.hpp"
+#include "icobrdf/core/projection/discrete_basis.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
+#include "icobrdf/core/projection/projection.hpp"
+#include "icobrdf/core/projection/streaming_projection.hpp"
 #include "icobrdf/lab/report_format.hpp"
 #include "icobrdf/lab/timing.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
@@ -29,7 +29,7 @@ nlohmann::json direct_vs_matrix(const DirectCase& dc, std::vector<std::string>& 
   c_plain = streaming_projection(*model, g, plain, false);
   const double t_pair = best_seconds(kDirectRepeats, [&] { d_pair = direct_projection(*model, g, dc.order, false, DirectModes::PerPair); });
   const double t_cached = best_seconds(kDirectRepeats, [&] { d_cached = direct_projection(*model, g, dc.order, false, DirectModes::Cached); });
-  // Direct sums are the plain projection; the least-squares one is G^-1 D G^-1 (icobrdf/core/direct_projection.hpp).
+  // Direct sums are the plain projection; the least-squares one is G^-1 D G^-1 (icobrdf/core/projection/direct_projection.hpp).
   const Eigen::MatrixXd gi = basis.G.inverse();
   const Eigen::MatrixXd d_ls = gi * d_pair[0] * gi;
   const double scale = c_plain[0].cwiseAbs().maxCoeff();

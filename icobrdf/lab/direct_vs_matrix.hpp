@@ -1,5 +1,5 @@
 #pragma once
-// Direct quadrature without matrices (icobrdf/core/direct_projection.hpp: per cubature pair, the modes are evaluated
+// Direct quadrature without matrices (icobrdf/core/projection/direct_projection.hpp: per cubature pair, the modes are evaluated
 // and the coefficients accumulated) against the matrix path (B sampled once, C = P^T F P by streaming), for
 // one model on a centre-sampled equal-area grid: times in seconds, speed ratios, and the agreement (max
 // entry difference relative to the max entry). With one point per cell both compute the same sums, so they

@@ -1,5 +1,5 @@
 // The measured FP64 peak of icobrdf/lab/machine.hpp: an FMA-throughput loop compiled once per SIMD target (Highway
-// foreach_target) and run on the target the kernels dispatch to (icobrdf/core/simd_target.hpp).
+// foreach_target) and run on the target the kernels dispatch to (icobrdf/core/support/simd_target.hpp).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "icobrdf/lab/fp64_peak.cpp"
 #include <hwy/foreach_target.h>  // re-includes this file once per target
@@ -44,7 +44,7 @@ HWY_AFTER_NAMESPACE();
 
 #include <algorithm>
 
-#include "icobrdf/core/simd_target.hpp"
+#include "icobrdf/core/support/simd_target.hpp"
 #include "icobrdf/lab/timing.hpp"
 
 namespace icobrdf::lab {

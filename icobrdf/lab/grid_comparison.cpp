@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "icobrdf/core/hemisphere_basis.hpp"
-#include "icobrdf/core/reference_grids.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
+#include "icobrdf/core/grid/reference_grids.hpp"
 #include "icobrdf/lab/timing.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/discrete_basis.hpp"
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/projection/discrete_basis.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 
 namespace icobrdf::lab {
 

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <vector>
 
-#include "icobrdf/core/simd_target.hpp"
+#include "icobrdf/core/support/simd_target.hpp"
 
 #include "icobrdf/lab/timing.hpp"
 

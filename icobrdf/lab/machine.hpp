@@ -8,7 +8,7 @@
 //   FMA pipes), 4 for SSE (one 2-wide add and one multiply pipe). The clock is the first "cpu MHz" line: the nominal clock on virtual machines, which can be far
 //   from what the cores sustain (issue 17: 166 GFLOP/s nominal, 271 measured on a 2-core Zen 5).
 //   measured FP64 peak: FMA throughput in-process, on all the threads asked for, at the vector width the
-//   kernels dispatch to (icobrdf/core/simd_target.hpp). Ratios to the peak use the measured one.
+//   kernels dispatch to (icobrdf/core/support/simd_target.hpp). Ratios to the peak use the measured one.
 //   memory bandwidth: a STREAM triad a = b + s c on the threads asked for, 24 bytes per element.
 // Measured figures include whatever else the machine runs: report the load average with them.
 #include <string>
@@ -42,7 +42,7 @@ double measure_gemm_gflops(int n);
 // What a report says about the machine.
 struct Machine {
   std::string cpu_model, isa;
-  std::string simd_target;              // what the dispatched kernels run on (icobrdf/core/simd_target.hpp), with its FP64 lanes
+  std::string simd_target;              // what the dispatched kernels run on (icobrdf/core/support/simd_target.hpp), with its FP64 lanes
   int cores = 0;
   double cpu_mhz = 0.0;
   int flops_per_cycle_per_core = 0;     // FP64, of the dispatched SIMD target

@@ -10,16 +10,16 @@
 #include <random>
 #include <thread>
 
-#include "icobrdf/core/discrete_basis.hpp"
-#include "icobrdf/core/huge_pages.hpp"
-#include "icobrdf/core/projection.hpp"
+#include "icobrdf/core/projection/discrete_basis.hpp"
+#include "icobrdf/core/support/huge_pages.hpp"
+#include "icobrdf/core/projection/projection.hpp"
 #include "icobrdf/lab/timing.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 
 namespace icobrdf::lab {
 
 Eigen::MatrixXd random_lut(Eigen::Index cells, unsigned seed) {
-  Eigen::MatrixXd f = huge_page_matrix(cells, cells);  // as the library's own LUTs (icobrdf/core/huge_pages.hpp)
+  Eigen::MatrixXd f = huge_page_matrix(cells, cells);  // as the library's own LUTs (icobrdf/core/support/huge_pages.hpp)
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (Eigen::Index k = 0; k < f.size(); ++k) f.data()[k] = u(rng);

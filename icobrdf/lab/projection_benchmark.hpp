@@ -1,6 +1,6 @@
 #pragma once
 // One projection C = P^T F P of a dense cells x cells LUT (the large GEMM dominates: 2 cells^2 modes +
-// 2 cells modes^2 flops) timed with the library's call (icobrdf/core/projection.hpp, Eigen) and with raw OpenBLAS
+// 2 cells modes^2 flops) timed with the library's call (icobrdf/core/projection/projection.hpp, Eigen) and with raw OpenBLAS
 // doing the same products in the same run, in both association orders (the faster is the baseline).
 // The LUT holds uniform random values in [0, 1) and is written before timing (its pages are resident).
 #include <Eigen/Core>
@@ -45,7 +45,7 @@ struct ProjectionBenchmark {
   double relative_difference_to_blas = 0.0;        // max|C - C_blas| / max|C|
   double flops = 0.0;                              // 2 cells^2 modes + 2 cells modes^2 (the general product)
   double performed_flops = 0.0;                    // what the library's call does: `flops`, or about half for a symmetric F
-  double lut_huge_page_fraction = 0.0;             // of F's bytes in transparent huge pages (icobrdf/core/huge_pages.hpp)
+  double lut_huge_page_fraction = 0.0;             // of F's bytes in transparent huge pages (icobrdf/core/support/huge_pages.hpp)
 };
 
 // max|a - b| / max|a|: how well two coefficient matrices of the same product agree.

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/output_path.hpp"
 
 namespace icobrdf::lab {

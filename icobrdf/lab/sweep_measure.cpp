@@ -14,14 +14,14 @@
 #include <numeric>
 #include <random>
 
-#include "icobrdf/core/brdf_model.hpp"
-#include "icobrdf/core/direction.hpp"
-#include "icobrdf/core/discrete_basis.hpp"
-#include "icobrdf/core/hemisphere_basis.hpp"
-#include "icobrdf/core/model_spec.hpp"
-#include "icobrdf/core/projection.hpp"
-#include "icobrdf/core/spectral_fit.hpp"
-#include "icobrdf/core/spectrum_ops.hpp"
+#include "icobrdf/core/models/brdf_model.hpp"
+#include "icobrdf/core/basis/direction.hpp"
+#include "icobrdf/core/projection/discrete_basis.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
+#include "icobrdf/core/projection/projection.hpp"
+#include "icobrdf/core/fit/spectral_fit.hpp"
+#include "icobrdf/core/spectrum/spectrum_ops.hpp"
 #include "icobrdf/lab/timing.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 

@@ -6,7 +6,7 @@
 //
 // Per (level, order) row:
 //   cells, modes                 C = 10 4^L + 2^(L+1) cells, M = (N+1)(N+2)/2 modes
-//   gram_error, condition        max |G - I| and lambda_max / lambda_min of G = B^T W B (icobrdf/core/discrete_basis.hpp)
+//   gram_error, condition        max |G - I| and lambda_max / lambda_min of G = B^T W B (icobrdf/core/projection/discrete_basis.hpp)
 //   supported                    gram_error <= gram_tolerance and G non-singular; unsupported rows are not
 //                                fitted (their model columns are NaN)
 //   grid_seconds                 build_fitting_grid of the level (the same for every order of the level)
@@ -14,7 +14,7 @@
 //   operator_seconds             make_projection: P = W B G^-1
 //   reconstruct_seconds          B C B^T, the cells x cells LUT of one spectrum (NaN when that LUT would
 //                                exceed kMaxReconstructLutBytes, i.e. is not materialized)
-//   pairs_seconds                evaluation of one spectrum at the held-out pairs (icobrdf/core/spectrum_ops.hpp)
+//   pairs_seconds                evaluation of one spectrum at the held-out pairs (icobrdf/core/spectrum/spectrum_ops.hpp)
 //   basis_bytes, projection_bytes, lut_bytes   B and G, P, and the reconstructed LUT (0 when not materialized)
 //   peak_rss_bytes               the process's peak resident set so far (getrusage; monotone over the run)
 // Per (level, order, model): project_seconds (fit_model: streaming projection without a LUT, Helmholtz
@@ -35,7 +35,7 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/lut.hpp"
+#include "icobrdf/core/projection/lut.hpp"
 #include "icobrdf/lab/machine.hpp"
 #include "icobrdf/lab/report_section.hpp"
 

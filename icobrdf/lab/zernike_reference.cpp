@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include "icobrdf/core/zernike.hpp"
+#include "icobrdf/core/basis/zernike.hpp"
 #include "icobrdf/lab/report_format.hpp"
 
 namespace icobrdf::lab {

@@ -1,5 +1,5 @@
 #pragma once
-// The Zernike radial recurrence (icobrdf/core/zernike.hpp) against the closed factorial sum (eq. 3) evaluated in
+// The Zernike radial recurrence (icobrdf/core/basis/zernike.hpp) against the closed factorial sum (eq. 3) evaluated in
 // quadruple precision (binary128 __float128 where the compiler has it, long double otherwise):
 //   R_n^l(rho) = sum_k (-1)^k (n - k)! / (k! ((n + l)/2 - k)! ((n - l)/2 - k)!) rho^(n - 2k).
 // The reference's own rounding is at most ~ (n + 4) u_q sum_k |c_k| rho^(n - 2k) (each term carries a few
@@ -13,7 +13,7 @@
 
 namespace icobrdf::lab {
 
-// Documented accuracy of the Zernike recurrence (icobrdf/core/zernike.hpp) and hence of K (icobrdf/core/hemisphere_basis.hpp):
+// Documented accuracy of the Zernike recurrence (icobrdf/core/basis/zernike.hpp) and hence of K (icobrdf/core/basis/hemisphere_basis.hpp):
 // |delta K_n^l| <= kZernikeAbsError sqrt((n + 1)/pi).
 inline constexpr double kZernikeAbsError = 1e-13;
 

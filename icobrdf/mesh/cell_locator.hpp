@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 #include "icobrdf/mesh/gnomonic_projection.hpp"
 #include "icobrdf/mesh/snyder_projection.hpp"
 
@@ -32,7 +32,7 @@ class CellLocator {
   explicit CellLocator(int level, const std::string& kind = "equal-area");
 
   // unit_dir: unit vector with z >= -kHorizonSlack (ArgumentError otherwise: |norm - 1| > 1e-10 or
-  // z < -kHorizonSlack; icobrdf/core/horizon.hpp).
+  // z < -kHorizonSlack; icobrdf/core/basis/horizon.hpp).
   int locate(const Eigen::Vector3d& unit_dir) const;
   // dirs: N x 3 unit vectors; cells resized to N.
   void locate(const RowMatrix3d& dirs, Eigen::VectorXi& cells) const;

@@ -1,5 +1,5 @@
 #pragma once
-// Makes a grid's cubature equivariant under its symmetry maps (icobrdf/core/grid.hpp: rotate_pi, mirror_xz,
+// Makes a grid's cubature equivariant under its symmetry maps (icobrdf/core/grid/grid.hpp: rotate_pi, mirror_xz,
 // mirror_yz, which with the identity form a group of order 4).
 //
 // A per-cell triangle rule is not itself symmetric, so the rule of a cell's mirror partner is in general
@@ -10,7 +10,7 @@
 // the image of that rule. Each cell's rule keeps its degree of exactness and its weights still sum to the
 // cell's solid angle; cells fixed by a mirror get twice the points. Representative directions are mapped the
 // same way. Requires the three maps (ArgumentError otherwise).
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 
 namespace icobrdf {
 

@@ -5,8 +5,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/horizon.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/basis/horizon.hpp"
 #include "icobrdf/mesh/hemi_lattice.hpp"
 #include "icobrdf/mesh/icosahedron.hpp"
 #include "icobrdf/mesh/tessellation.hpp"

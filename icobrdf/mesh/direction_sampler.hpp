@@ -38,7 +38,7 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 #include "icobrdf/mesh/cell_locator.hpp"
 #include "icobrdf/mesh/snyder_projection.hpp"
 

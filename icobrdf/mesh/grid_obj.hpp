@@ -4,7 +4,7 @@
 // The file itself is written atomically by icobrdf/io/grid_obj_file.hpp.
 #include <cstdio>
 
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 
 namespace icobrdf {
 

@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/mesh/icosahedron.hpp"
 
 namespace icobrdf {

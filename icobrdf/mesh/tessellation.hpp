@@ -1,5 +1,5 @@
 #pragma once
-// Hemi-icosahedral tessellations of the upper hemisphere, handed to core as a Grid (icobrdf/core/grid.hpp).
+// Hemi-icosahedral tessellations of the upper hemisphere, handed to core as a Grid (icobrdf/core/grid/grid.hpp).
 //
 // build_equal_area_grid(L): kind "equal-area". The icosahedron (icobrdf/mesh/icosahedron.hpp: 2-fold axis along
 // +z, z = 0 a mirror plane) restricted to z >= 0 is 8 whole faces and 4 faces halved along a median.
@@ -44,7 +44,7 @@
 // 1.9e-5; tests/mesh/test_cubature.cpp). Pass a higher degree for more (degree 13: 49 points per piece).
 #include <string>
 
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 
 namespace icobrdf {
 

@@ -6,7 +6,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/mesh/gnomonic_projection.hpp"
 #include "icobrdf/mesh/hemi_lattice.hpp"
 #include "icobrdf/mesh/icosahedron.hpp"

@@ -19,7 +19,7 @@
 #include <memory>
 #include <string>
 
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 
 namespace icobrdf {
 

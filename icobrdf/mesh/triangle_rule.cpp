@@ -5,7 +5,7 @@
 #include <cmath>
 #include <string>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 
 namespace icobrdf {
 namespace {

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 
-#include "icobrdf/core/function_model.hpp"
-#include "icobrdf/core/hemisphere_basis.hpp"
-#include "icobrdf/core/lowpass_filter.hpp"
-#include "icobrdf/core/lut.hpp"
+#include "icobrdf/core/models/function_model.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
+#include "icobrdf/core/basis/lowpass_filter.hpp"
+#include "icobrdf/core/projection/lut.hpp"
 #include "icobrdf/io/material_eval.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 
@@ -21,7 +21,7 @@ const Grid& BankOperators::grid_locked() {
   return *grid_;
 }
 
-// B and G at any order; P only where the bank grid supports the order (icobrdf/core/discrete_basis.hpp), else it is
+// B and G at any order; P only where the bank grid supports the order (icobrdf/core/projection/discrete_basis.hpp), else it is
 // left out of the file.
 const BankOperators::Operators& BankOperators::operators(int order) {
   std::lock_guard<std::mutex> g(lock_);
@@ -43,7 +43,7 @@ void BankOperators::add_basis(BankContents& bank, int order) {
     bank.basis.push_back(BasisArray::matrix(p + "/P", ctx.projection->P, "sr^(1/2)",
                                             "cells x modes: least-squares projection W B G^-1; C = P^T F P"));
   // Smoothing S = B diag(w) P^T is stored in this factored form (S itself is cells x cells); the bank's
-  // spectra are plain truncations, so w = 1 (icobrdf/core/lowpass_filter.hpp gives other filters' weights).
+  // spectra are plain truncations, so w = 1 (icobrdf/core/basis/lowpass_filter.hpp gives other filters' weights).
   const Eigen::VectorXd w = mode_weights(LowPassFilter{}, order);
   bank.basis.push_back(BasisArray::matrix(p + "/filter_weights", Eigen::MatrixXd(w.transpose()), "1",
                                           "1 x modes: low-pass weights w of the smoothing S = B diag(w) P^T (plain truncation)"));

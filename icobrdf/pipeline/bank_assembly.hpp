@@ -8,8 +8,8 @@
 #include <mutex>
 #include <optional>
 
-#include "icobrdf/core/discrete_basis.hpp"
-#include "icobrdf/core/projection.hpp"
+#include "icobrdf/core/projection/discrete_basis.hpp"
+#include "icobrdf/core/projection/projection.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/scene.hpp"
 #include "icobrdf/pipeline/material_candidate.hpp"

@@ -14,7 +14,7 @@
 #include <sstream>
 #include <thread>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/io/output_path.hpp"
@@ -24,7 +24,7 @@
 #include "icobrdf/pipeline/material_candidate.hpp"
 #include "icobrdf/pipeline/reflectance_check.hpp"
 #include "icobrdf/pipeline/resource_estimate.hpp"
-#include "icobrdf/core/memory_budget.hpp"
+#include "icobrdf/core/support/memory_budget.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 
 namespace icobrdf {

@@ -5,7 +5,7 @@
 //
 //   1. the fitting grid (icobrdf/mesh/tessellation.hpp build_fitting_grid): LUT rows and B sampled with the same
 //      rule, one point per cell for centre sampling, the degree-2 cell rule for average sampling;
-//   2. the projection context (icobrdf/core/spectral_fit.hpp) for (grid, order, Gram tolerance); refused with an
+//   2. the projection context (icobrdf/core/fit/spectral_fit.hpp) for (grid, order, Gram tolerance); refused with an
 //      UnsupportedError when the grid cannot resolve the order;
 //   3. FitOptions from the request, LUT rows averaged over the grid's own cubature;
 //   4. BrdfSource::fit (icobrdf/io/brdf_source.hpp).
@@ -19,9 +19,9 @@
 #include <string>
 #include <tuple>
 
-#include "icobrdf/core/lowpass_filter.hpp"
-#include "icobrdf/core/lut.hpp"
-#include "icobrdf/core/spectral_fit.hpp"
+#include "icobrdf/core/basis/lowpass_filter.hpp"
+#include "icobrdf/core/projection/lut.hpp"
+#include "icobrdf/core/fit/spectral_fit.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 
 namespace icobrdf {

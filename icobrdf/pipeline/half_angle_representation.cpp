@@ -7,12 +7,12 @@
 #include <optional>
 #include <random>
 
-#include "icobrdf/core/direction.hpp"
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/function_model.hpp"
-#include "icobrdf/core/half_angle_factors.hpp"
-#include "icobrdf/core/isotropic_modes.hpp"
-#include "icobrdf/core/lobe_axes.hpp"
+#include "icobrdf/core/basis/direction.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/models/function_model.hpp"
+#include "icobrdf/core/models/half_angle_factors.hpp"
+#include "icobrdf/core/basis/isotropic_modes.hpp"
+#include "icobrdf/core/fit/lobe_axes.hpp"
 #include "icobrdf/io/material_eval.hpp"
 #include "icobrdf/io/measured_sources.hpp"
 #include "icobrdf/pipeline/keys.hpp"
@@ -35,7 +35,7 @@ constexpr int kPeakPairs = 20000;
 // 0.005-0.02 on the glossy scene's lobes (measured), so no grid meets a target below 1e-3, and trying all of
 // them at rank 8 costs seconds (minutes under the sanitizers); such targets are refused at once.
 constexpr double kSmallestLobeTarget = 1e-3;
-// Smallest ratio of a lobe's widths (icobrdf/core/lobe_axes.hpp) for which the h grid of an anisotropic lobe is
+// Smallest ratio of a lobe's widths (icobrdf/core/fit/lobe_axes.hpp) for which the h grid of an anisotropic lobe is
 // stretched: below it a stretch changes the interpolation error by less than the estimate's own spread.
 constexpr double kStretchRatio = 1.1;
 // Largest rank tried at one grid.
@@ -74,7 +74,7 @@ struct LadderStep {
 // where 64 give 0.005-0.009 (measured, cosine metric); then resolution goes to theta_h (the lobe) and phi_d.
 constexpr LadderStep kIsotropicLadder[] = {{32, 1, 64, 16},  {64, 1, 64, 32},   {128, 1, 96, 32},
                                            {256, 1, 128, 32}, {256, 1, 128, 64}, {512, 1, 128, 64}};
-// Anisotropic lobes: on an h grid stretched along the lobe's axes (icobrdf/core/lobe_axes.hpp) an elliptical lobe
+// Anisotropic lobes: on an h grid stretched along the lobe's axes (icobrdf/core/fit/lobe_axes.hpp) an elliptical lobe
 // needs few phi_h nodes (GGX alpha 0.1 x 0.3, held-out errors at ranks 4-6: 0.025 on 32 x 8 h nodes, 0.010 on
 // 48 x 16, against 0.035 at rank 8 on an unstretched 48 x 32; measured, mean-cosine quantity).
 constexpr LadderStep kAnisotropicLadder[] = {{32, 8, 64, 16}, {48, 16, 64, 16}, {64, 32, 64, 16}, {96, 32, 96, 32}};
@@ -184,7 +184,7 @@ std::optional<LobeFit> fit_lobe_at(const MaterialProblem& p, const BrdfSource& r
   };
   HalfAngleFitOptions o;
   // Cosine metric: p = f (cos_i + cos_r) / 2, weighted so that the node error is the metric's (see
-  // icobrdf/core/half_angle_factors.hpp): smooth across the horizon and at grazing specular, where q = f cos_i cos_r
+  // icobrdf/core/models/half_angle_factors.hpp): smooth across the horizon and at grazing specular, where q = f cos_i cos_r
   // (the metric's own quantity) drops to 0 within a node or two and the grazing Fresnel peak sits.
   o.quantity = p.material.metric == ErrorMetric::Cosine ? HalfAngleQuantity::MeanCosine : HalfAngleQuantity::F;
   o.isotropic = isotropic;

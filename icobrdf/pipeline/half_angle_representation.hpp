@@ -1,6 +1,6 @@
 #pragma once
 // The "half-angle" and "hybrid" representations: a specular lobe factorized in half-angle coordinates
-// (icobrdf/core/half_angle_factors.hpp), alone or added to a few Helmholtz modes that carry the body.
+// (icobrdf/core/models/half_angle_factors.hpp), alone or added to a few Helmholtz modes that carry the body.
 //
 // half-angle
 //   1. isotropy: isotropic = true/false as the scene says; "auto" rotates the held-out pairs about the

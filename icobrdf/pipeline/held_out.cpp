@@ -6,10 +6,10 @@
 #include <random>
 #include <string>
 
-#include "icobrdf/core/direction.hpp"
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/hemisphere_basis.hpp"
-#include "icobrdf/core/scramble.hpp"
+#include "icobrdf/core/basis/direction.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
+#include "icobrdf/core/support/scramble.hpp"
 #include "icobrdf/io/measured_sources.hpp"
 #include "icobrdf/pipeline/keys.hpp"
 

@@ -10,7 +10,7 @@
 //     measure (held_out.cpp), since its lookup between samples is a step function; every bin drawn is
 //     missing from the training table;
 //   * CSV samples: held_out_sample_count of the samples whose incidence is in the range, those with the
-//     smallest splitmix64(S + INDEX) (icobrdf/core/scramble.hpp), S the FNV-1a hash of "holdout|NAME" read as
+//     smallest splitmix64(S + INDEX) (icobrdf/core/support/scramble.hpp), S the FNV-1a hash of "holdout|NAME" read as
 //     a 64-bit integer, INDEX the sample's position after duplicates are merged (deterministic, no random
 //     state, spread over the file whatever its order); the fits use all others. A merged sample counts as one pair per
 //     row it merged. Lights x cameras are refused (ArgumentError): samples have no value there.
@@ -26,7 +26,7 @@
 #include <utility>
 #include <vector>
 
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/io/scene.hpp"
 

@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 
 namespace icobrdf {
 namespace {

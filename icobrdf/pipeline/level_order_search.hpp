@@ -2,7 +2,7 @@
 // The smallest tessellation level and expansion order for a material's spectrum.
 //
 // Levels are tried ascending. At each level one fit is made at the largest order the level supports
-// (icobrdf/core/discrete_basis.hpp, capped by order_max or the fixed order); its truncations give the held-out error
+// (icobrdf/core/projection/discrete_basis.hpp, capped by order_max or the fixed order); its truncations give the held-out error
 // of every lower order. The smallest order meeting the target is then fitted on its own and verified (at the
 // top order the fit just made is reused).
 // With refit_each_order (scattered samples: the modes are not orthogonal over the samples, so the truncation of

@@ -4,7 +4,7 @@
 #include <exception>
 #include <optional>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/pipeline/half_angle_representation.hpp"
 #include "icobrdf/pipeline/modes_representation.hpp"
 

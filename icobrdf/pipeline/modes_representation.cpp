@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "icobrdf/core/helmholtz_modes.hpp"
-#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/basis/helmholtz_modes.hpp"
+#include "icobrdf/core/basis/isotropic_modes.hpp"
 #include "icobrdf/io/measured_sources.hpp"
 #include "icobrdf/pipeline/keys.hpp"
 #include "icobrdf/pipeline/level_order_search.hpp"

@@ -4,8 +4,8 @@
 
 #include <memory>
 
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/io/material_eval.hpp"

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/grid.hpp"
-#include "icobrdf/core/spectrum.hpp"
+#include "icobrdf/core/grid/grid.hpp"
+#include "icobrdf/core/spectrum/spectrum.hpp"
 
 namespace icobrdf {
 

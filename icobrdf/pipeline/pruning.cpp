@@ -4,8 +4,8 @@
 #include <numeric>
 #include <vector>
 
-#include "icobrdf/core/helmholtz_modes.hpp"
-#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/basis/helmholtz_modes.hpp"
+#include "icobrdf/core/basis/isotropic_modes.hpp"
 
 namespace icobrdf {
 namespace {

@@ -1,7 +1,7 @@
 #pragma once
 // Pruning a spectrum: its coefficients (BSSS, or IBSSS when isotropic) dropped smallest first while the
 // held-out error stays within the target.
-#include "icobrdf/core/spectrum.hpp"
+#include "icobrdf/core/spectrum/spectrum.hpp"
 #include "icobrdf/pipeline/held_out.hpp"
 
 namespace icobrdf {

@@ -5,11 +5,11 @@
 #include <algorithm>
 #include <ostream>
 
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/finite_values.hpp"
-#include "icobrdf/core/reflection.hpp"
-#include "icobrdf/core/spectral_fit.hpp"
-#include "icobrdf/core/spectrum_ops.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/finite_values.hpp"
+#include "icobrdf/core/projection/reflection.hpp"
+#include "icobrdf/core/fit/spectral_fit.hpp"
+#include "icobrdf/core/spectrum/spectrum_ops.hpp"
 
 namespace icobrdf {
 

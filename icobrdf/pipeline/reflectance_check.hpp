@@ -1,7 +1,7 @@
 #pragma once
 // What an evaluating command (eval, lut, albedo, fit) checks before it prints or writes a reflectance:
 //   1. finite: Inf or NaN (an overflow: weights or coefficients near 1e308) is refused with an
-//      UnsupportedError (icobrdf/core/finite_values.hpp), whatever the flags;
+//      UnsupportedError (icobrdf/core/support/finite_values.hpp), whatever the flags;
 //   2. physical: a reflectance (f, g = f cos(theta_i), or a directional albedo) below
 //      -kNegativeReflectanceTolerance x its largest magnitude is non-physical. It is reported as one line on
 //      `warnings` ("icobrdf: warning: ...") by default, and refused with an InputError under --strict.
@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/grid.hpp"
-#include "icobrdf/core/spectrum.hpp"
+#include "icobrdf/core/grid/grid.hpp"
+#include "icobrdf/core/spectrum/spectrum.hpp"
 
 namespace icobrdf {
 
@@ -38,7 +38,7 @@ void check_reflectance(const Eigen::Ref<const Eigen::MatrixXd>& values, const st
 void check_fitted_albedo(const Spectrum& spectrum, const Grid& grid, const std::string& where, const ReflectanceCheck& check);
 
 // Every channel of a LUT (cells x cells, f or g = f cos(theta_i) when `cosine`), then its directional albedo
-// (icobrdf/core/reflection.hpp), checked as above.
+// (icobrdf/core/projection/reflection.hpp), checked as above.
 void check_lut(const std::vector<Eigen::MatrixXd>& lut, bool cosine, const Grid& grid, const std::string& where,
                const ReflectanceCheck& check);
 

@@ -2,10 +2,10 @@
 
 #include <omp.h>
 
-#include "icobrdf/core/discrete_basis.hpp"
-#include "icobrdf/core/hemisphere_basis.hpp"
-#include "icobrdf/core/memory_budget.hpp"
-#include "icobrdf/core/streaming_projection.hpp"
+#include "icobrdf/core/projection/discrete_basis.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
+#include "icobrdf/core/support/memory_budget.hpp"
+#include "icobrdf/core/projection/streaming_projection.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 
 namespace icobrdf {
@@ -28,7 +28,7 @@ int estimate_threads() { return omp_get_max_threads(); }
 double model_fit_bytes(int level, int order, int channels, int threads, int parts) {
   const double c = cells_of(level), m = modes_of(order), ch = channels, t = threads;
   if (parts > 1) {
-    // Split by rows (icobrdf/core/row_split_projection.hpp): B and P of the own block while P is made (2),
+    // Split by rows (icobrdf/core/projection/row_split_projection.hpp): B and P of the own block while P is made (2),
     // then P, the visiting block and the exchange's sent and received copies (4), of C M / R each; LUT rows
     // of the widest pair (a block's columns plus its rows); G's solve and the sums.
     const double block = c / parts + 4;

@@ -1,9 +1,9 @@
 #pragma once
 // Peak memory of a request, estimated from its sizes before anything is allocated, and the refusal of a
-// request that the machine cannot hold (icobrdf/core/memory_budget.hpp), naming the largest level or order that fits.
+// request that the machine cannot hold (icobrdf/core/support/memory_budget.hpp), naming the largest level or order that fits.
 //
 // Sizes: C = cells of the level (equal_area_cells, icobrdf/io/spectrum_file.hpp), M = hemisphere functions of order N
-// (hemisphere_basis_count, icobrdf/core/hemisphere_basis.hpp),
+// (hemisphere_basis_count, icobrdf/core/basis/hemisphere_basis.hpp),
 // ch = channels, T = threads. The estimates count the arrays that grow with C and M, in doubles:
 //   grid                C x kGridBytesPerCell (directions, maps, a degree-9 cubature of ~37 points per cell)
 //   projection context  3 C M (B, P and the weighted basis alive while P is made) + (kGramPartialSums + 3) M^2
@@ -25,7 +25,7 @@ inline constexpr double kGridBytesPerCell = 1600.0;
 
 // Peak bytes of fitting an analytic model by streaming projection at (level, order): no LUT is materialized.
 // With parts > 1: per process of a fit whose operators are split by rows over `parts` processes
-// (icobrdf/core/row_split_projection.hpp): 4 (C / R) M for P, the visiting block and the exchange's copies,
+// (icobrdf/core/projection/row_split_projection.hpp): 4 (C / R) M for P, the visiting block and the exchange's copies,
 // T kStreamingBlockRows 2 (C / R) ch LUT rows, and the M^2 terms; the grid stays whole.
 double model_fit_bytes(int level, int order, int channels, int threads, int parts = 1);
 // Peak bytes of sampling a LUT of a model at `level` and projecting it to `order` (the lut command), and of
@@ -35,7 +35,7 @@ double lut_bytes(int level, int order, int channels, bool float32, int threads);
 // The threads OpenMP will use (omp_get_max_threads), for the per-thread terms.
 int estimate_threads();
 
-// ResourceError (icobrdf/core/error.hpp) when a model fit at (level, order) needs more than available_memory(),
+// ResourceError (icobrdf/core/support/error.hpp) when a model fit at (level, order) needs more than available_memory(),
 // naming the largest order that fits at this level.
 void require_model_fit_memory(int level, int order, int channels, const std::string& what, int parts = 1);
 // The same for a LUT of `level` (sampled, stored and projected to `order`).

@@ -2,8 +2,8 @@
 
 #include <sys/stat.h>
 
-#include "icobrdf/core/function_model.hpp"
-#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/core/models/function_model.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 

@@ -1,14 +1,14 @@
 #pragma once
 // Any SOURCE as a BrdfModel, for what samples models (`icobrdf lut`): an analytic model (with or without the
 // "model:" prefix) as itself; any other SOURCE naming an existing file (a bank material of any
-// representation, measured data) through its values (icobrdf/core/function_model.hpp; not claimed reciprocal or
+// representation, measured data) through its values (icobrdf/core/models/function_model.hpp; not claimed reciprocal or
 // isotropic, so the LUT takes the full path). `label` receives the canonical SOURCE text and, when given,
 // `channel_names` the source's channel names (empty when it names none).
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/brdf_model.hpp"
+#include "icobrdf/core/models/brdf_model.hpp"
 
 namespace icobrdf {
 

@@ -2,8 +2,8 @@
 
 #include <limits>
 
-#include "icobrdf/core/hemisphere_basis.hpp"
-#include "icobrdf/core/lambert_map.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
+#include "icobrdf/core/basis/lambert_map.hpp"
 
 namespace icobrdf::plot {
 

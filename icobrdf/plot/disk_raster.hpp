@@ -1,5 +1,5 @@
 #pragma once
-// Rasters of functions on the hemisphere seen from above through the Lambert map (icobrdf/core/lambert_map.hpp).
+// Rasters of functions on the hemisphere seen from above through the Lambert map (icobrdf/core/basis/lambert_map.hpp).
 //
 // A size x size raster covers the square [-1, 1]^2 around the unit disk; pixel (row i, column j) has its
 // centre at the disk point x = -1 + (2 j + 1) / size, y = 1 - (2 i + 1) / size: +x to the right, +y up,
@@ -10,7 +10,7 @@
 
 #include <vector>
 
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 
 namespace icobrdf::plot {
 

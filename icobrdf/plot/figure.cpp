@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/atomic_write.hpp"
 
 namespace icobrdf::plot {

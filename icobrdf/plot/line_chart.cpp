@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/plot/figure.hpp"
 
 namespace icobrdf::plot {

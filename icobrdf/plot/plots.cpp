@@ -8,12 +8,12 @@
 #include <cmath>
 #include <memory>
 
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/finite_values.hpp"
-#include "icobrdf/core/hemisphere_basis.hpp"
-#include "icobrdf/core/isotropic_modes.hpp"
-#include "icobrdf/core/lambert_map.hpp"
-#include "icobrdf/core/spectrum_ops.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/finite_values.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
+#include "icobrdf/core/basis/isotropic_modes.hpp"
+#include "icobrdf/core/basis/lambert_map.hpp"
+#include "icobrdf/core/spectrum/spectrum_ops.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 #include "icobrdf/plot/disk_raster.hpp"
 #include "icobrdf/plot/figure.hpp"

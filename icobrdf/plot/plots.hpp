@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/grid.hpp"
-#include "icobrdf/core/lowpass_filter.hpp"
-#include "icobrdf/core/spectrum.hpp"
+#include "icobrdf/core/grid/grid.hpp"
+#include "icobrdf/core/basis/lowpass_filter.hpp"
+#include "icobrdf/core/spectrum/spectrum.hpp"
 
 namespace icobrdf::plot {
 

@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/hemisphere_basis.hpp"
-#include "icobrdf/core/projection.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
+#include "icobrdf/core/projection/projection.hpp"
 
 namespace icobrdf::plot {
 

@@ -1,16 +1,16 @@
 #pragma once
 // The remitted distribution of a spectrum for one incident direction (the paper's Figs. 4-6).
 //
-// For a coefficient matrix C of order N (icobrdf/core/spectrum.hpp) the slice at incident direction w_i is
+// For a coefficient matrix C of order N (icobrdf/core/spectrum/spectrum.hpp) the slice at incident direction w_i is
 //   s(w_r) = K(w_i)^T C K(w_r) = K(w_r)^T u,   u = C^T K(w_i),
 // in 1/sr: f for spectra of f, g = f cos(theta_i) for spectra of g (delta models). Truncation to an order
 // N' <= N keeps the leading M(N') x M(N') block of C (the K functions of order <= N' come first in ANSI
 // order), which is the orthogonal projection onto the modes of order <= N'.
 #include <Eigen/Core>
 
-#include "icobrdf/core/grid.hpp"
-#include "icobrdf/core/lowpass_filter.hpp"
-#include "icobrdf/core/spectrum.hpp"
+#include "icobrdf/core/grid/grid.hpp"
+#include "icobrdf/core/basis/lowpass_filter.hpp"
+#include "icobrdf/core/spectrum/spectrum.hpp"
 
 namespace icobrdf::plot {
 

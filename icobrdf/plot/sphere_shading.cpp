@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 
 namespace icobrdf::plot {
 

@@ -21,7 +21,7 @@
 #include <functional>
 #include <vector>
 
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 
 namespace icobrdf::plot {
 

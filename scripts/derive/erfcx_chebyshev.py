@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Derives the coefficients of the scaled complementary error function erfcx(a) = exp(a^2) erfc(a), a >= 0,
-used by the Beckmann masking term of icobrdf/core/microfacet_kernel.cpp.
+used by the Beckmann masking term of icobrdf/core/models/microfacet_kernel.cpp.
 
 Form (Weideman's rational expansion, SIAM J. Numer. Anal. 31 (1994) 1497, on the real axis):
     erfcx(a) = 2 P(Z) / (L + a)^2 + 1 / (sqrt(pi) (L + a)),    Z = (a - L) / (a + L) in [-1, 1),

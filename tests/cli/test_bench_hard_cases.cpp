@@ -13,7 +13,7 @@ using icobrdf::test::run_cli;
 namespace ICOBRDF_UNITY_ID {
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
-// Documented accuracy of the Zernike recurrence, |dR| <= 1e-13 for n <= 128 (icobrdf/core/zernike.hpp); K_n^l carries
+// Documented accuracy of the Zernike recurrence, |dR| <= 1e-13 for n <= 128 (icobrdf/core/basis/zernike.hpp); K_n^l carries
 // the factor sqrt((n + 1)/pi).
 constexpr double kZernikeAbsError = 1e-13;
 // Orthonormality of K at order 128 by an exact rule (66 rings x 258 azimuths): with |dK_a| <= 1e-13

@@ -35,7 +35,7 @@ json spectrum_json(const std::string& file) {
 }
 
 TEST(CliFit, LambertIsotropicSpectrumIsTwiceTheAlbedoAtDc) {
-  // f = a/pi: C = 2a e_0 e_0^T (SPEC-NOTES, derived in tests/core/test_operators.cpp), IBSSS a_00^0 = C_00.
+  // f = a/pi: C = 2a e_0 e_0^T (SPEC-NOTES, derived in tests/core/projection/test_operators.cpp), IBSSS a_00^0 = C_00.
   TempDir dir;
   const auto out = dir.file("lambert.h5");
   const auto r = run_cli({"fit", "model:lambert:albedo=0.5", "--order", "4", "--level", "3", "--isotropic", "-o", out, "--json"});

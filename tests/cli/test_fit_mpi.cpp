@@ -1,5 +1,5 @@
 // `mpirun -np 2 --oversubscribe icobrdf fit MODEL` (icobrdf/cluster/distributed_projection.hpp, the operators
-// split by rows: icobrdf/core/row_split_projection.hpp): the spectrum equals the one-process fit's to rounding
+// split by rows: icobrdf/core/projection/row_split_projection.hpp): the spectrum equals the one-process fit's to rounding
 // (kSplitRelTol below), two distributed runs give the same bits, each rank reports its peak memory, a failing rank ends the fit with one
 // line naming it and no output, and `bench streaming` reports every rank. Level 3, so each run takes well
 // under a second. Skipped when the MPI layer was not built.
@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/model_spec.hpp"
-#include "icobrdf/core/sample_fit.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
+#include "icobrdf/core/fit/sample_fit.hpp"
 #include "icobrdf/io/merl.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 #include "tests/cli/cli_runner.hpp"
@@ -36,7 +36,7 @@ namespace ICOBRDF_UNITY_ID {
 
 constexpr int kLevel = 3, kOrder = 6;
 // Two ranks against one process, relative to max|C|: under mpirun the fit splits the operators by rows
-// (icobrdf/core/row_split_projection.hpp), so P comes from G summed in another order and the pairs of
+// (icobrdf/core/projection/row_split_projection.hpp), so P comes from G summed in another order and the pairs of
 // blocks are summed in another order than the one process's blocks: a few ulps times cond(G) (below 2 here)
 // and a few hundred roundings. 1e-12 is 100x that and far below a missing or doubled pair of blocks (tests/
 // core/test_row_split_projection.cpp checks a part alone is off by more than 1e-3).
@@ -206,7 +206,7 @@ TEST_F(FitMpi, ASourceWithoutProjectionIsNotedAsFittedWhole) {
       << "the same order: re-expansion is the identity";
 }
 
-// A MERL table's least-squares fit under mpirun (icobrdf/core/sample_fit.hpp SampleFitSplit): each rank
+// A MERL table's least-squares fit under mpirun (icobrdf/core/fit/sample_fit.hpp SampleFitSplit): each rank
 // passes over its part of the table's 1.46 million samples, and the normal equations and each refinement
 // pass are summed over the ranks. 2 ranks and 3 (parts of unequal size) agree with one process to
 // rounding, two runs on 2 ranks give the same bits, and the ranks say they split the samples.

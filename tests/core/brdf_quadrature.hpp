@@ -9,7 +9,7 @@
 #include <functional>
 #include <vector>
 
-#include "icobrdf/core/brdf_model.hpp"
+#include "icobrdf/core/models/brdf_model.hpp"
 
 namespace icobrdf::test {
 

@@ -8,7 +8,7 @@
 #include <iterator>
 #include <random>
 
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 
 namespace icobrdf::test {
 

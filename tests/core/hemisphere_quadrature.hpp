@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 
 namespace icobrdf::test {
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 
 namespace icobrdf::test {
 

@@ -1,6 +1,6 @@
 #pragma once
-// Threads standing in for processes in tests of code split over processes (icobrdf/core/row_split_projection.hpp,
-// icobrdf/core/sample_fit.hpp SampleFitSplit).
+// Threads standing in for processes in tests of code split over processes (icobrdf/core/projection/row_split_projection.hpp,
+// icobrdf/core/fit/sample_fit.hpp SampleFitSplit).
 #include <Eigen/Core>
 
 #include <condition_variable>
@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "icobrdf/core/row_split_projection.hpp"
+#include "icobrdf/core/projection/row_split_projection.hpp"
 
 namespace icobrdf::test {
 

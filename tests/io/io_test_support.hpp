@@ -20,9 +20,9 @@
 
 #include <gtest/gtest.h>
 
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/grid.hpp"
-#include "icobrdf/core/spectrum.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/grid/grid.hpp"
+#include "icobrdf/core/spectrum/spectrum.hpp"
 
 namespace icobrdf::test {
 

@@ -12,7 +12,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/atomic_write.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "io_test_support.hpp"

@@ -13,7 +13,7 @@
 #include <set>
 #include <thread>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "io_test_support.hpp"
 #include "tests/support/unity_id.hpp"

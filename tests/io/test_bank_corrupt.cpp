@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <functional>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "io_test_support.hpp"
 #include "tests/support/unity_id.hpp"

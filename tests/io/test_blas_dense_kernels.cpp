@@ -6,9 +6,9 @@
 
 #include <cmath>
 
-#include "icobrdf/core/dense_kernels.hpp"
-#include "icobrdf/core/helmholtz_modes.hpp"
-#include "icobrdf/core/sample_fit.hpp"
+#include "icobrdf/core/fit/dense_kernels.hpp"
+#include "icobrdf/core/basis/helmholtz_modes.hpp"
+#include "icobrdf/core/fit/sample_fit.hpp"
 #include "icobrdf/io/blas_dense_kernels.hpp"
 #include "tests/core/sample_pairs.hpp"
 #include "tests/support/random_matrix.hpp"

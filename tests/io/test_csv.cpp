@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/csv.hpp"
 #include "tests/io/io_test_support.hpp"
 #include "tests/support/unity_id.hpp"

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <fstream>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/csv.hpp"
 #include "icobrdf/io/direction_csv.hpp"
 #include "tests/cli/cli_runner.hpp"

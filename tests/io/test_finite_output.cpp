@@ -10,9 +10,9 @@
 #include <functional>
 #include <limits>
 
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/finite_values.hpp"
-#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/finite_values.hpp"
+#include "icobrdf/core/basis/isotropic_modes.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/scatmech_coefficients.hpp"
 #include "icobrdf/io/spectrum_file.hpp"

@@ -2,7 +2,7 @@
 // inconsistent grid groups.
 #include <gtest/gtest.h>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/grid_file.hpp"
 #include "io_test_support.hpp"

@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/analytic_spectra.hpp"
-#include "icobrdf/core/direction.hpp"
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/gauss_legendre.hpp"
+#include "icobrdf/core/spectrum/analytic_spectra.hpp"
+#include "icobrdf/core/basis/direction.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/grid/gauss_legendre.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/io/material_sampler.hpp"
 #include "icobrdf/io/scene.hpp"

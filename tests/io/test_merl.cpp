@@ -9,10 +9,10 @@
 #include <fstream>
 #include <random>
 
-#include "icobrdf/core/analytic_spectra.hpp"
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/model_spec.hpp"
-#include "icobrdf/core/sample_fit.hpp"
+#include "icobrdf/core/spectrum/analytic_spectra.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
+#include "icobrdf/core/fit/sample_fit.hpp"
 #include "icobrdf/io/merl.hpp"
 #include "io_test_support.hpp"
 #include "tests/support/unity_id.hpp"

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/output_path.hpp"
 #include "io_test_support.hpp"
 #include "special_files.hpp"

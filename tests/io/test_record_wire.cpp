@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/record_wire.hpp"
 #include "io_test_support.hpp"

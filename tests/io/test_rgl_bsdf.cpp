@@ -12,7 +12,7 @@
 #include <cmath>
 #include <random>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/io/rgl_bsdf.hpp"
 #include "io_test_support.hpp"

@@ -3,8 +3,8 @@
 
 #include <cmath>
 
-#include "icobrdf/core/direction.hpp"
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/basis/direction.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/sample_csv.hpp"
 #include "io_test_support.hpp"
 #include "tests/support/unity_id.hpp"

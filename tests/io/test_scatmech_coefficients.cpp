@@ -11,11 +11,11 @@
 #include <random>
 #include <sstream>
 
-#include "icobrdf/core/analytic_spectra.hpp"
-#include "icobrdf/core/direction.hpp"
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/isotropic_modes.hpp"
-#include "icobrdf/core/spectrum_ops.hpp"
+#include "icobrdf/core/spectrum/analytic_spectra.hpp"
+#include "icobrdf/core/basis/direction.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/basis/isotropic_modes.hpp"
+#include "icobrdf/core/spectrum/spectrum_ops.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/io/direction_csv.hpp"
 #include "icobrdf/io/scatmech_coefficients.hpp"

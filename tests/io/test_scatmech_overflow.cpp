@@ -3,7 +3,7 @@
 // fuzz/fuzz_scatmech_coefficients.cpp).
 #include <gtest/gtest.h>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/scatmech_coefficients.hpp"
 #include "io_test_support.hpp"
 #include "tests/support/unity_id.hpp"

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/basis/isotropic_modes.hpp"
 #include "icobrdf/io/scatmech_coefficients.hpp"
 #include "io_test_support.hpp"
 #include "tests/support/unity_id.hpp"

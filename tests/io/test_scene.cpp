@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/scene.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 #include "tests/io/io_test_support.hpp"

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/bank_format.hpp"
 #include "icobrdf/io/spectrum_file.hpp"

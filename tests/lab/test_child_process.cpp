@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/lab/child_process.hpp"
 #include "tests/support/unity_id.hpp"
 

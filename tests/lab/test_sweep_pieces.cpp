@@ -9,7 +9,7 @@
 #include <fstream>
 #include <limits>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/lab/report_format.hpp"
 #include "icobrdf/lab/staged_folder.hpp"
 #include "icobrdf/lab/sweep_measure.hpp"

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <random>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/mesh/cell_locator.hpp"
 #include "icobrdf/mesh/gnomonic_projection.hpp"
 #include "icobrdf/mesh/hemi_lattice.hpp"

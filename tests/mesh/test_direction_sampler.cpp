@@ -10,7 +10,7 @@
 #include <random>
 #include <vector>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/mesh/direction_sampler.hpp"
 #include "icobrdf/mesh/hemi_lattice.hpp"
 #include "icobrdf/mesh/icosahedron.hpp"

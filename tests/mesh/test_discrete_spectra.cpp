@@ -1,16 +1,16 @@
-// Discrete spectra on the equal-area tessellation against the analytic spectra (icobrdf/core/analytic_spectra.hpp),
+// Discrete spectra on the equal-area tessellation against the analytic spectra (icobrdf/core/spectrum/analytic_spectra.hpp),
 // for levels 3-6. Each expected value or bound is derived in a comment.
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
-#include "icobrdf/core/analytic_spectra.hpp"
-#include "icobrdf/core/brdf_model.hpp"
-#include "icobrdf/core/discrete_basis.hpp"
-#include "icobrdf/core/hemisphere_basis.hpp"
-#include "icobrdf/core/projection.hpp"
-#include "icobrdf/core/streaming_projection.hpp"
+#include "icobrdf/core/spectrum/analytic_spectra.hpp"
+#include "icobrdf/core/models/brdf_model.hpp"
+#include "icobrdf/core/projection/discrete_basis.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
+#include "icobrdf/core/projection/projection.hpp"
+#include "icobrdf/core/projection/streaming_projection.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 #include "tests/support/unity_id.hpp"
 
@@ -50,7 +50,7 @@ struct LevelOrder {
 const LevelOrder kCases[] = {{3, 6}, {4, 11}, {5, 20}, {6, 16}};
 
 TEST(DiscreteSpectra, MirrorAndRetroreflectorMatchTheAnalyticSpectraWithinTheGramError) {
-  // Mirror: C = D G^-1 exactly (tests/core/test_operators.cpp), so C G = D, and
+  // Mirror: C = D G^-1 exactly (tests/core/projection/test_operators.cpp), so C G = D, and
   // |C - D|_max <= |G^-1 - I|_2 <= ||G - I||_2 / (1 - ||G - I||_2). Retroreflector: C = G^-1, same bound.
   for (const auto [level, order] : kCases) {
     const Grid g = build_equal_area_grid(level);

@@ -1,4 +1,4 @@
-// The rule "a cell's mirrored cubature is the image of its own" (icobrdf/core/grid_symmetry.hpp cubature_is_image),
+// The rule "a cell's mirrored cubature is the image of its own" (icobrdf/core/basis/grid_symmetry.hpp cubature_is_image),
 // derived on the hemi-icosahedral grids (which is why it lives with the mesh tests: core's tests link
 // core only). A grid built symmetric passes for each of the three D2 maps; moving one point or one weight by
 // 1e-9 fails; reordering a cell's points passes (the cell average does not depend on the order).
@@ -6,8 +6,8 @@
 
 #include <utility>
 
-#include "icobrdf/core/grid.hpp"
-#include "icobrdf/core/grid_symmetry.hpp"
+#include "icobrdf/core/grid/grid.hpp"
+#include "icobrdf/core/basis/grid_symmetry.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 #include "tests/support/unity_id.hpp"
 

@@ -13,7 +13,7 @@
 #include <set>
 #include <sstream>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/mesh/cell_locator.hpp"
 #include "icobrdf/mesh/hemi_lattice.hpp"
 #include "icobrdf/mesh/icosahedron.hpp"

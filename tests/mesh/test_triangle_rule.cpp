@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/mesh/triangle_rule.hpp"
 #include "tests/support/unity_id.hpp"
 

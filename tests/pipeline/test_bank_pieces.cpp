@@ -4,9 +4,9 @@
 
 #include <cmath>
 
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/helmholtz_modes.hpp"
-#include "icobrdf/core/isotropic_modes.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/basis/helmholtz_modes.hpp"
+#include "icobrdf/core/basis/isotropic_modes.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/io/atomic_write.hpp"
 #include "icobrdf/io/bank_file.hpp"

@@ -2,7 +2,7 @@
 // projection context, FitOptions, BrdfSource::fit) gives, and the context cache shares what it can.
 #include <gtest/gtest.h>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 #include "icobrdf/pipeline/fit_source.hpp"

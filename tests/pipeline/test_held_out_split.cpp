@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/model_spec.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/io/measured_sources.hpp"
 #include "icobrdf/io/merl.hpp"

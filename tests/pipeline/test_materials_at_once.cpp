@@ -10,7 +10,7 @@
 #include <set>
 #include <string>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 #include "icobrdf/pipeline/bank_builder.hpp"

@@ -7,10 +7,10 @@
 #include <limits>
 #include <sstream>
 
-#include "icobrdf/core/analytic_spectra.hpp"
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/lut.hpp"
-#include "icobrdf/core/reflection.hpp"
+#include "icobrdf/core/spectrum/analytic_spectra.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/projection/lut.hpp"
+#include "icobrdf/core/projection/reflection.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 #include "icobrdf/pipeline/reflectance_check.hpp"
 #include "tests/support/unity_id.hpp"

@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <string>
 
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/hemisphere_basis.hpp"
-#include "icobrdf/core/memory_budget.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
+#include "icobrdf/core/support/memory_budget.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 #include "icobrdf/pipeline/resource_estimate.hpp"
 #include "tests/cli/measured_run.hpp"

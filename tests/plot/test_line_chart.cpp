@@ -7,7 +7,7 @@
 #include <string>
 #include <unistd.h>
 
-#include "icobrdf/core/error.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/plot/figure.hpp"
 #include "icobrdf/plot/line_chart.hpp"
 #include "tests/support/unity_id.hpp"

@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "icobrdf/core/error.hpp"
-#include "icobrdf/core/lambert_map.hpp"
-#include "icobrdf/core/spectral_fit.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/basis/lambert_map.hpp"
+#include "icobrdf/core/fit/spectral_fit.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 #include "icobrdf/plot/colormap.hpp"

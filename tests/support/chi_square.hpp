@@ -17,7 +17,7 @@
 #include <numeric>
 #include <vector>
 
-#include "icobrdf/core/grid.hpp"
+#include "icobrdf/core/grid/grid.hpp"
 
 namespace icobrdf::test_support {
 

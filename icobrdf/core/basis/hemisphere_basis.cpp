@@ -1,0 +1,237 @@
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cfloat>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/huge_pages.hpp"
+#include "icobrdf/core/basis/lambert_map.hpp"
+#include "icobrdf/core/basis/zernike.hpp"
+
+namespace icobrdf {
+
+namespace {
+
+constexpr int kMaxRadial = (kMaxZernikeOrder + 2) * (kMaxZernikeOrder + 2) / 4;
+
+// sqrt((n + 1) / pi) for n <= 128.
+const std::array<double, kMaxZernikeOrder + 1> kNorm = [] {
+  std::array<double, kMaxZernikeOrder + 1> t{};
+  for (int n = 0; n <= kMaxZernikeOrder; ++n) t[static_cast<size_t>(n)] = std::sqrt((n + 1) / M_PI);
+  return t;
+}();
+
+void check_basis_order(int order, const char* where) {
+  if (order < 0 || order > kMaxZernikeOrder)
+    throw ArgumentError(std::string(where) + ": order must be in [0, " + std::to_string(kMaxZernikeOrder) +
+                        "], got " + std::to_string(order));
+}
+
+}  // namespace
+
+int hemisphere_basis_count(int order) {
+  check_basis_order(order, "hemisphere_basis_count");
+  return (order + 1) * (order + 2) / 2;
+}
+
+int hemisphere_basis_order(int count) {
+  for (int n = 0; n <= kMaxZernikeOrder; ++n)
+    if ((n + 1) * (n + 2) / 2 == count) return n;
+  throw ArgumentError("hemisphere basis: " + std::to_string(count) +
+                      " is not (N+1)(N+2)/2 for any order N in [0, " + std::to_string(kMaxZernikeOrder) + "]");
+}
+
+int ansi_index(int n, int l) {
+  if (n < 0 || l < -n || l > n || (n - l) % 2 != 0)
+    throw ArgumentError("mode index: need n >= 0, |l| <= n, n - l even, got n = " + std::to_string(n) +
+                        ", l = " + std::to_string(l));
+  return (n * (n + 2) + l) / 2;
+}
+
+BasisIndex ansi_to_nl(int j) {
+  if (j < 0) throw ArgumentError("mode index: index must be >= 0, got " + std::to_string(j));
+  int n = static_cast<int>((std::sqrt(8.0 * j + 1.0) - 1.0) / 2.0);
+  while (n * (n + 1) / 2 > j) --n;            // guard the floating-point estimate
+  while ((n + 1) * (n + 2) / 2 <= j) ++n;
+  return {n, 2 * (j - n * (n + 1) / 2) - n};
+}
+
+namespace {
+
+inline int radial_start(int n) { return (n + 1) * (n + 1) / 4; }
+
+// K_j(unit_dir) for j < count(order), no argument checks (order valid, z checked by the caller).
+void eval_unchecked(int order, const Eigen::Vector3d& unit_dir, double* out) {
+  std::array<double, kMaxRadial> radial;
+  std::array<double, 2 * kMaxZernikeOrder + 1> az;  // az[order + l] = az_l(phi), l in [-order, order]
+  const double rho2 = lambert_rho_squared(unit_dir);
+  zernike_radial_all(order, std::sqrt(rho2), radial.data());
+  // Azimuth from (x, y) without trigonometry; cos(l phi) + i sin(l phi) = (cos phi + i sin phi)^l.
+  const double s = std::sqrt(unit_dir.x() * unit_dir.x() + unit_dir.y() * unit_dir.y());
+  const double c1 = s > 0.0 ? unit_dir.x() / s : 1.0;
+  const double s1 = s > 0.0 ? unit_dir.y() / s : 0.0;
+  double c = 1.0, sn = 0.0;
+  az[static_cast<size_t>(order)] = M_SQRT1_2;
+  for (int l = 1; l <= order; ++l) {
+    const double c_next = c * c1 - sn * s1;
+    sn = sn * c1 + c * s1;
+    c = c_next;
+    az[static_cast<size_t>(order + l)] = c;   // az_l = cos(l phi)
+    az[static_cast<size_t>(order - l)] = sn;  // az_-l = -sin(-l phi) = sin(l phi)
+  }
+  const double* azc = az.data() + order;
+  for (int n = 0; n <= order; ++n) {
+    const double norm = kNorm[static_cast<size_t>(n)];
+    const double* row = radial.data() + (n + 1) * (n + 1) / 4;  // R_n^{n mod 2}, R_n^{n mod 2 + 2}, ...
+    double* o = out + n * (n + 1) / 2;                           // K_n^l, l = -n, -n + 2, ..., n
+    const double* a = azc - n;                                   // a[2e] = az_l for l = -n + 2e
+    const int neg = (n + 1) / 2;                                 // entries with l < 0
+    for (int e = 0; e < neg; ++e) o[e] = norm * row[n / 2 - e] * a[2 * e];      // |l| = n - 2e
+    for (int e = neg; e <= n; ++e) o[e] = norm * row[e - neg] * a[2 * e];       // l = 2(e - neg) + n mod 2
+  }
+}
+
+}  // namespace
+
+int hemisphere_basis_lanes_scratch(int order) {
+  check_basis_order(order, "hemisphere_basis_lanes_scratch");
+  return (radial_start(order + 1) + 2 * order + 1) * kBasisLanes;
+}
+
+// The recurrences of eval_unchecked, lanes innermost so that they vectorize.
+void hemisphere_basis_eval_lanes(int order, const double* x, const double* y, const double* z, const double* w,
+                                 double* scratch, double* __restrict out, bool accumulate) {
+  double* __restrict rad = scratch;
+  double* __restrict az = scratch + radial_start(order + 1) * kBasisLanes;
+  const double* norm = kNorm.data();
+  alignas(32) double rho[kBasisLanes], c1[kBasisLanes], s1[kBasisLanes], c[kBasisLanes], sn[kBasisLanes];
+  for (int k = 0; k < kBasisLanes; ++k) {
+    const double zc = z[k] < 0.0 ? 0.0 : z[k];
+    const double h2 = x[k] * x[k] + y[k] * y[k];
+    const double r2 = h2 / (1.0 + zc);  // rho^2 = 1 - cos(theta), without cancellation (icobrdf/core/basis/lambert_map.hpp)
+    rho[k] = std::sqrt(r2 > 1.0 ? 1.0 : r2);
+    const double s = std::sqrt(h2);
+    c1[k] = s > 0.0 ? x[k] / s : 1.0;
+    s1[k] = s > 0.0 ? y[k] / s : 0.0;
+  }
+  // Zernike radial rows (packed as in icobrdf/core/basis/zernike.hpp), times kBasisLanes.
+  for (int k = 0; k < kBasisLanes; ++k) {
+    rad[k] = 1.0;
+    if (order > 0) rad[kBasisLanes + k] = rho[k];
+  }
+  for (int n = 2; n <= order; ++n) {
+    double* __restrict cur = rad + radial_start(n) * kBasisLanes;
+    const double* __restrict prev = rad + radial_start(n - 1) * kBasisLanes;
+    const double* __restrict prev2 = rad + radial_start(n - 2) * kBasisLanes;
+    const int last = n / 2;
+    if (n % 2 == 0) {
+      for (int k = 0; k < kBasisLanes; ++k) cur[k] = 2.0 * rho[k] * prev[k] - prev2[k];
+      for (int i = 1; i < last; ++i)
+        for (int k = 0; k < kBasisLanes; ++k)
+          cur[i * kBasisLanes + k] = rho[k] * (prev[(i - 1) * kBasisLanes + k] + prev[i * kBasisLanes + k]) - prev2[i * kBasisLanes + k];
+      for (int k = 0; k < kBasisLanes; ++k) cur[last * kBasisLanes + k] = rho[k] * prev[(last - 1) * kBasisLanes + k];
+    } else {
+      for (int i = 0; i < last; ++i)
+        for (int k = 0; k < kBasisLanes; ++k)
+          cur[i * kBasisLanes + k] = rho[k] * (prev[i * kBasisLanes + k] + prev[(i + 1) * kBasisLanes + k]) - prev2[i * kBasisLanes + k];
+      for (int k = 0; k < kBasisLanes; ++k) cur[last * kBasisLanes + k] = rho[k] * prev[last * kBasisLanes + k];
+    }
+  }
+  // Weighted azimuthal factors: az[(order + l) kBasisLanes + lane] = w az_l(phi), by complex multiplication.
+  for (int k = 0; k < kBasisLanes; ++k) {
+    az[order * kBasisLanes + k] = w[k] * M_SQRT1_2;
+    c[k] = 1.0;
+    sn[k] = 0.0;
+  }
+  for (int l = 1; l <= order; ++l)
+    for (int k = 0; k < kBasisLanes; ++k) {
+      const double c_next = c[k] * c1[k] - sn[k] * s1[k];
+      sn[k] = sn[k] * c1[k] + c[k] * s1[k];
+      c[k] = c_next;
+      az[(order + l) * kBasisLanes + k] = w[k] * c[k];
+      az[(order - l) * kBasisLanes + k] = w[k] * sn[k];
+    }
+  for (int n = 0; n <= order; ++n) {
+    const double nn = norm[n];
+    const double* row = rad + radial_start(n) * kBasisLanes;
+    double* o = out + n * (n + 1) / 2 * kBasisLanes;
+    const double* a = az + (order - n) * kBasisLanes;  // a[2e kBasisLanes] = w az_l for l = -n + 2e
+    const int neg = (n + 1) / 2;
+    if (accumulate) {
+      for (int e = 0; e < neg; ++e)
+        for (int k = 0; k < kBasisLanes; ++k) o[e * kBasisLanes + k] += nn * row[(n / 2 - e) * kBasisLanes + k] * a[2 * e * kBasisLanes + k];
+      for (int e = neg; e <= n; ++e)
+        for (int k = 0; k < kBasisLanes; ++k) o[e * kBasisLanes + k] += nn * row[(e - neg) * kBasisLanes + k] * a[2 * e * kBasisLanes + k];
+    } else {
+      for (int e = 0; e < neg; ++e)
+        for (int k = 0; k < kBasisLanes; ++k) o[e * kBasisLanes + k] = nn * row[(n / 2 - e) * kBasisLanes + k] * a[2 * e * kBasisLanes + k];
+      for (int e = neg; e <= n; ++e)
+        for (int k = 0; k < kBasisLanes; ++k) o[e * kBasisLanes + k] = nn * row[(e - neg) * kBasisLanes + k] * a[2 * e * kBasisLanes + k];
+    }
+  }
+}
+
+void hemisphere_basis_eval(int order, const Eigen::Vector3d& unit_dir, double* out) {
+  check_basis_order(order, "hemisphere_basis_eval");
+  eval_unchecked(order, unit_dir, out);
+}
+
+Eigen::Index first_invalid_direction(const double* dirs, Eigen::Index n, double z_slack) {
+  // Blocks of rows are checked without branches (|v| <= DBL_MAX is false for inf and NaN, and so is
+  // z >= -slack for NaN); only a block that holds a bad row is searched row by row.
+  constexpr Eigen::Index kBlock = 256;
+  auto bad = [&](Eigen::Index r) {
+    const double x = dirs[3 * r], y = dirs[3 * r + 1], z = dirs[3 * r + 2];
+    return !(std::abs(x) <= DBL_MAX && std::abs(y) <= DBL_MAX && std::abs(z) <= DBL_MAX && z >= -z_slack);
+  };
+  for (Eigen::Index r0 = 0; r0 < n; r0 += kBlock) {
+    const Eigen::Index r1 = std::min(n, r0 + kBlock);
+    int any = 0;
+    for (Eigen::Index r = r0; r < r1; ++r) any |= static_cast<int>(bad(r));
+    if (any)
+      for (Eigen::Index r = r0; r < r1; ++r)
+        if (bad(r)) return r;
+  }
+  return -1;
+}
+
+Eigen::Index first_invalid_direction(const RowMatrix3d& dirs, double z_slack) {
+  const Eigen::Index rows = dirs.rows();
+  constexpr Eigen::Index kBlock = 4096;
+  const Eigen::Index blocks = (rows + kBlock - 1) / kBlock;
+  Eigen::Index first = rows;
+#pragma omp parallel for schedule(static) reduction(min : first) if (rows > 100000)
+  for (Eigen::Index b = 0; b < blocks; ++b) {
+    const Eigen::Index r0 = b * kBlock;
+    if (r0 >= first) continue;
+    const Eigen::Index r = first_invalid_direction(dirs.data() + 3 * r0, std::min(kBlock, rows - r0), z_slack);
+    if (r >= 0) first = std::min(first, r0 + r);
+  }
+  return first < rows ? first : -1;
+}
+
+Eigen::MatrixXd hemisphere_basis_matrix(int order, const RowMatrix3d& dirs) {
+  const int count = hemisphere_basis_count(order);
+  const Eigen::Index rows = dirs.rows();
+  // Validate up front: nothing may throw inside the parallel loop.
+  if (const Eigen::Index r = first_invalid_direction(dirs); r >= 0)
+    throw ArgumentError("hemisphere basis: direction " + std::to_string(r) + " = (" + std::to_string(dirs(r, 0)) + ", " +
+                        std::to_string(dirs(r, 1)) + ", " + std::to_string(dirs(r, 2)) + ") is not a finite direction with z >= 0");
+  Eigen::MatrixXd out(rows, count);
+  advise_huge_pages(out.data(), sizeof(double) * static_cast<size_t>(out.size()));
+  // Blocks of rows go straight into the column-major result (each mode's values for a block are contiguous).
+  constexpr Eigen::Index kBlock = 256;
+  const Eigen::Index blocks = (rows + kBlock - 1) / kBlock;
+#pragma omp parallel for schedule(static) if (rows * count > 200000)
+  for (Eigen::Index b = 0; b < blocks; ++b) {
+    const Eigen::Index r0 = b * kBlock, nr = std::min(kBlock, rows - r0);
+    hemisphere_basis_block(order, nr, dirs.data() + 3 * r0, out.data() + r0, rows);
+  }
+  return out;
+}
+
+}  // namespace icobrdf
