@@ -100,6 +100,10 @@ bool is_regular_file(const std::string& path) {
 
 }  // namespace
 
+int BrdfSource::largest_sample_order(bool) const { return -1; }
+std::optional<HalfAngleNodes> BrdfSource::own_half_angle_nodes() const { return std::nullopt; }
+std::optional<OwnHeldOut> BrdfSource::own_held_out(const HeldOutRequest&) const { return std::nullopt; }
+
 std::vector<std::string> channel_column_names(int channels) {
   if (channels == 1) return {"f"};
   if (channels == 3) return {"f_r", "f_g", "f_b"};

@@ -6,10 +6,14 @@
 //   FILE.h5[#MATERIAL]           a spectrum in an icobrdf HDF5 file (spectrum file or bank); without
 //                                #MATERIAL the file must hold exactly one material
 //   MERL tables, RGL materials, CSV samples, SCATMECH coefficient files (icobrdf/io/measured_sources.hpp)
-// A new kind of SOURCE is one more BrdfSource and one more branch of open_source.
+// A new kind of SOURCE is one more BrdfSource and one more branch of open_source: the builder
+// (icobrdf/pipeline/) asks a source what it holds of its own (the questions at the end of BrdfSource) and never
+// names a kind of source.
 #include <Eigen/Core>
 
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,6 +22,44 @@
 #include "icobrdf/core/spectrum/spectrum.hpp"
 
 namespace icobrdf {
+
+class BrdfSource;
+
+// Pairs of directions (rows x 3 each, unit vectors, w_i towards the light) and f [1/sr] there (rows x channels).
+struct PairValues {
+  RowMatrix3d wi, wr;
+  Eigen::MatrixXd f;
+};
+
+// A material's request for held-out pairs from a source judged at its own samples
+// (icobrdf/pipeline/held_out.hpp says which pairs each kind draws).
+struct HeldOutRequest {
+  std::string material;    // the material's name: the draw's seed is fnv1a64("holdout|" + material)
+  int pairs = 0;           // the scene's holdout_pairs
+  double incidence_min_deg = 0.0, incidence_max_deg = 90.0;  // w_i's polar angle range
+  bool lights_and_cameras = false;  // the scene gives the material's pairs as lights x cameras
+};
+
+// Held-out scattered samples: one in kHeldOutShare (one fold of the 5-fold cross-validation `icobrdf fit`
+// uses), at most the scene's holdout_pairs.
+inline constexpr int kHeldOutShare = 5;
+inline long long held_out_sample_count(long long samples, int holdout_pairs) {
+  return samples / kHeldOutShare < holdout_pairs ? samples / kHeldOutShare : holdout_pairs;
+}
+
+// The held-out part of such a source: the pairs with the data's values, and the source without them (its
+// fits never see them).
+struct OwnHeldOut {
+  PairValues pairs;
+  std::unique_ptr<BrdfSource> training;
+};
+
+// Node counts of a half-angle table a source holds its data on (icobrdf/core/models/half_angle_factors.hpp:
+// node placement), so that a lobe is fitted to its values as they are.
+struct HalfAngleNodes {
+  int n_t = 0, n_phi_h = 1, n_theta_d = 0, n_phi_d = 0;
+  bool centred = false;
+};
 
 class BrdfSource {
  public:
@@ -34,6 +76,27 @@ class BrdfSource {
   virtual std::vector<std::string> notes() const { return {}; }
   // The spectrum of this source for the context's grid and order.
   virtual Spectrum fit(const ProjectionContext& ctx, const FitOptions& options) const = 0;
+
+  // What the source holds of its own (the bank builder asks; defaults: a function known everywhere).
+  // Values only at its own samples: eval() has nothing between them (scattered samples; only modes fit them).
+  virtual bool values_only_at_samples() const { return false; }
+  // eval() may give NaN where the data have no value (a MERL table's empty bins); fits leave such pairs out.
+  virtual bool may_miss_values() const { return false; }
+  // Unchanged by any turn about the normal by construction (a MERL table: its lookup depends on the half and
+  // difference angles alone), so no isotropy check is needed.
+  virtual bool isotropic_by_construction() const { return false; }
+  // Judged at its own samples (own_held_out answers for it when the scene gives no lights x cameras): pairs
+  // elsewhere would measure its lookup between samples, not the data.
+  virtual bool judged_at_own_samples() const { return false; }
+  // The largest order of the modes (isotropic or general) a least-squares fit of its own samples determines;
+  // -1 for a source without samples of its own.
+  virtual int largest_sample_order(bool isotropic) const;
+  // The half-angle nodes its data sit on, when they sit on such a table.
+  virtual std::optional<HalfAngleNodes> own_half_angle_nodes() const;
+  // Its own held-out split, drawn as `request` names it; nullopt when the builder is to draw pairs and
+  // evaluate the source there. ArgumentError / InputError when the request cannot be met (messages name the
+  // material).
+  virtual std::optional<OwnHeldOut> own_held_out(const HeldOutRequest& request) const;
 };
 
 // ArgumentError for an unknown kind or a malformed model spec; InputError / IoError for unreadable files.

@@ -4,14 +4,19 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <limits>
 #include <mutex>
+#include <optional>
+#include <random>
 #include <sstream>
 #include <vector>
 
 #include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/scramble.hpp"
 #include "icobrdf/core/basis/helmholtz_modes.hpp"
 #include "icobrdf/core/basis/hemisphere_basis.hpp"
 #include "icobrdf/core/basis/isotropic_modes.hpp"
@@ -145,9 +150,97 @@ std::shared_ptr<const SampleFitSplit> sample_fit_split(const FitOptions& o) {
   return split;
 }
 
+// The held-out draws of the sources judged at their own samples (icobrdf/pipeline/held_out.hpp describes them).
+// A MERL table's held-out pairs are its own samples: its lookup between them is piecewise constant (1-degree
+// bins), so pairs elsewhere would measure the bins' steps rather than the data (GGX 0.2 written to a table: the
+// table's lookup is 0.056 from the model it sampled, a rank-2 lobe fitted to its samples 0.026). Bins are drawn
+// with probability proportional to their solid-angle measure (icobrdf/io/merl.hpp merl_samples), so that the plain
+// relative L2 over the pairs estimates the measure-weighted error over the table; each pair is turned about
+// the normal by a random azimuth (the table is isotropic). Every bin drawn is left out of the fits (`bins`).
+PairValues draw_merl_held_out(const HeldOutRequest& r, const MerlTable& table, std::vector<std::int64_t>& bins) {
+  const MerlSamples smp = merl_samples(table);
+  // Seeded by the first 15 hex digits of the name's hash (the seeds of earlier banks, kept so banks stay the same).
+  std::mt19937_64 rng(fnv1a64("holdout|" + r.material) >> 4);
+  const double zlo = std::cos(r.incidence_max_deg * M_PI / 180), zhi = std::cos(r.incidence_min_deg * M_PI / 180);
+  Eigen::VectorXd w = smp.weights;
+  for (Eigen::Index k = 0; k < w.size(); ++k)
+    if (smp.wi(k, 2) < zlo || smp.wi(k, 2) > zhi) w(k) = 0.0;
+  if (!(w.sum() > 0.0)) throw InputError("MERL table '" + table.path + "' has no valid sample in the material's incidence range");
+  std::discrete_distribution<Eigen::Index> pick(w.data(), w.data() + w.size());
+  std::uniform_real_distribution<double> turn(0.0, 2.0 * M_PI);
+  PairValues h;
+  h.wi.resize(r.pairs, 3);
+  h.wr.resize(r.pairs, 3);
+  h.f.resize(r.pairs, smp.values.cols());
+  for (int k = 0; k < r.pairs; ++k) {
+    const Eigen::Index j = pick(rng);
+    const double a = turn(rng), c = std::cos(a), sn = std::sin(a);
+    h.wi.row(k) << c * smp.wi(j, 0) - sn * smp.wi(j, 1), sn * smp.wi(j, 0) + c * smp.wi(j, 1), smp.wi(j, 2);
+    h.wr.row(k) << c * smp.wr(j, 0) - sn * smp.wr(j, 1), sn * smp.wr(j, 0) + c * smp.wr(j, 1), smp.wr(j, 2);
+    h.f.row(k) = smp.values.row(j);
+    bins.push_back(smp.bins[static_cast<size_t>(j)]);
+  }
+  return h;
+}
+
+// CSV samples: the held_out_sample_count samples with the smallest splitmix64(seed + index) among those whose
+// incidence lies in the material's range, seed = FNV-1a of "holdout|NAME"; a merged sample (weight = rows
+// merged) is one pair per row. (Ranking FNV-1a of "holdout|NAME|INDEX" itself held out runs of 100
+// consecutive samples: its high bits hardly depend on the last digits.)
+PairValues draw_samples_held_out(const HeldOutRequest& r, const BrdfSamples& smp, const std::string& spec, std::vector<bool>& held) {
+  if (r.lights_and_cameras)
+    throw ArgumentError("material '" + r.material + "': SOURCE '" + quoted_text(spec) +
+                        "' holds scattered samples, which have no values at the scene's light x camera pairs: remove lights and cameras, its errors are measured on held-out samples");
+  const double zlo = std::cos(r.incidence_max_deg * M_PI / 180), zhi = std::cos(r.incidence_min_deg * M_PI / 180);
+  const Eigen::Index n = smp.wi.rows();
+  const std::uint64_t seed = fnv1a64("holdout|" + r.material);
+  std::vector<std::pair<std::uint64_t, Eigen::Index>> eligible;
+  for (Eigen::Index k = 0; k < n; ++k)
+    if (smp.wi(k, 2) >= zlo && smp.wi(k, 2) <= zhi) eligible.emplace_back(splitmix64(seed + static_cast<std::uint64_t>(k)), k);
+  const long long count = held_out_sample_count(n, r.pairs);
+  if (count < 1 || eligible.empty())
+    throw InputError("material '" + r.material + "': SOURCE '" + quoted_text(spec) + "' has " + std::to_string(n) + " sample(s), " +
+                     std::to_string(eligible.size()) + " in the incidence range; a held-out split needs at least " +
+                     std::to_string(kHeldOutShare) + " samples with some in the range");
+  const auto take = static_cast<size_t>(std::min<long long>(count, static_cast<long long>(eligible.size())));
+  std::partial_sort(eligible.begin(), eligible.begin() + static_cast<std::ptrdiff_t>(take), eligible.end());
+  held.assign(static_cast<size_t>(n), false);
+  Eigen::Index rows = 0;
+  for (size_t k = 0; k < take; ++k) {
+    held[static_cast<size_t>(eligible[k].second)] = true;
+    rows += static_cast<Eigen::Index>(std::llround(smp.weights(eligible[k].second)));
+  }
+  PairValues h;
+  h.wi.resize(rows, 3);
+  h.wr.resize(rows, 3);
+  h.f.resize(rows, smp.values.cols());
+  Eigen::Index row = 0;
+  for (size_t k = 0; k < take; ++k) {
+    const Eigen::Index j = eligible[k].second;
+    for (long long c = std::llround(smp.weights(j)); c > 0; --c, ++row) {
+      h.wi.row(row) = smp.wi.row(j);
+      h.wr.row(row) = smp.wr.row(j);
+      h.f.row(row) = smp.values.row(j);
+    }
+  }
+  return h;
+}
+
+// The largest order whose modes the samples determine: at least kMinSamplesPerUnknown samples per unknown.
+int largest_order_of(long long samples, bool isotropic) {
+  const int cap = isotropic ? kMaxAutoOrderIsotropic : kMaxAutoOrderGeneral;
+  int best = -1;
+  for (int n = 0; n <= cap; ++n) {
+    const long long unknowns = isotropic ? isotropic_mode_count(n) : helmholtz_mode_count(n);
+    if (unknowns * kMinSamplesPerUnknown > samples) break;
+    best = n;
+  }
+  return best;
+}
+
 class MerlSource final : public BrdfSource, public SampleFitHolder {
  public:
-  MerlSource(std::shared_ptr<const MerlTable> t, std::string text) : table_(t), model_(std::move(t)), text_(std::move(text)) {}
+  MerlSource(std::shared_ptr<const MerlTable> t, std::string text) : model_(std::move(t)), text_(std::move(text)) {}
   std::string spec() const override { return text_; }
   int channels() const override { return 3; }
   Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
@@ -175,10 +268,40 @@ class MerlSource final : public BrdfSource, public SampleFitHolder {
     return s;
   }
   const MerlTable& table() const { return model_.table(); }
-  std::shared_ptr<const MerlTable> shared_table() const { return table_; }
+
+  bool may_miss_values() const override { return true; }
+  bool isotropic_by_construction() const override { return true; }
+  bool judged_at_own_samples() const override { return true; }
+  // A table's fits are isotropic whatever is asked, and its million samples are never the bound.
+  int largest_sample_order(bool) const override { return kMaxAutoOrderIsotropic; }
+  // theta_h = (pi/2) ((k+1/2)/90)^2 is the t^2 warp with centred nodes; theta_d and phi_d are centred too: a
+  // lookup at a node returns that node's value, so a lobe is fitted to the table's values as they are.
+  std::optional<HalfAngleNodes> own_half_angle_nodes() const override {
+    return HalfAngleNodes{kMerlThetaHalfRes, 1, kMerlThetaDiffRes, kMerlPhiDiffRes, true};
+  }
+  std::optional<OwnHeldOut> own_held_out(const HeldOutRequest& r) const override {
+    if (r.lights_and_cameras) return std::nullopt;  // the scene's pairs, evaluated by lookup
+    std::vector<std::int64_t> bins;
+    OwnHeldOut out;
+    out.pairs = draw_merl_held_out(r, table(), bins);
+    out.training = without(bins);
+    return out;
+  }
+  // The source whose table has the bins `held_out` (MerlBin::flat) missing.
+  std::unique_ptr<BrdfSource> without(const std::vector<std::int64_t>& held_out) const {
+    auto t = std::make_shared<MerlTable>(table());
+    for (const std::int64_t flat : held_out) {
+      if (flat < 0 || flat >= kMerlSamplesPerChannel) throw ArgumentError("merl_source_without: bin " + std::to_string(flat) + " out of range");
+      for (int c = 0; c < 3; ++c) {
+        double& v = t->f[static_cast<size_t>(c * kMerlSamplesPerChannel + flat)];
+        if (!std::isnan(v)) ++t->missing[static_cast<size_t>(c)];
+        v = std::numeric_limits<double>::quiet_NaN();
+      }
+    }
+    return std::make_unique<MerlSource>(std::move(t), text_);
+  }
 
  private:
-  std::shared_ptr<const MerlTable> table_;
   MerlModel model_;
   std::string text_;
 };
@@ -213,6 +336,17 @@ class SampleCsvSource final : public BrdfSource, public SampleFitHolder {
   }
 
   const BrdfSamples& samples() const { return samples_; }
+
+  bool values_only_at_samples() const override { return true; }
+  bool judged_at_own_samples() const override { return true; }
+  int largest_sample_order(bool isotropic) const override { return largest_order_of(samples_.wi.rows(), isotropic); }
+  std::optional<OwnHeldOut> own_held_out(const HeldOutRequest& r) const override {
+    std::vector<bool> held;
+    OwnHeldOut out;
+    out.pairs = draw_samples_held_out(r, samples_, text_, held);
+    out.training = without(held);
+    return out;
+  }
   // The same source on the samples whose `held_out` entry is false.
   std::unique_ptr<BrdfSource> without(const std::vector<bool>& held_out) const {
     BrdfSamples kept = samples_;
@@ -441,32 +575,7 @@ std::unique_ptr<BrdfSource> samples_source_without(const BrdfSource& source, con
 std::unique_ptr<BrdfSource> merl_source_without(const BrdfSource& source, const std::vector<std::int64_t>& held_out) {
   const auto* m = dynamic_cast<const MerlSource*>(&source);
   if (!m) throw ArgumentError("SOURCE '" + quoted_text(source.spec()) + "' is not a MERL table");
-  auto t = std::make_shared<MerlTable>(m->table());
-  for (const std::int64_t flat : held_out) {
-    if (flat < 0 || flat >= kMerlSamplesPerChannel) throw ArgumentError("merl_source_without: bin " + std::to_string(flat) + " out of range");
-    for (int c = 0; c < 3; ++c) {
-      double& v = t->f[static_cast<size_t>(c * kMerlSamplesPerChannel + flat)];
-      if (!std::isnan(v)) ++t->missing[static_cast<size_t>(c)];
-      v = std::numeric_limits<double>::quiet_NaN();
-    }
-  }
-  return std::make_unique<MerlSource>(std::move(t), m->spec());
-}
-
-int largest_sample_order(const BrdfSource& source, bool isotropic) {
-  // A table's fits are isotropic whatever is asked, and its million samples are never the bound.
-  if (merl_table_of(source)) return kMaxAutoOrderIsotropic;
-  const BrdfSamples* s = samples_of(source);
-  if (!s) return -1;
-  const long long samples = s->wi.rows();
-  const int cap = isotropic ? kMaxAutoOrderIsotropic : kMaxAutoOrderGeneral;
-  int best = -1;
-  for (int n = 0; n <= cap; ++n) {
-    const long long unknowns = isotropic ? isotropic_mode_count(n) : helmholtz_mode_count(n);
-    if (unknowns * kMinSamplesPerUnknown > samples) break;
-    best = n;
-  }
-  return best;
+  return m->without(held_out);
 }
 
 bool chooses_order(const BrdfSource& source) { return dynamic_cast<const SampleCsvSource*>(&source) != nullptr; }

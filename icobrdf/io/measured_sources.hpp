@@ -59,7 +59,9 @@ const CheckedSampleFit* last_checked_sample_fit(const BrdfSource& source);
 // True for the sources that accept FitOptions::order = kChooseOrder (CSV samples).
 bool chooses_order(const BrdfSource& source);
 
-// Sources of scattered samples, and their held-out splits (the bank builder, icobrdf/pipeline/held_out.hpp):
+// What the sources hold of their own, for reports and tests (the bank builder asks BrdfSource instead:
+// values_only_at_samples, own_held_out, largest_sample_order, own_half_angle_nodes; the CSV and MERL sources
+// answer them, icobrdf/pipeline/held_out.hpp describes their held-out draws):
 // the samples of a CSV source (nullptr for other sources; such a source has no value between its samples);
 const BrdfSamples* samples_of(const BrdfSource& source);
 // the CSV source fitted on the samples whose `held_out` entry is false (same text and options; size of
@@ -68,10 +70,8 @@ std::unique_ptr<BrdfSource> samples_source_without(const BrdfSource& source, con
 // the MERL source whose table has the bins `held_out` (MerlBin::flat) missing: its fits leave them out and its
 // lookup there is NaN.
 std::unique_ptr<BrdfSource> merl_source_without(const BrdfSource& source, const std::vector<std::int64_t>& held_out);
-// The largest order of the modes (isotropic or general) a fit of the source's samples can determine: at least
-// kMinSamplesPerUnknown samples per unknown, at most the kMaxAutoOrder* bound (icobrdf/core/fit/sample_fit_selection.hpp);
-// MERL tables only isotropic ones. -1 for sources without samples; ArgumentError...never.
-int largest_sample_order(const BrdfSource& source, bool isotropic);
+// (BrdfSource::largest_sample_order of these sources: at least kMinSamplesPerUnknown samples per unknown, at
+// most the kMaxAutoOrder* bound of icobrdf/core/fit/sample_fit_selection.hpp; MERL tables only isotropic ones.)
 
 // Missing samples (all channels) of a MERL source's table; -1 for other sources.
 std::int64_t merl_missing_samples(const BrdfSource& source);

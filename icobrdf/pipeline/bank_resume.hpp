@@ -13,7 +13,7 @@
 
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/scene.hpp"
-#include "icobrdf/pipeline/bank_builder.hpp"
+#include "icobrdf/pipeline/material_report.hpp"
 
 namespace icobrdf {
 

@@ -14,7 +14,6 @@
 #include "icobrdf/core/basis/isotropic_modes.hpp"
 #include "icobrdf/core/fit/lobe_axes.hpp"
 #include "icobrdf/io/material_eval.hpp"
-#include "icobrdf/io/measured_sources.hpp"
 #include "icobrdf/pipeline/keys.hpp"
 #include "icobrdf/pipeline/modes_representation.hpp"
 
@@ -78,10 +77,9 @@ constexpr LadderStep kIsotropicLadder[] = {{32, 1, 64, 16},  {64, 1, 64, 32},   
 // needs few phi_h nodes (GGX alpha 0.1 x 0.3, held-out errors at ranks 4-6: 0.025 on 32 x 8 h nodes, 0.010 on
 // 48 x 16, against 0.035 at rank 8 on an unstretched 48 x 32; measured, mean-cosine quantity).
 constexpr LadderStep kAnisotropicLadder[] = {{32, 8, 64, 16}, {48, 16, 64, 16}, {64, 32, 64, 16}, {96, 32, 96, 32}};
-// A MERL table (icobrdf/io/merl.hpp) is fitted on its own nodes: theta_h = (pi/2) ((k+1/2)/90)^2 is the t^2 warp with
-// centred nodes, theta_d and phi_d are centred too; the fit samples the table's values as they are (a lookup
-// at a node returns that node's value), with no resampling, and missing samples (-1) are left out.
-constexpr LadderStep kMerlLadder[] = {{kMerlThetaHalfRes, 1, kMerlThetaDiffRes, kMerlPhiDiffRes, true}};
+// A source whose data sit on a half-angle table of its own (BrdfSource::own_half_angle_nodes, e.g. a MERL table)
+// is fitted on those nodes alone: the fit samples its values as they are, with no resampling, and missing
+// samples are left out.
 
 // f of a source minus a term at pairs: what a representation must still fit.
 class ResidualSource final : public BrdfSource {
@@ -139,7 +137,7 @@ long long rank_one_bytes(const LadderStep& s, int channels) {
 std::optional<HeldOutError> peak_error(const MaterialProblem& p, const BrdfSource& residual, const HalfAngleFactors& lobe) {
   const SceneMaterial& m = p.material;
   if (!m.lights.empty()) return std::nullopt;
-  if (merl_table_of(p.source)) return std::nullopt;  // a table is judged at its samples (icobrdf/pipeline/held_out.hpp)
+  if (p.source.judged_at_own_samples()) return std::nullopt;  // e.g. a table, judged at its samples (icobrdf/pipeline/held_out.hpp)
   std::mt19937_64 rng(std::stoull(fnv1a_hex("peak|" + m.name).substr(0, 15), nullptr, 16));
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   const double zlo = std::cos(m.incidence_max * M_PI / 180), zhi = std::cos(m.incidence_min * M_PI / 180);
@@ -197,7 +195,7 @@ std::optional<LobeFit> fit_lobe_at(const MaterialProblem& p, const BrdfSource& r
   o.n_theta_d = s.n_theta_d;
   o.n_phi_d = s.n_phi_d;
   o.centred = s.centred;
-  o.skip_missing = merl_table_of(p.source) != nullptr;  // measured data may have missing samples
+  o.skip_missing = p.source.may_miss_values();  // measured data may have missing samples
   o.h_axis = s.h_axis, o.h_scale_1 = s.h_scale_1;
   o.fixed_rank = fixed_rank;
   HalfAngleFit fit;
@@ -225,9 +223,10 @@ LadderStep step_of(const HalfAngleFactors& l) {
 // p.bytes_to_beat are not tried.
 std::optional<LobeFit> fit_lobe(const MaterialProblem& p, const BrdfSource& residual, const Eigen::MatrixXd& body, bool isotropic,
                                 double* best, long long body_bytes = 0) {
-  const bool merl = merl_table_of(p.source) != nullptr;
-  const LadderStep* begin = merl ? std::begin(kMerlLadder) : isotropic ? std::begin(kIsotropicLadder) : std::begin(kAnisotropicLadder);
-  const LadderStep* end = merl ? std::end(kMerlLadder) : isotropic ? std::end(kIsotropicLadder) : std::end(kAnisotropicLadder);
+  const std::optional<HalfAngleNodes> own = p.source.own_half_angle_nodes();
+  const LadderStep own_step[] = {own ? LadderStep{own->n_t, own->n_phi_h, own->n_theta_d, own->n_phi_d, own->centred} : LadderStep{}};
+  const LadderStep* begin = own ? std::begin(own_step) : isotropic ? std::begin(kIsotropicLadder) : std::begin(kAnisotropicLadder);
+  const LadderStep* end = own ? std::end(own_step) : isotropic ? std::end(kIsotropicLadder) : std::end(kAnisotropicLadder);
   // An anisotropic lobe's axes, once for every grid of the ladder.
   LobeAxes axes;
   if (!isotropic)
@@ -258,7 +257,7 @@ long long lobe_bytes(const HalfAngleFactors& lobe) { return static_cast<long lon
 
 void require_pointwise(const MaterialProblem& p, const char* what) {
   if (!p.errors) throw UnsupportedError(std::string(what) + ": a delta BRDF has no pointwise values to factorize");
-  if (samples_of(p.source))
+  if (p.source.values_only_at_samples())
     throw UnsupportedError(std::string(what) + ": scattered samples have no values between them to factorize (the modes fit them)");
   if (p.material.target < kSmallestLobeTarget)
     throw UnsupportedError(std::string(what) + ": target " + short_number(p.material.target) + " is below " +
@@ -342,7 +341,7 @@ Spectrum fit_body(const MaterialProblem& p, const BodyPairs& b, const HalfAngleF
 double isotropy_defect(const BrdfSource& source, const HeldOutErrors& errors) {
   // A MERL table's lookup depends on the half-difference angles alone, which a turn about the normal keeps
   // (and its held-out bins are missing from the table the builder fits).
-  if (merl_table_of(source)) return 0.0;
+  if (source.isotropic_by_construction()) return 0.0;
   const HeldOutPairs& h = errors.pairs();
   std::mt19937_64 rng(0x5eed15070ULL);
   std::uniform_real_distribution<double> angle(0.0, 2.0 * M_PI);

@@ -19,7 +19,7 @@
 //   ringing a low order would take from the peak.
 // Both refuse (UnsupportedError) delta sources and CSV samples (no pointwise values) and targets they cannot
 // meet. Missing samples of measured data (a MERL table's, its held-out bins included) weigh 0 in the body fit.
-#include "icobrdf/pipeline/material_candidate.hpp"
+#include "icobrdf/pipeline/material_problem.hpp"
 
 namespace icobrdf {
 

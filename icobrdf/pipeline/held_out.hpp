@@ -4,10 +4,10 @@
 // Held-out pairs are never used in fitting: every light x camera pair when the scene gives both, else
 // `holdout_pairs` pairs uniform in solid angle (incident directions within the material's incidence range),
 // seeded by the material's name so that a build is reproducible. The reference values f come from the
-// source itself. Sources of measured samples are split instead, and their representations are fitted on
-// the rest (HeldOutSplit::training):
+// source itself. Sources judged at their own samples are split instead (BrdfSource::own_held_out, drawn in
+// icobrdf/io/measured_sources.cpp), and their representations are fitted on the rest (HeldOutSplit::training):
 //   * a MERL table (no lights x cameras given): `holdout_pairs` of its own samples, drawn by their solid-angle
-//     measure (held_out.cpp), since its lookup between samples is a step function; every bin drawn is
+//     measure (measured_sources.cpp), since its lookup between samples is a step function; every bin drawn is
 //     missing from the training table;
 //   * CSV samples: held_out_sample_count of the samples whose incidence is in the range, those with the
 //     smallest splitmix64(S + INDEX) (icobrdf/core/support/scramble.hpp), S the FNV-1a hash of "holdout|NAME" read as
@@ -32,15 +32,7 @@
 
 namespace icobrdf {
 
-struct HeldOutPairs {
-  RowMatrix3d wi, wr;
-  Eigen::MatrixXd f;  // pairs x channels
-};
-
-// Held-out CSV samples: one in kHeldOutShare (one fold of the 5-fold cross-validation `icobrdf fit` uses), at
-// most the scene's holdout_pairs.
-inline constexpr int kHeldOutShare = 5;
-long long held_out_sample_count(long long samples, int holdout_pairs);
+using HeldOutPairs = PairValues;  // f: pairs x channels
 
 struct HeldOutSplit {
   HeldOutPairs pairs;

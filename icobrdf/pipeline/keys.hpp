@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <string>
 
+#include "icobrdf/core/support/scramble.hpp"
+
 namespace icobrdf {
 
 // x with 17 significant digits (round-trips exactly).
@@ -13,15 +15,10 @@ inline std::string exact_decimal(double x) {
   return buf;
 }
 
-// FNV-1a 64-bit hash as 16 hex digits.
+// FNV-1a 64-bit hash (icobrdf/core/support/scramble.hpp) as 16 hex digits.
 inline std::string fnv1a_hex(const std::string& text) {
-  std::uint64_t h = 1469598103934665603ULL;
-  for (unsigned char c : text) {
-    h ^= c;
-    h *= 1099511628211ULL;
-  }
   char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(fnv1a64(text)));
   return buf;
 }
 

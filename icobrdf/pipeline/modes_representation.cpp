@@ -5,7 +5,6 @@
 
 #include "icobrdf/core/basis/helmholtz_modes.hpp"
 #include "icobrdf/core/basis/isotropic_modes.hpp"
-#include "icobrdf/io/measured_sources.hpp"
 #include "icobrdf/pipeline/keys.hpp"
 #include "icobrdf/pipeline/level_order_search.hpp"
 #include "icobrdf/pipeline/pruning.hpp"
@@ -21,12 +20,12 @@ LevelOrderSearch search_for(const MaterialProblem& p) {
   s.order_max = p.scene.order_max;
   s.fixed_order = p.material.order;
   // Scattered samples: no order beyond what they determine (unless the scene fixes it), each order fitted.
-  if (samples_of(p.source)) {
+  const int cap = p.source.largest_sample_order(p.material.isotropic == IsotropicChoice::Always);
+  if (p.source.values_only_at_samples()) {
     s.refit_each_order = true;
-    const int cap = largest_sample_order(p.source, p.material.isotropic == IsotropicChoice::Always);
     if (s.fixed_order < 0 && cap >= 0) s.order_max = std::min(s.order_max, cap);
-  } else if (merl_table_of(p.source)) {
-    s.order_max = std::min(s.order_max, largest_sample_order(p.source, true));
+  } else if (cap >= 0) {
+    s.order_max = std::min(s.order_max, cap);  // e.g. a MERL table's isotropic bound
   }
   return s;
 }

@@ -9,7 +9,7 @@
 //   4. the record: the spectrum, its IBSSS vector and indices when isotropic; bytes = kept coefficients x
 //      (8 bytes per channel + their indices: 3 x 4 bytes (n, m, l) isotropic, 4 x 4 bytes (n, l, m, l')
 //      otherwise).
-#include "icobrdf/pipeline/material_candidate.hpp"
+#include "icobrdf/pipeline/material_problem.hpp"
 
 namespace icobrdf {
 

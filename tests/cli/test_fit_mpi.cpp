@@ -283,8 +283,12 @@ TEST_F(FitMpi, ACsvSampleFitChoosesAsOneProcessDoes) {
   const Eigen::MatrixXd one = read_spectrum_file(d.file("one.h5")).channels.at(0), two = read_spectrum_file(d.file("two.h5")).channels.at(0);
   ASSERT_EQ(one.rows(), two.rows());
   EXPECT_LE((two - one).cwiseAbs().maxCoeff(), kRoundings * condition * std::numeric_limits<double>::epsilon() * one.cwiseAbs().maxCoeff());
+  // The CV figure sums the folds' refits, each a solve whose rounding its own fold's condition amplifies (not
+  // reported; the kept part's condition above bounds the whole fit only): 1e-10 relative (5e5 ulps) admits that
+  // rounding and nothing else, since another order or lambda changes the figure in its leading digits.
+  constexpr double kCvRoundingRel = 1e-10;
   const double cv1 = ja.at("sample_fit").at("cv_rms").get<double>(), cv2 = jb.at("sample_fit").at("cv_rms").get<double>();
-  EXPECT_NEAR(cv2, cv1, kRoundings * condition * std::numeric_limits<double>::epsilon() * cv1);
+  EXPECT_NEAR(cv2, cv1, kCvRoundingRel * cv1);
 }
 
 // A sample fit that every rank refuses after its sums (samples in a 5-degree cap cannot bound an order-2

@@ -1,0 +1,44 @@
+#pragma once
+// One material as a representation fitter sees it (MaterialProblem) and what a fitter returns
+// (MaterialCandidate). The fitters (icobrdf/pipeline/modes_representation.hpp, half_angle_representation.hpp)
+// include this header; the choice between them (icobrdf/pipeline/material_candidate.hpp) includes theirs.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "icobrdf/io/brdf_source.hpp"
+#include "icobrdf/io/scene.hpp"
+#include "icobrdf/io/spectrum_file.hpp"
+#include "icobrdf/pipeline/fit_source.hpp"
+#include "icobrdf/pipeline/held_out.hpp"
+
+namespace icobrdf {
+
+struct MaterialCandidate;
+
+// Everything a representation fitter may use for one material.
+struct MaterialProblem {
+  const Scene& scene;
+  const SceneMaterial& material;
+  const BrdfSource& source;
+  const HeldOutErrors* errors;  // nullptr when the source has delta parts (no pointwise error)
+  FitContexts& contexts;        // fitting grids and projection contexts shared across the build
+  std::function<void(const std::string&)> say;  // one progress line (never empty)
+  long long bytes_to_beat = -1;                 // bytes of the best candidate so far; -1 when none
+  const std::vector<MaterialCandidate>* earlier = nullptr;  // the candidates made before this fitter's
+};
+
+struct MaterialCandidate {
+  std::string representation;  // "modes", "half-angle" or "hybrid"
+  MaterialRecord record;       // as the bank stores it; the builder adds the LUT, figures and labels
+  long long bytes = 0;         // what the kept data costs (the choice minimizes it)
+  bool measured = true;        // false for delta BRDFs: the errors are NaN
+  HeldOutError error;          // held-out errors of the record
+  // What the bank build report shows of the choice.
+  bool isotropic = false;
+  int level = -1, order = -1;  // fitting level, expansion order
+  double anisotropy = 0.0;     // anisotropic energy fraction of the fit
+  int kept = 0, total = 0;     // coefficients kept / in the full vector
+};
+
+}  // namespace icobrdf

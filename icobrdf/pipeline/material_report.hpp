@@ -1,0 +1,28 @@
+#pragma once
+// What a bank build reports of one material: its choice, the figures of that choice, or why it failed. The
+// builder fills it (icobrdf/pipeline/bank_builder.hpp), the resume file keeps it (bank_resume.hpp), and the
+// program prints it (the bank build table and JSON).
+#include <string>
+
+namespace icobrdf {
+
+struct MaterialReport {
+  std::string name, source, key;
+  bool ok = false;
+  std::string error;           // why it failed (ok = false)
+  bool resumed = false;        // taken from the resume file
+  std::string representation;  // "modes", "half-angle" or "hybrid" (icobrdf/pipeline/material_candidate.hpp)
+  bool isotropic = false;
+  bool measured = true;        // false for delta BRDFs
+  int level = -1, order = -1;  // fitting level and order of the modes; -1 for a lobe alone
+  double target = 0.0;
+  double error_l2 = 0.0;       // relative L2 over the held-out pairs
+  double error_max = 0.0;      // max |f_fit - f| / max |f| over the held-out pairs
+  double anisotropy = 0.0;     // anisotropic energy fraction of the first fit
+  int kept = 0, total = 0;     // coefficients kept after pruning / in the full (B|IB)SSS vector
+  long long bytes = 0;         // kept coefficients (8 bytes per channel) and their indices (4 bytes each)
+  double seconds = 0.0;
+  int rank = -1;               // the MPI rank that fitted it (icobrdf/cluster/distributed_bank.hpp); -1 in one process
+};
+
+}  // namespace icobrdf
