@@ -146,7 +146,7 @@ std::shared_ptr<const SampleFitSplit> sample_fit_split(const FitOptions& o) {
 
 class MerlSource final : public BrdfSource, public SampleFitHolder {
  public:
-  MerlSource(std::shared_ptr<const MerlTable> t, std::string text) : table_(t), model_(std::move(t)), text_(std::move(text)) {}
+  MerlSource(std::shared_ptr<const MerlTable> t, std::string text) : model_(std::move(t)), text_(std::move(text)) {}
   std::string spec() const override { return text_; }
   int channels() const override { return 3; }
   Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
@@ -174,10 +174,8 @@ class MerlSource final : public BrdfSource, public SampleFitHolder {
     return s;
   }
   const MerlTable& table() const { return model_.table(); }
-  std::shared_ptr<const MerlTable> shared_table() const { return table_; }
 
  private:
-  std::shared_ptr<const MerlTable> table_;
   MerlModel model_;
   std::string text_;
 };
