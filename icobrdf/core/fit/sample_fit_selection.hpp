@@ -23,16 +23,20 @@
 // symmetric eigendecomposition of the reduced k x k matrix then gives RSS and tr H for every lambda in O(k).
 // lambda runs over kGcvPoints values log-spaced in [1e-14, 1e2] times the largest eigenvalue.
 //
-// The checked fit (fit_samples_checked) runs the requested (or chosen) fit and then:
-//   1. determinacy: a fit with unseen modes, a null space, or condition > kMaxDeterminedCondition (lambda = 0)
-//      does not determine its modes. General (anisotropic) modes fall back to the isotropic modes of the same
-//      order (in-plane data, for one, see only isotropic combinations); if those are not determined either,
-//      to the isotropic modes with Tikhonov regularization, lambda by GCV. The fallback is a note.
-//   2. scale: the fit is evaluated at kScaleCheckDirections^2 direction pairs covering the whole domain
+// The checked fit (fit_samples_checked) runs five steps:
+//   1. the order: the given one, or (SampleFitPlan::choose_order) the one chosen by K-fold cross-validation over
+//      the orders from 0 up to the largest with kMinSamplesPerUnknown training samples per unknown (and at most
+//      SampleFitPlan::max_order, or kMaxAutoOrderGeneral / kMaxAutoOrderIsotropic when that is not given).
+//   2. lambda: the given one, or (SampleFitPlan::choose_tikhonov) the one chosen by GCV.
+//   3. the fit and its determinacy: a fit with unseen modes, a null space, or condition > kMaxDeterminedCondition
+//      (lambda = 0) does not determine its modes. General (anisotropic) modes fall back to the isotropic modes of
+//      the same order (in-plane data, for one, see only isotropic combinations); if those are not determined
+//      either, to the isotropic modes with Tikhonov regularization, lambda by GCV. The fallback is a note.
+//   4. scale: the fit is evaluated at kScaleCheckDirections^2 direction pairs covering the whole domain
 //      (a Fibonacci lattice of the hemisphere, every pair); if |f| anywhere exceeds kScaleGuardFactor times
 //      the largest |sample|, the fit is refused (UnsupportedError, one line): the samples cannot bound it
 //      where they do not lie.
-//   3. the CV error of the final configuration (same folds) is recorded.
+//   5. the CV error of the final configuration (the same folds) is recorded.
 // Split over processes (SampleFitPlan::options.split, icobrdf/core/fit/sample_fit.hpp SampleFitSplit): the folds
 // keep their hash of the sample's index among all samples; each process assembles the folds' normal
 // equations of its rows and one sum gives every fold's, and each held-out pass is summed the same way, so
