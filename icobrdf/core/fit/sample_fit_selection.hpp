@@ -51,6 +51,8 @@
 
 namespace icobrdf {
 
+// K of K-fold cross-validation: 5, one of the two values Hastie, Tibshirani & Friedman recommend (The Elements of
+// Statistical Learning, 2nd ed., sec. 7.10.1: 5 or 10); each fold trains on 4/5 of the samples, one factorization each.
 inline constexpr int kCrossValidationFolds = 5;
 // A fit whose kept part has condition above this amplifies data errors a million-fold: its modes are not
 // determined by the samples (the same bound keeps the normal equations accurate, icobrdf/core/fit/sample_fit.hpp).
@@ -68,10 +70,14 @@ inline constexpr int kMinSamplesPerUnknown = 2;
 // Largest orders tried when none is given: general modes 8 (1035 unknowns), isotropic 20 (506).
 inline constexpr int kMaxAutoOrderGeneral = 8;
 inline constexpr int kMaxAutoOrderIsotropic = 20;
+// 10 lambdas per decade over the 16 decades [1e-14, 1e2] (and both ends): neighbours 10^0.1 = 1.26x apart, and
+// each point costs O(unknowns) once the reduced matrix's eigendecomposition is known.
 inline constexpr int kGcvPoints = 161;
 // One order of magnitude: a least-squares fit that the samples bound stays near their range (a Gibbs
 // overshoot is ~9%); beyond 10 times the largest sample the fit is extrapolating.
 inline constexpr double kScaleGuardFactor = 10.0;
+// Directions of the hemisphere lattice of the scale check (its pairs: 48^2 = 2,304): 2 pi / 48 sr each, so
+// neighbours lie about 21 degrees apart, the half-period of the order-8 modes (kMaxAutoOrderGeneral).
 inline constexpr int kScaleCheckDirections = 48;
 
 struct OrderCrossValidation {
