@@ -14,7 +14,7 @@
 #include <string>
 
 #include "icobrdf/core/fit/dense_kernels.hpp"
-#include "icobrdf/io/blas_dense_kernels.hpp"
+#include "icobrdf/blas/blas_dense_kernels.hpp"
 #include "icobrdf/lab/machine.hpp"
 
 extern "C" char* openblas_get_corename();

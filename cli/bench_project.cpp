@@ -24,7 +24,7 @@
 #include "cli/option_checks.hpp"
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/support/simd_target.hpp"
-#include "icobrdf/io/blas_dense_kernels.hpp"
+#include "icobrdf/blas/blas_dense_kernels.hpp"
 #include "icobrdf/lab/child_process.hpp"
 #include "icobrdf/lab/machine.hpp"
 #include "icobrdf/lab/projection_benchmark.hpp"

@@ -16,7 +16,7 @@
 #include "cli/commands.hpp"
 #include "cli/distributed_run.hpp"
 #include "cli/option_checks.hpp"
-#include "icobrdf/io/blas_dense_kernels.hpp"
+#include "icobrdf/blas/blas_dense_kernels.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/io/measured_sources.hpp"
 #include "icobrdf/io/output_path.hpp"

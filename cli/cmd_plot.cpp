@@ -31,7 +31,6 @@ namespace {
 constexpr double kRadPerDeg = M_PI / 180.0;
 constexpr int kMaxPlotOrder = 32;           // largest truncation order a slice or sphere fit is drawn at
 constexpr std::size_t kMaxSliceColumns = 9;  // orders side by side in one slice picture
-constexpr int kMaxBasisOrder = 16, kMinBasisPanel = 32, kMaxBasisPanel = 800;
 constexpr int kMinSphereSize = 16, kMaxSphereSize = 2048;
 
 struct PlotArgs {
@@ -112,9 +111,9 @@ std::vector<plot::SphereMaterial> load_sphere_materials(const std::string& text,
 
 void add_basis_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   auto* basis = plot->add_subcommand("basis", "Every K_n^l up to --order on the Lambert disk (density + contours)");
-  basis->add_option("--order,-n", a->order, "Largest order n")->capture_default_str()->check(CLI::Range(0, kMaxBasisOrder));
+  basis->add_option("--order,-n", a->order, "Largest order n")->capture_default_str()->check(CLI::Range(0, plot::kMaxBasisOrder));
   basis->add_option("--panel", a->basis_panel, "Disk diameter in pixels (default: from the order)")
-      ->check(CLI::Range(kMinBasisPanel, kMaxBasisPanel));
+      ->check(CLI::Range(plot::kMinBasisPanel, plot::kMaxBasisPanel));
   basis->add_flag("--separate", a->separate, "Also write one PNG per function, K_<n>_<l>.png");
   basis->add_option("-o,--output", a->output, "Output directory (must exist)")->required();
   basis->add_flag("--json", a->json, "Print the files written as JSON");

@@ -13,6 +13,7 @@
 #include "cli/commands.hpp"
 #include "cli/error_report.hpp"
 #include "cli/exit_codes.hpp"
+#include "icobrdf/blas/blas_dense_kernels.hpp"
 #include "icobrdf/cluster/launcher.hpp"
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/support/memory_budget.hpp"
@@ -73,6 +74,7 @@ void tune_allocator() {
 int main(int argc, char** argv) {
   using namespace icobrdf::cli;
   tune_allocator();
+  icobrdf::set_default_dense_kernels(&icobrdf::fit_dense_kernels());  // the sample fits' kernels (OpenBLAS's when as wide as Eigen's)
   CLI::App app{"icobrdf: BRDFs as exact linear algebra on an equal-area icosahedral hemisphere tessellation"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("icobrdf ") + ICOBRDF_VERSION);

@@ -5,7 +5,8 @@
 //   icobrdf::mesh      <icobrdf/mesh/...>      the equal-area hemi-icosahedral grid (OpenMesh)
 //   icobrdf::io        <icobrdf/io/...>        HDF5 banks and spectra, SOURCEs, measured-data readers
 //   icobrdf::pipeline  <icobrdf/pipeline/...>  fitting a SOURCE, building banks
-// icobrdf::plot (<icobrdf/plot/...>, cairo) is not included here: include its headers directly.
+// icobrdf::plot (<icobrdf/plot/...>, cairo) and the optional icobrdf::blas (<icobrdf/blas/...>, OpenBLAS's dense
+// kernels for the sample fits) are not included here: include their headers directly.
 // Internal helpers of the hot loops (icobrdf/core/support/fast_atan2.hpp) are left out.
 #pragma once
 

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "icobrdf/blas/blas_dense_kernels.hpp"
 #include "icobrdf/core/projection/discrete_basis.hpp"
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/basis/helmholtz_modes.hpp"
@@ -130,6 +131,7 @@ Eigen::Vector3d incident_direction(const Eigen::Ref<const Eigen::VectorXd>& wi) 
 PYBIND11_MODULE(icobrdf, m) {
   m.doc() = "icobrdf: BRDFs as exact linear algebra on an equal-area icosahedral hemisphere tessellation";
   m.attr("__version__") = ICOBRDF_VERSION;
+  set_default_dense_kernels(&fit_dense_kernels());  // the sample fits' kernels, as in the icobrdf program
 
   py::register_exception_translator([](std::exception_ptr p) {
     try {

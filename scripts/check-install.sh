@@ -6,7 +6,8 @@
 # causes: with the pin removed, the uninstrumented baseline build aborts with "double free or corruption",
 # status 134, while the ASan builds pass). A library built with one set of ISA flags must work from programs built with another: Eigen's
 # alignment is pinned in the exported interface (icobrdf/core/CMakeLists.txt). Also checks that a consumer of
-# icobrdf::core alone configures with every other dependency hidden.
+# icobrdf::core alone configures with every other dependency hidden, that one of icobrdf::io configures, builds
+# and runs with BLAS and LAPACK hidden, and that one of the optional component blas installs its kernels.
 #   scripts/check-install.sh [BUILD_DIR] [WORK_DIR]     (CTest runs it as the test install_package)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -23,7 +24,8 @@ cmake --install "$build" --prefix "$work/staging" >"$work/install.log"
 mv "$work/staging" "$work/prefix"
 prefix="$work/prefix"
 for f in lib/cmake/icobrdf/icobrdfConfig.cmake lib/cmake/icobrdf/icobrdfConfigVersion.cmake include/icobrdf/icobrdf.hpp \
-  include/icobrdf/core/grid/grid.hpp lib/libicobrdf_core.a lib/libicobrdf_pipeline.a; do
+  include/icobrdf/core/grid/grid.hpp include/icobrdf/blas/blas_dense_kernels.hpp lib/libicobrdf_core.a lib/libicobrdf_blas.a \
+  lib/libicobrdf_pipeline.a; do
   [ -e "$prefix/$f" ] || { echo "check-install: the package lacks $f" >&2; exit 1; }
 done
 if grep -rq "$root" "$prefix/lib/cmake/icobrdf"; then
@@ -57,26 +59,70 @@ if [ -n "$(ls "$prefix"/lib/python3/dist-packages/icobrdf*.so 2>/dev/null)" ]; t
     { echo "check-install: the installed Python module failed" >&2; exit 1; }
 fi
 
+# consumer NAME COMPONENT [ABSENT]: writes $work/NAME/CMakeLists.txt, a program NAME (NAME/main.cpp) that asks the
+# package for COMPONENT alone and links icobrdf::COMPONENT, refusing to configure if icobrdf::ABSENT was loaded.
+consumer() {
+  mkdir -p "$work/$1"
+  {
+    printf 'cmake_minimum_required(VERSION 3.20)\nproject(%s LANGUAGES C CXX)\n' "$1"
+    printf 'find_package(icobrdf REQUIRED COMPONENTS %s)\n' "$2"
+    [ -z "${3:-}" ] || printf 'if(TARGET icobrdf::%s)\n  message(FATAL_ERROR "icobrdf::%s was loaded although only %s was asked for")\nendif()\n' "$3" "$3" "$2"
+    printf 'add_executable(%s main.cpp)\ntarget_link_libraries(%s PRIVATE icobrdf::%s)\n' "$1" "$1" "$2"
+  } >"$work/$1/CMakeLists.txt"
+}
+# build_consumer NAME [CMAKE_ARGS...]: configures (against the relocated prefix) and builds it.
+build_consumer() {
+  local name=$1
+  shift
+  cmake -S "$work/$name" -B "$work/$name/build" -DCMAKE_PREFIX_PATH="$prefix" "$@" >"$work/$name.configure.log" 2>&1 ||
+    { tail -n 30 "$work/$name.configure.log" >&2; exit 1; }
+  cmake --build "$work/$name/build" >"$work/$name.build.log" 2>&1 || { tail -n 30 "$work/$name.build.log" >&2; exit 1; }
+}
+
 step "a consumer of icobrdf::core alone, with OpenMesh, HDF5, fmt, toml++, nlohmann_json and cairo hidden"
-mkdir -p "$work/core-only"
-cat >"$work/core-only/CMakeLists.txt" <<'CMAKE'
-cmake_minimum_required(VERSION 3.20)
-project(core_only LANGUAGES CXX)
-find_package(icobrdf REQUIRED COMPONENTS core)
-if(TARGET icobrdf::io)
-  message(FATAL_ERROR "icobrdf::io was loaded although only core was asked for")
-endif()
-add_executable(core_only main.cpp)
-target_link_libraries(core_only PRIVATE icobrdf::core)
-CMAKE
-cat >"$work/core-only/main.cpp" <<'CPP'
+consumer core_only core io
+cat >"$work/core_only/main.cpp" <<'CPP'
 #include <cstdio>
 #include <icobrdf/core/basis/hemisphere_basis.hpp>
 int main() { std::printf("%d modes up to order 8\n", icobrdf::hemisphere_basis_count(8)); }
 CPP
-cmake -S "$work/core-only" -B "$work/core-only/build" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_DISABLE_FIND_PACKAGE_OpenMesh=ON \
-  -DCMAKE_DISABLE_FIND_PACKAGE_HDF5=ON -DCMAKE_DISABLE_FIND_PACKAGE_fmt=ON -DCMAKE_DISABLE_FIND_PACKAGE_tomlplusplus=ON \
-  -DCMAKE_DISABLE_FIND_PACKAGE_nlohmann_json=ON -DCMAKE_DISABLE_FIND_PACKAGE_PkgConfig=ON >"$work/core-only.configure.log"
-cmake --build "$work/core-only/build" >"$work/core-only.build.log" 2>&1 || { tail -n 30 "$work/core-only.build.log" >&2; exit 1; }
-"$work/core-only/build/core_only" | grep -q "^45 modes up to order 8$" || { echo "check-install: core_only printed the wrong count" >&2; exit 1; }
-echo "check-install: 3 examples ran clean against the relocated package (native and baseline ISA under ASan + UBSan, baseline without); core alone links"
+build_consumer core_only -DCMAKE_DISABLE_FIND_PACKAGE_OpenMesh=ON -DCMAKE_DISABLE_FIND_PACKAGE_HDF5=ON \
+  -DCMAKE_DISABLE_FIND_PACKAGE_fmt=ON -DCMAKE_DISABLE_FIND_PACKAGE_tomlplusplus=ON -DCMAKE_DISABLE_FIND_PACKAGE_nlohmann_json=ON \
+  -DCMAKE_DISABLE_FIND_PACKAGE_PkgConfig=ON
+"$work/core_only/build/core_only" | grep -q "^45 modes up to order 8$" || { echo "check-install: core_only printed the wrong count" >&2; exit 1; }
+
+step "a consumer of icobrdf::io with BLAS and LAPACK hidden: io's measured SOURCEs take core's default (Eigen's) kernels"
+consumer io_only io blas
+# A CSV of samples opened as a SOURCE links io's measured sources, whose fits take core's default dense kernels.
+cat >"$work/io_only/main.cpp" <<'CPP'
+#include <cstdio>
+#include <fstream>
+#include <icobrdf/core/fit/dense_kernels.hpp>
+#include <icobrdf/io/brdf_source.hpp>
+int main(int argc, char** argv) {
+  if (argc != 2) return 2;
+  std::ofstream(argv[1]) << "theta_i,phi_i,theta_r,phi_r,value\n10,0,20,180,0.3\n30,90,40,10,0.3\n";
+  const auto source = icobrdf::open_source(argv[1]);
+  std::printf("%d channel, dense kernels %s\n", source->channels(), icobrdf::default_dense_kernels().name);
+}
+CPP
+build_consumer io_only -DCMAKE_DISABLE_FIND_PACKAGE_BLAS=ON -DCMAKE_DISABLE_FIND_PACKAGE_LAPACK=ON
+"$work/io_only/build/io_only" "$work/io_only/samples.csv" | grep -q "^1 channel, dense kernels Eigen$" ||
+  { echo "check-install: io_only did not open the samples with Eigen's default kernels" >&2; exit 1; }
+
+step "a consumer of icobrdf::blas that installs its choice as core's default dense kernels"
+consumer blas_only blas
+cat >"$work/blas_only/main.cpp" <<'CPP'
+#include <cstdio>
+#include <icobrdf/blas/blas_dense_kernels.hpp>
+int main() {
+  icobrdf::set_default_dense_kernels(&icobrdf::fit_dense_kernels());
+  std::printf("default %s: %s\n", icobrdf::default_dense_kernels().name, icobrdf::fit_kernel_choice().reason.c_str());
+  return &icobrdf::default_dense_kernels() == icobrdf::fit_kernel_choice().kernels ? 0 : 1;
+}
+CPP
+build_consumer blas_only
+"$work/blas_only/build/blas_only" >"$work/blas_only.run.log" ||
+  { echo "check-install: blas_only failed" >&2; cat "$work/blas_only.run.log" >&2; exit 1; }
+
+echo "check-install: 3 examples ran clean against the relocated package (native and baseline ISA under ASan + UBSan, baseline without); core alone links; io links without BLAS or LAPACK; blas installs its kernels"

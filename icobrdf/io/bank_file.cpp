@@ -7,6 +7,7 @@
 
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/support/finite_values.hpp"
+#include "icobrdf/core/support/text.hpp"
 #include "icobrdf/io/atomic_write.hpp"
 #include "icobrdf/io/bank_format.hpp"
 #include "icobrdf/io/output_path.hpp"
@@ -19,18 +20,6 @@ namespace {
 constexpr int kMaxBasisDepth = 4;
 // Largest rank of a basis array (matrices and index tables need 2, stacked matrices 3).
 constexpr size_t kMaxBasisRank = 3;
-
-std::vector<std::string> split_path(const std::string& p) {
-  std::vector<std::string> parts;
-  size_t start = 0;
-  while (true) {
-    const size_t slash = p.find('/', start);
-    parts.push_back(p.substr(start, slash == std::string::npos ? std::string::npos : slash - start));
-    if (slash == std::string::npos) break;
-    start = slash + 1;
-  }
-  return parts;
-}
 
 std::string now_iso8601() {
   if (const char* e = std::getenv("SOURCE_DATE_EPOCH")) {
@@ -53,7 +42,7 @@ void check_contents(const std::string& path, const BankContents& c) {
   for (const auto& m : c.materials) check_material(path, m, names);
   std::set<std::string> paths;
   for (const auto& b : c.basis) {
-    const auto parts = split_path(b.path);
+    const auto parts = split_at(b.path, '/');
     if (parts.size() > static_cast<size_t>(kMaxBasisDepth))
       throw ArgumentError("cannot write bank: basis array '" + b.path + "' nests deeper than " + std::to_string(kMaxBasisDepth));
     for (const auto& p : parts) {
@@ -85,7 +74,7 @@ void write_basis(h5::Group& root, const std::vector<BasisArray>& basis) {
   std::map<std::string, h5::Group> groups;
   groups.emplace("", root.create_group(bank_format::kBasisGroup));
   for (const auto& b : basis) {
-    const auto parts = split_path(b.path);
+    const auto parts = split_at(b.path, '/');
     std::string prefix;
     for (size_t k = 0; k + 1 < parts.size(); ++k) {
       const std::string next = prefix.empty() ? parts[k] : prefix + "/" + parts[k];

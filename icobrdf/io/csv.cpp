@@ -9,16 +9,10 @@
 #include <sstream>
 
 #include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/text.hpp"
 
 namespace icobrdf {
 namespace {
-
-std::string trim(const std::string& s) {
-  size_t b = 0, e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  return s.substr(b, e - b);
-}
 
 std::vector<std::string> split(const std::string& line) {
   std::vector<std::string> out;

@@ -1,7 +1,5 @@
 #include "icobrdf/io/measured_sources.hpp"
 
-#include "icobrdf/io/blas_dense_kernels.hpp"
-
 #include <sys/stat.h>
 
 #include <algorithm>
@@ -21,6 +19,7 @@
 #include "icobrdf/core/basis/hemisphere_basis.hpp"
 #include "icobrdf/core/basis/isotropic_modes.hpp"
 #include "icobrdf/core/projection/projection.hpp"
+#include "icobrdf/core/fit/dense_kernels.hpp"
 #include "icobrdf/core/fit/sample_fit_selection.hpp"
 #include "icobrdf/core/spectrum/spectrum_ops.hpp"
 #include "icobrdf/io/merl.hpp"
@@ -257,7 +256,7 @@ class MerlSource final : public BrdfSource, public SampleFitHolder {
     so.order = o.order;
     so.isotropic = true;
     so.progress = o.progress;
-    so.kernels = &fit_dense_kernels();
+    so.kernels = &default_dense_kernels();  // the program's choice (icobrdf::blas), Eigen's otherwise
     so.split = sample_fit_split(o);  // under mpirun: each rank passes over its part of the samples
     CheckedSampleFit c;
     c.fit = fit_samples(smp.wi, smp.wr, smp.values, smp.weights, so);
@@ -323,7 +322,7 @@ class SampleCsvSource final : public BrdfSource, public SampleFitHolder {
     plan.options.order = std::max(o.order, 0);
     plan.options.isotropic = o.isotropic;
     plan.options.progress = o.progress;
-    plan.options.kernels = &fit_dense_kernels();
+    plan.options.kernels = &default_dense_kernels();
     plan.options.split = sample_fit_split(o);  // under mpirun: each rank passes over its part of the samples
     plan.choose_order = o.order == kChooseOrder;
     // An automatic order comes with an automatic lambda unless one was given.

@@ -62,7 +62,6 @@ struct RglBsdf {
   BilinearSlices ndf, sigma, values;
   int sample_width = 0, sample_height = 0;  // W, H of the value tables
   bool isotropic() const { return phi_i.size() <= 2; }
-  int value_channels() const { return spectral ? static_cast<int>(wavelengths.size()) : 3; }
 };
 
 RglBsdf read_rgl_bsdf(const std::string& path);

@@ -9,6 +9,7 @@
 #include "icobrdf/core/support/finite_values.hpp"
 #include "icobrdf/core/basis/helmholtz_modes.hpp"
 #include "icobrdf/core/support/huge_pages.hpp"
+#include "icobrdf/core/support/text.hpp"
 #include "icobrdf/core/basis/isotropic_modes.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/half_angle_file.hpp"
@@ -54,16 +55,6 @@ std::string join_channel_names(const std::vector<std::string>& names, int channe
     out += (out.empty() ? "" : ",") + n;
   }
   return out;
-}
-std::vector<std::string> split_channel_names(const std::string& text) {
-  std::vector<std::string> out;
-  size_t at = 0;
-  while (true) {
-    const size_t comma = text.find(',', at);
-    out.push_back(text.substr(at, comma == std::string::npos ? std::string::npos : comma - at));
-    if (comma == std::string::npos) return out;
-    at = comma + 1;
-  }
 }
 
 }  // namespace
@@ -392,7 +383,7 @@ MaterialRecord read_material(const h5::Group& materials, const std::string& name
   s.anisotropy_fraction = g.attr_double("anisotropy_fraction");
   s.max_albedo = g.attr_double("max_albedo");
   if (g.has_attr("channel_names")) {
-    s.channel_names = split_channel_names(g.attr_string("channel_names"));
+    s.channel_names = split_at(g.attr_string("channel_names"), ',');
     if (static_cast<int>(s.channel_names.size()) != ch)
       g.fail(g.path(), "attribute channel_names: expected " + std::to_string(ch) + " comma-separated names, found " +
                            std::to_string(s.channel_names.size()) + " in '" + quoted_text(g.attr_string("channel_names")) + "'");

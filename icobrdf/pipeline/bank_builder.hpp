@@ -133,7 +133,6 @@ class BankCollector {
   bool take_resumed(std::size_t index);
   void finished(std::size_t index, MaterialRecord record, MaterialReport report);
   void failed(std::size_t index, MaterialReport report, const std::string& error);
-  bool any_failed() const { return failed_; }
   // Writes the bank (every material finished, not `interrupted`) and removes the resume file, or writes
   // the resume file with every finished material. `operators` provides the bank's grid and basis.
   BankBuildResult finish(BankOperators& operators, bool interrupted);

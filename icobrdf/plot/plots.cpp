@@ -57,12 +57,11 @@ void draw_disk_frame(Figure& fig, const PanelRect& r) {
 }  // namespace
 
 std::vector<std::string> plot_basis(int order, const std::string& dir, bool separate, int panel_request) {
-  constexpr int kMaxBasisOrder = 16;
   if (order < 0 || order > kMaxBasisOrder)
     throw ArgumentError(fmt::format("basis plot: order {} outside 0..{}", order, kMaxBasisOrder));
   if (!is_directory(dir)) throw ArgumentError("basis plot: " + dir + " is not an existing directory");
-  if (panel_request != 0 && (panel_request < 32 || panel_request > 800))
-    throw ArgumentError(fmt::format("basis plot: panel {} outside 32..800 pixels", panel_request));
+  if (panel_request != 0 && (panel_request < kMinBasisPanel || panel_request > kMaxBasisPanel))
+    throw ArgumentError(fmt::format("basis plot: panel {} outside {}..{} pixels", panel_request, kMinBasisPanel, kMaxBasisPanel));
   const int panel = panel_request ? panel_request : std::clamp(1400 / (order + 1) - 24, 60, 170);
   const DiskSamples ds = disk_samples(panel);
   const Eigen::MatrixXd b = disk_basis(ds, order);

@@ -28,7 +28,14 @@ using PairFunction = std::function<Eigen::MatrixXd(const RowMatrix3d& wi, const 
 // Every K_n^l with n <= order on the Lambert disk (density in the diverging map + contours at multiples
 // of 0.2 max|K|, zero contour bold), as a pyramid: row n, l = -n..n step 2 left to right. Writes
 // DIR/basis.png and, when `separate`, DIR/K_<n>_<l>.png per function (with its colour bar in 1/sqrt(sr)).
-// Returns the files written. `order` in [0, 16]; `panel` = disk diameter in pixels (0: from the order).
+// Returns the files written. `order` in [0, kMaxBasisOrder]; `panel` = disk diameter in pixels, in
+// [kMinBasisPanel, kMaxBasisPanel] (0: from the order).
+// The pyramid's row n holds n + 1 disks: at order 16, 17 across (153 in all), about 1,600 pixels wide at the
+// default panel of 60 pixels (plot_basis: 30 + 17 x (60 + 24) + 150).
+inline constexpr int kMaxBasisOrder = 16;
+// Disk diameters (pixels): 32 leaves 2 pixels per radial zero of K_16 (its radial polynomial R_16^0 has 8 zeros
+// on a radius of 16 pixels); 800 keeps the order-16 picture within 30 + 17 x (800 + 24) + 150 = 14,188 pixels wide.
+inline constexpr int kMinBasisPanel = 32, kMaxBasisPanel = 800;
 std::vector<std::string> plot_basis(int order, const std::string& dir, bool separate, int panel = 0);
 
 struct SliceRequest {

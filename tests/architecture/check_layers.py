@@ -14,8 +14,11 @@ import sys
 
 ROOT = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), '..', '..'))
 # Layers in order; each may include those before it (cluster, plot and lab sit side by side above pipeline).
-LAYERS = {'core': 0, 'mesh': 1, 'io': 2, 'pipeline': 3, 'plot': 4, 'cluster': 4, 'lab': 5}
+LAYERS = {'core': 0, 'mesh': 1, 'io': 2, 'pipeline': 3, 'plot': 4, 'cluster': 4, 'lab': 5, 'blas': 6}
 LAYER_MAY = {'lab': {'plot'}}  # lab draws its figures with plot
+# blas (OpenBLAS's dense kernels) sits on core alone: no layer includes it (the program and the Python module
+# install it), and it includes nothing but core.
+ONLY_BELOW = {'blas': {'core'}}
 # core's rooms in order; each may include those before it.
 CYCLE_FREE = {'core', 'pipeline'}
 ROOMS = ['support', 'grid', 'tables', 'basis', 'spectrum', 'models', 'projection', 'fit']
@@ -53,6 +56,8 @@ def main():
                     continue
                 if other != layer and LAYERS[other] >= rank and other not in LAYER_MAY.get(layer, set()):
                     broken.append(f'{f}: layer {layer} includes {inc} of layer {other}, which is not below it')
+                elif other != layer and layer in ONLY_BELOW and other not in ONLY_BELOW[layer]:
+                    broken.append(f'{f}: layer {layer} includes {inc}; it may include only {", ".join(sorted(ONLY_BELOW[layer]))}')
                 if layer == 'core' and other == 'core':
                     room, oroom = f.split('/')[2], parts[2]
                     if room not in ROOMS or oroom not in ROOMS:

@@ -114,7 +114,7 @@ TEST(CliFitSamples, AutomaticOrderAndLambdaAreReportedAndStored) {
   EXPECT_NE(r.out.find("chosen by generalized cross-validation"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("grid level -1"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("Gram error"), std::string::npos) << r.out;
-  // The normal equations say which dense kernels solved them (icobrdf/io/blas_dense_kernels.hpp), in one line.
+  // The normal equations say which dense kernels solved them (icobrdf/blas/blas_dense_kernels.hpp), in one line.
   const auto k = r.out.find("  dense kernels: ");
   ASSERT_NE(k, std::string::npos) << r.out;
   const std::string kernels = r.out.substr(k + 17, r.out.find('\n', k) - k - 17);

@@ -1,6 +1,7 @@
 #include "icobrdf/core/fit/dense_kernels.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -110,6 +111,17 @@ Eigen::LLT<Matrix> factored_llt(Matrix g, bool (*factor)(typename Matrix::Scalar
 const DenseKernels& eigen_dense_kernels() {
   static const DenseKernels k{"Eigen", &eigen_rank_update, &eigen_cholesky_lower, false};
   return k;
+}
+
+namespace {
+std::atomic<const DenseKernels*> g_default_kernels{nullptr};  // null: Eigen's
+}  // namespace
+
+void set_default_dense_kernels(const DenseKernels* kernels) { g_default_kernels.store(kernels, std::memory_order_release); }
+
+const DenseKernels& default_dense_kernels() {
+  const DenseKernels* k = g_default_kernels.load(std::memory_order_acquire);
+  return k ? *k : eigen_dense_kernels();
 }
 
 void rank_update_lower(const DenseKernels* kernels, Eigen::MatrixXd& g, const Eigen::Ref<const Eigen::MatrixXd>& a) {

@@ -4,8 +4,10 @@
 // Eigen: the update in blocks of columns on all threads (Eigen's own symmetric update runs on one thread),
 // the factorization blocked with that parallel update for its trailing matrix. Measured at 2,211 unknowns on
 // an idle 2-core AVX-512 Xeon: the update at 80-93 GFLOP/s, about 0.5 of the measured FP64 peak of 166-175
-// (Eigen's own update 43.5), the factorization at 39 (Eigen's LLT 25) (benchmarks/bench_dense_kernels). A layer linked with an optimized BLAS/LAPACK hands faster ones to the
-// fits through SampleFitOptions::kernels (icobrdf/io/blas_dense_kernels.hpp). Both kernels compute the same
+// (Eigen's own update 43.5), the factorization at 39 (Eigen's LLT 25) (benchmarks/bench_dense_kernels). The
+// optional library icobrdf::blas (icobrdf/blas/blas_dense_kernels.hpp) holds OpenBLAS's; a fit takes a set through
+// SampleFitOptions::kernels, and a program that links icobrdf::blas installs its choice once as the process-wide
+// default (set_default_dense_kernels) that io's measured SOURCEs hand to their fits. Both kernels compute the same
 // mathematical result; they differ in the order of the sums, so results agree to rounding, not bitwise.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -28,6 +30,13 @@ struct DenseKernels {
 
 // Eigen's kernels (the default when a fit is given none).
 const DenseKernels& eigen_dense_kernels();
+
+// The process-wide default set: what the fits of io's measured SOURCEs (MERL tables, CSV samples) are handed.
+// Eigen's until a program installs another at start-up (the icobrdf program and the Python module install
+// icobrdf::blas's fit_dense_kernels()); null restores Eigen's. `kernels` must outlive its use as the default.
+// Safe to read from any thread; install it before fits start, since a fit running meanwhile keeps the set it took.
+void set_default_dense_kernels(const DenseKernels* kernels);
+const DenseKernels& default_dense_kernels();
 
 // g += a^T a on g's lower triangle, with `kernels` (Eigen's when null). g must be square with a's columns.
 void rank_update_lower(const DenseKernels* kernels, Eigen::MatrixXd& g, const Eigen::Ref<const Eigen::MatrixXd>& a);

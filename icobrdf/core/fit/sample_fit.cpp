@@ -55,8 +55,13 @@ Eigen::Index pass_block_rows(int unknowns) { return std::clamp<Eigen::Index>(131
 // from the inside.
 constexpr double kConditionEigenTolerance = 1e-4;
 constexpr int kConditionMaxSteps = 300;
-// Columns per block of inverse_diagonal, and the work (multiply-adds) below which it runs on one thread.
+// Columns per block of inverse_diagonal: each block is one triangular solve with that many right-hand sides (a
+// matrix-matrix solve, which needs tens of columns to run at Eigen's blocked speed), and 128 still leaves 9 blocks
+// of the 1,035 unknowns of general order 8 (kMaxAutoOrderGeneral, sample_fit_selection.hpp) to share between threads.
 constexpr Eigen::Index kInverseBlock = 128;
+// The work (k^3 / 6 multiply-adds) below which inverse_diagonal runs on one thread: k < 670 unknowns, at most 1e8
+// flops, a few milliseconds on one core; the same order as the rank update's kParallelRankUpdateMinWork
+// (icobrdf/core/fit/dense_kernels.cpp), below which a parallel region costs more than it saves.
 constexpr double kParallelInverseMinWork = 5e7;
 
 void check_options(const SampleFitOptions& options, int channels) {

@@ -69,13 +69,10 @@
 #include <vector>
 
 #include "icobrdf/core/fit/dense_kernels.hpp"
+#include "icobrdf/core/fit/fit_progress.hpp"
 #include "icobrdf/core/grid/grid.hpp"
 
 namespace icobrdf {
-
-// Progress of a long fit: a stage name and the fraction of it done, in [0, 1]. May be called from
-// the calling thread only; never called when empty.
-using FitProgress = std::function<void(const char* stage, double fraction)>;
 
 // The normal equations are used only when cond(W^(1/2) A) is at most this: cond(G) = 1e12 leaves
 // cond(G) eps ~ 2e-4 < 1, so one refinement step restores QR-level accuracy (Bjorck, "Numerical Methods

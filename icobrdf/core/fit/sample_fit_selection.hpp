@@ -23,16 +23,20 @@
 // symmetric eigendecomposition of the reduced k x k matrix then gives RSS and tr H for every lambda in O(k).
 // lambda runs over kGcvPoints values log-spaced in [1e-14, 1e2] times the largest eigenvalue.
 //
-// The checked fit (fit_samples_checked) runs the requested (or chosen) fit and then:
-//   1. determinacy: a fit with unseen modes, a null space, or condition > kMaxDeterminedCondition (lambda = 0)
-//      does not determine its modes. General (anisotropic) modes fall back to the isotropic modes of the same
-//      order (in-plane data, for one, see only isotropic combinations); if those are not determined either,
-//      to the isotropic modes with Tikhonov regularization, lambda by GCV. The fallback is a note.
-//   2. scale: the fit is evaluated at kScaleCheckDirections^2 direction pairs covering the whole domain
+// The checked fit (fit_samples_checked) runs five steps:
+//   1. the order: the given one, or (SampleFitPlan::choose_order) the one chosen by K-fold cross-validation over
+//      the orders from 0 up to the largest with kMinSamplesPerUnknown training samples per unknown (and at most
+//      SampleFitPlan::max_order, or kMaxAutoOrderGeneral / kMaxAutoOrderIsotropic when that is not given).
+//   2. lambda: the given one, or (SampleFitPlan::choose_tikhonov) the one chosen by GCV.
+//   3. the fit and its determinacy: a fit with unseen modes, a null space, or condition > kMaxDeterminedCondition
+//      (lambda = 0) does not determine its modes. General (anisotropic) modes fall back to the isotropic modes of
+//      the same order (in-plane data, for one, see only isotropic combinations); if those are not determined
+//      either, to the isotropic modes with Tikhonov regularization, lambda by GCV. The fallback is a note.
+//   4. scale: the fit is evaluated at kScaleCheckDirections^2 direction pairs covering the whole domain
 //      (a Fibonacci lattice of the hemisphere, every pair); if |f| anywhere exceeds kScaleGuardFactor times
 //      the largest |sample|, the fit is refused (UnsupportedError, one line): the samples cannot bound it
 //      where they do not lie.
-//   3. the CV error of the final configuration (same folds) is recorded.
+//   5. the CV error of the final configuration (the same folds) is recorded.
 // Split over processes (SampleFitPlan::options.split, icobrdf/core/fit/sample_fit.hpp SampleFitSplit): the folds
 // keep their hash of the sample's index among all samples; each process assembles the folds' normal
 // equations of its rows and one sum gives every fold's, and each held-out pass is summed the same way, so
@@ -47,6 +51,8 @@
 
 namespace icobrdf {
 
+// K of K-fold cross-validation: 5, one of the two values Hastie, Tibshirani & Friedman recommend (The Elements of
+// Statistical Learning, 2nd ed., sec. 7.10.1: 5 or 10); each fold trains on 4/5 of the samples, one factorization each.
 inline constexpr int kCrossValidationFolds = 5;
 // A fit whose kept part has condition above this amplifies data errors a million-fold: its modes are not
 // determined by the samples (the same bound keeps the normal equations accurate, icobrdf/core/fit/sample_fit.hpp).
@@ -64,10 +70,14 @@ inline constexpr int kMinSamplesPerUnknown = 2;
 // Largest orders tried when none is given: general modes 8 (1035 unknowns), isotropic 20 (506).
 inline constexpr int kMaxAutoOrderGeneral = 8;
 inline constexpr int kMaxAutoOrderIsotropic = 20;
+// 10 lambdas per decade over the 16 decades [1e-14, 1e2] (and both ends): neighbours 10^0.1 = 1.26x apart, and
+// each point costs O(unknowns) once the reduced matrix's eigendecomposition is known.
 inline constexpr int kGcvPoints = 161;
 // One order of magnitude: a least-squares fit that the samples bound stays near their range (a Gibbs
 // overshoot is ~9%); beyond 10 times the largest sample the fit is extrapolating.
 inline constexpr double kScaleGuardFactor = 10.0;
+// Directions of the hemisphere lattice of the scale check (its pairs: 48^2 = 2,304): 2 pi / 48 sr each, so
+// neighbours lie about 21 degrees apart, the half-period of the order-8 modes (kMaxAutoOrderGeneral).
 inline constexpr int kScaleCheckDirections = 48;
 
 struct OrderCrossValidation {

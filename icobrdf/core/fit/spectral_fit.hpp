@@ -21,7 +21,7 @@
 #include "icobrdf/core/basis/lowpass_filter.hpp"
 #include "icobrdf/core/projection/lut.hpp"
 #include "icobrdf/core/projection/projection.hpp"
-#include "icobrdf/core/fit/sample_fit.hpp"
+#include "icobrdf/core/fit/fit_progress.hpp"
 #include "icobrdf/core/spectrum/spectrum.hpp"
 #include "icobrdf/core/projection/streaming_projection.hpp"
 
@@ -40,7 +40,7 @@ struct FitOptions {
   LutSampling sampling = LutSampling::CellAverage;
   double gram_tolerance = kDefaultGramTolerance;
   ProjectionOperator::Kind projection = ProjectionOperator::Kind::LeastSquares;
-  FitProgress progress;  // optional: fits of scattered samples report their stages (icobrdf/core/fit/sample_fit.hpp)
+  FitProgress progress;  // optional: fits of scattered samples report their stages (icobrdf/core/fit/fit_progress.hpp)
   // Optional: this process's share of a model's streaming projection, the other shares projected elsewhere
   // (icobrdf/core/projection/streaming_projection.hpp StreamingShare; icobrdf/cluster/distributed_projection.hpp under
   // mpirun). Fits of scattered samples (MERL tables, CSV samples) split their passes over the samples

@@ -25,10 +25,9 @@
 #include <string>
 #include <vector>
 
-namespace icobrdf {
+#include "icobrdf/core/grid/row_matrix.hpp"
 
-using RowMatrix3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
-using RowMatrix3i = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
+namespace icobrdf {
 
 // What built a grid. Files hold its name (to_string), and Spectrum::grid_kind the same name.
 enum class GridKind {

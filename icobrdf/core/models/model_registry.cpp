@@ -7,6 +7,7 @@
 #include <map>
 
 #include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/text.hpp"
 #include "icobrdf/core/models/hapke.hpp"
 #include "icobrdf/core/models/lambert_models.hpp"
 #include "icobrdf/core/models/lobe_models.hpp"
@@ -133,13 +134,6 @@ const std::vector<Entry>& entries() {
     return t;
   }();
   return table;
-}
-
-std::string trim(const std::string& s) {
-  std::size_t a = 0, b = s.size();
-  while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
-  while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
-  return s.substr(a, b - a);
 }
 
 // Splits at '+' except a '+' following an exponent marker that follows a digit or '.' (1e+5, 2.E+3).

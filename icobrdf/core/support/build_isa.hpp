@@ -7,8 +7,10 @@
 // first such instruction. Instead, every program that includes an icobrdf header checks once, while static
 // objects are initialized (before main), and on a CPU that lacks an extension prints one line naming the
 // missing extensions and the remedy, and exits with status 4 (the status of UnsupportedError in the
-// icobrdf program). A portable build (ICOBRDF_NATIVE=OFF: baseline x86-64; the projection tile is dispatched
-// at run time to AVX-512 or AVX2, icobrdf/core/support/simd_target.hpp) requires no extension and runs anywhere.
+// icobrdf program). A portable build (ICOBRDF_NATIVE=OFF: baseline x86-64; five kernels, the projection tile,
+// the spectrum tile, the block basis kernel, the microfacet kernel and lab's FP64 peak loop, are dispatched at run
+// time to the best of Highway's targets from SSSE3 to AVX-512 that the CPU runs, icobrdf/core/support/simd_target.hpp)
+// requires no extension and runs anywhere.
 // Limit: a static initializer of the program that runs earlier and uses a missing extension still faults.
 // On other architectures nothing is checked.
 #include <string>

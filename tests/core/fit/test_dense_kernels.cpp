@@ -120,6 +120,14 @@ TEST(DenseKernels, AForeignFactorOfAnIndefiniteMatrixReportsNumericalIssue) {
   EXPECT_EQ(cholesky(nullptr, g).info(), Eigen::NumericalIssue);
 }
 
+TEST(DenseKernels, TheProcessWideDefaultIsEigensUntilAnotherIsInstalled) {
+  EXPECT_EQ(&default_dense_kernels(), &eigen_dense_kernels());
+  set_default_dense_kernels(&kTextbook);
+  EXPECT_EQ(&default_dense_kernels(), &kTextbook);
+  set_default_dense_kernels(nullptr);  // restores Eigen's (and leaves the process as the other tests expect it)
+  EXPECT_EQ(&default_dense_kernels(), &eigen_dense_kernels());
+}
+
 // 500 unknowns: three panels of the blocked factorization (192, 192, 116) with the parallel trailing update,
 // against Eigen's LLT within kFactorTol (cond(G) ~ 21 for a random 1200 x 500 A, so cond * k * eps ~ 2.3e-12), and
 // 1 thread = 2 threads bitwise.

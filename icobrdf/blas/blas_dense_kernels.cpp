@@ -1,4 +1,4 @@
-#include "icobrdf/io/blas_dense_kernels.hpp"
+#include "icobrdf/blas/blas_dense_kernels.hpp"
 
 #include <cblas.h>
 

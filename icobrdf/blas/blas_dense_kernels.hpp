@@ -5,7 +5,9 @@
 // the fits call them from one thread at a time. Results agree with Eigen's kernels to rounding (the sums run
 // in another order).
 //
-// Which set a fit uses: fit_dense_kernels(). OpenBLAS picks its kernel when the library loads, from the CPU
+// Which set a fit uses: fit_dense_kernels(), which the icobrdf program and the Python module install at start-up
+// as core's default dense kernels (set_default_dense_kernels), the set io's measured SOURCEs hand to their fits.
+// This library (icobrdf::blas) depends on core alone; io and the layers above it never name BLAS. OpenBLAS picks its kernel when the library loads, from the CPU
 // it recognizes (or OPENBLAS_CORETYPE). A CPU newer than the OpenBLAS build gets a generic fallback: Debian's
 // OpenBLAS 0.3.21 runs its SSE3 "Prescott" kernel on an Emerald Rapids Xeon, where dsyrk at 2,211 unknowns
 // measured 15-26 GFLOP/s on 2 threads against 80-93 for Eigen's kernel (icobrdf/core/fit/dense_kernels.hpp) and 61-72

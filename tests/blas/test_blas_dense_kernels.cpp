@@ -1,4 +1,4 @@
-// OpenBLAS's dense kernels for the sample fits (icobrdf/io/blas_dense_kernels.hpp) against Eigen's and
+// OpenBLAS's dense kernels for the sample fits (icobrdf/blas/blas_dense_kernels.hpp) against Eigen's and
 // against the definitions.
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include "icobrdf/core/fit/dense_kernels.hpp"
 #include "icobrdf/core/basis/helmholtz_modes.hpp"
 #include "icobrdf/core/fit/sample_fit.hpp"
-#include "icobrdf/io/blas_dense_kernels.hpp"
+#include "icobrdf/blas/blas_dense_kernels.hpp"
 #include "tests/core/sample_pairs.hpp"
 #include "tests/support/random_matrix.hpp"
 #include "tests/support/unity_id.hpp"
