@@ -101,6 +101,71 @@ MemoryError
     When the fit needs more memory than the machine offers.
 )doc";
 
+constexpr const char* kReadSpectrumDoc = R"doc(Read the spectrum of one material of a spectrum file or a bank.
+
+Parameters
+----------
+path : str
+    The HDF5 file (docs/file-format.md).
+material : str, optional
+    The material's name; empty (the default): the first in name order.
+
+Returns
+-------
+Spectrum
+    The material's stored coefficients.
+
+Raises
+------
+OSError
+    When the file cannot be read.
+RuntimeError
+    For a malformed file or a missing material.
+)doc";
+
+constexpr const char* kWriteSpectrumDoc = R"doc(Write a spectrum file holding one material, atomically.
+
+Parameters
+----------
+path : str
+    The HDF5 file to write (replaced whole, or left as it was on failure).
+spectrum : Spectrum
+    The coefficients to store.
+material : str, optional
+    The material's name in the file (default "material"): 1 to 255 bytes of printable ASCII without '/' or '.'.
+
+Returns
+-------
+None
+
+Raises
+------
+ValueError
+    For an invalid material name.
+OSError
+    When the file cannot be written.
+)doc";
+
+constexpr const char* kBankMaterialsDoc = R"doc(Names of the materials of a bank or spectrum file.
+
+Parameters
+----------
+path : str
+    The HDF5 file.
+
+Returns
+-------
+list of str
+    The material names, in name order.
+
+Raises
+------
+OSError
+    When the file cannot be read.
+RuntimeError
+    For a malformed file.
+)doc";
+
 }  // namespace
 
 void bind_spectrum(py::module_& m) {
@@ -147,52 +212,11 @@ ValueError
         py::arg("cosine") = false, py::arg("filter") = "none", py::arg("sampling") = "average",
         py::arg("gram_tolerance") = kDefaultGramTolerance, kFitDoc);
   m.def("read_spectrum", [](const std::string& path, const std::string& name) { return read_spectrum_file(path, name); },
-        py::arg("path"), py::arg("material") = "", R"doc(Read the spectrum of one material of a spectrum file or a bank.
-
-Parameters
-----------
-path : str
-    The HDF5 file (docs/file-format.md).
-material : str, optional
-    The material's name; empty (the default): the first in name order.
-
-Returns
--------
-Spectrum
-    The material's stored coefficients.
-
-Raises
-------
-OSError
-    When the file cannot be read.
-RuntimeError
-    For a malformed file or a missing material.
-)doc");
+        py::arg("path"), py::arg("material") = "", kReadSpectrumDoc);
   m.def(
       "write_spectrum",
       [](const std::string& path, const Spectrum& s, const std::string& name) { write_spectrum_file(path, s, nullptr, name); },
-      py::arg("path"), py::arg("spectrum"), py::arg("material") = "material", R"doc(Write a spectrum file holding one material, atomically.
-
-Parameters
-----------
-path : str
-    The HDF5 file to write (replaced whole, or left as it was on failure).
-spectrum : Spectrum
-    The coefficients to store.
-material : str, optional
-    The material's name in the file (default "material"): 1 to 255 bytes of printable ASCII without '/' or '.'.
-
-Returns
--------
-None
-
-Raises
-------
-ValueError
-    For an invalid material name.
-OSError
-    When the file cannot be written.
-)doc");
+      py::arg("path"), py::arg("spectrum"), py::arg("material") = "material", kWriteSpectrumDoc);
   m.def(
       "bank_materials",
       [](const std::string& path) {
@@ -200,25 +224,7 @@ OSError
         for (const auto& mat : read_bank(path, ReadOptions{.read_luts = false}).materials) names.push_back(mat.name);
         return names;
       },
-      py::arg("path"), R"doc(Names of the materials of a bank or spectrum file.
-
-Parameters
-----------
-path : str
-    The HDF5 file.
-
-Returns
--------
-list of str
-    The material names, in name order.
-
-Raises
-------
-OSError
-    When the file cannot be read.
-RuntimeError
-    For a malformed file.
-)doc");
+      py::arg("path"), kBankMaterialsDoc);
 }
 
 }  // namespace icobrdf::python
