@@ -9,34 +9,28 @@
 // Lists: levels and orders as "a..b" or "a,b,c"; models as icobrdf/lab/sweep_measure.hpp split_model_list reads
 // them. Models with delta parts have no pointwise error: refused.
 //
-// Nothing is written unless the whole sweep succeeds: the report is assembled in a hidden folder beside DIR
-// and moved into place at the end (report.md last), RESULTS.h5 is written atomically; on any error both
-// are removed and an existing RESULTS.h5 is left untouched.
+// Nothing is written unless the whole sweep succeeds (icobrdf/lab/sweep_run.hpp).
 #include <fmt/core.h>
 #include <omp.h>
-#include <unistd.h>
 
 #include <Eigen/Core>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <tuple>
 
 #include "cli/bench_commands.hpp"
-#include "cli/bench_section_command.hpp"
+#include "cli/option_checks.hpp"
 #include "icobrdf/core/support/error.hpp"
-#include "icobrdf/core/models/model_registry.hpp"
-#include "icobrdf/io/output_path.hpp"
+#include "icobrdf/lab/int_list.hpp"
 #include "icobrdf/lab/invocation.hpp"
-#include "icobrdf/lab/staged_folder.hpp"
-#include "icobrdf/lab/sweep_measure.hpp"
+#include "icobrdf/lab/machine.hpp"
 #include "icobrdf/lab/sweep_report.hpp"
+#include "icobrdf/lab/sweep_run.hpp"
 
 namespace icobrdf::cli {
 namespace {
 
-namespace fs = std::filesystem;
 namespace sweep = lab::sweep;
 
 // Defaults: levels 1..5 and orders 0..20 run in a few minutes on 2 cores (docs/benchmarks.md has the
@@ -54,55 +48,22 @@ struct SweepArgs {
   bool quick = false, json = false, quiet = false;
 };
 
-// Canonical specs and the labels (as given) of the --models list.
-std::pair<std::vector<std::string>, std::vector<std::string>> parse_models(const std::string& text) {
-  const std::vector<std::string> items = text.empty() ? sweep::default_models() : sweep::split_model_list(text);
-  std::vector<std::string> specs;
-  for (const auto& item : items) {
-    if (item.empty()) throw ArgumentError("--models '" + quoted_text(text) + "': empty model in the list, expected SPEC,SPEC,...");
-    const auto model = parse_model(item);  // ArgumentError naming the problem
-    if (!model->delta_parts().empty())
-      throw ArgumentError("--models: '" + item + "' has delta parts, which have no pointwise error; expected models without delta parts");
-    const std::string spec = model->spec();
-    if (std::find(specs.begin(), specs.end(), spec) != specs.end()) throw ArgumentError("--models: '" + quoted_text(spec) + "' is listed twice");
-    specs.push_back(spec);
-  }
-  return {specs, items};
-}
-
-bool writable_dir(const fs::path& p) {
-  std::error_code ec;
-  return fs::is_directory(p, ec) && ::access(p.c_str(), W_OK | X_OK) == 0;
-}
-
-fs::path folder_of(const fs::path& p) { return p.has_parent_path() ? p.parent_path() : fs::path("."); }
-
-void check_output_paths(const std::string& output, const std::string& report) {
-  std::error_code ec;
-  check_output_path(output);
-  if (report.empty()) throw ArgumentError("--report: a report folder is required");
-  const fs::path dir = fs::path(report).lexically_normal();
-  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) throw IoError("--report " + report + ": exists and is not a folder");
-  if (fs::exists(dir, ec) && !writable_dir(dir)) throw IoError("--report " + report + ": folder is not writable");
-  if (!writable_dir(folder_of(dir))) throw IoError("--report " + report + ": parent folder '" + folder_of(dir).string() + "' is missing or not writable");
-}
-
 void run_sweep(const SweepArgs& a) {
   using namespace lab;
   using namespace sweep;
   SweepResult r;
   SweepConfig& cfg = r.config;
   cfg.quick = a.quick;
-  cfg.levels = section::parse_int_range(a.levels.empty() ? (a.quick ? kQuickLevels : kDefaultLevels) : a.levels, 0, kMaxSweepLevel, "--levels");
-  cfg.orders = section::parse_int_range(a.orders.empty() ? (a.quick ? kQuickOrders : kDefaultOrders) : a.orders, 0, kMaxSweepOrder, "--orders");
-  std::tie(cfg.models, cfg.labels) = parse_models(a.models);
+  cfg.levels = parse_int_list(a.levels.empty() ? (a.quick ? kQuickLevels : kDefaultLevels) : a.levels, 0, kMaxSweepLevel, "--levels");
+  cfg.orders = parse_int_list(a.orders.empty() ? (a.quick ? kQuickOrders : kDefaultOrders) : a.orders, 0, kMaxSweepOrder, "--orders");
+  std::tie(cfg.models, cfg.labels) = parse_model_list(a.models, "--models");
   const auto sampling = lut_sampling_named(a.sampling);
   if (!sampling) throw ArgumentError("--sampling: expected 'centre' or 'average', found '" + a.sampling + "'");
   cfg.sampling = *sampling;
   cfg.gram_tolerance = a.gram_tol;
   cfg.held_out = a.held_out > 0 ? a.held_out : (a.quick ? kQuickHeldOutPairs : kDefaultHeldOutPairs);
   cfg.threads = a.threads > 0 ? a.threads : omp_get_num_procs();
-  check_output_paths(a.output, a.report);
+  check_sweep_outputs(a.output, a.report, "--report");
 
   omp_set_num_threads(cfg.threads);
   Eigen::setNbThreads(cfg.threads);
@@ -112,38 +73,13 @@ void run_sweep(const SweepArgs& a) {
   const auto progress = [&a](const std::string& line) {
     if (!a.quiet) std::cerr << line << std::endl;
   };
+  const std::vector<std::string> figures = run_and_write_sweep(r, a.output, a.report, "--report", progress);
 
-  const fs::path dir = fs::path(a.report).lexically_normal();
-  const fs::path stage = folder_of(dir) / fmt::format(".{}.tmp-{}", dir.filename().string(), ::getpid());
-  std::error_code ec;
-  fs::remove_all(stage, ec);
-  if (!fs::create_directory(stage, ec) || ec) throw IoError("--report " + a.report + ": cannot create '" + stage.string() + "': " + ec.message());
-  bool wrote_output = false;
-  std::vector<std::string> figures;
-  try {
-    measure_table(r, progress);
-    run_sections(r, stage.string(), progress);
-    figures = draw_figures(r, stage.string());
-    {
-      std::ofstream md(stage / "report.md", std::ios::binary);
-      md << report_markdown(r, figures);
-      md.close();
-      if (!md) throw IoError("--report " + a.report + ": cannot write report.md");
-    }
-    check_staged_commit(stage, dir, "--report " + dir.string());
-    write_results_h5(r, a.output);
-    wrote_output = true;
-    commit_staged(stage, dir, "--report " + dir.string());
-  } catch (...) {
-    fs::remove_all(stage, ec);
-    if (wrote_output) fs::remove(a.output, ec);
-    throw;
-  }
-
+  const std::string report_md = (std::filesystem::path(a.report).lexically_normal() / "report.md").string();
   if (a.json) {
     nlohmann::json j = to_json(r);
     j["output"] = a.output;
-    j["report"] = (dir / "report.md").string();
+    j["report"] = report_md;
     j["figures"] = figures;
     std::cout << j.dump(2) << "\n";
     return;
@@ -153,8 +89,7 @@ void run_sweep(const SweepArgs& a) {
   for (const auto& s : r.support)
     std::cout << fmt::format("  level {} ({} cells): supports order {}\n", s.level, s.cells,
                              s.largest_order >= kSupportSearchOrder ? ">= " + std::to_string(kSupportSearchOrder) : std::to_string(s.largest_order));
-  std::cout << fmt::format("wrote {} and {} ({} sweep figures, {} sections)\n", a.output, (dir / "report.md").string(), figures.size(),
-                           r.sections.size());
+  std::cout << fmt::format("wrote {} and {} ({} sweep figures, {} sections)\n", a.output, report_md, figures.size(), r.sections.size());
 }
 
 void add_sweep(CLI::App& bench) {

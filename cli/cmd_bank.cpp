@@ -2,7 +2,6 @@
 // icobrdf bank info BANK.h5 [--json]
 // icobrdf bank extract BANK.h5#MATERIAL -o SPECTRUM.h5
 #include <fmt/core.h>
-#include <nlohmann/json.hpp>
 
 #include <atomic>
 #include <csignal>
@@ -11,18 +10,19 @@
 #include <optional>
 
 #include "cli/commands.hpp"
-#include "cli/distributed_run.hpp"
 #include "cli/error_report.hpp"
 #include "cli/exit_codes.hpp"
 #include "icobrdf/cluster/launcher.hpp"
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/support/progress.hpp"
 #include "icobrdf/io/bank_file.hpp"
-#include "icobrdf/io/half_angle_file.hpp"
+#include "icobrdf/io/bank_summary.hpp"
 #include "icobrdf/io/scene.hpp"
 #include "icobrdf/pipeline/bank_builder.hpp"
+#include "icobrdf/pipeline/bank_report.hpp"
 #ifdef ICOBRDF_WITH_MPI
 #include "icobrdf/cluster/distributed_bank.hpp"
+#include "icobrdf/cluster/distributed_run.hpp"
 #else
 namespace icobrdf {
 class Cluster;  // the ranks of an mpirun job: only in a build with MPI
@@ -40,26 +40,6 @@ struct BuildArgs {
   bool resume = false, json = false, quiet = false, strict = false;
   int materials_at_once = 0;
 };
-
-#ifdef ICOBRDF_WITH_MPI
-// Under mpirun: the scene is read on every rank; a rank that cannot read it ends the job on every rank
-// (nullopt: another rank failed, this one ends quietly).
-std::optional<Scene> read_scene_on_every_rank(const std::string& path, Cluster& cluster) {
-  Scene scene;
-  std::exception_ptr error;
-  try {
-    scene = read_scene(path);
-  } catch (...) {
-    error = std::current_exception();
-  }
-  const int failed = cluster.first_failed(!error);
-  if (error) std::rethrow_exception(error);
-  if (failed >= 0 && cluster.rank() == 0)
-    throw InputError(fmt::format("{}: rank {} could not read the scene (see its message)", path, failed));
-  if (failed >= 0) return std::nullopt;
-  return scene;
-}
-#endif
 
 // Exit code of a build that ended without error: 0, or the signal's conventional code. `cluster`: the ranks
 // of an mpirun job, null in one process (always null in a build without MPI).
@@ -104,56 +84,16 @@ int build_and_report(const BuildArgs& a, [[maybe_unused]] Cluster* cluster) {
 #else
   const auto r = build_bank(scene, o);
 #endif
-  nlohmann::json mats = nlohmann::json::array();
-  for (const auto& m : r.materials) {
-    nlohmann::json j{{"name", m.name}, {"source", m.source}, {"ok", m.ok}, {"resumed", m.resumed}};
-    if (m.rank >= 0) j["rank"] = m.rank;  // under mpirun: the rank that fitted it
-    if (!m.ok) {
-      j["error"] = m.error;
-    } else {
-      j.update({{"representation", m.representation}, {"isotropic", m.isotropic}, {"level", m.level}, {"order", m.order}, {"target", m.target},
-                {"error_measured", m.measured}, {"error_l2", m.measured ? nlohmann::json(m.error_l2) : nlohmann::json()},
-                {"error_max", m.measured ? nlohmann::json(m.error_max) : nlohmann::json()}, {"anisotropy", m.anisotropy},
-                {"kept_coefficients", m.kept}, {"total_coefficients", m.total}, {"bytes", m.bytes}, {"seconds", m.seconds}});
-    }
-    mats.push_back(j);
-  }
   if (a.json) {
-    std::cout << nlohmann::json{{"scene", a.scene}, {"output", a.output}, {"written", r.written}, {"interrupted", r.interrupted},
-                                {"resume_file", r.resume_file}, {"materials", mats}}
-                     .dump(2)
-              << "\n";
+    std::cout << bank_build_json(r, a.scene, a.output).dump(2) << "\n";
   } else {
-    std::cout << fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9} {:>9} {:>9} {:>11} {:>8} {:>7}\n", "material", "repr", "iso",
-                             "level", "order", "target", "rel L2", "rel max", "kept/total", "bytes", "seconds");
-    for (const auto& m : r.materials) {
-      if (!m.ok) {
-        std::cout << fmt::format("{:<18} FAILED{}: {}\n", m.name, m.rank >= 0 ? fmt::format(" on rank {}", m.rank) : "", m.error);
-        continue;
-      }
-      const std::string l2 = m.measured ? fmt::format("{:.3g}", m.error_l2) : "n/a", mx = m.measured ? fmt::format("{:.3g}", m.error_max) : "n/a";
-      const auto dash = [](int v) { return v < 0 ? std::string("-") : std::to_string(v); };  // no modes: a lobe alone
-      std::cout << fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9.3g} {:>9} {:>9} {:>11} {:>8} {:>7.2f}{}\n", m.name,
-                               m.representation, m.isotropic ? "yes" : "no", dash(m.level), dash(m.order), m.target, l2, mx, fmt::format("{}/{}", m.kept, m.total), m.bytes, m.seconds,
-                               m.resumed ? " (resumed)" : "");
-    }
-    if (r.written) std::cout << fmt::format("wrote {}\n", a.output);
+    std::cout << bank_build_table(r, a.output);
   }
   if (r.interrupted) {
     std::cerr << fmt::format("icobrdf: interrupted; {}\n", kept_for_resume(r));
     return g_stop_signal.load() == SIGTERM ? kExitTerminated : kExitInterrupted;
   }
-  if (!r.written) {
-    size_t failed = 0;
-    const MaterialReport* first = nullptr;
-    for (const auto& m : r.materials) {
-      failed += !m.ok;
-      if (!m.ok && !first) first = &m;
-    }
-    // Under mpirun the line names the first failed material and its rank (a long build's table is far above).
-    const std::string which = first && first->rank >= 0 ? fmt::format("material '{}' failed on rank {}: {}; ", first->name, first->rank, message_line(first->error)) : "";
-    throw UnsupportedError(fmt::format("bank not written: {}{} material(s) failed (see above); {}", which, failed, kept_for_resume(r)));
-  }
+  if (!r.written) throw UnsupportedError(bank_not_written_message(r));
   return kExitOk;
 }
 
@@ -176,35 +116,11 @@ int run_build(const BuildArgs& a) {
 
 void run_info(const std::string& path, bool json) {
   const BankContents b = read_bank(path, ReadOptions{.read_luts = false});
-  nlohmann::json mats = nlohmann::json::array();
-  for (const auto& m : b.materials) {
-    nlohmann::json j{{"name", m.name}, {"source", m.spectrum.source}, {"order", m.spectrum.order}, {"isotropic", m.spectrum.isotropic},
-                     {"cosine", m.spectrum.cosine}, {"channels", m.spectrum.channel_count()}, {"level", m.spectrum.level},
-                     {"grid", m.spectrum.grid_kind}, {"has_lut", !m.lut.empty() || m.lut_float32},
-                     {"representation", representation_name(m)}};
-    if (m.lobe) j["half_angle"] = half_angle_summary(*m.lobe);
-    for (const auto& [k, v] : m.figures) j[k] = v;
-    for (const auto& [k, v] : m.labels) j[k] = v;
-    mats.push_back(j);
-  }
-  nlohmann::json j{{"file", path}, {"format_version", b.format_version}, {"creator", b.creator}, {"created", b.created},
-                   {"grid", b.grid ? nlohmann::json{{"kind", to_string(b.grid->kind)}, {"level", b.grid->level}, {"cells", b.grid->cells()}} : nlohmann::json()},
-                   {"materials", mats}};
-  nlohmann::json basis = nlohmann::json::array();
-  for (const auto& a : b.basis) basis.push_back(a.path);
-  j["basis"] = basis;
   if (json) {
-    std::cout << j.dump(2) << "\n";
+    std::cout << bank_summary_json(b, path).dump(2) << "\n";
     return;
   }
-  std::cout << fmt::format("{}: icobrdf bank {} by {}, created {}\n", path, b.format_version, b.creator, b.created);
-  if (b.grid) std::cout << fmt::format("  grid: {} level {} ({} cells)\n", to_string(b.grid->kind), b.grid->level, b.grid->cells());
-  std::cout << fmt::format("  basis arrays: {}\n", b.basis.size());
-  for (const auto& m : b.materials) {
-    std::cout << fmt::format("  {:<18} order {:>2} {:<11} {} channel(s)  {}\n", m.name, m.spectrum.order, m.spectrum.isotropic ? "isotropic" : "anisotropic",
-                             m.spectrum.channel_count(), m.spectrum.source);
-    if (m.lobe) std::cout << fmt::format("  {:<18} {}: {}\n", "", representation_name(m), half_angle_summary_line(*m.lobe));
-  }
+  std::cout << bank_summary_text(b, path);
 }
 
 void add_bank_command(CLI::App& app) {

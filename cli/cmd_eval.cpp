@@ -19,6 +19,7 @@
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/io/direction_csv.hpp"
+#include "icobrdf/io/value_table_csv.hpp"
 #include "icobrdf/pipeline/reflectance_check.hpp"
 
 namespace icobrdf::cli {
@@ -37,15 +38,7 @@ void run_eval(const EvalOptions& o) {
   const Eigen::MatrixXd values = source->eval(pairs.wi, pairs.wr);
   check_reflectance(values, "eval " + quoted_text(source->spec()), "the evaluation at the pairs of " + o.at, "f", {o.strict, &std::cerr});
   for (const auto& note : source->notes()) std::cerr << "icobrdf: note: " << source->spec() << ": " << note << "\n";
-  const std::vector<std::string> columns = channel_column_names(*source);
-  std::string text;
-  for (std::size_t c = 0; c < columns.size(); ++c) text += (c ? "," : "") + columns[c];
-  text += "\n";
-  for (Eigen::Index r = 0; r < values.rows(); ++r) {
-    for (Eigen::Index c = 0; c < values.cols(); ++c) text += fmt::format(c ? ",{}" : "{}", values(r, c));
-    text += "\n";
-  }
-  std::cout << text;
+  std::cout << value_table_csv(channel_column_names(*source), values);
 }
 
 void add_eval_command(CLI::App& app) {

@@ -2,7 +2,7 @@
 // Projects a BRDF onto the Helmholtz modes on a tessellation and writes its spectrum. Scattered samples
 // (CSV) without --order get a cross-validated order; a fit longer than kProgressDelaySeconds reports its
 // stages on stderr. Under `mpirun -np R` the streaming projection of a model (or an RGL material, or a
-// half-angle lobe) is spread over the R ranks (cli/distributed_run.hpp), and so are the passes of a
+// half-angle lobe) is spread over the R ranks (icobrdf/cluster/distributed_run.hpp), and so are the passes of a
 // least-squares fit over its samples (MERL tables, CSV samples); rank 0 writes and prints.
 #include <fmt/core.h>
 #include <nlohmann/json.hpp>
@@ -14,7 +14,7 @@
 #include <string>
 
 #include "cli/commands.hpp"
-#include "cli/distributed_run.hpp"
+#include "cli/error_report.hpp"
 #include "cli/option_checks.hpp"
 #include "icobrdf/blas/blas_dense_kernels.hpp"
 #include "icobrdf/io/brdf_source.hpp"
@@ -23,6 +23,8 @@
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/support/progress.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
+#include "icobrdf/lab/process_usage.hpp"
+#include "icobrdf/pipeline/fit_report.hpp"
 #include "icobrdf/pipeline/fit_source.hpp"
 #include "icobrdf/pipeline/reflectance_check.hpp"
 
@@ -83,7 +85,7 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
   r.grid_kind = fitting_grid_kind(a.grid);
   run.setup_done();
   const FitResult fit = fit_source(*source, r);
-  const std::vector<double> rss = run.ranks > 1 ? run.gather(peak_resident_bytes()) : std::vector<double>{};  // collective
+  const std::vector<double> rss = run.ranks > 1 ? run.gather(lab::peak_resident_bytes()) : std::vector<double>{};  // collective
   if (!run.writes()) return;  // rank 0 checks, writes and reports
   const Spectrum& s = fit.spectrum;
   const ProjectionContext& ctx = *fit.context;
@@ -93,104 +95,31 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
   check_fitted_albedo(s, *ctx.grid, "fit " + quoted_text(s.source), {a.strict, &std::cerr});
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   write_spectrum_file(a.output, s, nullptr, a.name.empty() ? "material" : a.name);
-  nlohmann::json j{{"source", s.source},
-                   {"output", a.output},
-                   {"order", s.order},
-                   {"modes", s.modes()},
-                   {"level", s.level},
-                   {"grid", s.grid_kind},
-                   {"cells", ctx.grid->cells()},
-                   {"channels", s.channel_count()},
-                   {"isotropic", s.isotropic},
-                   {"cosine", s.cosine},
-                   {"filter", s.filter},
-                   {"gram_error", s.gram_error},
-                   {"gram_condition", ctx.basis.condition},
-                   {"reciprocity_violation", s.reciprocity_violation},
-                   {"anisotropy_fraction", s.anisotropy_fraction},
-                   {"max_albedo", s.max_albedo},
-                   {"seconds", seconds}};
+  FitReport report;
+  report.fit = &fit;
+  report.checked = last_checked_sample_fit(*source);
+  report.missing_samples = merl_missing_samples(*source);
+  report.output = a.output;
+  report.level_asked = a.level;
+  report.grid_kind = r.grid_kind;
+  report.seconds = seconds;
+  report.ranks = run.ranks;
+  // The dense kernels solved the normal equations, if those ran (the QR path uses none).
+  if (report.checked && std::string(report.checked->fit.solver) == "normal equations") report.dense_kernels = fit_kernel_choice().reason;
+  if (report.checked && !report.checked->fallback.empty())
+    std::cerr << ("icobrdf: warning: fit " + quoted_text(s.source) + ": " + report.checked->fallback + "\n");
+  if (!a.json) {
+    std::cout << fit_report_text(report);
+    return;
+  }
+  nlohmann::json j = fit_report_json(report);
   if (run.ranks > 1) {
     j["ranks"] = run.ranks;
     // What the ranks split: the projection's operators, the passes over the samples, or nothing.
     j["split"] = run.exchanges() > 0 ? "operators by rows" : run.sample_sums() > 0 ? "samples" : "none";
     j["peak_rss_bytes_per_rank"] = rss;  // the operators are split by rows: O(cells x modes / ranks) each
   }
-  // Scattered-sample fits (MERL, CSV): the least-squares figures, so rank-deficient data is visible.
-  const CheckedSampleFit* cf = last_checked_sample_fit(*source);
-  const SampleFitResult* sf = cf ? &cf->fit : nullptr;
-  // The dense kernels solved the normal equations, if those ran (the QR path uses none).
-  const std::string dense_kernels =
-      sf && std::string(sf->solver) == "normal equations" ? fit_kernel_choice().reason : std::string("none");
-  const std::int64_t missing = merl_missing_samples(*source);
-  const bool grid_fit = s.level >= 0;  // the tessellation took part in the fit (not samples or coefficients)
-  if (!grid_fit) {
-    j.erase("gram_error");
-    j.erase("gram_condition");
-    j["level"] = a.level;
-    j["grid_use"] = "albedo figure only";
-  }
-  if (sf) {
-    const auto vec = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
-    j["sample_fit"] = {{"samples", sf->samples},
-                       {"unknowns", sf->unknowns},
-                       {"effective_rank", sf->effective_rank},
-                       {"null_space_dimension", sf->null_space_dimension},
-                       {"unseen_modes", sf->unseen_modes},
-                       {"rank_threshold", sf->rank_threshold},
-                       {"condition_of_kept_part", sf->condition},
-                       {"solver", sf->solver},
-                       {"dense_kernels", dense_kernels},
-                       {"tikhonov", sf->tikhonov},
-                       {"tikhonov_choice", cf->tikhonov_choice},
-                       {"order_choice", cf->order_choice},
-                       {"cv_rms", cf->cv_rms},
-                       {"cv_folds", cf->cv_folds},
-                       {"fallback", cf->fallback},
-                       {"notes", cf->notes},
-                       {"noise_sigma", vec(sf->noise_sigma)},
-                       {"residual_rms", vec(sf->residual_rms)}};
-  }
-  if (missing >= 0) j["missing_samples"] = missing;
-  if (cf && !cf->fallback.empty()) std::cerr << ("icobrdf: warning: fit " + quoted_text(s.source) + ": " + cf->fallback + "\n");
-  if (a.json) {
-    std::cout << j.dump(2) << "\n";
-    return;
-  }
-  std::cout << fmt::format("{} -> {}\n", s.source, a.output);
-  if (grid_fit) {
-    std::cout << fmt::format("  order {} ({} K functions), {} grid level {} ({} cells), {} channel(s){}{}\n", s.order, s.modes(),
-                             s.grid_kind, s.level, ctx.grid->cells(), s.channel_count(), s.isotropic ? ", isotropic" : "",
-                             s.cosine ? ", g = f cos(theta_i)" : "")
-              << fmt::format("  Gram error {:.3g} (condition {:.4g}), reciprocity violation {:.3g}, anisotropic energy {:.3g}\n",
-                             s.gram_error, ctx.basis.condition, s.reciprocity_violation, s.anisotropy_fraction);
-  } else {
-    std::cout << fmt::format("  order {} ({} K functions), {} channel(s){}; {} (no tessellation: the {} grid of level {}, "
-                             "{} cells, serves only the albedo figure)\n",
-                             s.order, s.modes(), s.channel_count(), s.isotropic ? ", isotropic" : "",
-                             sf ? "least-squares fit of samples" : "coefficients re-expanded exactly", r.grid_kind == GridKind::EqualArea ? "equal-area" : "geodesic",
-                             a.level, ctx.grid->cells())
-              << fmt::format("  reciprocity violation {:.3g}, anisotropic energy {:.3g}\n", s.reciprocity_violation,
-                             s.anisotropy_fraction);
-  }
-  std::cout << fmt::format("  max directional albedo {:.6g}, filter {}, {:.3f} s{}\n", s.max_albedo, s.filter, seconds,
-                           run.ranks > 1 ? fmt::format(" on {} ranks", run.ranks) : "");
-  if (sf) {
-    double worst = 0.0;
-    for (Eigen::Index c = 0; c < sf->residual_rms.size(); ++c) worst = std::max(worst, sf->residual_rms(c));
-    std::cout << fmt::format("  sample fit: {} samples, rank {} of {} unknowns (null space {}, unseen modes {}), "
-                             "condition {:.3g}, residual RMS {:.3g} 1/sr (worst channel), {}\n",
-                             sf->samples, sf->effective_rank, sf->unknowns, sf->null_space_dimension, sf->unseen_modes,
-                             sf->condition, worst, sf->solver);
-    if (dense_kernels != "none") std::cout << "  dense kernels: " << dense_kernels << "\n";
-    std::cout << fmt::format("  order {} ({}), Tikhonov lambda {:.3g} ({}), {}-fold CV RMS {:.3g} 1/sr\n", s.order,
-                             cf->order_choice, sf->tikhonov, cf->tikhonov_choice, cf->cv_folds, cf->cv_rms);
-    for (const auto& n : cf->notes) std::cout << "  " << n << "\n";
-    if (sf->null_space_dimension > 0 && sf->tikhonov == 0.0)
-      std::cout << "  warning: the samples do not determine every mode; the minimum-norm solution sets the "
-                << sf->null_space_dimension << " undetermined combination(s) to zero\n";
-  }
-  if (missing >= 0) std::cout << fmt::format("  MERL missing samples (masked, all channels): {}\n", missing);
+  std::cout << j.dump(2) << "\n";
 }
 
 void add_fit_command(CLI::App& app) {
@@ -226,7 +155,7 @@ void add_fit_command(CLI::App& app) {
   cmd->add_flag("--json", a->json, "Print the figures as JSON");
   cmd->add_flag("--strict", a->strict, "A negative directional albedo (non-physical) is an error, not a warning");
   cmd->add_flag("--quiet,-q", a->quiet, "No progress lines on stderr (printed for fits longer than 2 s)");
-  cmd->callback([a] { run_distributed("fit", 1, [a](const DistributedRun& run) { run_fit(*a, run); }, true); });
+  cmd->callback([a] { run_distributed("fit", 1, [a](const DistributedRun& run) { run_fit(*a, run); }, true, rank_errors()); });
 }
 
 const CommandRegistrar kCmdFitRegistrar("fit", add_fit_command);

@@ -11,6 +11,7 @@
 #include "cli/commands.hpp"
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/grid_obj_file.hpp"
+#include "icobrdf/io/grid_summary.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 
 namespace icobrdf::cli {
@@ -27,31 +28,7 @@ void run_grid(const GridOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   const Grid g = o.geodesic ? build_geodesic_grid(o.level) : build_equal_area_grid(o.level);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  int half = 0;
-  double wmin = 0, wmax = 0;
-  long double sum = 0;
-  bool first = true;
-  for (int c = 0; c < g.cells(); ++c) {
-    sum += g.solid_angles[c];
-    half += g.is_half[c];
-    if (g.is_half[c]) continue;
-    wmin = first ? g.solid_angles[c] : std::min(wmin, g.solid_angles[c]);
-    wmax = first ? g.solid_angles[c] : std::max(wmax, g.solid_angles[c]);
-    first = false;
-  }
-  nlohmann::json j;
-  j["kind"] = to_string(g.kind);
-  j["level"] = g.level;
-  j["cells"] = g.cells();
-  j["whole_cells"] = g.cells() - half;
-  j["half_cells"] = half;
-  j["solid_angle_min"] = g.solid_angles.minCoeff();
-  j["solid_angle_max"] = g.solid_angles.maxCoeff();
-  j["solid_angle_sum"] = static_cast<double>(sum);
-  j["whole_cell_ratio"] = wmax / wmin;
-  j["cubature_degree"] = g.cubature_degree;
-  j["cubature_points"] = g.cubature_points.rows();
-  j["vertices"] = g.vertices.rows();
+  nlohmann::json j = grid_summary_json(g);
   j["seconds"] = seconds;
   if (!o.obj.empty()) {
     write_grid_obj_file(g, o.obj);
@@ -62,11 +39,11 @@ void run_grid(const GridOptions& o) {
     return;
   }
   std::cout << fmt::format("{} grid, level {}: {} cells ({} whole, {} half), {} vertices\n", to_string(g.kind), g.level, g.cells(),
-                           g.cells() - half, half, g.vertices.rows())
+                           j["whole_cells"].get<int>(), j["half_cells"].get<int>(), g.vertices.rows())
             << fmt::format("solid angle [sr]: min {:.17g}, max {:.17g}, sum {:.17g} (2 pi = {:.17g})\n",
                            j["solid_angle_min"].get<double>(), j["solid_angle_max"].get<double>(),
-                           static_cast<double>(sum), 2 * M_PI)
-            << fmt::format("whole cells max/min: {:.15g}\n", wmax / wmin)
+                           j["solid_angle_sum"].get<double>(), 2 * M_PI)
+            << fmt::format("whole cells max/min: {:.15g}\n", j["whole_cell_ratio"].get<double>())
             << fmt::format("cubature: degree {}, {} points\n", g.cubature_degree, g.cubature_points.rows())
             << fmt::format("build time: {:.3f} s\n", seconds);
   if (!o.obj.empty()) std::cout << fmt::format("mesh written to {}\n", o.obj);

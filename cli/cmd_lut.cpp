@@ -11,18 +11,10 @@
 #include <memory>
 
 #include "cli/commands.hpp"
-#include "icobrdf/core/basis/direction.hpp"
 #include "icobrdf/core/support/error.hpp"
-#include "icobrdf/core/projection/reflection.hpp"
-#include "icobrdf/core/fit/spectral_fit.hpp"
-#include "icobrdf/core/models/model_registry.hpp"
-#include "icobrdf/pipeline/reflectance_check.hpp"
-#include "icobrdf/pipeline/resource_estimate.hpp"
-#include "icobrdf/pipeline/source_model.hpp"
-#include "icobrdf/io/lut_file.hpp"
-#include "icobrdf/io/spectrum_file.hpp"
 #include "icobrdf/io/output_path.hpp"
-#include "icobrdf/mesh/tessellation.hpp"
+#include "icobrdf/io/spectrum_file.hpp"
+#include "icobrdf/pipeline/lut_material.hpp"
 
 namespace icobrdf::cli {
 namespace {
@@ -33,82 +25,40 @@ struct LutArgs {
   bool cosine = false, float32 = false, json = false, strict = false;
 };
 
-// Takes the LUT's channels (moved, not copied: a level-5 LUT is 850 MB per channel).
-MaterialRecord lut_record(const std::string& name, Lut&& lut, const std::string& source, const ProjectionContext& ctx,
-                          const FitOptions& o, bool float32) {
-  MaterialRecord rec;
-  rec.name = name;
-  rec.spectrum = fit_lut(lut, source, ctx, o);
-  rec.lut = std::move(lut.channels);
-  rec.lut_float32 = float32;
-  return rec;
-}
-
 void run_lut(const LutArgs& a) {
   check_output_path(a.output, {a.source});
   require_storable_source(a.source);
-  std::string label;
-  std::vector<std::string> channel_names;
-  const auto model = model_of_source(a.source, &label, &channel_names);
-  auto grid = std::make_shared<const Grid>(build_equal_area_grid(a.level));
   const auto named = lut_sampling_named(a.sampling);
   if (!named) throw ArgumentError("--sampling: expected 'average' or 'centre', found '" + quoted_text(a.sampling) + "'");
-  const LutSampling sampling = *named;
-  const bool cosine = a.cosine || !model->delta_parts().empty();
-  const std::int64_t cells = equal_area_cells(a.level);
-  require_storable_lut(cells, model->channels(), a.float32, a.output);
-  require_lut_memory(a.level, a.order, model->channels(), a.float32, "lut of " + label);
-  // Cell averages with a degree-2 rule on the same cells: the LUT's own sampling, independent of B's rule.
-  const Grid sampling_grid = sampling == LutSampling::CellAverage ? build_equal_area_grid(a.level, kLutSamplingDegree) : *grid;
-  Lut lut = build_lut(*model, sampling_grid, cosine, sampling);
-  check_lut(lut.channels, cosine, *grid, a.output + ": LUT of " + label, {a.strict, &std::cerr});
-  FitOptions o;
-  o.order = a.order;
-  o.cosine = cosine;
-  const auto ctx = make_projection_context(grid, a.order);
-  const auto wf = white_furnace(lut.channels[0], cosine, *grid);
-  auto rec = lut_record(a.name, std::move(lut), label, ctx, o, a.float32);
-  rec.spectrum.channel_names = channel_names;
-  write_lut_file(a.output, *grid, std::move(rec));
-  std::cout << fmt::format("{}: {} x {} LUT of {} ({}), max directional albedo {:.6g}\n", a.output, grid->cells(), grid->cells(),
-                           label, cosine ? "g = f cos(theta_i)" : "f", wf.max_albedo);
+  LutRequest q;
+  q.source = a.source;
+  q.output = a.output;
+  q.name = a.name;
+  q.level = a.level;
+  q.order = a.order;
+  q.cosine = a.cosine;
+  q.float32 = a.float32;
+  q.strict = a.strict;
+  q.sampling = *named;
+  const LutWritten w = write_source_lut(q, &std::cerr);
+  std::cout << fmt::format("{}: {} x {} LUT of {} ({}), max directional albedo {:.6g}\n", a.output, w.cells, w.cells, w.label,
+                           w.cosine ? "g = f cos(theta_i)" : "f", w.max_albedo);
 }
 
 void run_smooth(const LutArgs& a) {
   check_output_path(a.output, {a.input});
-  auto [grid, rec] = read_lut_file(a.input);
-  FitOptions o;
-  o.order = a.order;
-  o.filter = parse_lowpass_filter(a.filter);
-  const auto ctx = make_projection_context(grid, a.order);
-  Lut smoothed;
-  smoothed.cosine = rec.spectrum.cosine;
-  for (const auto& f : rec.lut) smoothed.channels.push_back(smooth_lut(ctx.basis, ctx.projection, f, o.filter));
-  o.cosine = smoothed.cosine;
-  auto out = lut_record(rec.name, std::move(smoothed), rec.spectrum.source, ctx, o, a.float32);
-  out.spectrum.filter = o.filter.name();
-  write_lut_file(a.output, *grid, std::move(out));
-  std::cout << fmt::format("{}: LUT '{}' smoothed to order {} with filter {}\n", a.output, rec.name, a.order, o.filter.name());
+  const SmoothedLut s = write_smoothed_lut(a.input, a.output, a.order, a.filter, a.float32);
+  std::cout << fmt::format("{}: LUT '{}' smoothed to order {} with filter {}\n", a.output, s.name, a.order, s.filter);
 }
 
 void run_albedo(const LutArgs& a) {
-  auto [grid, rec] = read_lut_file(a.input);
-  check_lut(rec.lut, rec.spectrum.cosine, *grid, a.input + " material '" + rec.name + "'", {a.strict, &std::cerr});
-  nlohmann::json ch = nlohmann::json::array();
-  for (const auto& f : rec.lut) {
-    const auto wf = white_furnace(f, rec.spectrum.cosine, *grid);
-    const auto al = directional_albedo(f, rec.spectrum.cosine, *grid);
-    const Angles worst = angles_from_direction(grid->directions.row(wf.worst_cell).transpose());
-    const double theta = worst.theta * 180 / M_PI, phi = worst.phi * 180 / M_PI;
-    ch.push_back({{"max_albedo", wf.max_albedo}, {"min_albedo", al.minCoeff()}, {"mean_albedo", wf.mean_albedo},
-                  {"worst_cell", wf.worst_cell}, {"worst_theta_deg", theta}, {"worst_phi_deg", phi},
-                  {"energy_conserving", wf.max_albedo <= 1.0}});
-  }
+  const nlohmann::json j = lut_albedo_json(a.input, a.strict, &std::cerr);
   if (a.json) {
-    std::cout << nlohmann::json{{"file", a.input}, {"material", rec.name}, {"cells", grid->cells()}, {"channels", ch}}.dump(2) << "\n";
+    std::cout << j.dump(2) << "\n";
     return;
   }
-  std::cout << fmt::format("{} '{}' ({} cells):\n", a.input, rec.name, grid->cells());
+  const nlohmann::json& ch = j["channels"];
+  std::cout << fmt::format("{} '{}' ({} cells):\n", a.input, j["material"].get<std::string>(), j["cells"].get<int>());
   for (size_t c = 0; c < ch.size(); ++c)
     std::cout << fmt::format("  channel {}: directional albedo max {:.6g} (at theta {:.1f} deg, phi {:.1f} deg), min {:.6g}, mean {:.6g}: {}\n", c,
                              ch[c]["max_albedo"].get<double>(), ch[c]["worst_theta_deg"].get<double>(), ch[c]["worst_phi_deg"].get<double>(),

@@ -14,45 +14,24 @@
 
 #include "cli/commands.hpp"
 #include "icobrdf/core/models/model_registry.hpp"
+#include "icobrdf/io/model_catalogue.hpp"
 
 namespace icobrdf::cli {
 
 namespace {
 
-nlohmann::json parameter_json(const ModelParameter& p) {
-  nlohmann::json j;
-  j["name"] = p.name;
-  if (p.choices.empty()) {
-    j["default"] = p.default_value;
-    j["min"] = p.min;
-    j["max"] = p.max;
-    j["unit"] = p.unit;
-  } else {
-    j["default"] = p.choices.at(static_cast<std::size_t>(p.default_value));
-    j["choices"] = p.choices;
-  }
-  j["meaning"] = p.meaning;
-  return j;
-}
-
 void run_models(bool json) {
-  nlohmann::json all = nlohmann::json::array();
+  if (json) {
+    std::cout << nlohmann::json{{"models", model_catalogue_json()}}.dump(2) << "\n";
+    return;
+  }
   std::string text;
   for (const auto& info : model_registry()) {
     const std::string canonical = std::string(kModelSourcePrefix) + parse_model(info.name)->spec();
-    nlohmann::json m;
-    m["name"] = info.name;
-    m["summary"] = info.summary;
-    m["canonical"] = canonical;
-    m["physical"] = info.physical;
-    m["physical_condition"] = info.physical_condition;
-    m["delta"] = info.delta;
-    m["parameters"] = nlohmann::json::array();
     text += fmt::format("{}{}\n  {}\n  default: {}\n", text.empty() ? "" : "\n", info.name, info.summary, canonical);
     text += info.physical ? std::string("  energy: albedo <= 1 for every accepted parameter set\n")
                           : fmt::format("  energy: albedo <= 1 only when {}\n", info.physical_condition);
     for (const auto& p : info.parameters) {
-      m["parameters"].push_back(parameter_json(p));
       if (p.choices.empty()) {
         text += fmt::format("  {:<9} default {:<10} range [{}, {}]{}  {}\n", p.name, format_parameter(p.default_value),
                             format_parameter(p.min), format_parameter(p.max), p.unit.empty() ? "" : " " + p.unit,
@@ -64,11 +43,6 @@ void run_models(bool json) {
                             p.choices.at(static_cast<std::size_t>(p.default_value)), choices, p.meaning);
       }
     }
-    all.push_back(m);
-  }
-  if (json) {
-    std::cout << nlohmann::json{{"models", all}}.dump(2) << "\n";
-    return;
   }
   std::cout << "Analytic BRDF models: SOURCE model:NAME[:key=value,...], sums model:0.8*a+0.2*b; angles in degrees.\n\n"
             << text;

@@ -11,27 +11,17 @@
 // indices [n,l,m,l'] (general, library order), [n,m,l] (isotropic, Table 2 order) or [n,l] (ANSI order);
 // values: one list per input row, one number per mode [1/sr for modes, 1/sqrt(sr) for K].
 #include <fmt/core.h>
-#include <nlohmann/json.hpp>
 
 #include <iostream>
 #include <memory>
 #include <string>
 
 #include "cli/commands.hpp"
-#include "icobrdf/core/support/error.hpp"
-#include "icobrdf/core/basis/helmholtz_modes.hpp"
-#include "icobrdf/core/basis/hemisphere_basis.hpp"
-#include "icobrdf/core/basis/isotropic_modes.hpp"
-#include "icobrdf/core/basis/zernike.hpp"
-#include "icobrdf/io/direction_csv.hpp"
+#include "icobrdf/io/mode_table.hpp"
 
 namespace icobrdf::cli {
 
 namespace {
-
-// Output larger than this many numbers (rows x modes) is refused: the general modes grow as N^4
-// (35 million per row at order 128).
-constexpr long long kMaxOutputValues = 20'000'000;
 
 struct ModesOptions {
   int order = -1;
@@ -41,52 +31,13 @@ struct ModesOptions {
   std::string at;
 };
 
-void check_size(long long rows, long long modes, int order) {
-  if (rows * modes > kMaxOutputValues)
-    throw UnsupportedError(fmt::format("modes: {} rows x {} modes at order {} = {} values exceeds the supported {}",
-                                       rows, modes, order, rows * modes, kMaxOutputValues));
-}
-
 void run_modes(const ModesOptions& o) {
-  if (o.order < 0 || o.order > kMaxZernikeOrder)
-    throw ArgumentError(fmt::format("modes: --order must be in [0, {}], got {}", kMaxZernikeOrder, o.order));
-  Eigen::MatrixXd values;
-  nlohmann::json indices = nlohmann::json::array();
-  std::vector<std::vector<int>> idx;
-  if (o.hemisphere) {
-    const RowMatrix3d dirs = read_directions_csv(o.at);
-    check_size(dirs.rows(), hemisphere_basis_count(o.order), o.order);
-    values = hemisphere_basis_matrix(o.order, dirs);
-    for (int j = 0; j < values.cols(); ++j) {
-      const auto k = ansi_to_nl(j);
-      idx.push_back({k.n, k.l});
-    }
-  } else {
-    const DirectionPairs pairs = read_direction_pairs_csv(o.at);
-    if (o.isotropic) {
-      check_size(pairs.wi.rows(), isotropic_mode_count(o.order), o.order);
-      values = isotropic_modes_eval(o.order, pairs.wi, pairs.wr);
-      for (const auto& k : isotropic_modes(o.order)) idx.push_back({k.n, k.m, k.l});
-    } else {
-      check_size(pairs.wi.rows(), helmholtz_mode_count(o.order), o.order);
-      values = helmholtz_modes_eval(o.order, pairs.wi, pairs.wr);
-      for (const auto& k : helmholtz_modes(o.order)) idx.push_back({k.n, k.l, k.m, k.lp});
-    }
-  }
+  const ModeFamily family = o.hemisphere ? ModeFamily::Hemisphere : o.isotropic ? ModeFamily::Isotropic : ModeFamily::Helmholtz;
+  const ModeTable table = mode_table(family, o.order, o.at);
+  const Eigen::MatrixXd& values = table.values;
+  const std::vector<std::vector<int>>& idx = table.indices;
   if (o.json) {
-    nlohmann::json j;
-    j["order"] = o.order;
-    j["isotropic"] = o.isotropic;
-    j["hemisphere"] = o.hemisphere;
-    j["indices"] = idx;
-    nlohmann::json rows = nlohmann::json::array();
-    for (Eigen::Index r = 0; r < values.rows(); ++r) {
-      nlohmann::json row = nlohmann::json::array();
-      for (Eigen::Index c = 0; c < values.cols(); ++c) row.push_back(values(r, c));
-      rows.push_back(std::move(row));
-    }
-    j["values"] = std::move(rows);
-    std::cout << j.dump() << "\n";
+    std::cout << mode_table_json(table, family, o.order).dump() << "\n";
     return;
   }
   const char* kind = o.hemisphere ? "hemisphere basis K" : (o.isotropic ? "isotropic modes I" : "Helmholtz modes H");

@@ -23,6 +23,7 @@
 #include "icobrdf/mesh/tessellation.hpp"
 #include "icobrdf/pipeline/picture_source.hpp"
 #include "icobrdf/pipeline/reflectance_check.hpp"
+#include "icobrdf/plot/picture_materials.hpp"
 #include "icobrdf/plot/plots.hpp"
 
 namespace icobrdf::cli {
@@ -82,33 +83,6 @@ plot::SphereRequest::Shading parse_shading(const std::string& s) {
   throw ArgumentError("--shading: expected auto, model or spectrum, found '" + s + "'");
 }
 
-plot::SliceSource slice_source(PictureMaterial m) {
-  return plot::SliceSource{std::move(m.name), std::move(*m.spectrum), std::move(m.exact)};
-}
-
-// Every material of a bank of several, or the one material of any other SOURCE: as the model itself when
-// it is a model without delta parts and shading allows, else as a spectrum (stored, or fitted at `order`).
-std::vector<plot::SphereMaterial> load_sphere_materials(const std::string& text, plot::SphereRequest::Shading shading, int order,
-                                                        int level) {
-  using Shading = plot::SphereRequest::Shading;
-  const std::vector<std::string> names = several_bank_materials(text);
-  std::vector<plot::SphereMaterial> materials;
-  if (!names.empty() && shading == Shading::Model) throw ArgumentError("--shading model: a bank holds spectra only");
-  for (const auto& n : names) {
-    PictureMaterial m = stored_bank_material(text, n);  // a material with a lobe comes as its values
-    materials.push_back({n, std::move(m.spectrum), std::move(m.exact), m.exact_channels});
-  }
-  if (!names.empty()) return materials;
-  const bool use_model = shading != Shading::Spectrum && is_exact_model(text);
-  if (shading == Shading::Model && !use_model)
-    throw ArgumentError("--shading model: needs a model without delta parts, found '" + quoted_text(text) + "'");
-  PictureMaterial m = load_picture_material(text, order, level, use_model);
-  // A stored material with a half-angle lobe comes with its values too: shaded from them unless told not to.
-  if (use_model || (m.exact && shading != Shading::Spectrum)) materials.push_back({text, std::nullopt, std::move(m.exact), m.exact_channels});
-  else materials.push_back({text, std::move(m.spectrum), {}, 1});
-  return materials;
-}
-
 void add_basis_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   auto* basis = plot->add_subcommand("basis", "Every K_n^l up to --order on the Lambert disk (density + contours)");
   basis->add_option("--order,-n", a->order, "Largest order n")->capture_default_str()->check(CLI::Range(0, plot::kMaxBasisOrder));
@@ -149,7 +123,7 @@ void add_slice_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
     check_slice_args(*a);
     // A model is fitted once, at the largest order shown; a spectrum file is truncated.
     const int top_order = *std::max_element(a->orders.begin(), a->orders.end());
-    const plot::SliceSource src = slice_source(load_picture_material(a->source, top_order, a->level));
+    const plot::SliceSource src = plot::slice_source(load_picture_material(a->source, top_order, a->level));
     if (top_order > src.spectrum.order)
       throw ArgumentError(fmt::format("--order {}: the spectrum of '{}' has order {}", top_order, a->source, src.spectrum.order));
     const auto f = plot::plot_slice(src, q, a->output);
@@ -201,7 +175,7 @@ void add_sphere_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
     const int order = sphere->count("--order") ? a->orders.front() : kDefaultSphereOrder;
     check_output_path(a->output, {a->source});
     q.shading = parse_shading(a->shading);
-    const auto materials = load_sphere_materials(a->source, q.shading, order, a->level);
+    const auto materials = plot::load_sphere_materials(a->source, q.shading, order, a->level, "--shading model");
     // A sphere shaded from a spectrum with negative albedo would show it clipped to black without a word.
     const Grid albedo_grid = build_equal_area_grid(kSphereAlbedoLevel);
     for (const auto& m : materials)

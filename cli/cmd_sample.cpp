@@ -11,7 +11,6 @@
 
 #include <iostream>
 #include <memory>
-#include <random>
 #include <string>
 
 #include "cli/commands.hpp"
@@ -19,6 +18,7 @@
 #include "icobrdf/core/basis/direction.hpp"
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/material_sampler.hpp"
+#include "icobrdf/io/sample_draws.hpp"
 
 namespace icobrdf::cli {
 
@@ -40,22 +40,8 @@ void run_sample(const SampleOptions& o) {
   const auto mode = lut_sampling_named(o.cell_value);
   if (!mode) throw ArgumentError("--cell-value: expected 'centre' or 'average', found '" + quoted_text(o.cell_value) + "'");
   const MaterialSampler sampler(open_source(o.source), o.level, *mode);
-  const IncidentDistribution dist = sampler.distribution(direction_from_angles(o.theta_i * M_PI / 180, o.phi_i * M_PI / 180));
-  std::mt19937_64 rng(o.seed);
-  std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  Eigen::VectorXd u1(o.n), u2(o.n);
-  for (long long i = 0; i < o.n; ++i) u1[i] = uniform(rng), u2[i] = uniform(rng);
-  const MaterialSamples s = sampler.sample(dist, u1, u2);
-  std::string text = "theta_r,phi_r,pdf";
-  for (const std::string& c : channel_column_names(sampler.source())) text += ",weight" + c.substr(1);  // "f_r" -> "weight_r"
-  text += "\n";
-  for (long long i = 0; i < o.n; ++i) {
-    const Angles a = angles_from_direction(s.directions.row(i).transpose());
-    text += fmt::format("{},{},{}", a.theta * 180 / M_PI, a.phi * 180 / M_PI, s.pdf[i]);
-    for (Eigen::Index c = 0; c < s.weight.cols(); ++c) text += fmt::format(",{}", s.weight(i, c));
-    text += "\n";
-  }
-  std::cout << text;
+  const Eigen::Vector3d wi = direction_from_angles(o.theta_i * M_PI / 180, o.phi_i * M_PI / 180);
+  std::cout << material_samples_csv(sampler, draw_material_samples(sampler, wi, o.n, o.seed));
 }
 
 void add_sample_command(CLI::App& app) {

@@ -10,19 +10,13 @@
 
 #include "cli/commands.hpp"
 #include "icobrdf/core/support/error.hpp"
-#include "icobrdf/core/basis/helmholtz_modes.hpp"
-#include "icobrdf/core/basis/isotropic_modes.hpp"
-#include "icobrdf/core/spectrum/spectrum_ops.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/half_angle_file.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
+#include "icobrdf/io/spectrum_listing.hpp"
 
 namespace icobrdf::cli {
 namespace {
-
-// Below this magnitude a coefficient is printed as part of the "zero" count in text mode: far under the
-// accuracy of any grid projection (Gram errors are >= 1e-14) and of float32 storage.
-constexpr double kPrintZero = 1e-14;
 
 struct SpectrumArgs {
   std::string file;
@@ -35,47 +29,18 @@ void run_spectrum(const SpectrumArgs& a) {
   const Spectrum& s = rec.spectrum;
   // A half-angle lobe (representations "half-angle" and "hybrid") is listed after the modes.
   const nlohmann::json lobe = rec.lobe ? half_angle_summary(*rec.lobe) : nlohmann::json();
-  nlohmann::json indices = nlohmann::json::array(), coefficients = nlohmann::json::array();
-  double asym = 0.0;
-  for (const auto& c : s.channels) asym = std::max(asym, coefficient_asymmetry(c));
-  if (s.isotropic) {
-    for (const auto& m : isotropic_modes(s.order)) indices.push_back({m.n, m.m, m.l});
-    for (const auto& c : s.channels) {
-      const Eigen::VectorXd v = ibsss_from_coefficients(c);
-      coefficients.push_back(std::vector<double>(v.data(), v.data() + v.size()));
-    }
-  } else {
-    for (const auto& m : helmholtz_modes(s.order)) indices.push_back({m.n, m.l, m.m, m.lp});
-    for (const auto& c : s.channels) {
-      const Eigen::VectorXd v = bsss_from_coefficients(c);
-      coefficients.push_back(std::vector<double>(v.data(), v.data() + v.size()));
-    }
-  }
+  const SpectrumListing listing = list_spectrum(s);
+  const double asym = listing.asymmetry;
   // The standard errors are per fitted unknown; they match the listed modes when the spectrum kept the fit's
   // modes (a filter changes the coefficients, not their count).
   const SampleFitRecord* fit = s.sample_fit ? &*s.sample_fit : nullptr;
-  const bool has_se = fit && fit->standard_error.cols() == static_cast<Eigen::Index>(indices.size());
+  const bool has_se = fit && fit->standard_error.cols() == static_cast<Eigen::Index>(listing.indices.size());
   if (a.json) {
     nlohmann::json j{{"order", s.order},       {"isotropic", s.isotropic}, {"cosine", s.cosine},
-                     {"source", s.source},     {"filter", s.filter},       {"indices", indices},
-                     {"coefficients", coefficients}, {"asymmetry", asym}, {"representation", representation_name(rec)}};
+                     {"source", s.source},     {"filter", s.filter},       {"indices", listing.indices},
+                     {"coefficients", listing.coefficients}, {"asymmetry", asym}, {"representation", representation_name(rec)}};
     if (rec.lobe) j["half_angle"] = lobe;
-    if (fit) {
-      nlohmann::json se = nlohmann::json::array();
-      for (Eigen::Index c = 0; c < fit->standard_error.rows(); ++c) {
-        std::vector<double> row(static_cast<size_t>(fit->standard_error.cols()));
-        for (Eigen::Index k = 0; k < fit->standard_error.cols(); ++k) row[static_cast<size_t>(k)] = fit->standard_error(c, k);
-        se.push_back(row);
-      }
-      j["sample_fit"] = {{"samples", fit->samples},       {"unknowns", fit->unknowns},
-                         {"effective_rank", fit->effective_rank}, {"condition", fit->condition},
-                         {"residual_rms", fit->residual_rms}, {"noise_sigma", fit->noise_sigma},
-                         {"cv_rms", fit->cv_rms},         {"cv_folds", fit->cv_folds},
-                         {"tikhonov", fit->tikhonov},     {"tikhonov_power", fit->tikhonov_power},
-                         {"order_choice", fit->order_choice}, {"tikhonov_choice", fit->tikhonov_choice},
-                         {"fallback", fit->fallback},     {"solver", fit->solver},
-                         {"standard_errors", se}};
-    }
+    if (fit) j["sample_fit"] = sample_fit_record_json(*fit);
     std::cout << j.dump() << "\n";
     return;
   }
@@ -94,22 +59,7 @@ void run_spectrum(const SpectrumArgs& a) {
                              fit->tikhonov_power, fit->tikhonov_choice, fit->solver);
     if (!fit->fallback.empty()) std::cout << "  fallback: " << fit->fallback << "\n";
   }
-  size_t zeros = 0;
-  for (size_t k = 0; k < indices.size(); ++k) {
-    bool all_zero = true;
-    for (const auto& ch : coefficients) all_zero = all_zero && std::abs(ch[k].get<double>()) < kPrintZero;
-    if (all_zero && !a.all) {
-      ++zeros;
-      continue;
-    }
-    std::string line = "  " + indices[k].dump();
-    for (size_t c = 0; c < coefficients.size(); ++c) {
-      line += fmt::format("  {: .10e}", coefficients[c][k].get<double>());
-      if (has_se) line += fmt::format(" +- {:.3e}", fit->standard_error(static_cast<Eigen::Index>(c), static_cast<Eigen::Index>(k)));
-    }
-    std::cout << line << "\n";
-  }
-  if (zeros) std::cout << fmt::format("  ({} coefficients below {:.0e} not listed; --all lists them)\n", zeros, kPrintZero);
+  std::cout << spectrum_listing_text(listing, has_se ? &fit->standard_error : nullptr, a.all, "--all lists them");
   if (rec.lobe) std::cout << fmt::format("  {}: + {}\n", representation_name(rec), half_angle_summary_line(*rec.lobe, true));
 }
 

@@ -19,6 +19,8 @@ ErrorReport report_of(std::exception_ptr e) {
     std::rethrow_exception(e);
   } catch (const CLI::RuntimeError& x) {
     return ErrorReport{"", x.get_exit_code()};
+  } catch (const RankExit& x) {
+    return ErrorReport{"", x.code};
   } catch (const ArgumentError& x) {
     return error(x, kExitUsage);
   } catch (const InputError& x) {
@@ -42,6 +44,15 @@ void print_now(std::exception_ptr e) {
   const ErrorReport r = report_of(e);
   std::cerr << r.line << std::flush;
   throw CLI::RuntimeError(r.code);
+}
+
+RankErrors rank_errors() {
+  RankErrors errors;
+  errors.exit_code = [](std::exception_ptr e) { return report_of(e).code; };
+  errors.print = [](std::exception_ptr e) { std::cerr << report_of(e).line << std::flush; };
+  errors.setup_failed_code = kExitUnsupported;
+  errors.sigterm_code = kExitTerminated;
+  return errors;
 }
 
 }  // namespace icobrdf::cli

@@ -6,6 +6,8 @@
 #include <exception>
 #include <string>
 
+#include "icobrdf/cluster/distributed_run.hpp"
+
 namespace icobrdf::cli {
 
 // The line of an allocation failure; main() writes it without allocating (cli/main.cpp).
@@ -17,12 +19,17 @@ struct ErrorReport {
 };
 
 // ArgumentError 2, InputError 3, UnsupportedError 4, IoError 5, ResourceError and bad_alloc 6 (a
-// ResourceError's line says that --memory-budget overrides the limit), CLI::RuntimeError its own code and no
-// line (its message was printed already), anything else 70 as an internal error.
+// ResourceError's line says that --memory-budget overrides the limit), CLI::RuntimeError and RankExit (a rank
+// of an mpirun job, icobrdf/cluster/distributed_run.hpp) their own code and no line (the message was printed
+// already), anything else 70 as an internal error.
 ErrorReport report_of(std::exception_ptr e);
 
 // Prints report_of(e)'s line now and throws CLI::RuntimeError with its code (main() then exits with it
 // without printing again).
 [[noreturn]] void print_now(std::exception_ptr e);
+
+// The program's reporting for the ranks of an mpirun job (icobrdf/cluster/distributed_run.hpp): report_of's
+// line and code, 4 for a rank whose set-up succeeded while another's failed, 143 after mpirun's SIGTERM.
+RankErrors rank_errors();
 
 }  // namespace icobrdf::cli

@@ -1,5 +1,6 @@
 #include "icobrdf/cluster/distributed_bank.hpp"
 
+#include <fmt/core.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -18,6 +19,7 @@
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/atomic_write.hpp"
 #include "icobrdf/io/record_wire.hpp"
+#include "icobrdf/io/scene.hpp"
 #include "icobrdf/pipeline/bank_assembly.hpp"
 #include "icobrdf/pipeline/bank_resume.hpp"
 
@@ -377,6 +379,22 @@ DistributedBankResult build_bank_distributed(const Scene& scene, const BankBuild
   if (error) std::rethrow_exception(error);
   result.build = coordinate(scene, serialized, cluster, *out);
   return result;
+}
+
+std::optional<Scene> read_scene_on_every_rank(const std::string& path, Cluster& cluster) {
+  Scene scene;
+  std::exception_ptr error;
+  try {
+    scene = read_scene(path);
+  } catch (...) {
+    error = std::current_exception();
+  }
+  const int failed = cluster.first_failed(!error);
+  if (error) std::rethrow_exception(error);
+  if (failed >= 0 && cluster.rank() == 0)
+    throw InputError(fmt::format("{}: rank {} could not read the scene (see its message)", path, failed));
+  if (failed >= 0) return std::nullopt;
+  return scene;
 }
 
 }  // namespace icobrdf

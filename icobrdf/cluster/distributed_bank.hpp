@@ -29,6 +29,8 @@
 // (`worker` = true) once rank 0 has no more work for them.
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <string>
 
 #include "icobrdf/cluster/cluster.hpp"
 #include "icobrdf/pipeline/bank_builder.hpp"
@@ -54,5 +56,10 @@ struct DistributedBankResult {
 };
 
 DistributedBankResult build_bank_distributed(const Scene& scene, const BankBuildOptions& options, Cluster& cluster);
+
+// The scene at `path`, read on every rank of `cluster`: a rank that cannot read it rethrows its own error; on
+// the others rank 0 throws InputError naming the lowest failed rank, and the rest get nullopt (they end
+// quietly: the failed rank says why).
+std::optional<Scene> read_scene_on_every_rank(const std::string& path, Cluster& cluster);
 
 }  // namespace icobrdf

@@ -97,6 +97,111 @@ std::string to_string(IsotropicChoice choice) {
 
 std::string to_string(LutSampling sampling) { return sampling == LutSampling::CellAverage ? "average" : "centre"; }
 
+namespace {
+
+// The [bank] table's keys into `s`, each checked.
+void read_bank_table(Scene& s, const toml::table& bank_table) {
+  const toml::table* bank = &bank_table;
+  const std::string w = "[bank]";
+  for (const auto& [k, v] : *bank) {
+    static const std::set<std::string> known{"level", "levels", "order_max", "target", "metric", "sampling", "store_lut", "lut_float32", "holdout_pairs",
+                                             "representations"};
+    if (!known.count(std::string(k.str()))) fail(s, w, "unknown key '" + quoted_text(std::string(k.str())) + "'");
+    (void)v;
+  }
+  s.level = get_or(s, *bank, w, "level", s.level);
+  s.order_max = get_or(s, *bank, w, "order_max", s.order_max);
+  s.target = get_or(s, *bank, w, "target", s.target);
+  const std::string sampling = get_or(s, *bank, w, "sampling", to_string(s.sampling));
+  s.metric = metric_or(s, *bank, w, s.metric);
+  s.store_lut = get_or(s, *bank, w, "store_lut", s.store_lut);
+  s.lut_float32 = get_or(s, *bank, w, "lut_float32", s.lut_float32);
+  s.holdout_pairs = get_or(s, *bank, w, "holdout_pairs", s.holdout_pairs);
+  if (const auto* lv = bank->get("levels")) {
+    const auto* arr = lv->as_array();
+    if (!arr || arr->empty()) fail(s, w, "'levels' expected a non-empty array of integers");
+    s.levels.clear();
+    for (const auto& e : *arr) {
+      if (!e.value<int64_t>()) fail(s, w, "'levels' expected integers");
+      s.levels.push_back(checked_int(s, w, "levels", *e.value<int64_t>()));
+    }
+  }
+  if (const auto* rv = bank->get("representations")) {
+    static const std::set<std::string> allowed{"modes", "half-angle", "hybrid"};
+    const auto* arr = rv->as_array();
+    if (!arr || arr->empty()) fail(s, w, "'representations' expected a non-empty array of \"modes\", \"half-angle\", \"hybrid\"");
+    s.representations.clear();
+    for (const auto& e : *arr) {
+      const auto name = e.value<std::string>();
+      if (!name || !allowed.count(*name))
+        fail(s, w, "'representations' entries expected \"modes\", \"half-angle\" or \"hybrid\", found " +
+                       (name ? "\"" + quoted_text(*name) + "\"" : std::string("a non-string")));
+      if (std::find(s.representations.begin(), s.representations.end(), *name) != s.representations.end())
+        fail(s, w, "'representations' lists \"" + quoted_text(*name) + "\" twice");
+      s.representations.push_back(*name);
+    }
+  }
+  if (s.level < 0 || s.level > 8) fail(s, w, "'level' expected in [0, 8], found " + std::to_string(s.level));
+  for (int l : s.levels)
+    if (l < 0 || l > 8) fail(s, w, "'levels' entries expected in [0, 8], found " + std::to_string(l));
+  for (std::size_t k = 1; k < s.levels.size(); ++k)  // tried in order, the last is "the finest tried"
+    if (s.levels[k] <= s.levels[k - 1])
+      fail(s, w, "'levels' expected strictly increasing levels, found " + std::to_string(s.levels[k - 1]) + " before " +
+                     std::to_string(s.levels[k]));
+  if (s.order_max < 0 || s.order_max > 128) fail(s, w, "'order_max' expected in [0, 128], found " + std::to_string(s.order_max));
+  if (!(s.target > 0)) fail(s, w, "'target' expected > 0");
+  if (sampling != "centre" && sampling != "average") fail(s, w, "'sampling' expected \"centre\" or \"average\", found \"" + quoted_text(sampling) + "\"");
+  s.sampling = sampling == "average" ? LutSampling::CellAverage : LutSampling::CellCentre;
+  if (s.holdout_pairs < 16 || s.holdout_pairs > kMaxErrorPairs)
+    fail(s, w, "'holdout_pairs' expected in [16, " + std::to_string(kMaxErrorPairs) + "], found " + std::to_string(s.holdout_pairs));
+  if (s.store_lut)  // LUTs are stored on the bank's grid; a one-channel LUT is the smallest
+    if (const std::string p = lut_size_problem(equal_area_cells(s.level), 1, s.lut_float32); !p.empty())
+      fail(s, w, "'store_lut' on the level-" + std::to_string(s.level) + " bank grid: " + p);
+}
+
+// One [[material]] table, `w` naming it until its name is known; `names` holds the names seen so far.
+SceneMaterial read_material_table(const Scene& s, const toml::table* t, std::string w, std::set<std::string>& names) {
+  SceneMaterial m;
+  m.name = get_or<std::string>(s, *t, w, "name", "");
+  if (!valid_name(m.name)) fail(s, w, "'name' expected 1-64 characters of [A-Za-z0-9_-], found \"" + quoted_text(m.name) + "\"");
+  w = "material '" + m.name + "'";
+  if (!names.insert(m.name).second) fail(s, w, "duplicate name");
+  m.source = get_or<std::string>(s, *t, w, "source", "");
+  if (m.source.empty()) fail(s, w, "'source' is required");
+  if (const std::string p = source_text_problem(m.source); !p.empty()) fail(s, w, "'source': " + p);
+  m.target = get_or(s, *t, w, "target", s.target);
+  if (!(m.target > 0)) fail(s, w, "'target' expected > 0");
+  m.metric = metric_or(s, *t, w, s.metric);
+  if (const auto* iso = t->get("isotropic")) {
+    if (auto b = iso->value<bool>()) m.isotropic = *b ? IsotropicChoice::Always : IsotropicChoice::Never;
+    else if (auto str = iso->value<std::string>(); str && *str == "auto") m.isotropic = IsotropicChoice::Auto;
+    else fail(s, w, "'isotropic' expected \"auto\", true or false");
+  }
+  m.order = get_or(s, *t, w, "order", -1);
+  m.level = get_or(s, *t, w, "level", -1);
+  if (m.order != -1 && (m.order < 0 || m.order > 128)) fail(s, w, "'order' expected in [0, 128], found " + std::to_string(m.order));
+  if (m.level != -1 && (m.level < 0 || m.level > 8)) fail(s, w, "'level' expected in [0, 8], found " + std::to_string(m.level));
+  m.prune = get_or(s, *t, w, "prune", true);
+  if (const auto* inc = t->get("incidence")) {
+    const auto* arr = inc->as_array();
+    if (!arr || arr->size() != 2 || !(*arr)[0].value<double>() || !(*arr)[1].value<double>())
+      fail(s, w, "'incidence' expected [min, max] in degrees");
+    m.incidence_min = *(*arr)[0].value<double>();
+    m.incidence_max = *(*arr)[1].value<double>();
+    if (!(m.incidence_min >= 0 && m.incidence_min < m.incidence_max && m.incidence_max <= 90))
+      fail(s, w, "'incidence' expected 0 <= min < max <= 90");
+  }
+  m.lights = directions(s, *t, w, "lights");
+  m.cameras = directions(s, *t, w, "cameras");
+  if (m.lights.empty() != m.cameras.empty()) fail(s, w, "'lights' and 'cameras' go together: give both or neither");
+  if (static_cast<double>(m.lights.size()) * static_cast<double>(m.cameras.size()) > static_cast<double>(kMaxErrorPairs))
+    fail(s, w, "'lights' x 'cameras' expected at most " + std::to_string(kMaxErrorPairs) + " pairs, found " + std::to_string(m.lights.size()) +
+                   " x " + std::to_string(m.cameras.size()));
+  return m;
+}
+
+}  // namespace
+
 Scene read_scene(const std::string& path) {
   Scene s;
   s.path = path;
@@ -108,63 +213,7 @@ Scene read_scene(const std::string& path) {
     throw InputError(printable_text(path + ":" + std::to_string(src.begin.line) + ":" + std::to_string(src.begin.column) + ": " +
                                     std::string(e.description())));
   }
-  if (const auto* bank = root["bank"].as_table()) {
-    const std::string w = "[bank]";
-    for (const auto& [k, v] : *bank) {
-      static const std::set<std::string> known{"level", "levels", "order_max", "target", "metric", "sampling", "store_lut", "lut_float32", "holdout_pairs",
-                                               "representations"};
-      if (!known.count(std::string(k.str()))) fail(s, w, "unknown key '" + quoted_text(std::string(k.str())) + "'");
-      (void)v;
-    }
-    s.level = get_or(s, *bank, w, "level", s.level);
-    s.order_max = get_or(s, *bank, w, "order_max", s.order_max);
-    s.target = get_or(s, *bank, w, "target", s.target);
-    const std::string sampling = get_or(s, *bank, w, "sampling", to_string(s.sampling));
-    s.metric = metric_or(s, *bank, w, s.metric);
-    s.store_lut = get_or(s, *bank, w, "store_lut", s.store_lut);
-    s.lut_float32 = get_or(s, *bank, w, "lut_float32", s.lut_float32);
-    s.holdout_pairs = get_or(s, *bank, w, "holdout_pairs", s.holdout_pairs);
-    if (const auto* lv = bank->get("levels")) {
-      const auto* arr = lv->as_array();
-      if (!arr || arr->empty()) fail(s, w, "'levels' expected a non-empty array of integers");
-      s.levels.clear();
-      for (const auto& e : *arr) {
-        if (!e.value<int64_t>()) fail(s, w, "'levels' expected integers");
-        s.levels.push_back(checked_int(s, w, "levels", *e.value<int64_t>()));
-      }
-    }
-    if (const auto* rv = bank->get("representations")) {
-      static const std::set<std::string> allowed{"modes", "half-angle", "hybrid"};
-      const auto* arr = rv->as_array();
-      if (!arr || arr->empty()) fail(s, w, "'representations' expected a non-empty array of \"modes\", \"half-angle\", \"hybrid\"");
-      s.representations.clear();
-      for (const auto& e : *arr) {
-        const auto name = e.value<std::string>();
-        if (!name || !allowed.count(*name))
-          fail(s, w, "'representations' entries expected \"modes\", \"half-angle\" or \"hybrid\", found " +
-                         (name ? "\"" + quoted_text(*name) + "\"" : std::string("a non-string")));
-        if (std::find(s.representations.begin(), s.representations.end(), *name) != s.representations.end())
-          fail(s, w, "'representations' lists \"" + quoted_text(*name) + "\" twice");
-        s.representations.push_back(*name);
-      }
-    }
-    if (s.level < 0 || s.level > 8) fail(s, w, "'level' expected in [0, 8], found " + std::to_string(s.level));
-    for (int l : s.levels)
-      if (l < 0 || l > 8) fail(s, w, "'levels' entries expected in [0, 8], found " + std::to_string(l));
-    for (std::size_t k = 1; k < s.levels.size(); ++k)  // tried in order, the last is "the finest tried"
-      if (s.levels[k] <= s.levels[k - 1])
-        fail(s, w, "'levels' expected strictly increasing levels, found " + std::to_string(s.levels[k - 1]) + " before " +
-                       std::to_string(s.levels[k]));
-    if (s.order_max < 0 || s.order_max > 128) fail(s, w, "'order_max' expected in [0, 128], found " + std::to_string(s.order_max));
-    if (!(s.target > 0)) fail(s, w, "'target' expected > 0");
-    if (sampling != "centre" && sampling != "average") fail(s, w, "'sampling' expected \"centre\" or \"average\", found \"" + quoted_text(sampling) + "\"");
-    s.sampling = sampling == "average" ? LutSampling::CellAverage : LutSampling::CellCentre;
-    if (s.holdout_pairs < 16 || s.holdout_pairs > kMaxErrorPairs)
-      fail(s, w, "'holdout_pairs' expected in [16, " + std::to_string(kMaxErrorPairs) + "], found " + std::to_string(s.holdout_pairs));
-    if (s.store_lut)  // LUTs are stored on the bank's grid; a one-channel LUT is the smallest
-      if (const std::string p = lut_size_problem(equal_area_cells(s.level), 1, s.lut_float32); !p.empty())
-        fail(s, w, "'store_lut' on the level-" + std::to_string(s.level) + " bank grid: " + p);
-  }
+  if (const auto* bank = root["bank"].as_table()) read_bank_table(s, *bank);
   for (const auto& [k, v] : root) {
     if (k.str() != "bank" && k.str() != "material") fail(s, "top level", "unknown table '" + quoted_text(std::string(k.str())) + "'");
     (void)v;
@@ -181,43 +230,7 @@ Scene read_scene(const std::string& path) {
       if (!known.count(std::string(k.str()))) fail(s, w, "unknown key '" + quoted_text(std::string(k.str())) + "'");
       (void)v;
     }
-    SceneMaterial m;
-    m.name = get_or<std::string>(s, *t, w, "name", "");
-    if (!valid_name(m.name)) fail(s, w, "'name' expected 1-64 characters of [A-Za-z0-9_-], found \"" + quoted_text(m.name) + "\"");
-    w = "material '" + m.name + "'";
-    if (!names.insert(m.name).second) fail(s, w, "duplicate name");
-    m.source = get_or<std::string>(s, *t, w, "source", "");
-    if (m.source.empty()) fail(s, w, "'source' is required");
-    if (const std::string p = source_text_problem(m.source); !p.empty()) fail(s, w, "'source': " + p);
-    m.target = get_or(s, *t, w, "target", s.target);
-    if (!(m.target > 0)) fail(s, w, "'target' expected > 0");
-    m.metric = metric_or(s, *t, w, s.metric);
-    if (const auto* iso = t->get("isotropic")) {
-      if (auto b = iso->value<bool>()) m.isotropic = *b ? IsotropicChoice::Always : IsotropicChoice::Never;
-      else if (auto str = iso->value<std::string>(); str && *str == "auto") m.isotropic = IsotropicChoice::Auto;
-      else fail(s, w, "'isotropic' expected \"auto\", true or false");
-    }
-    m.order = get_or(s, *t, w, "order", -1);
-    m.level = get_or(s, *t, w, "level", -1);
-    if (m.order != -1 && (m.order < 0 || m.order > 128)) fail(s, w, "'order' expected in [0, 128], found " + std::to_string(m.order));
-    if (m.level != -1 && (m.level < 0 || m.level > 8)) fail(s, w, "'level' expected in [0, 8], found " + std::to_string(m.level));
-    m.prune = get_or(s, *t, w, "prune", true);
-    if (const auto* inc = t->get("incidence")) {
-      const auto* arr = inc->as_array();
-      if (!arr || arr->size() != 2 || !(*arr)[0].value<double>() || !(*arr)[1].value<double>())
-        fail(s, w, "'incidence' expected [min, max] in degrees");
-      m.incidence_min = *(*arr)[0].value<double>();
-      m.incidence_max = *(*arr)[1].value<double>();
-      if (!(m.incidence_min >= 0 && m.incidence_min < m.incidence_max && m.incidence_max <= 90))
-        fail(s, w, "'incidence' expected 0 <= min < max <= 90");
-    }
-    m.lights = directions(s, *t, w, "lights");
-    m.cameras = directions(s, *t, w, "cameras");
-    if (m.lights.empty() != m.cameras.empty()) fail(s, w, "'lights' and 'cameras' go together: give both or neither");
-    if (static_cast<double>(m.lights.size()) * static_cast<double>(m.cameras.size()) > static_cast<double>(kMaxErrorPairs))
-      fail(s, w, "'lights' x 'cameras' expected at most " + std::to_string(kMaxErrorPairs) + " pairs, found " + std::to_string(m.lights.size()) +
-                     " x " + std::to_string(m.cameras.size()));
-    s.materials.push_back(std::move(m));
+    s.materials.push_back(read_material_table(s, t, w, names));
   }
   return s;
 }

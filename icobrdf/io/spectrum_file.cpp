@@ -355,6 +355,77 @@ void write_material(h5::Group& materials, const MaterialRecord& rec) {
   if (sample_fit_record_matches(s)) write_sample_fit(g, s);
 }
 
+namespace {
+
+// The material's IBSSS list (datasets ibsss and ibsss_indices, which come together), when it has one.
+void read_ibsss(const h5::Group& g, MaterialRecord& rec, int ch, const h5::ReadLimits& lim) {
+  const Spectrum& s = rec.spectrum;
+  const bool hv = g.has("ibsss"), hi = g.has("ibsss_indices");
+  if (hv != hi) g.fail(g.child_path(hv ? "ibsss_indices" : "ibsss"), "missing dataset (ibsss and ibsss_indices come together)");
+  if (hv) {
+    auto idx = g.read<std::int32_t>("ibsss_indices", ShapePattern{-1, 3}, lim);
+    const std::int64_t k = static_cast<std::int64_t>(idx.shape[0]);
+    for (std::int64_t r = 0; r < k; ++r) {
+      const int n = idx.data[3 * r], mm = idx.data[3 * r + 1], l = idx.data[3 * r + 2];
+      const std::string p = ibsss_index_problem(n, mm, l, s.order);
+      if (!p.empty()) g.fail(g.child_path("ibsss_indices"), "row " + std::to_string(r) + " " + index_text(n, mm, l) + ": " + p);
+    }
+    auto v = g.read<double>("ibsss", ShapePattern{ch, k}, lim);
+    for (double x : v.data)
+      if (!std::isfinite(x)) g.fail(g.child_path("ibsss"), "expected finite coefficients, found " + std::to_string(x));
+    rec.ibsss = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(v.data.data(), ch, k);
+    rec.ibsss_indices = Eigen::Map<const RowMatrix3i>(idx.data.data(), k, 3);
+  }
+}
+
+// The material's stored LUT (dataset lut): its type, shape and rounding record checked against the
+// material's grid (and /grid's, when given); its values read when `read_lut`.
+void read_material_lut(const h5::Group& g, MaterialRecord& rec, int ch, const h5::ReadLimits& lim, bool read_lut,
+                       const std::optional<GridSummary>& grid) {
+  const Spectrum& s = rec.spectrum;
+  const std::string obj = g.child_path("lut");
+  const h5::Type t = g.dataset_type("lut", lim);
+  if (t != h5::Type::float64 && t != h5::Type::float32)
+    g.fail(obj, std::string("expected float64 or float32, found ") + h5::type_name(t));
+  const h5::Shape shape = g.dataset_shape("lut", lim);
+  if (shape.size() != 3 || shape[0] != u(ch) || shape[1] != shape[2] || shape[1] == 0)
+    g.fail(obj, "expected shape " + std::to_string(ch) + " x cells x cells, found " + h5::shape_text(shape));
+  const std::int64_t cells = static_cast<std::int64_t>(shape[1]);
+  if (s.level < 0 || s.grid_kind.empty())
+    g.fail(obj, "a LUT needs the material's level and grid_kind, found level " + std::to_string(s.level) + " and kind '" +
+                    s.grid_kind + "'");
+  if (s.grid_kind == "equal-area" && cells != equal_area_cells(s.level))
+    g.fail(obj, "expected " + std::to_string(equal_area_cells(s.level)) + " cells for the equal-area level " +
+                    std::to_string(s.level) + ", found " + std::to_string(cells));
+  if (grid && grid->level == s.level && grid->kind == s.grid_kind && cells != grid->cells)
+    g.fail(obj, "expected " + std::to_string(grid->cells) + " cells as in /grid, found " + std::to_string(cells));
+  rec.lut_float32 = t == h5::Type::float32;
+  if (rec.lut_float32) {
+    rec.lut_max_rounding_error = g.attr_double("lut_max_abs_rounding_error");
+    if (!(rec.lut_max_rounding_error >= 0.0) || !std::isfinite(rec.lut_max_rounding_error))
+      g.fail(g.path(), "attribute lut_max_abs_rounding_error: expected a finite value >= 0, found " +
+                           std::to_string(rec.lut_max_rounding_error));
+  } else {
+    rec.lut_max_rounding_error = 0.0;
+  }
+  if (read_lut) {
+    auto a = g.read_real("lut", ShapePattern{ch, cells, cells}, lim);
+    const size_t per = static_cast<size_t>(cells * cells);
+    for (size_t i = 0; i < a.data.size(); ++i)
+      if (!std::isfinite(a.data[i]))
+        g.fail(obj, "expected finite values, found " + std::to_string(a.data[i]) + " at channel " + std::to_string(i / per) +
+                        ", incident cell " + std::to_string(i % per / cells) + ", remitted cell " + std::to_string(i % cells));
+    rec.lut.resize(ch);
+    for (int c = 0; c < ch; ++c) {
+      rec.lut[c] = huge_page_matrix(cells, cells);  // advised before the first write (icobrdf/core/support/huge_pages.hpp)
+      rec.lut[c] = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+          a.data.data() + c * per, cells, cells);
+    }
+  }
+}
+
+}  // namespace
+
 MaterialRecord read_material(const h5::Group& materials, const std::string& name, const h5::ReadLimits& lim, bool read_lut,
                              const std::optional<GridSummary>& grid) {
   const std::string problem = material_name_problem(name);
@@ -411,64 +482,8 @@ MaterialRecord read_material(const h5::Group& materials, const std::string& name
     g.fail(g.child_path(kHalfAngleGroup), "missing group (representation '" + g.attr_string("representation") + "' needs it)");
   }
 
-  const bool hv = g.has("ibsss"), hi = g.has("ibsss_indices");
-  if (hv != hi) g.fail(g.child_path(hv ? "ibsss_indices" : "ibsss"), "missing dataset (ibsss and ibsss_indices come together)");
-  if (hv) {
-    auto idx = g.read<std::int32_t>("ibsss_indices", ShapePattern{-1, 3}, lim);
-    const std::int64_t k = static_cast<std::int64_t>(idx.shape[0]);
-    for (std::int64_t r = 0; r < k; ++r) {
-      const int n = idx.data[3 * r], mm = idx.data[3 * r + 1], l = idx.data[3 * r + 2];
-      const std::string p = ibsss_index_problem(n, mm, l, s.order);
-      if (!p.empty()) g.fail(g.child_path("ibsss_indices"), "row " + std::to_string(r) + " " + index_text(n, mm, l) + ": " + p);
-    }
-    auto v = g.read<double>("ibsss", ShapePattern{ch, k}, lim);
-    for (double x : v.data)
-      if (!std::isfinite(x)) g.fail(g.child_path("ibsss"), "expected finite coefficients, found " + std::to_string(x));
-    rec.ibsss = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(v.data.data(), ch, k);
-    rec.ibsss_indices = Eigen::Map<const RowMatrix3i>(idx.data.data(), k, 3);
-  }
-
-  if (g.has("lut")) {
-    const std::string obj = g.child_path("lut");
-    const h5::Type t = g.dataset_type("lut", lim);
-    if (t != h5::Type::float64 && t != h5::Type::float32)
-      g.fail(obj, std::string("expected float64 or float32, found ") + h5::type_name(t));
-    const h5::Shape shape = g.dataset_shape("lut", lim);
-    if (shape.size() != 3 || shape[0] != u(ch) || shape[1] != shape[2] || shape[1] == 0)
-      g.fail(obj, "expected shape " + std::to_string(ch) + " x cells x cells, found " + h5::shape_text(shape));
-    const std::int64_t cells = static_cast<std::int64_t>(shape[1]);
-    if (s.level < 0 || s.grid_kind.empty())
-      g.fail(obj, "a LUT needs the material's level and grid_kind, found level " + std::to_string(s.level) + " and kind '" +
-                      s.grid_kind + "'");
-    if (s.grid_kind == "equal-area" && cells != equal_area_cells(s.level))
-      g.fail(obj, "expected " + std::to_string(equal_area_cells(s.level)) + " cells for the equal-area level " +
-                      std::to_string(s.level) + ", found " + std::to_string(cells));
-    if (grid && grid->level == s.level && grid->kind == s.grid_kind && cells != grid->cells)
-      g.fail(obj, "expected " + std::to_string(grid->cells) + " cells as in /grid, found " + std::to_string(cells));
-    rec.lut_float32 = t == h5::Type::float32;
-    if (rec.lut_float32) {
-      rec.lut_max_rounding_error = g.attr_double("lut_max_abs_rounding_error");
-      if (!(rec.lut_max_rounding_error >= 0.0) || !std::isfinite(rec.lut_max_rounding_error))
-        g.fail(g.path(), "attribute lut_max_abs_rounding_error: expected a finite value >= 0, found " +
-                             std::to_string(rec.lut_max_rounding_error));
-    } else {
-      rec.lut_max_rounding_error = 0.0;
-    }
-    if (read_lut) {
-      auto a = g.read_real("lut", ShapePattern{ch, cells, cells}, lim);
-      const size_t per = static_cast<size_t>(cells * cells);
-      for (size_t i = 0; i < a.data.size(); ++i)
-        if (!std::isfinite(a.data[i]))
-          g.fail(obj, "expected finite values, found " + std::to_string(a.data[i]) + " at channel " + std::to_string(i / per) +
-                          ", incident cell " + std::to_string(i % per / cells) + ", remitted cell " + std::to_string(i % cells));
-      rec.lut.resize(ch);
-      for (int c = 0; c < ch; ++c) {
-        rec.lut[c] = huge_page_matrix(cells, cells);  // advised before the first write (icobrdf/core/support/huge_pages.hpp)
-        rec.lut[c] = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-            a.data.data() + c * per, cells, cells);
-      }
-    }
-  }
+  read_ibsss(g, rec, ch, lim);
+  if (g.has("lut")) read_material_lut(g, rec, ch, lim, read_lut, grid);
   if (g.has("choice")) {
     const h5::Group choice = g.open_group("choice");
     auto names = [&](const std::string& list) {

@@ -34,4 +34,15 @@ using ReportSectionRunner = std::function<ReportSection(const SectionOptions&)>;
 // Every report section by name ("baselines", "hard-cases"); the sweep runs them in name order.
 const std::map<std::string, ReportSectionRunner>& report_sections();
 
+// One section run alone (`bench NAME`): its JSON {"section", "title", "figures", "data"} and its markdown
+// "# title" + body. With options.report_dir set, the folder is created if missing (IoError starting with
+// `label` when it cannot be) and both are also written there, atomically, as NAME.json and NAME.md, beside
+// the figures the section writes. Everything is computed before anything is written.
+struct SectionOutput {
+  nlohmann::json json;
+  std::string markdown;
+};
+SectionOutput run_section_alone(const std::string& name, const ReportSectionRunner& run, const SectionOptions& options,
+                                const std::string& label);
+
 }  // namespace icobrdf::lab

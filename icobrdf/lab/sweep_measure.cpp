@@ -2,7 +2,6 @@
 
 #include <fmt/core.h>
 #include <omp.h>
-#include <sys/resource.h>
 
 #include <Eigen/Core>
 #include <algorithm>
@@ -22,6 +21,7 @@
 #include "icobrdf/core/projection/projection.hpp"
 #include "icobrdf/core/fit/spectral_fit.hpp"
 #include "icobrdf/core/spectrum/spectrum_ops.hpp"
+#include "icobrdf/lab/process_usage.hpp"
 #include "icobrdf/lab/timing.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 
@@ -38,11 +38,7 @@ double timed(F&& f) {
   return seconds_repeating_below(kRepeatBelowSeconds, kTimingRepeats, f);
 }
 
-std::int64_t peak_rss_bytes() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return static_cast<std::int64_t>(u.ru_maxrss) * 1024;  // Linux reports KiB
-}
+std::int64_t peak_rss_bytes() { return static_cast<std::int64_t>(peak_resident_bytes()); }  // whole KiB: exact in a double
 
 struct HeldOut {
   RowMatrix3d wi, wr;

@@ -15,8 +15,8 @@ import sys
 ROOT = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), '..', '..'))
 # Layers in order; each may include those before it (cluster, plot and lab sit side by side above pipeline).
 LAYERS = {'core': 0, 'mesh': 1, 'io': 2, 'pipeline': 3, 'plot': 4, 'cluster': 4, 'lab': 5, 'blas': 6}
-LAYER_MAY = {'lab': {'plot'}}  # lab draws its figures with plot
-# blas (OpenBLAS's dense kernels) sits on core alone: no layer includes it (the program and the Python module
+LAYER_MAY = {'lab': {'plot', 'blas'}}  # lab draws its figures with plot and times OpenBLAS's kernels (bench project)
+# blas (OpenBLAS's dense kernels) sits on core alone: no layer but lab includes it (the program and the Python module
 # install it), and it includes nothing but core.
 ONLY_BELOW = {'blas': {'core'}}
 # core's rooms in order; each may include those before it.

@@ -469,6 +469,9 @@ GcvChoice choose_tikhonov_gcv(const NormalEquations& ne, int order, bool isotrop
   return g;
 }
 
+// Long function: the numbered steps (order, lambda, fit with its fallbacks, scale check, CV error) run in
+// order on one shared state (the options, the folds, the normal equations and the early CV scoring that each
+// step refines), so they read best in one piece.
 CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
                                      const Eigen::VectorXd& weights, const SampleFitPlan& plan) {
   const Eigen::VectorXd w = weights.size() == 0 ? Eigen::VectorXd::Ones(wi.rows()).eval() : weights;

@@ -27,7 +27,7 @@ MemoryAvailable available_memory();
 // bytes <= 0 restores measuring. Not thread-safe: set it before the work starts.
 void set_memory_budget(double bytes);
 // The measured figures (not a budget set above) are divided among `processes` processes of one job on
-// this machine (the ranks of an mpirun on one node, cli/distributed_run.hpp), each assumed to need as much.
+// this machine (the ranks of an mpirun on one node, icobrdf/cluster/distributed_run.hpp), each assumed to need as much.
 // 1 (the default) restores the whole. Not thread-safe: set it before the work starts.
 void set_memory_sharers(int processes);
 

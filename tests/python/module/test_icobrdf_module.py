@@ -1,4 +1,4 @@
-"""The Python module `icobrdf` (python/icobrdf_module.cpp), with values derived independently here.
+"""The Python module `icobrdf` (python/module.cpp), with values derived independently here.
 
 Run by CTest as `python3 -m pytest` with PYTHONPATH=<build>/python.
 """

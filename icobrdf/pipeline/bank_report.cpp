@@ -1,0 +1,61 @@
+#include "icobrdf/pipeline/bank_report.hpp"
+
+#include <fmt/core.h>
+
+#include "icobrdf/core/support/error.hpp"
+
+namespace icobrdf {
+
+nlohmann::json material_report_json(const MaterialReport& m) {
+  nlohmann::json j{{"name", m.name}, {"source", m.source}, {"ok", m.ok}, {"resumed", m.resumed}};
+  if (m.rank >= 0) j["rank"] = m.rank;  // under mpirun: the rank that fitted it
+  if (!m.ok) {
+    j["error"] = m.error;
+    return j;
+  }
+  j.update({{"representation", m.representation}, {"isotropic", m.isotropic}, {"level", m.level}, {"order", m.order}, {"target", m.target},
+            {"error_measured", m.measured}, {"error_l2", m.measured ? nlohmann::json(m.error_l2) : nlohmann::json()},
+            {"error_max", m.measured ? nlohmann::json(m.error_max) : nlohmann::json()}, {"anisotropy", m.anisotropy},
+            {"kept_coefficients", m.kept}, {"total_coefficients", m.total}, {"bytes", m.bytes}, {"seconds", m.seconds}});
+  return j;
+}
+
+std::string bank_build_table(const BankBuildResult& r, const std::string& output) {
+  std::string out = fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9} {:>9} {:>9} {:>11} {:>8} {:>7}\n", "material", "repr", "iso", "level",
+                                "order", "target", "rel L2", "rel max", "kept/total", "bytes", "seconds");
+  const auto dash = [](int v) { return v < 0 ? std::string("-") : std::to_string(v); };  // no modes: a lobe alone
+  for (const auto& m : r.materials) {
+    if (!m.ok) {
+      out += fmt::format("{:<18} FAILED{}: {}\n", m.name, m.rank >= 0 ? fmt::format(" on rank {}", m.rank) : "", m.error);
+      continue;
+    }
+    const std::string l2 = m.measured ? fmt::format("{:.3g}", m.error_l2) : "n/a", mx = m.measured ? fmt::format("{:.3g}", m.error_max) : "n/a";
+    out += fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9.3g} {:>9} {:>9} {:>11} {:>8} {:>7.2f}{}\n", m.name, m.representation,
+                       m.isotropic ? "yes" : "no", dash(m.level), dash(m.order), m.target, l2, mx, fmt::format("{}/{}", m.kept, m.total), m.bytes,
+                       m.seconds, m.resumed ? " (resumed)" : "");
+  }
+  if (r.written) out += fmt::format("wrote {}\n", output);
+  return out;
+}
+
+nlohmann::json bank_build_json(const BankBuildResult& r, const std::string& scene, const std::string& output) {
+  nlohmann::json mats = nlohmann::json::array();
+  for (const auto& m : r.materials) mats.push_back(material_report_json(m));
+  return {{"scene", scene}, {"output", output}, {"written", r.written}, {"interrupted", r.interrupted},
+          {"resume_file", r.resume_file}, {"materials", mats}};
+}
+
+std::string bank_not_written_message(const BankBuildResult& r) {
+  size_t failed = 0;
+  const MaterialReport* first = nullptr;
+  for (const auto& m : r.materials) {
+    failed += !m.ok;
+    if (!m.ok && !first) first = &m;
+  }
+  // Under mpirun the line names the first failed material and its rank (a long build's table is far above).
+  const std::string which =
+      first && first->rank >= 0 ? fmt::format("material '{}' failed on rank {}: {}; ", first->name, first->rank, message_line(first->error)) : "";
+  return fmt::format("bank not written: {}{} material(s) failed (see above); {}", which, failed, kept_for_resume(r));
+}
+
+}  // namespace icobrdf

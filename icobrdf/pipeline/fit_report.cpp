@@ -1,0 +1,115 @@
+#include "icobrdf/pipeline/fit_report.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <vector>
+
+
+namespace icobrdf {
+
+nlohmann::json fit_report_json(const FitReport& report) {
+  const Spectrum& s = report.fit->spectrum;
+  const ProjectionContext& ctx = *report.fit->context;
+  nlohmann::json j{{"source", s.source},
+                   {"output", report.output},
+                   {"order", s.order},
+                   {"modes", s.modes()},
+                   {"level", s.level},
+                   {"grid", s.grid_kind},
+                   {"cells", ctx.grid->cells()},
+                   {"channels", s.channel_count()},
+                   {"isotropic", s.isotropic},
+                   {"cosine", s.cosine},
+                   {"filter", s.filter},
+                   {"gram_error", s.gram_error},
+                   {"gram_condition", ctx.basis.condition},
+                   {"reciprocity_violation", s.reciprocity_violation},
+                   {"anisotropy_fraction", s.anisotropy_fraction},
+                   {"max_albedo", s.max_albedo},
+                   {"seconds", report.seconds}};
+  if (!report.grid_fit()) {
+    j.erase("gram_error");
+    j.erase("gram_condition");
+    j["level"] = report.level_asked;
+    j["grid_use"] = "albedo figure only";
+  }
+  if (const CheckedSampleFit* cf = report.checked) {
+    const SampleFitResult* sf = &cf->fit;
+    const auto vec = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
+    j["sample_fit"] = {{"samples", sf->samples},
+                       {"unknowns", sf->unknowns},
+                       {"effective_rank", sf->effective_rank},
+                       {"null_space_dimension", sf->null_space_dimension},
+                       {"unseen_modes", sf->unseen_modes},
+                       {"rank_threshold", sf->rank_threshold},
+                       {"condition_of_kept_part", sf->condition},
+                       {"solver", sf->solver},
+                       {"dense_kernels", report.dense_kernels},
+                       {"tikhonov", sf->tikhonov},
+                       {"tikhonov_choice", cf->tikhonov_choice},
+                       {"order_choice", cf->order_choice},
+                       {"cv_rms", cf->cv_rms},
+                       {"cv_folds", cf->cv_folds},
+                       {"fallback", cf->fallback},
+                       {"notes", cf->notes},
+                       {"noise_sigma", vec(sf->noise_sigma)},
+                       {"residual_rms", vec(sf->residual_rms)}};
+  }
+  if (report.missing_samples >= 0) j["missing_samples"] = report.missing_samples;
+  return j;
+}
+
+namespace {
+
+// The lines on the spectrum and the grid: order, modes, channels, and the grid's figures or why there are none.
+std::string spectrum_lines(const FitReport& report) {
+  const Spectrum& s = report.fit->spectrum;
+  const ProjectionContext& ctx = *report.fit->context;
+  if (report.grid_fit())
+    return fmt::format("  order {} ({} K functions), {} grid level {} ({} cells), {} channel(s){}{}\n", s.order, s.modes(), s.grid_kind,
+                       s.level, ctx.grid->cells(), s.channel_count(), s.isotropic ? ", isotropic" : "", s.cosine ? ", g = f cos(theta_i)" : "") +
+           fmt::format("  Gram error {:.3g} (condition {:.4g}), reciprocity violation {:.3g}, anisotropic energy {:.3g}\n", s.gram_error,
+                       ctx.basis.condition, s.reciprocity_violation, s.anisotropy_fraction);
+  return fmt::format("  order {} ({} K functions), {} channel(s){}; {} (no tessellation: the {} grid of level {}, "
+                     "{} cells, serves only the albedo figure)\n",
+                     s.order, s.modes(), s.channel_count(), s.isotropic ? ", isotropic" : "",
+                     report.checked ? "least-squares fit of samples" : "coefficients re-expanded exactly",
+                     report.grid_kind == GridKind::EqualArea ? "equal-area" : "geodesic", report.level_asked, ctx.grid->cells()) +
+         fmt::format("  reciprocity violation {:.3g}, anisotropic energy {:.3g}\n", s.reciprocity_violation, s.anisotropy_fraction);
+}
+
+// The lines on a least-squares fit of samples.
+std::string sample_fit_lines(const FitReport& report) {
+  const CheckedSampleFit& cf = *report.checked;
+  const SampleFitResult& sf = cf.fit;
+  double worst = 0.0;
+  for (Eigen::Index c = 0; c < sf.residual_rms.size(); ++c) worst = std::max(worst, sf.residual_rms(c));
+  std::string out = fmt::format("  sample fit: {} samples, rank {} of {} unknowns (null space {}, unseen modes {}), "
+                                "condition {:.3g}, residual RMS {:.3g} 1/sr (worst channel), {}\n",
+                                sf.samples, sf.effective_rank, sf.unknowns, sf.null_space_dimension, sf.unseen_modes, sf.condition, worst,
+                                sf.solver);
+  if (report.dense_kernels != "none") out += "  dense kernels: " + report.dense_kernels + "\n";
+  out += fmt::format("  order {} ({}), Tikhonov lambda {:.3g} ({}), {}-fold CV RMS {:.3g} 1/sr\n", report.fit->spectrum.order,
+                     cf.order_choice, sf.tikhonov, cf.tikhonov_choice, cf.cv_folds, cf.cv_rms);
+  for (const auto& n : cf.notes) out += "  " + n + "\n";
+  if (sf.null_space_dimension > 0 && sf.tikhonov == 0.0)
+    out += fmt::format("  warning: the samples do not determine every mode; the minimum-norm solution sets the {} undetermined "
+                       "combination(s) to zero\n",
+                       sf.null_space_dimension);
+  return out;
+}
+
+}  // namespace
+
+std::string fit_report_text(const FitReport& report) {
+  const Spectrum& s = report.fit->spectrum;
+  std::string out = fmt::format("{} -> {}\n", s.source, report.output) + spectrum_lines(report);
+  out += fmt::format("  max directional albedo {:.6g}, filter {}, {:.3f} s{}\n", s.max_albedo, s.filter, report.seconds,
+                     report.ranks > 1 ? fmt::format(" on {} ranks", report.ranks) : "");
+  if (report.checked) out += sample_fit_lines(report);
+  if (report.missing_samples >= 0) out += fmt::format("  MERL missing samples (masked, all channels): {}\n", report.missing_samples);
+  return out;
+}
+
+}  // namespace icobrdf

@@ -1,0 +1,47 @@
+#pragma once
+// The figures `icobrdf fit` reports of one fit (fit_source, icobrdf/pipeline/fit_source.hpp) as JSON: the
+// spectrum's size and quality figures (Gram error and condition, reciprocity violation, anisotropic energy,
+// largest directional albedo), and for a least-squares fit of scattered samples (MERL tables, CSV samples)
+// the figures of that fit (rank, condition, choices of order and Tikhonov lambda, residual RMS in 1/sr), so
+// that rank-deficient data is visible. A fit without the tessellation (samples, stored coefficients) has no
+// Gram figures: its level is the one asked for, and "grid_use" says the grid served the albedo figure only.
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <string>
+
+#include "icobrdf/core/fit/sample_fit_selection.hpp"
+#include "icobrdf/pipeline/fit_source.hpp"
+
+namespace icobrdf {
+
+// What one fit reports. The caller fills every field: the fit, what the SOURCE kept of it (for a measured
+// SOURCE, icobrdf/io/measured_sources.hpp: last_checked_sample_fit, merl_missing_samples), and the request.
+struct FitReport {
+  const FitResult* fit = nullptr;
+  const CheckedSampleFit* checked = nullptr;  // the sample fit of a measured SOURCE; null for other fits
+  std::int64_t missing_samples = -1;          // masked samples of a MERL table (all channels); -1 for other sources
+  std::string output;                         // the spectrum file written
+  int level_asked = 0;                        // the tessellation level asked for
+  GridKind grid_kind = GridKind::EqualArea;   // the tessellation asked for
+  double seconds = 0.0;                       // wall time of the whole command
+  std::string dense_kernels = "none";         // the kernels that solved the normal equations ("none" when none ran)
+  int ranks = 1;                              // processes of an mpirun job that fitted it
+
+  // The tessellation took part in the fit (not samples or stored coefficients).
+  bool grid_fit() const { return fit->spectrum.level >= 0; }
+};
+
+// The JSON: source, output, order, modes, level (the one asked for when !grid_fit), grid, cells, channels,
+// isotropic, cosine, filter, gram_error and gram_condition (grid fits only), grid_use (other fits),
+// reciprocity_violation, anisotropy_fraction, max_albedo, seconds; "sample_fit" (samples, unknowns,
+// effective_rank, null_space_dimension, unseen_modes, rank_threshold, condition_of_kept_part, solver,
+// dense_kernels, tikhonov, tikhonov_choice, order_choice, cv_rms, cv_folds, fallback, notes, noise_sigma,
+// residual_rms) for sample fits; missing_samples for MERL tables.
+nlohmann::json fit_report_json(const FitReport& report);
+
+// The same as lines of text: what was fitted on which grid, the quality figures, the sample fit's figures
+// and choices (with a warning when the samples leave modes undetermined), the masked MERL samples.
+std::string fit_report_text(const FitReport& report);
+
+}  // namespace icobrdf

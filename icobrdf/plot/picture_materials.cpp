@@ -1,0 +1,32 @@
+#include "icobrdf/plot/picture_materials.hpp"
+
+#include <utility>
+
+#include "icobrdf/core/support/error.hpp"
+
+namespace icobrdf::plot {
+
+SliceSource slice_source(PictureMaterial m) { return SliceSource{std::move(m.name), std::move(*m.spectrum), std::move(m.exact)}; }
+
+std::vector<SphereMaterial> load_sphere_materials(const std::string& text, SphereRequest::Shading shading, int order, int level,
+                                                  const std::string& model_shading_label) {
+  using Shading = SphereRequest::Shading;
+  const std::vector<std::string> names = several_bank_materials(text);
+  std::vector<SphereMaterial> materials;
+  if (!names.empty() && shading == Shading::Model) throw ArgumentError(model_shading_label + ": a bank holds spectra only");
+  for (const auto& n : names) {
+    PictureMaterial m = stored_bank_material(text, n);  // a material with a lobe comes as its values
+    materials.push_back({n, std::move(m.spectrum), std::move(m.exact), m.exact_channels});
+  }
+  if (!names.empty()) return materials;
+  const bool use_model = shading != Shading::Spectrum && is_exact_model(text);
+  if (shading == Shading::Model && !use_model)
+    throw ArgumentError(model_shading_label + ": needs a model without delta parts, found '" + quoted_text(text) + "'");
+  PictureMaterial m = load_picture_material(text, order, level, use_model);
+  // A stored material with a half-angle lobe comes with its values too: shaded from them unless told not to.
+  if (use_model || (m.exact && shading != Shading::Spectrum)) materials.push_back({text, std::nullopt, std::move(m.exact), m.exact_channels});
+  else materials.push_back({text, std::move(m.spectrum), {}, 1});
+  return materials;
+}
+
+}  // namespace icobrdf::plot
