@@ -9,6 +9,7 @@
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/support/text.hpp"
 #include "icobrdf/core/models/hapke.hpp"
+#include "icobrdf/core/models/kernel_models.hpp"
 #include "icobrdf/core/models/lambert_models.hpp"
 #include "icobrdf/core/models/lobe_models.hpp"
 #include "icobrdf/core/models/microfacet.hpp"
@@ -34,6 +35,11 @@ ModelParameter choice(std::string name, std::vector<std::string> choices, int de
 }
 
 constexpr double kMaxExponent = 1e4;  // lobe exponents beyond this are numerically deltas
+// Bound of the weights of the remote-sensing models: MODIS stores kernel weights up to 32.766; 100 leaves room
+// for any fit of a reflectance factor while refusing typing errors.
+constexpr double kMaxKernelWeight = 100.0;
+// Henyey-Greenstein asymmetry bound: (1 - T^2)/(1 + T)^3 grows without bound as |T| -> 1.
+constexpr double kMaxHgAsymmetry = 0.99;
 
 std::vector<ModelParameter> microfacet_tail() {
   return {choice("fresnel", {"schlick", "dielectric", "none"}, 0,
@@ -126,6 +132,32 @@ const std::vector<Entry>& entries() {
     t.push_back({{"lommel-seeliger", "Lommel-Seeliger single scattering w/(4 pi (cos ti + cos tr))",
                   {number("w", 1.0, 0.0, 1.0, "single-scattering albedo")}, true, ""},
                  [](const Values& v) { return std::make_unique<LommelSeeligerModel>(v[0]); }});
+    // Remote sensing's models (icobrdf/core/models/kernel_models.hpp: formulas, sources, conventions).
+    t.push_back({{"ross-li", "MODIS kernel-driven f = (iso + vol K_vol + geo K_geo)/pi, Ross-Thick/Thin and Li-Sparse/Dense-R kernels (h/b 2, b/r 1); reciprocal",
+                  {number("iso", 0.1, -kMaxKernelWeight, kMaxKernelWeight, "isotropic weight (BRF of the isotropic kernel)"),
+                   number("vol", 0.05, -kMaxKernelWeight, kMaxKernelWeight, "volumetric kernel weight"),
+                   number("geo", 0.0, -kMaxKernelWeight, kMaxKernelWeight, "geometric-optical kernel weight (f < 0 near grazing when > 0)"),
+                   choice("volume", {"thick", "thin"}, 0, "volumetric kernel: Ross-Thick or Ross-Thin"),
+                   choice("geometric", {"sparse", "dense"}, 0, "geometric kernel: Li-Sparse-R or Li-Dense-R")},
+                  false, "the white-sky albedo iso + 0.189184 vol - 1.377622 geo (thick, sparse) is <= 1 and f >= 0 (geo > 0 makes f < 0 near grazing)"},
+                 [](const Values& v) {
+                   return std::make_unique<RossLiModel>(v[0], v[1], v[2], static_cast<VolumeKernel>(static_cast<int>(v[3])),
+                                                        static_cast<GeometricKernel>(static_cast<int>(v[4])));
+                 }});
+    t.push_back({{"rpv", "Rahman-Pinty-Verstraete BRF/pi with Henyey-Greenstein phase and hot spot; reciprocal",
+                  {number("rho0", 0.1, 0.0, 10.0, "amplitude (BRF scale)"),
+                   number("k", 0.8, 0.0, 3.0, "Minnaert-like exponent (k < 1: bowl-shaped, brighter at grazing)"),
+                   number("theta", -0.1, -kMaxHgAsymmetry, kMaxHgAsymmetry, "Henyey-Greenstein asymmetry (< 0: backward)"),
+                   number("rhoc", 0.1, 0.0, 10.0, "hot-spot parameter (rhoc = rho0 in the 3-parameter form)")},
+                  false, "rho0 is small enough for the shape (k < 1 diverges at grazing)"},
+                 [](const Values& v) { return std::make_unique<RpvModel>(v[0], v[1], v[2], v[3]); }});
+    t.push_back({{"walthall", "Walthall BRF/pi in Nilson-Kuusk's reciprocal form a (ti^2+tr^2) + b ti^2 tr^2 + c ti tr cos(raa) + d (radians)",
+                  {number("a", 0.01, -kMaxKernelWeight, kMaxKernelWeight, "weight of sza^2 + vza^2"),
+                   number("b", 0.0, -kMaxKernelWeight, kMaxKernelWeight, "weight of sza^2 vza^2"),
+                   number("c", -0.01, -kMaxKernelWeight, kMaxKernelWeight, "weight of sza vza cos(raa)"),
+                   number("d", 0.1, -kMaxKernelWeight, kMaxKernelWeight, "BRF at the normal")},
+                  false, "the weights keep f >= 0 and the albedo <= 1"},
+                 [](const Values& v) { return std::make_unique<WalthallModel>(v[0], v[1], v[2], v[3]); }});
     t.push_back({{"mirror", "ideal mirror: delta part of weight 1 (K&vD eq. 27), regular part 0", {}, true, "", true},
                  [](const Values&) { return std::make_unique<MirrorModel>(); }});
     t.push_back({{"retroreflector", "ideal retroreflector: delta part of weight 1 (K&vD eq. 31), regular part 0", {},
