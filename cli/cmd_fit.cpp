@@ -147,6 +147,11 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
                        {"cv_rms", cf->cv_rms},
                        {"cv_folds", cf->cv_folds},
                        {"fallback", cf->fallback},
+                       {"effective_dof", sf->hat_trace},
+                       {"class_choice", cf->class_choice},
+                       {"cv_rms_isotropic", cf->cv_rms_isotropic},
+                       {"cv_rms_general", cf->cv_rms_general},
+                       {"regularized_for_bound", cf->regularized_for_bound},
                        {"notes", cf->notes},
                        {"noise_sigma", vec(sf->noise_sigma)},
                        {"residual_rms", vec(sf->residual_rms)}};
@@ -183,8 +188,13 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
                              sf->samples, sf->effective_rank, sf->unknowns, sf->null_space_dimension, sf->unseen_modes,
                              sf->condition, worst, sf->solver);
     if (dense_kernels != "none") std::cout << "  dense kernels: " << dense_kernels << "\n";
-    std::cout << fmt::format("  order {} ({}), Tikhonov lambda {:.3g} ({}), {}-fold CV RMS {:.3g} 1/sr\n", s.order,
-                             cf->order_choice, sf->tikhonov, cf->tikhonov_choice, cf->cv_folds, cf->cv_rms);
+    std::cout << fmt::format("  {} order {} ({}), Tikhonov lambda {:.3g} ({}), effective degrees of freedom {:.4g}, "
+                             "{}-fold CV RMS {:.3g} 1/sr\n",
+                             s.isotropic ? "isotropic modes" : "general modes", s.order, cf->order_choice, sf->tikhonov,
+                             cf->tikhonov_choice, sf->hat_trace, cf->cv_folds, cf->cv_rms);
+    if (cf->class_choice == "cross-validation")
+      std::cout << fmt::format("  modes chosen by cross-validation: isotropic CV RMS {:.3g} 1/sr, general CV RMS {:.3g} 1/sr\n",
+                               cf->cv_rms_isotropic, cf->cv_rms_general);
     for (const auto& n : cf->notes) std::cout << "  " << n << "\n";
     if (sf->null_space_dimension > 0 && sf->tikhonov == 0.0)
       std::cout << "  warning: the samples do not determine every mode; the minimum-norm solution sets the "
@@ -204,10 +214,15 @@ void add_fit_command(CLI::App& app) {
       "  tikhonov=L|auto  penalty L * sum_k d_k x_k^2, d_k = (n(n+2) + m(m+2))^p; auto: L by generalized cross-validation\n"
       "  power=P          the exponent p of the penalty (default 1; 0 = plain ridge)\n"
       "  rank-tol=T       relative singular-value threshold of the rank (default max(samples, unknowns) * 2.2e-16)\n"
-      "Without --order, the order of a sample fit is chosen by 5-fold cross-validation and lambda by generalized\n"
-      "cross-validation (unless tikhonov=L is given); both choices are printed. Samples that do not determine the\n"
-      "modes (in-plane data against anisotropic modes, unseen modes, condition > 1e6) fall back to the isotropic modes,\n"
-      "then to a regularized fit, and say so; a fit reaching over 10 times the largest sample anywhere is refused.\n"
+      "Without --order, the modes (isotropic or general; only isotropic with --isotropic) and their order are chosen\n"
+      "by 5-fold cross-validation on the same folds, and lambda by generalized cross-validation (unless tikhonov=L is\n"
+      "given); the choices and both classes' CV errors are printed. Samples that do not determine the modes (in-plane\n"
+      "data against anisotropic modes, unseen modes, condition > 1e6) fall back to the isotropic modes, then to a\n"
+      "regularized fit, and say so; a fit reaching over 10 times the largest sample anywhere is regularized instead\n"
+      "(the GCV-best lambda whose fit stays within that bound).\n"
+      "CURET: curet:abrdf.dat#sample=N[,table=FILE] (table.txt beside abrdf.dat by default). Sample angles: degrees\n"
+      "unless declared radians (#radians, '# units: radians', or columns theta_i_rad,...); theta < 0 = the direction\n"
+      "at phi + 180 deg (NIST's signed in-plane angles).\n"
       "The spectrum file keeps the fit's record: standard errors, CV error, rank, condition, residual RMS.");
   cmd->add_option("source", a->source, "SOURCE: model:NAME[:key=value,...] (see `icobrdf models`), a spectrum/bank file, "
                                        "FILE.csv[#OPTIONS] samples, FILE.binary MERL, FILE.zernike.csv SCATMECH")->required();

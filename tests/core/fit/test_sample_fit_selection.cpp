@@ -257,6 +257,38 @@ TEST(SampleFitSelection, InPlaneAnisotropicRequestFallsBackOrRefuses) {
   }
 }
 
+// In-plane samples of a known isotropic BRDF (the isotropic modes of order 4 with random coefficients, noise
+// 0.01), no order or class given: the isotropic and general modes compete on the same folds and the isotropic
+// ones must win, never a general order 0 (the constant) that predicts worse; the chosen fit's CV error is the
+// noise level (the true order is among the candidates) and its off-plane error within kFallbackErrorRatio of the
+// plain isotropic fit of the true order.
+TEST(SampleFitSelection, InPlaneIsotropicDataChooseTheIsotropicModes) {
+  constexpr double kNoise = 0.01;
+  // The CV RMS of a fit containing the truth: the noise plus the estimation error of ~50 coefficients from
+  // 1,600 training samples (sqrt(1 + 50/1600) ~ 1.02), and fold sampling; 1.2 leaves room for both.
+  constexpr double kCvNoiseRatio = 1.2;
+  constexpr double kFallbackErrorRatio = 2.0;
+  const int truth_order = 4;
+  const Eigen::VectorXd truth = normal_vector(isotropic_mode_count(truth_order), 84);
+  for (const bool rotated : {false, true}) {
+    const Pairs p = plane_pairs(2000, 85, rotated);
+    const Eigen::VectorXd y = isotropic_modes_eval(truth_order, p.wi, p.wr) * truth + normal_vector(2000, 86, kNoise);
+    SampleFitPlan plan;
+    plan.choose_order = plan.choose_class = plan.choose_tikhonov = true;
+    const CheckedSampleFit c = fit_samples_checked(p.wi, p.wr, y, Eigen::VectorXd(), plan);
+    EXPECT_TRUE(c.fit.isotropic) << "rotated " << rotated << ": order " << c.fit.order;
+    EXPECT_EQ(c.class_choice, "cross-validation");
+    EXPECT_GE(c.fit.order, truth_order);
+    EXPECT_LE(c.cv_rms, kCvNoiseRatio * kNoise);
+    EXPECT_TRUE(std::isnan(c.cv_rms_general) || c.cv_rms_general > c.cv_rms_isotropic);
+    SampleFitOptions iso;
+    iso.order = truth_order;
+    iso.isotropic = true;
+    const double iso_error = off_plane_error(fit_samples(p.wi, p.wr, y, Eigen::VectorXd(), iso), truth, truth_order);
+    EXPECT_LE(off_plane_error(c.fit, truth, truth_order), kFallbackErrorRatio * iso_error) << "rotated " << rotated;
+  }
+}
+
 // A well-determined request is fitted as asked, with no fallback, and records its CV error (the noise level).
 TEST(SampleFitSelection, DeterminedRequestIsFittedAsAsked) {
   const NoisyData d = noisy_isotropic(3, 3000, 0.01, 91);
