@@ -259,14 +259,13 @@ TEST(SampleFitSelection, InPlaneAnisotropicRequestFallsBackOrRefuses) {
 
 // In-plane samples of a known isotropic BRDF (the isotropic modes of order 4 with random coefficients, noise
 // 0.01), no order or class given: the isotropic and general modes compete on the same folds and the isotropic
-// ones must win, never a general order 0 (the constant) that predicts worse; the chosen fit's CV error is the
-// noise level (the true order is among the candidates) and its off-plane error within kFallbackErrorRatio of the
-// plain isotropic fit of the true order.
+// ones must win, never a general order (0, the constant, or any other) that predicts worse; the fit's off-plane
+// error stays within kFallbackErrorRatio of the plain isotropic fit of the true order. In the plane the
+// isotropic modes of equal (n, m) and different l coincide up to sign (cos(l dphi) = +-1), so their orders >= 2
+// are undetermined and the cross-validation, which scores determined orders only, stops at order 1: the
+// class is what is asserted here, not the order.
 TEST(SampleFitSelection, InPlaneIsotropicDataChooseTheIsotropicModes) {
   constexpr double kNoise = 0.01;
-  // The CV RMS of a fit containing the truth: the noise plus the estimation error of ~50 coefficients from
-  // 1,600 training samples (sqrt(1 + 50/1600) ~ 1.02), and fold sampling; 1.2 leaves room for both.
-  constexpr double kCvNoiseRatio = 1.2;
   constexpr double kFallbackErrorRatio = 2.0;
   const int truth_order = 4;
   const Eigen::VectorXd truth = normal_vector(isotropic_mode_count(truth_order), 84);
@@ -278,9 +277,9 @@ TEST(SampleFitSelection, InPlaneIsotropicDataChooseTheIsotropicModes) {
     const CheckedSampleFit c = fit_samples_checked(p.wi, p.wr, y, Eigen::VectorXd(), plan);
     EXPECT_TRUE(c.fit.isotropic) << "rotated " << rotated << ": order " << c.fit.order;
     EXPECT_EQ(c.class_choice, "cross-validation");
-    EXPECT_GE(c.fit.order, truth_order);
-    EXPECT_LE(c.cv_rms, kCvNoiseRatio * kNoise);
-    EXPECT_TRUE(std::isnan(c.cv_rms_general) || c.cv_rms_general > c.cv_rms_isotropic);
+    EXPECT_FALSE(std::isnan(c.cv_rms_isotropic));
+    EXPECT_TRUE(std::isnan(c.cv_rms_general) || c.cv_rms_general > c.cv_rms_isotropic)
+        << c.cv_rms_general << " vs " << c.cv_rms_isotropic;
     SampleFitOptions iso;
     iso.order = truth_order;
     iso.isotropic = true;
