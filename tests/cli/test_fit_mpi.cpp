@@ -309,7 +309,11 @@ TEST_F(FitMpi, AnUnboundedSampleFitIsRegularizedAlikeOnEveryRank) {
   EXPECT_TRUE(exists(out));
   const json ja = json::parse(one.out), jb = json::parse(r.out);
   EXPECT_EQ(jb.at("sample_fit").at("tikhonov_choice").get<std::string>(), "smallest bounding lambda");
-  EXPECT_EQ(jb.at("sample_fit").at("tikhonov").get<double>(), ja.at("sample_fit").at("tikhonov").get<double>()) << "the same grid point";
+  // The same grid point; the grid's scale (the largest eigenvalue of the summed normal equations) differs in its
+  // last bits with the order of the sums, and adjacent grid points differ by 26%.
+  constexpr double kSameGridPoint = 1e-10;
+  const double la = ja.at("sample_fit").at("tikhonov").get<double>(), lb = jb.at("sample_fit").at("tikhonov").get<double>();
+  EXPECT_NEAR(lb, la, kSameGridPoint * la) << "the same grid point";
 }
 
 // Rank 1 alone gets a memory budget too small for the fit (mpirun's MPMD form: a second program context
