@@ -57,6 +57,10 @@ void run_spectrum(const SpectrumArgs& a) {
                              fit->samples, fit->effective_rank, fit->unknowns, fit->condition, rms, sigma, fit->cv_folds, fit->cv_rms)
               << fmt::format("  order {}, Tikhonov lambda {:.3g} (power {:.3g}, {}), {}\n", fit->order_choice, fit->tikhonov,
                              fit->tikhonov_power, fit->tikhonov_choice, fit->solver);
+    if (fit->class_choice == "cross-validation")
+      std::cout << fmt::format("  modes chosen by cross-validation: isotropic CV RMS {:.3g}, general CV RMS {:.3g} 1/sr; "
+                               "effective degrees of freedom {:.4g}\n",
+                               fit->cv_rms_isotropic, fit->cv_rms_general, fit->effective_dof);
     if (!fit->fallback.empty()) std::cout << "  fallback: " << fit->fallback << "\n";
   }
   std::cout << spectrum_listing_text(listing, has_se ? &fit->standard_error : nullptr, a.all, "--all lists them");

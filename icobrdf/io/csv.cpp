@@ -39,7 +39,11 @@ CsvTable read_numeric_csv(const std::string& path) {
     if (lineno == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
     if (!line.empty() && line.back() == '\r') line.pop_back();
     const std::string content = trim(line);
-    if (content.empty() || content[0] == '#') continue;
+    if (content.empty()) continue;
+    if (content[0] == '#') {
+      t.comments.emplace_back(lineno, trim(content.substr(1)));
+      continue;
+    }
     auto fields = split(content);
     if (t.header.empty()) {
       for (auto& f : fields) {

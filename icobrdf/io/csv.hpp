@@ -7,6 +7,7 @@
 // field that is not entirely a decimal number (so a decimal comma "0,5" shows up as a field-count or
 // number error), NaN and Inf.
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace icobrdf {
@@ -16,6 +17,8 @@ struct CsvTable {
   std::vector<std::string> header;          // trimmed, lower-case column names
   std::vector<std::vector<double>> rows;    // rows x header.size()
   std::vector<int> line_numbers;            // 1-based line of each row in the file
+  // The comment lines ('#' first), each as its 1-based line and its text after the '#', trimmed.
+  std::vector<std::pair<int, std::string>> comments;
 };
 
 CsvTable read_numeric_csv(const std::string& path);

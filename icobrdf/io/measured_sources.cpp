@@ -22,6 +22,7 @@
 #include "icobrdf/core/fit/dense_kernels.hpp"
 #include "icobrdf/core/fit/sample_fit_selection.hpp"
 #include "icobrdf/core/spectrum/spectrum_ops.hpp"
+#include "icobrdf/io/curet.hpp"
 #include "icobrdf/io/merl.hpp"
 #include "icobrdf/io/rgl_bsdf.hpp"
 #include "icobrdf/io/sample_csv.hpp"
@@ -116,6 +117,10 @@ Spectrum spectrum_of(const CheckedSampleFit& c, const std::string& source, doubl
   f.tikhonov_choice = c.tikhonov_choice;
   f.fallback = c.fallback;
   f.solver = r.solver;
+  f.effective_dof = r.hat_trace;
+  f.class_choice = c.class_choice;
+  f.cv_rms_isotropic = c.cv_rms_isotropic;
+  f.cv_rms_general = c.cv_rms_general;
   f.standard_error = r.standard_error.transpose();
   s.sample_fit = std::move(f);
   return s;
@@ -325,6 +330,7 @@ class SampleCsvSource final : public BrdfSource, public SampleFitHolder {
     plan.options.kernels = &default_dense_kernels();
     plan.options.split = sample_fit_split(o);  // under mpirun: each rank passes over its part of the samples
     plan.choose_order = o.order == kChooseOrder;
+    plan.choose_class = plan.choose_order && !o.isotropic;  // no --isotropic: isotropic or general by CV too
     // An automatic order comes with an automatic lambda unless one was given.
     plan.choose_tikhonov = tikhonov_auto_ || (plan.choose_order && !tikhonov_given());
     const CheckedSampleFit c = fit_samples_checked(samples_.wi, samples_.wr, samples_.values, samples_.weights, plan);
@@ -488,6 +494,18 @@ std::unique_ptr<BrdfSource> open_rgl(const std::string& text, const std::string&
   return std::make_unique<RglSource>(std::move(b), std::move(lambdas), std::move(names), text);
 }
 
+// The fit options of sample SOURCEs (CSV, CURET): true when `k` is one of them.
+bool sample_fit_option(const std::string& text, const std::string& k, const std::string& v, SampleFitOptions& fo, bool& tikhonov_auto) {
+  if (k == "tikhonov" && v == "auto") tikhonov_auto = true;
+  else if (k == "tikhonov") fo.tikhonov = number_option(text, k, v);
+  else if (k == "power") fo.tikhonov_power = number_option(text, k, v);
+  else if (k == "rank-tol") fo.rank_tolerance = number_option(text, k, v);
+  else return false;
+  if (fo.tikhonov < 0 || fo.tikhonov_power < 0)
+    throw ArgumentError("SOURCE '" + quoted_text(text) + "': tikhonov and power must be >= 0");
+  return true;
+}
+
 std::unique_ptr<BrdfSource> open_samples(const std::string& text, const std::string& body) {
   const Options op = split_options(body);
   require_file(op.path, text);
@@ -497,17 +515,38 @@ std::unique_ptr<BrdfSource> open_samples(const std::string& text, const std::str
   for (const auto& [k, v] : op.kv) {
     if (k == "radians" && v.empty()) co.radians = true;
     else if (k == "strict" && v.empty()) co.strict = true;
-    else if (k == "tikhonov" && v == "auto") tikhonov_auto = true;
-    else if (k == "tikhonov") fo.tikhonov = number_option(text, k, v);
-    else if (k == "power") fo.tikhonov_power = number_option(text, k, v);
-    else if (k == "rank-tol") fo.rank_tolerance = number_option(text, k, v);
-    else
+    else if (!sample_fit_option(text, k, v, fo, tikhonov_auto))
       throw ArgumentError("SOURCE '" + quoted_text(text) + "': unknown samples option '" + k + (v.empty() ? "" : "=" + v) +
                           "', expected radians, strict, tikhonov=LAMBDA|auto, power=P or rank-tol=T");
   }
-  if (fo.tikhonov < 0 || fo.tikhonov_power < 0)
-    throw ArgumentError("SOURCE '" + quoted_text(text) + "': tikhonov and power must be >= 0");
   return std::make_unique<SampleCsvSource>(read_sample_csv(op.path, co), fo, tikhonov_auto, text);
+}
+
+// curet:ABRDF.DAT#sample=N[,table=TABLE.TXT][,fit options] (icobrdf/io/curet.hpp): one sample of the database.
+std::unique_ptr<BrdfSource> open_curet(const std::string& text, const std::string& body) {
+  const Options op = split_options(body);
+  require_file(op.path, text);
+  std::string table = curet_table_beside(op.path);
+  int sample = -1;
+  SampleFitOptions fo;
+  bool tikhonov_auto = false;
+  for (const auto& [k, v] : op.kv) {
+    if (k == "sample") {
+      const double n = number_option(text, k, v);
+      if (!(n >= 1 && n == std::floor(n) && n < 1e9))
+        throw ArgumentError("SOURCE '" + quoted_text(text) + "': option sample expected a sample number >= 1, found '" + quoted_text(v) + "'");
+      sample = static_cast<int>(n);
+    } else if (k == "table" && !v.empty()) {
+      table = v;
+    } else if (!sample_fit_option(text, k, v, fo, tikhonov_auto)) {
+      throw ArgumentError("SOURCE '" + quoted_text(text) + "': unknown CURET option '" + k + (v.empty() ? "" : "=" + v) +
+                          "', expected sample=N, table=FILE, tikhonov=LAMBDA|auto, power=P or rank-tol=T");
+    }
+  }
+  if (sample < 0)
+    throw ArgumentError("SOURCE '" + quoted_text(text) + "': a CURET SOURCE names its sample, e.g. " + quoted_text(op.path) + "#sample=12");
+  require_file(table, text + " (the geometry table; give another with table=FILE)");
+  return std::make_unique<SampleCsvSource>(curet_samples(read_curet(op.path, table), sample), fo, tikhonov_auto, text);
 }
 
 std::unique_ptr<BrdfSource> open_scatmech(const std::string& text, const std::string& body) {
@@ -537,6 +576,7 @@ std::unique_ptr<BrdfSource> open_measured_source(const std::string& text) {
   if (starts_with(text, "rgl:")) return open_rgl(text, text.substr(4));
   if (starts_with(text, "scatmech:")) return open_scatmech(text, text.substr(9));
   if (starts_with(text, "samples:")) return open_samples(text, text.substr(8));
+  if (starts_with(text, "curet:")) return open_curet(text, text.substr(6));
   const std::string path = split_options(text).path;
   if (ends_with(path, ".bsdf")) return open_rgl(text, text);
   if (ends_with(path, ".zernike.csv")) return open_scatmech(text, text);

@@ -7,6 +7,9 @@
 //                                                 file, or the 1-3 wavelengths chosen (interpolated) by lambda
 //   FILE.csv[#OPTIONS] | samples:FILE[#OPTIONS]   BRDF samples (icobrdf/io/sample_csv.hpp); OPTIONS, comma-separated:
 //                                                 radians, strict, tikhonov=LAMBDA|auto, power=P, rank-tol=T
+//   curet:ABRDF.DAT#sample=N[,table=FILE][,...]    one sample (material) of the CURET database (icobrdf/io/curet.hpp):
+//                                                 205 samples, one channel; the geometry table is table.txt beside
+//                                                 ABRDF.DAT unless table= names it; fit options as for CSV samples
 //   FILE.zernike.csv[#OPTIONS] | scatmech:FILE[#OPTIONS] | any other FILE whose content is one
 //                                                 (icobrdf/io/scatmech_coefficients.hpp looks_like_scatmech_coefficients)
 //                                                 SCATMECH Zernike-expansion coefficients
@@ -19,7 +22,7 @@
 //     (a MERL table holds only isotropic BRDFs, so the spectrum is isotropic whatever --isotropic says).
 //     The grid of the context is not used for the fit (only for the max-albedo figure); the LUT sampling
 //     and projection kind do not apply.
-//   * CSV samples: weighted least squares of the samples (weights = duplicate counts) on the Helmholtz
+//   * CSV and CURET samples: weighted least squares of the samples (weights = duplicate counts) on the Helmholtz
 //     modes, or the isotropic modes with --isotropic, with the Tikhonov options above, through the checked
 //     fit of icobrdf/core/fit/sample_fit_selection.hpp: order kChooseOrder = chosen by K-fold cross-validation (with
 //     lambda by GCV unless tikhonov=LAMBDA is given), tikhonov=auto = lambda by GCV, fallbacks when the

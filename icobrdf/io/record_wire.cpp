@@ -139,6 +139,10 @@ void put_sample_fit(WireWriter& w, const SampleFitRecord& f) {
   w.text(f.tikhonov_choice);
   w.text(f.fallback);
   w.text(f.solver);
+  w.real(f.effective_dof);
+  w.text(f.class_choice);
+  w.real(f.cv_rms_isotropic);
+  w.real(f.cv_rms_general);
   w.matrix(f.standard_error);
 }
 
@@ -158,6 +162,10 @@ SampleFitRecord get_sample_fit(WireReader& r) {
   f.tikhonov_choice = r.text("sample_fit.tikhonov_choice");
   f.fallback = r.text("sample_fit.fallback");
   f.solver = r.text("sample_fit.solver");
+  f.effective_dof = r.real("sample_fit.effective_dof");
+  f.class_choice = r.text("sample_fit.class_choice");
+  f.cv_rms_isotropic = r.real("sample_fit.cv_rms_isotropic");
+  f.cv_rms_general = r.real("sample_fit.cv_rms_general");
   f.standard_error = r.matrix<Eigen::MatrixXd>("sample_fit.standard_error");
   return f;
 }

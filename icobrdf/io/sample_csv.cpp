@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "icobrdf/core/basis/direction.hpp"
 #include "icobrdf/core/support/error.hpp"
@@ -35,25 +37,117 @@ void normalize(double& theta, double& phi, double full) {
   if (theta == 0) phi = 0;
 }
 
+// A signed polar angle as NIST writes it: theta < 0 names the direction (|theta|, phi + 180 deg).
+void unsign(double& theta, double& phi, double full) {
+  if (theta < 0) {
+    theta = -theta;
+    phi += full / 2;
+  }
+}
+
+// The key of a row: signed polar angles made positive, then normalized.
+Key key_of(const std::vector<double>& row, double full) {
+  Key key{row[0], row[1], row[2], row[3]};
+  unsign(key[0], key[1], full);
+  unsign(key[2], key[3], full);
+  normalize(key[0], key[1], full);
+  normalize(key[2], key[3], full);
+  return key;
+}
+
+// The unit of the file's angles: declared by the option `radians`, by the column names (all four angles with
+// the suffix _deg or all four with _rad, stripped from `t.header`) or by a comment line `# units: NAME`;
+// degrees when none declares it. Declarations that disagree: InputError naming both.
+struct AngleUnitChoice {
+  bool radians = false;
+  std::string declared_by;  // empty: assumed
+};
+
+AngleUnitChoice angle_unit_of(CsvTable& t, const SampleCsvOptions& options) {
+  AngleUnitChoice u;
+  auto declare = [&](bool radians, const std::string& by) {
+    if (!u.declared_by.empty() && u.radians != radians)
+      throw InputError(t.path + ": " + by + " declares " + (radians ? "radians" : "degrees") + " but " + u.declared_by +
+                       " declares " + (u.radians ? "radians" : "degrees") + ", expected one unit for the angles");
+    if (u.declared_by.empty()) u = {radians, by};
+  };
+  if (options.radians) declare(true, "the option 'radians'");
+  // Column names: theta_i_deg ... or theta_i_rad ...
+  int suffixed[2] = {0, 0};  // _deg, _rad
+  for (size_t k = 0; k < 4 && k < t.header.size(); ++k)
+    for (int r = 0; r < 2; ++r) {
+      const std::string tail = r ? "_rad" : "_deg";
+      std::string& name = t.header[k];
+      if (name.size() > tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0) {
+        name.erase(name.size() - tail.size());
+        ++suffixed[r];
+      }
+    }
+  if (suffixed[0] + suffixed[1] > 0) {
+    if (suffixed[0] != 4 && suffixed[1] != 4)
+      throw InputError(t.path + ": the angle columns carry " + std::to_string(suffixed[0]) + " '_deg' and " +
+                       std::to_string(suffixed[1]) + " '_rad' suffixes, expected the same suffix on all four or none");
+    declare(suffixed[1] == 4, std::string("the column names (") + (suffixed[1] == 4 ? "_rad" : "_deg") + ")");
+  }
+  for (const auto& [line, text] : t.comments) {
+    std::string low = text;
+    std::transform(low.begin(), low.end(), low.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (low.rfind("units:", 0) != 0) continue;
+    std::string word = low.substr(6);
+    word.erase(0, word.find_first_not_of(" \t"));
+    word.erase(word.find_last_not_of(" \t") + 1);
+    const std::string by = "line " + std::to_string(line) + " ('# " + quoted_text(text) + "')";
+    if (word == "radians" || word == "rad") declare(true, by);
+    else if (word == "degrees" || word == "deg") declare(false, by);
+    else
+      throw InputError(t.path + ":" + std::to_string(line) + ": units line expected 'degrees' or 'radians', found '" +
+                       quoted_text(word) + "'");
+  }
+  return u;
+}
+
 }  // namespace
 
 BrdfSamples read_sample_csv(const std::string& path, const SampleCsvOptions& options) {
   if (!(options.reciprocity_tolerance >= 0) || !std::isfinite(options.reciprocity_tolerance))
     throw ArgumentError("CSV samples: reciprocity tolerance must be finite and >= 0");
-  const CsvTable t = read_numeric_csv(path);
+  CsvTable t = read_numeric_csv(path);
+  const AngleUnitChoice unit_choice = angle_unit_of(t, options);
   require_columns(t, {"theta_i", "phi_i", "theta_r", "phi_r"});
   if (t.header.size() != 5 && t.header.size() != 7)
     throw InputError(path + ":1: expected 5 columns (theta_i,phi_i,theta_r,phi_r,value) or 7 (...,r,g,b), found " +
                      std::to_string(t.header.size()));
   if (t.rows.empty()) throw InputError(path + ": no samples after the header, expected at least one data row");
   const int ch = static_cast<int>(t.header.size()) - 4;
-  const double full = options.radians ? 2 * M_PI : 360.0, quarter = full / 4;
-  const double unit = options.radians ? 1.0 : M_PI / 180.0;
-  const std::string qtext = options.radians ? "pi/2" : "90", ftext = options.radians ? "2 pi" : "360";
+  const bool radians = unit_choice.radians;
+  const double full = radians ? 2 * M_PI : 360.0, quarter = full / 4;
+  const double unit = radians ? 1.0 : M_PI / 180.0;
+  const std::string qtext = radians ? "pi/2" : "90", ftext = radians ? "2 pi" : "360";
+
+  // The extreme angles, for the unit checks.
+  double max_theta = 0, max_phi = 0;
+  for (const auto& row : t.rows) {
+    max_theta = std::max({max_theta, std::abs(row[0]), std::abs(row[2])});
+    max_phi = std::max({max_phi, std::abs(row[1]), std::abs(row[3])});
+  }
+  // Degrees assumed, yet every angle fits radians (every direction within 1.6 degrees of the normal): radians
+  // read as degrees, whose fit would reach |f| ~ 1e9.
+  if (unit_choice.declared_by.empty() && !radians && max_theta > 0 && max_theta <= M_PI / 2 && max_phi <= 2 * M_PI)
+    throw InputError(path + ": every polar angle lies within [-" + num(M_PI / 2) + ", " + num(M_PI / 2) +
+                     "] and every azimuth within [-" + num(2 * M_PI) + ", " + num(2 * M_PI) +
+                     "]: these look like radians read as degrees (the default); declare the unit: the option 'radians' "
+                     "(FILE.csv#radians), a line '# units: radians' or columns theta_i_rad,phi_i_rad,theta_r_rad,phi_r_rad "
+                     "('# units: degrees' if they are degrees)");
+  // Radians declared, yet a polar angle exceeds pi/2 and the angles fit degrees (one beyond 2 pi).
+  const bool degrees_like = radians && max_theta > M_PI / 2 && max_theta <= 90 && max_phi <= 360 && std::max(max_theta, max_phi) > 2 * M_PI;
+  const std::string unit_note = (radians ? " radians (declared by " + unit_choice.declared_by + ")" : std::string(" degrees")) +
+                                (degrees_like ? "; the file's angles look like degrees" : "");
 
   BrdfSamples s;
   s.path = path;
   s.channels = ch;
+  s.radians = radians;
+  s.unit_declared_by = unit_choice.declared_by;
   s.rows = static_cast<long long>(t.rows.size());
   std::map<Key, size_t> index;  // normalized angles -> sample
   std::vector<Key> keys;
@@ -63,16 +157,15 @@ BrdfSamples read_sample_csv(const std::string& path, const SampleCsvOptions& opt
   for (size_t r = 0; r < t.rows.size(); ++r) {
     const auto& row = t.rows[r];
     for (int k : {0, 2})
-      if (!(row[k] >= 0 && row[k] <= quarter))
-        throw InputError(where(t, r) + ": column '" + quoted_text(t.header[k]) + "' expected a polar angle in [0, " + qtext +
-                         "], found " + num(row[k]));
+      if (!(std::abs(row[k]) <= quarter))
+        throw InputError(where(t, r) + ": column '" + quoted_text(t.header[k]) + "' expected a polar angle in [-" + qtext + ", " +
+                         qtext + "]" + unit_note + ", found " + num(row[k]));
     for (int k : {1, 3})
       if (!(std::abs(row[k]) <= full))
         throw InputError(where(t, r) + ": column '" + quoted_text(t.header[k]) + "' expected an azimuth in [-" + ftext + ", " +
-                         ftext + "], found " + num(row[k]));
-    Key key{row[0], row[1], row[2], row[3]};
-    normalize(key[0], key[1], full);
-    normalize(key[2], key[3], full);
+                         ftext + "]" + (degrees_like ? unit_note : std::string()) + ", found " + num(row[k]));
+    if (row[0] < 0 || row[2] < 0) ++s.signed_theta_rows;
+    Key key = key_of(row, full);
     Eigen::VectorXd v(ch);
     for (int c = 0; c < ch; ++c) {
       v[c] = row[4 + c];
@@ -110,9 +203,7 @@ BrdfSamples read_sample_csv(const std::string& path, const SampleCsvOptions& opt
     Eigen::MatrixXd scaled = Eigen::MatrixXd::Zero(n, ch);
     for (size_t r = 0; r < t.rows.size(); ++r) {
       const auto& row = t.rows[r];
-      Key key{row[0], row[1], row[2], row[3]};
-      normalize(key[0], key[1], full);
-      normalize(key[2], key[3], full);
+      const Key key = key_of(row, full);
       const auto k = static_cast<Eigen::Index>(index.at(key));
       for (int c = 0; c < ch; ++c) scaled(k, c) += row[4 + c] / counts[static_cast<size_t>(k)];
     }

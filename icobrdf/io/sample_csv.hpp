@@ -4,8 +4,17 @@
 //   theta_i,phi_i,theta_r,phi_r,value          one channel
 //   theta_i,phi_i,theta_r,phi_r,r,g,b          three channels (names of the value columns are free)
 // A header row is required and must begin with theta_i,phi_i,theta_r,phi_r; 5 or 7 columns in all.
-// Angles in degrees (radians with `radians`): theta in [0, 90] deg, phi in [-360, 360] deg; surface
-// normal +z, phi from +x towards +y, both directions pointing away from the surface (icobrdf/core/basis/direction.hpp).
+// Angles in degrees unless radians are declared: by `radians` (the SOURCE option #radians), by the column
+// names (theta_i_rad,phi_i_rad,theta_r_rad,phi_r_rad; the suffix _deg declares degrees; all four alike) or by
+// a comment line `# units: radians` (or degrees). Declarations that disagree are an InputError.
+// theta in [-90, 90] deg, phi in [-360, 360] deg; surface normal +z, phi from +x towards +y, both directions
+// pointing away from the surface (icobrdf/core/basis/direction.hpp). A negative theta is signed as NIST writes
+// in-plane geometries: (theta, phi) with theta < 0 is the direction (|theta|, phi + 180 deg) (NIST's
+// PTFE.data.csv: thetai = -45, phi = 0 puts the source at azimuth 180 deg, phir = 0 the specular side).
+// Unit mistakes: with the unit not declared (degrees assumed) and every |theta| <= pi/2, every |phi| <= 2 pi
+// (not all theta 0), the file is refused as radians read as degrees (such a fit reaches |f| ~ 1e9: every
+// sample within 1.6 deg of the normal); with radians declared, an out-of-range angle's message says when the
+// file's angles fit degrees.
 // Values f in 1/sr; negative values are accepted (measurement noise) and counted.
 // Generic CSV rules (BOM, CRLF, '#' comments, blank lines; NaN, Inf, wrong field counts and decimal
 // commas refused with file:line) are those of icobrdf/io/csv.hpp. Out-of-range angles: InputError with file:line.
@@ -27,7 +36,7 @@
 namespace icobrdf {
 
 struct SampleCsvOptions {
-  bool radians = false;
+  bool radians = false;                // declares radians (the option #radians)
   bool strict = false;                 // non-reciprocal pairs are an error
   double reciprocity_tolerance = 1e-6; // relative difference tolerated within a reciprocal pair
 };
@@ -46,6 +55,9 @@ struct BrdfSamples {
   double max_reciprocity_difference = 0.0;  // largest relative difference over reciprocal pairs
   long long negative_values = 0;       // values < 0 (all channels)
   bool plane_of_incidence = false;     // every sample has phi_r = phi_i or phi_i + pi (or a direction at the pole)
+  bool radians = false;                // the file's angles were radians
+  std::string unit_declared_by;        // what declared the unit ("" when degrees were assumed)
+  long long signed_theta_rows = 0;     // rows with a negative theta (a direction at phi + 180 deg)
 };
 
 BrdfSamples read_sample_csv(const std::string& path, const SampleCsvOptions& options = {});

@@ -218,6 +218,10 @@ static void write_sample_fit(h5::Group& g, const Spectrum& s) {
   r.set_attr("tikhonov_choice", f.tikhonov_choice);
   r.set_attr("fallback", f.fallback);
   r.set_attr("solver", f.solver);
+  r.set_attr("effective_dof", f.effective_dof);
+  r.set_attr("class_choice", f.class_choice);
+  r.set_attr("cv_rms_isotropic", f.cv_rms_isotropic);
+  r.set_attr("cv_rms_general", f.cv_rms_general);
   r.write("residual_rms", f.residual_rms.data(), Shape{u(ch)}, "1/sr", "weighted residual RMS per channel");
   r.write("noise_sigma", f.noise_sigma.data(), Shape{u(ch)}, "1/sr",
           "estimated error of a sample of weight 1 per channel, RSS / (samples - tr H); NaN when not estimable");
@@ -244,8 +248,15 @@ static SampleFitRecord read_sample_fit(const h5::Group& g, const Spectrum& s, co
   f.tikhonov_choice = r.attr_string("tikhonov_choice");
   f.fallback = r.attr_string("fallback");
   f.solver = r.attr_string("solver");
+  // Written since the class choice (older files lack them: NaN and "").
+  if (r.has_attr("effective_dof")) f.effective_dof = r.attr_double("effective_dof");
+  if (r.has_attr("class_choice")) f.class_choice = r.attr_string("class_choice");
+  if (r.has_attr("cv_rms_isotropic")) f.cv_rms_isotropic = r.attr_double("cv_rms_isotropic");
+  if (r.has_attr("cv_rms_general")) f.cv_rms_general = r.attr_double("cv_rms_general");
   const std::pair<const char*, double> figures[] = {{"condition", f.condition}, {"cv_rms", f.cv_rms},
-                                                    {"tikhonov", f.tikhonov}, {"tikhonov_power", f.tikhonov_power}};
+                                                    {"tikhonov", f.tikhonov}, {"tikhonov_power", f.tikhonov_power},
+                                                    {"effective_dof", f.effective_dof}, {"cv_rms_isotropic", f.cv_rms_isotropic},
+                                                    {"cv_rms_general", f.cv_rms_general}};
   for (const auto& [name, x] : figures)
     if (!std::isnan(x) && !(x >= 0.0 && std::isfinite(x)))
       r.fail(r.path(), std::string("attribute ") + name + ": expected a finite value >= 0 or NaN, found " + std::to_string(x));

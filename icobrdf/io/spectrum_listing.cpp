@@ -68,6 +68,8 @@ nlohmann::json sample_fit_record_json(const SampleFitRecord& fit) {
           {"tikhonov", fit.tikhonov},     {"tikhonov_power", fit.tikhonov_power},
           {"order_choice", fit.order_choice}, {"tikhonov_choice", fit.tikhonov_choice},
           {"fallback", fit.fallback},     {"solver", fit.solver},
+          {"effective_dof", fit.effective_dof}, {"class_choice", fit.class_choice},
+          {"cv_rms_isotropic", fit.cv_rms_isotropic}, {"cv_rms_general", fit.cv_rms_general},
           {"standard_errors", se}};
 }
 

@@ -52,6 +52,11 @@ nlohmann::json fit_report_json(const FitReport& report) {
                        {"cv_rms", cf->cv_rms},
                        {"cv_folds", cf->cv_folds},
                        {"fallback", cf->fallback},
+                       {"effective_dof", sf->hat_trace},
+                       {"class_choice", cf->class_choice},
+                       {"cv_rms_isotropic", cf->cv_rms_isotropic},
+                       {"cv_rms_general", cf->cv_rms_general},
+                       {"regularized_for_bound", cf->regularized_for_bound},
                        {"notes", cf->notes},
                        {"noise_sigma", vec(sf->noise_sigma)},
                        {"residual_rms", vec(sf->residual_rms)}};
@@ -90,8 +95,12 @@ std::string sample_fit_lines(const FitReport& report) {
                                 sf.samples, sf.effective_rank, sf.unknowns, sf.null_space_dimension, sf.unseen_modes, sf.condition, worst,
                                 sf.solver);
   if (report.dense_kernels != "none") out += "  dense kernels: " + report.dense_kernels + "\n";
-  out += fmt::format("  order {} ({}), Tikhonov lambda {:.3g} ({}), {}-fold CV RMS {:.3g} 1/sr\n", report.fit->spectrum.order,
-                     cf.order_choice, sf.tikhonov, cf.tikhonov_choice, cf.cv_folds, cf.cv_rms);
+  out += fmt::format("  {} order {} ({}), Tikhonov lambda {:.3g} ({}), effective degrees of freedom {:.4g}, {}-fold CV RMS {:.3g} 1/sr\n",
+                     report.fit->spectrum.isotropic ? "isotropic modes" : "general modes", report.fit->spectrum.order, cf.order_choice,
+                     sf.tikhonov, cf.tikhonov_choice, sf.hat_trace, cf.cv_folds, cf.cv_rms);
+  if (cf.class_choice == "cross-validation")
+    out += fmt::format("  modes chosen by cross-validation: isotropic CV RMS {:.3g} 1/sr, general CV RMS {:.3g} 1/sr\n", cf.cv_rms_isotropic,
+                       cf.cv_rms_general);
   for (const auto& n : cf.notes) out += "  " + n + "\n";
   if (sf.null_space_dimension > 0 && sf.tikhonov == 0.0)
     out += fmt::format("  warning: the samples do not determine every mode; the minimum-norm solution sets the {} undetermined "

@@ -342,6 +342,39 @@ OrderCrossValidation score_orders(const Folds& f, int min_order, int max_order, 
   return cv;
 }
 
+// The (class, order) of the joint choice (header: "Model class"): the fewest unknowns among the determined
+// candidates of both classes within kCvTieFraction of the smallest CV mean square; the isotropic modes on a tie.
+// Returns {isotropic, order}; order -1 when no candidate is determined.
+std::pair<bool, int> choose_class_and_order(const OrderCrossValidation& iso, const OrderCrossValidation& gen, double data_ms) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const OrderCrossValidation* cv : {&iso, &gen})
+    for (size_t i = 0; i < cv->orders.size(); ++i)
+      if (cv->determined[i]) best = std::min(best, cv->rms[i] * cv->rms[i]);
+  if (!std::isfinite(best)) return {true, -1};
+  const double threshold = best * (1.0 + kCvTieFraction) + kCvResolution * data_ms;
+  std::pair<bool, int> chosen{true, -1};
+  int fewest = std::numeric_limits<int>::max();
+  for (const bool isotropic : {true, false}) {
+    const OrderCrossValidation& cv = isotropic ? iso : gen;
+    for (size_t i = 0; i < cv.orders.size(); ++i) {
+      if (!cv.determined[i] || !(cv.rms[i] * cv.rms[i] <= threshold)) continue;
+      const int k = sample_fit_unknowns(cv.orders[i], isotropic);
+      if (k < fewest) {
+        fewest = k;
+        chosen = {isotropic, cv.orders[i]};
+      }
+    }
+  }
+  return chosen;
+}
+
+// The CV RMS of a class's own choice (NaN when it has none).
+double chosen_rms(const OrderCrossValidation& cv) {
+  for (size_t i = 0; i < cv.orders.size(); ++i)
+    if (cv.orders[i] == cv.chosen) return cv.rms[i];
+  return kNaN;
+}
+
 bool determined(const SampleFitResult& r) {
   if (r.unseen_modes > 0) return false;
   if (r.tikhonov > 0.0) return true;
@@ -490,19 +523,43 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
     }
   if (positive == 0) throw ArgumentError("sample fit: no sample with positive weight");
 
-  // 1. The order.
+  // 1. The order (and the class).
   Folds folds;
   if (plan.choose_order) {
-    const int cap = plan.max_order >= 0 ? std::min(plan.max_order, max_order_of(o.isotropic))
-                                        : (o.isotropic ? kMaxAutoOrderIsotropic : kMaxAutoOrderGeneral);
-    const double training = static_cast<double>(positive) * (plan.folds - 1) / plan.folds;
-    int top = 0;
-    while (top < cap && sample_fit_unknowns(top + 1, o.isotropic) * kMinSamplesPerUnknown <= training) ++top;
-    folds = assemble_folds(top, o.isotropic, wi, wr, values, w, plan.folds, o.progress, o.kernels, false, o.split);
-    out.order_cv = score_orders(folds, 0, top, o.tikhonov, o.tikhonov_power, o.progress);
+    // The largest order with enough training samples per unknown.
+    const auto top_order = [&](bool isotropic) {
+      const int cap = plan.max_order >= 0 ? std::min(plan.max_order, max_order_of(isotropic))
+                                          : (isotropic ? kMaxAutoOrderIsotropic : kMaxAutoOrderGeneral);
+      const double training = static_cast<double>(positive) * (plan.folds - 1) / plan.folds;
+      int top = 0;
+      while (top < cap && sample_fit_unknowns(top + 1, isotropic) * kMinSamplesPerUnknown <= training) ++top;
+      return top;
+    };
+    const auto score_class = [&](bool isotropic, Folds& f) {
+      f = assemble_folds(top_order(isotropic), isotropic, wi, wr, values, w, plan.folds, o.progress, o.kernels, false, o.split);
+      return score_orders(f, 0, f.order, o.tikhonov, o.tikhonov_power, o.progress);
+    };
+    if (plan.choose_class) {
+      Folds general;
+      out.isotropic_cv = score_class(true, folds);
+      out.general_cv = score_class(false, general);
+      out.cv_rms_isotropic = chosen_rms(out.isotropic_cv);
+      out.cv_rms_general = chosen_rms(out.general_cv);
+      const double data_ms = folds.total.yy.sum() / (folds.total.weight_sum * static_cast<double>(folds.total.yy.size()));
+      const auto [isotropic, order] = choose_class_and_order(out.isotropic_cv, out.general_cv, data_ms);
+      o.isotropic = isotropic;
+      if (!isotropic) folds = std::move(general);
+      out.order_cv = isotropic ? out.isotropic_cv : out.general_cv;
+      out.order_cv.chosen = order;
+      out.class_choice = "cross-validation";
+    } else {
+      out.order_cv = score_class(o.isotropic, folds);
+    }
+    const int top = folds.order;
     if (out.order_cv.chosen < 0)
       throw UnsupportedError("sample fit: the " + std::to_string(positive) + " samples determine no order of the " +
-                             modes_name(o.isotropic) + " (0.." + std::to_string(top) + ") in every cross-validation fold");
+                             (plan.choose_class ? std::string("isotropic or general modes") : modes_name(o.isotropic)) +
+                             " (0.." + std::to_string(top) + ") in every cross-validation fold");
     o.order = out.order_cv.chosen;
     out.order_choice = "cross-validation";
     const size_t at = static_cast<size_t>(o.order);
@@ -510,6 +567,16 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
                         "-fold cross-validation over orders 0.." + std::to_string(top) + " (CV RMS " +
                         fmt_g(out.order_cv.rms[at]) + " +- " + fmt_g(out.order_cv.rms_se[at], 2) +
                         " 1/sr; lowest order within 0.5% of the best mean square)");
+    if (plan.choose_class) {
+      const auto class_text = [](const OrderCrossValidation& cv, double rms) {
+        return std::isnan(rms) ? std::string("no order determined")
+                               : "CV RMS " + fmt_g(rms) + " 1/sr at order " + std::to_string(cv.chosen) + " of 0.." +
+                                     std::to_string(cv.orders.back());
+      };
+      out.notes.push_back(modes_name(o.isotropic) + " chosen by cross-validation on the same folds: isotropic modes " +
+                          class_text(out.isotropic_cv, out.cv_rms_isotropic) + ", general modes " +
+                          class_text(out.general_cv, out.cv_rms_general));
+    }
   } else {
     folds = assemble_folds(o.order, o.isotropic, wi, wr, values, w, plan.folds, o.progress, o.kernels,
                            single_gram_products(o.gram, positive, sample_fit_unknowns(o.order, o.isotropic)), o.split);
@@ -588,20 +655,74 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
                         std::to_string(out.fit.unknowns) + "^2 unknowns), the solution refined to double accuracy in " +
                         std::to_string(out.fit.refinement_passes) + " passes over the samples");
 
-  // 4. Scale check over the whole domain.
+  // 4. Scale check over the whole domain; regularization when the samples do not bound the fit.
   if (o.progress) o.progress("checking the fit's range", 0.0);
   out.max_abs_fit = max_abs_over_domain(out.fit);
-  if (!(out.max_abs_fit <= kScaleGuardFactor * out.max_abs_sample))
-    throw UnsupportedError("sample fit: the samples cannot bound a fit of the " + modes_name(o.isotropic) + " of order " +
-                           std::to_string(o.order) + ": it reaches |f| = " + fmt_g(out.max_abs_fit) +
-                           " 1/sr away from the samples, over " + fmt_g(kScaleGuardFactor, 2) +
-                           " times the largest sample (" + fmt_g(out.max_abs_sample) +
-                           " 1/sr); give a lower --order, or more samples");
+  const double bound = kScaleGuardFactor * out.max_abs_sample;
+  if (!(out.max_abs_fit <= bound)) {
+    const double lambda_before = o.tikhonov;
+    const GcvChoice g = choose_tikhonov_gcv(total, o.order, o.isotropic, o.tikhonov_power);
+    // The grid's lambdas above the lambda used (and, when lambda was chosen by GCV, from the GCV-best one
+    // upwards): the smallest bounded one by bisection (index `hi` bounded, `lo` not).
+    const bool given_lambda = out.tikhonov_choice == "given";
+    const double from = given_lambda ? o.tikhonov : std::max(g.lambda, o.tikhonov);
+    std::vector<double> grid;
+    for (double l : g.lambdas)
+      if (l > from || (l == from && !given_lambda && l > 0.0)) grid.push_back(l);
+    const auto fit_at = [&](double lambda) {
+      SampleFitOptions r = o;
+      r.tikhonov = lambda;
+      SampleFitResult f = fit_samples(wi, wr, values, w, r, &total);
+      const double m = max_abs_over_domain(f);
+      return std::make_pair(std::move(f), m);
+    };
+    std::optional<std::pair<SampleFitResult, double>> found;
+    if (!grid.empty()) {
+      auto top = fit_at(grid.back());
+      if (top.second <= bound) {
+        long lo = -1, hi = static_cast<long>(grid.size()) - 1;
+        found = std::move(top);
+        while (hi - lo > 1) {
+          const long mid = (lo + hi) / 2;
+          auto at = fit_at(grid[static_cast<size_t>(mid)]);
+          if (at.second <= bound) {
+            hi = mid;
+            found = std::move(at);
+          } else {
+            lo = mid;
+          }
+        }
+      }
+    }
+    if (!found)
+      throw UnsupportedError("sample fit: the samples cannot bound a fit of the " + modes_name(o.isotropic) + " of order " +
+                             std::to_string(o.order) + ", even regularized: it reaches |f| = " + fmt_g(out.max_abs_fit) +
+                             " 1/sr away from the samples, over " + fmt_g(kScaleGuardFactor, 2) +
+                             " times the largest sample (" + fmt_g(out.max_abs_sample) +
+                             " 1/sr); give a lower --order, or more samples");
+    out.regularized_for_bound = true;
+    out.unregularized_max_abs_fit = out.max_abs_fit;
+    out.fit = std::move(found->first);
+    out.max_abs_fit = found->second;
+    o.tikhonov = out.fit.tikhonov;
+    out.tikhonov_choice = given_lambda ? "smallest bounding lambda" : "generalized cross-validation, bounded";
+    out.notes.push_back("regularized: lambda " + fmt_g(lambda_before) +
+                        " would let the fit of order " + std::to_string(o.order) + " reach |f| = " +
+                        fmt_g(out.unregularized_max_abs_fit) + " 1/sr away from the samples (over " + fmt_g(kScaleGuardFactor, 2) +
+                        " times the largest, " + fmt_g(out.max_abs_sample) + " 1/sr); Tikhonov lambda " + fmt_g(o.tikhonov) +
+                        " (power " + fmt_g(o.tikhonov_power) + "), " +
+                        (given_lambda ? "the smallest of the GCV grid that bounds it (GCV's own choice " + fmt_g(g.lambda) + ")"
+                                      : std::string("the GCV-best bounded one")) +
+                        ": |f| <= " + fmt_g(out.max_abs_fit) +
+                        " 1/sr, condition " + fmt_g(out.fit.condition) + ", effective degrees of freedom " +
+                        fmt_g(out.fit.hat_trace) + " of " + std::to_string(out.fit.unknowns));
+  }
 
   // 5. CV error of the final configuration (the folds of its modes): computed beside the probe unless a
   // fallback changed the modes or lambda.
-  if (why.empty()) early->refine_single();
-  const OrderScore s = why.empty() ? early->score() : score_order(folds, o.order, o.tikhonov, o.tikhonov_power);
+  const bool same = why.empty() && !out.regularized_for_bound;
+  if (same) early->refine_single();
+  const OrderScore s = same ? early->score() : score_order(folds, o.order, o.tikhonov, o.tikhonov_power);
   out.cv_rms = s.determined ? std::sqrt(s.mse) : kNaN;
   return out;
 }

@@ -24,9 +24,16 @@
 // lambda runs over kGcvPoints values log-spaced in [1e-14, 1e2] times the largest eigenvalue.
 //
 // The checked fit (fit_samples_checked) runs five steps:
-//   1. the order: the given one, or (SampleFitPlan::choose_order) the one chosen by K-fold cross-validation over
-//      the orders from 0 up to the largest with kMinSamplesPerUnknown training samples per unknown (and at most
-//      SampleFitPlan::max_order, or kMaxAutoOrderGeneral / kMaxAutoOrderIsotropic when that is not given).
+//   1. the model class and the order: the given ones, or (SampleFitPlan::choose_order) the order chosen by K-fold
+//      cross-validation over the orders from 0 up to the largest with kMinSamplesPerUnknown training samples per
+//      unknown (and at most SampleFitPlan::max_order, or kMaxAutoOrderGeneral / kMaxAutoOrderIsotropic when that is
+//      not given), and with SampleFitPlan::choose_class the class too: the isotropic and the general modes are each
+//      scored over their orders on the same folds (the fold of a sample is a hash of its index), and the chosen
+//      (class, order) is the one with the fewest unknowns among the determined candidates of both classes whose CV
+//      mean square is within kCvTieFraction of the smallest (the isotropic modes on a tie of unknowns: at order 0
+//      they are the same constant). So data that cannot determine the general modes beyond order 0 (in-plane
+//      samples, a single plane of incidence) end isotropic whenever an isotropic order predicts the held-out
+//      samples better, and the CV RMS of both classes is reported.
 //   2. lambda: the given one, or (SampleFitPlan::choose_tikhonov) the one chosen by GCV.
 //   3. the fit and its determinacy: a fit with unseen modes, a null space, or condition > kMaxDeterminedCondition
 //      (lambda = 0) does not determine its modes. General (anisotropic) modes fall back to the isotropic modes of
@@ -34,8 +41,16 @@
 //      either, to the isotropic modes with Tikhonov regularization, lambda by GCV. The fallback is a note.
 //   4. scale: the fit is evaluated at kScaleCheckDirections^2 direction pairs covering the whole domain
 //      (a Fibonacci lattice of the hemisphere, every pair); if |f| anywhere exceeds kScaleGuardFactor times
-//      the largest |sample|, the fit is refused (UnsupportedError, one line): the samples cannot bound it
-//      where they do not lie.
+//      the largest |sample|, the samples do not bound it where they do not lie. Regularization instead of
+//      refusal: the fit is then Tikhonov-regularized (penalty d_k of sample_fit.hpp, power as given) with a
+//      lambda of the GCV grid found by bisection (larger lambdas shrink the fit towards its unpenalized part,
+//      which the samples' mean bounds): with lambda chosen by GCV, the GCV-best bounded one (the smallest
+//      bounded lambda at or above GCV's: GCV rises away from its minimum); with lambda given (0: the plain
+//      least squares asked for), the smallest bounded lambda above it, the least departure from the request
+//      ("smallest bounding lambda"; on CURET at order 8 the GCV-best bounded lambda pushes one more material
+//      over 10% relative RMS than plain least squares). The note reports the |f| avoided, lambda (and GCV's),
+//      the condition and the effective degrees of freedom tr H. Only when no lambda bounds the fit is it
+//      refused (UnsupportedError, one line).
 //   5. the CV error of the final configuration (the same folds) is recorded.
 // Split over processes (SampleFitPlan::options.split, icobrdf/core/fit/sample_fit.hpp SampleFitSplit): the folds
 // keep their hash of the sample's index among all samples; each process assembles the folds' normal
@@ -43,6 +58,7 @@
 // every choice (order, lambda, fallback) is made from the same figures on every process.
 #include <Eigen/Core>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -110,6 +126,9 @@ GcvChoice choose_tikhonov_gcv(const NormalEquations& ne, int order, bool isotrop
 struct SampleFitPlan {
   SampleFitOptions options;        // order, modes, lambda, power, rank tolerance, progress
   bool choose_order = false;       // cross-validate the order (options.order ignored)
+  // With choose_order: cross-validate the isotropic against the general modes, each over its orders, on the
+  // same folds (options.isotropic ignored; see "Model class" above).
+  bool choose_class = false;
   bool choose_tikhonov = false;    // GCV for lambda (options.tikhonov ignored)
   int max_order = -1;              // largest candidate; < 0: the kMaxAutoOrder* bound
   int folds = kCrossValidationFolds;
@@ -117,7 +136,17 @@ struct SampleFitPlan {
 
 struct CheckedSampleFit {
   SampleFitResult fit;
-  OrderCrossValidation order_cv;   // filled when the order was chosen
+  OrderCrossValidation order_cv;   // filled when the order was chosen (the chosen class's)
+  // Filled when the class was chosen: each class's orders, and the CV RMS of each class's own choice [1/sr]
+  // (NaN when none of its orders is determined).
+  OrderCrossValidation isotropic_cv, general_cv;
+  double cv_rms_isotropic = std::numeric_limits<double>::quiet_NaN();
+  double cv_rms_general = std::numeric_limits<double>::quiet_NaN();
+  std::string class_choice = "given";     // "given" or "cross-validation"
+  // Set when the fit of the chosen or given order was not bounded by the samples and was regularized instead
+  // (see "Regularization instead of refusal").
+  bool regularized_for_bound = false;
+  double unregularized_max_abs_fit = 0.0;  // |f| the unregularized fit reached [1/sr] (when regularized_for_bound)
   double cv_rms = 0.0;             // CV error of the final fit [1/sr]; NaN when a fold cannot be fitted
   int cv_folds = 0;
   std::string order_choice = "given";     // "given" or "cross-validation"

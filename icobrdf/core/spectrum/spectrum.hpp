@@ -33,6 +33,11 @@ struct SampleFitRecord {
   std::string tikhonov_choice;           // "given" or "generalized cross-validation"
   std::string fallback;                  // empty, or the fallback taken and why
   std::string solver;                    // "normal equations" or "QR"
+  double effective_dof = std::numeric_limits<double>::quiet_NaN();  // tr H: effective number of parameters
+  std::string class_choice;              // "given" or "cross-validation" (isotropic against general modes)
+  // CV RMS of each class's own order choice when the class was chosen [1/sr]; NaN otherwise.
+  double cv_rms_isotropic = std::numeric_limits<double>::quiet_NaN();
+  double cv_rms_general = std::numeric_limits<double>::quiet_NaN();
   // channels x unknowns: standard error of each mode coefficient, library order of the spectrum's modes
   // (BSSS, or IBSSS when the spectrum is isotropic); NaN where undefined.
   Eigen::MatrixXd standard_error;
