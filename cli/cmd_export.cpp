@@ -41,16 +41,8 @@ void run_polynomial_export(const ExportArgs& a, const Spectrum& s) {
   if (a.channel >= 0) throw ArgumentError("export: --channel and --wavelength-degree exclude each other (every channel is a wavelength)");
   const std::vector<double> lambdas = a.wavelengths.empty() ? channel_wavelengths_um(s, "export " + a.input) : a.wavelengths;
   const ScatmechPolynomialExport e = write_scatmech_polynomial(a.output, s, lambdas, a.wavelength_degree, a.isotropic, a.input);
-  const nlohmann::json j{{"input", a.input},
-                         {"output", a.output},
-                         {"format", a.format},
-                         {"order", s.order},
-                         {"wavelengths_um", lambdas},
-                         {"degree", a.wavelength_degree},
-                         {"rows", e.rows},
-                         {"misfit", e.misfit},
-                         {"anisotropic_fraction", e.anisotropic_fraction},
-                         {"projected", e.anisotropic_fraction > kScatmechIsotropyTolerance}};
+  nlohmann::json j = scatmech_polynomial_export_json(e, s.order, lambdas, a.wavelength_degree);
+  j.update({{"input", a.input}, {"output", a.output}, {"format", a.format}});
   if (a.json) {
     std::cout << j.dump(2) << "\n";
     return;
@@ -58,7 +50,7 @@ void run_polynomial_export(const ExportArgs& a, const Spectrum& s) {
   std::cout << fmt::format("{} -> {} (SCATMECH coefficients, polynomial in wavelength)\n", a.input, a.output)
             << fmt::format("  order {}, {} wavelength(s), degree {}, {} rows, relative misfit {:.3g}, anisotropic energy fraction {:.3g}{}\n",
                            s.order, lambdas.size(), a.wavelength_degree, e.rows, e.misfit, e.anisotropic_fraction,
-                           e.anisotropic_fraction > kScatmechIsotropyTolerance ? " (dropped: isotropic projection)" : "");
+                           j["projected"].get<bool>() ? " (dropped: isotropic projection)" : "");
 }
 
 void run_export(const ExportArgs& a) {
@@ -76,14 +68,8 @@ void run_export(const ExportArgs& a) {
     channel = 0;
   }
   const ScatmechExport e = write_scatmech_coefficients(a.output, s, channel, a.isotropic, a.input);
-  const nlohmann::json j{{"input", a.input},
-                         {"output", a.output},
-                         {"format", a.format},
-                         {"order", s.order},
-                         {"channel", channel},
-                         {"rows", e.rows},
-                         {"anisotropic_fraction", e.anisotropic_fraction},
-                         {"projected", e.anisotropic_fraction > kScatmechIsotropyTolerance}};
+  nlohmann::json j = scatmech_export_json(e, s.order, channel);
+  j.update({{"input", a.input}, {"output", a.output}, {"format", a.format}});
   if (a.json) {
     std::cout << j.dump(2) << "\n";
     return;
@@ -91,7 +77,7 @@ void run_export(const ExportArgs& a) {
   std::cout << fmt::format("{} -> {} (SCATMECH coefficients)\n", a.input, a.output)
             << fmt::format("  order {}, channel {}, {} rows, anisotropic energy fraction {:.3g}{}\n", s.order, channel, e.rows,
                            e.anisotropic_fraction,
-                           e.anisotropic_fraction > kScatmechIsotropyTolerance ? " (dropped: isotropic projection)" : "");
+                           j["projected"].get<bool>() ? " (dropped: isotropic projection)" : "");
 }
 
 void add_export_command(CLI::App& app) {

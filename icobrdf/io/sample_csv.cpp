@@ -106,6 +106,33 @@ AngleUnitChoice angle_unit_of(CsvTable& t, const SampleCsvOptions& options) {
   return u;
 }
 
+// Reciprocal pairs: the swapped key present (each unordered pair once; a pair with w_i = w_r is its own
+// partner and trivially reciprocal); counted into s, InputError under --strict for the first that differs.
+void count_reciprocal_pairs(const std::string& path, const std::vector<Key>& keys, const std::map<Key, size_t>& index,
+                            const SampleCsvOptions& options, BrdfSamples& s) {
+  const int ch = s.channels;
+  for (size_t k = 0; k < keys.size(); ++k) {
+    const Key swapped{keys[k][2], keys[k][3], keys[k][0], keys[k][1]};
+    const auto it = index.find(swapped);
+    if (it == index.end() || it->second <= k) continue;
+    ++s.reciprocal_pairs;
+    double worst = 0;
+    for (int c = 0; c < ch; ++c) {
+      const double a = s.values(static_cast<Eigen::Index>(k), c), b = s.values(static_cast<Eigen::Index>(it->second), c);
+      const double scale = std::max(std::abs(a), std::abs(b));
+      if (scale > 0) worst = std::max(worst, std::abs(a - b) / scale);
+    }
+    s.max_reciprocity_difference = std::max(s.max_reciprocity_difference, worst);
+    if (worst > options.reciprocity_tolerance) {
+      ++s.nonreciprocal_pairs;
+      if (options.strict)
+        throw InputError(path + ":" + std::to_string(s.lines[k]) + ": sample and its reciprocal at line " +
+                         std::to_string(s.lines[it->second]) + " differ by " + num(worst) +
+                         " (relative), expected at most " + num(options.reciprocity_tolerance) + " (--strict)");
+    }
+  }
+}
+
 }  // namespace
 
 BrdfSamples read_sample_csv(const std::string& path, const SampleCsvOptions& options) {
@@ -211,28 +238,7 @@ BrdfSamples read_sample_csv(const std::string& path, const SampleCsvOptions& opt
       if (!s.values.row(k).allFinite()) s.values.row(k) = scaled.row(k);
   }
   s.plane_of_incidence = plane;
-  // Reciprocal pairs: the swapped key present (each unordered pair once; a pair with w_i = w_r is its own
-  // partner and trivially reciprocal).
-  for (size_t k = 0; k < keys.size(); ++k) {
-    const Key swapped{keys[k][2], keys[k][3], keys[k][0], keys[k][1]};
-    const auto it = index.find(swapped);
-    if (it == index.end() || it->second <= k) continue;
-    ++s.reciprocal_pairs;
-    double worst = 0;
-    for (int c = 0; c < ch; ++c) {
-      const double a = s.values(static_cast<Eigen::Index>(k), c), b = s.values(static_cast<Eigen::Index>(it->second), c);
-      const double scale = std::max(std::abs(a), std::abs(b));
-      if (scale > 0) worst = std::max(worst, std::abs(a - b) / scale);
-    }
-    s.max_reciprocity_difference = std::max(s.max_reciprocity_difference, worst);
-    if (worst > options.reciprocity_tolerance) {
-      ++s.nonreciprocal_pairs;
-      if (options.strict)
-        throw InputError(path + ":" + std::to_string(s.lines[k]) + ": sample and its reciprocal at line " +
-                         std::to_string(s.lines[it->second]) + " differ by " + num(worst) +
-                         " (relative), expected at most " + num(options.reciprocity_tolerance) + " (--strict)");
-    }
-  }
+  count_reciprocal_pairs(path, keys, index, options, s);
   return s;
 }
 

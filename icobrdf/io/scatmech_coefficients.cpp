@@ -410,4 +410,23 @@ ScatmechPolynomialExport write_scatmech_polynomial(const std::string& path, cons
   return out;
 }
 
+nlohmann::json scatmech_export_json(const ScatmechExport& e, int order, int channel) {
+  return {{"order", order},
+          {"channel", channel},
+          {"rows", e.rows},
+          {"anisotropic_fraction", e.anisotropic_fraction},
+          {"projected", e.anisotropic_fraction > kScatmechIsotropyTolerance}};
+}
+
+nlohmann::json scatmech_polynomial_export_json(const ScatmechPolynomialExport& e, int order, const std::vector<double>& lambdas_um,
+                                               int degree) {
+  return {{"order", order},
+          {"wavelengths_um", lambdas_um},
+          {"degree", degree},
+          {"rows", e.rows},
+          {"misfit", e.misfit},
+          {"anisotropic_fraction", e.anisotropic_fraction},
+          {"projected", e.anisotropic_fraction > kScatmechIsotropyTolerance}};
+}
+
 }  // namespace icobrdf

@@ -23,6 +23,8 @@
 // Strictness (InputError with file:line): fields not 8, non-integer indices, i or j outside 1..4, i > j,
 // p outside 0..4 (SCATMECH's own range check), and for the 11 element n or m outside [0, kMaxScatmechOrder],
 // |l| > min(n, m) or n - l, m - l odd (R_n^l undefined or the term identically zero).
+#include <nlohmann/json.hpp>
+
 #include <Eigen/Core>
 
 #include <string>
@@ -137,5 +139,13 @@ ScatmechPolynomialExport write_scatmech_polynomial(const std::string& path, cons
 // The wavelengths [um] of channels named like "550nm" (RGL spectral fits name theirs so); ArgumentError naming
 // `what` when a channel has no such name.
 std::vector<double> channel_wavelengths_um(const Spectrum& spectrum, const std::string& what);
+
+// The figures of an export as `icobrdf export --json` reports them: order, channel, rows,
+// anisotropic_fraction, and projected (the anisotropic part was dropped: anisotropic_fraction above
+// kScatmechIsotropyTolerance).
+nlohmann::json scatmech_export_json(const ScatmechExport& e, int order, int channel);
+// The same of a polynomial export: order, wavelengths_um, degree, rows, misfit, anisotropic_fraction, projected.
+nlohmann::json scatmech_polynomial_export_json(const ScatmechPolynomialExport& e, int order, const std::vector<double>& lambdas_um,
+                                               int degree);
 
 }  // namespace icobrdf
