@@ -32,6 +32,10 @@ class Cluster;  // the ranks of an mpirun job: only in a build with MPI
 namespace icobrdf::cli {
 namespace {
 
+// Share of the reference's squared norm from grazing pairs above which the report notes that they decide a
+// material's "f" error (more than half of it).
+constexpr double kGrazingDominates = 0.5;
+
 std::atomic<int> g_stop_signal{0};
 extern "C" void on_stop_signal(int sig) { g_stop_signal.store(sig); }
 
@@ -113,7 +117,8 @@ int build_and_report(const BuildArgs& a, [[maybe_unused]] Cluster* cluster) {
     } else {
       j.update({{"representation", m.representation}, {"isotropic", m.isotropic}, {"level", m.level}, {"order", m.order}, {"target", m.target},
                 {"error_measured", m.measured}, {"error_l2", m.measured ? nlohmann::json(m.error_l2) : nlohmann::json()},
-                {"error_max", m.measured ? nlohmann::json(m.error_max) : nlohmann::json()}, {"anisotropy", m.anisotropy},
+                {"error_max", m.measured ? nlohmann::json(m.error_max) : nlohmann::json()}, {"metric", m.metric},
+                {"grazing_share", m.measured ? nlohmann::json(m.grazing_share) : nlohmann::json()}, {"anisotropy", m.anisotropy},
                 {"kept_coefficients", m.kept}, {"total_coefficients", m.total}, {"bytes", m.bytes}, {"seconds", m.seconds}});
     }
     mats.push_back(j);
@@ -137,6 +142,11 @@ int build_and_report(const BuildArgs& a, [[maybe_unused]] Cluster* cluster) {
                                m.representation, m.isotropic ? "yes" : "no", dash(m.level), dash(m.order), m.target, l2, mx, fmt::format("{}/{}", m.kept, m.total), m.bytes, m.seconds,
                                m.resumed ? " (resumed)" : "");
     }
+    for (const auto& m : r.materials)
+      if (m.ok && m.measured && m.metric == "f" && m.grazing_share > kGrazingDominates)
+        std::cout << fmt::format("note: {}: {:.0f}% of the reference's norm is from pairs beyond 80 deg, which metric \"f\" weighs fully "
+                                 "and a renderer scales by cos theta < 0.17 (metric \"cosine\" is the default)\n",
+                                 m.name, 100 * m.grazing_share);
     if (r.written) std::cout << fmt::format("wrote {}\n", a.output);
   }
   if (r.interrupted) {

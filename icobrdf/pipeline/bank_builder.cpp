@@ -53,11 +53,13 @@ MaterialRecord fit_material(const Scene& scene, const SceneMaterial& m, FitConte
   const auto src = open_source(m.source);
   rep.source = src->spec();
   rep.target = m.target;
+  rep.metric = to_string(m.metric);
   std::optional<HeldOutSplit> held;
   std::optional<HeldOutErrors> errors;
   if (!src->has_delta()) {
     held = held_out_split(scene, m, *src);
     errors.emplace(held->pairs, m.order >= 0 ? m.order : scene.order_max, m.metric);
+    rep.grazing_share = errors->grazing_share();
     if (held->training)
       say(m.name + ": " + std::to_string(held->pairs.wi.rows()) + " measured sample(s) held out, the fits use the rest");
   }

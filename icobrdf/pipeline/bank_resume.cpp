@@ -47,8 +47,8 @@ std::optional<std::map<std::string, MaterialRecord>> read_resume_file(const std:
 void store_choice(MaterialRecord& rec, const MaterialReport& rep) {
   rec.figures = {{"target", rep.target},         {"error_l2", rep.error_l2},     {"error_max", rep.error_max},
                  {"kept_coefficients", rep.kept}, {"total_coefficients", rep.total}, {"bytes", static_cast<double>(rep.bytes)},
-                 {"seconds", rep.seconds},        {"fit_level", rep.level}};
-  rec.labels = {{"key", rep.key}, {"error_measured", rep.measured ? "yes" : "no (delta BRDF)"}};
+                 {"seconds", rep.seconds},        {"fit_level", rep.level},        {"grazing_share", rep.grazing_share}};
+  rec.labels = {{"key", rep.key}, {"error_measured", rep.measured ? "yes" : "no (delta BRDF)"}, {"metric", rep.metric}};
   // Named for a lobe only: a material of modes alone is stored as before (the material's group says the rest).
   if (rep.representation != "modes") rec.labels["representation"] = rep.representation;
 }
@@ -68,6 +68,8 @@ void report_from_record(const MaterialRecord& rec, MaterialReport& rep) {
   rep.total = static_cast<int>(fig("total_coefficients"));
   rep.bytes = static_cast<long long>(fig("bytes"));
   rep.seconds = fig("seconds");
+  rep.grazing_share = fig("grazing_share");
+  if (rec.labels.count("metric")) rep.metric = rec.labels.at("metric");
   rep.anisotropy = rec.spectrum.anisotropy_fraction;
   rep.measured = !(rec.labels.count("error_measured") && rec.labels.at("error_measured") != "yes");
 }

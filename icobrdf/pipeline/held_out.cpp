@@ -92,6 +92,11 @@ HeldOutErrors::HeldOutErrors(const HeldOutPairs& pairs, int max_order, ErrorMetr
   const Eigen::MatrixXd wf = w_.asDiagonal() * pairs.f;
   ref_norm_ = wf.norm();
   ref_max_ = wf.cwiseAbs().maxCoeff();
+  const double z = std::cos(kGrazingDeg * M_PI / 180);
+  double grazing = 0.0;
+  for (Eigen::Index k = 0; k < wf.rows(); ++k)
+    if (pairs.wi(k, 2) < z || pairs.wr(k, 2) < z) grazing += wf.row(k).squaredNorm();
+  grazing_share_ = ref_norm_ > 0 ? grazing / (ref_norm_ * ref_norm_) : 0.0;
 }
 
 HeldOutError HeldOutErrors::operator()(const std::vector<Eigen::MatrixXd>& c, int order) const {

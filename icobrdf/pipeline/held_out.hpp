@@ -52,6 +52,9 @@ struct HeldOutError {
 
 // The errors of spectra of order <= max_order against held-out pairs, with the basis values at the pairs
 // computed once.
+// A pair is grazing when theta_i or theta_r exceeds kGrazingDeg: there cos theta < 0.17, and the "f" metric
+// weighs values a renderer scales by less than a sixth.
+inline constexpr double kGrazingDeg = 80.0;
 class HeldOutErrors {
  public:
   HeldOutErrors(const HeldOutPairs& pairs, int max_order, ErrorMetric metric);
@@ -63,12 +66,15 @@ class HeldOutErrors {
   HeldOutError of_values(const Eigen::MatrixXd& fit) const;
   const HeldOutPairs& pairs() const { return *pairs_; }
   const Eigen::VectorXd& weights() const { return w_; }  // the metric's w per pair
+  // Share of the squared reference norm sum w^2 f^2 from grazing pairs (kGrazingDeg); 0 when the norm is 0.
+  double grazing_share() const { return grazing_share_; }
 
  private:
   Eigen::MatrixXd ki_, kr_;  // pairs x modes of max_order
   const HeldOutPairs* pairs_;
   Eigen::VectorXd w_;        // pairs
   double ref_norm_ = 0.0, ref_max_ = 0.0;
+  double grazing_share_ = 0.0;
 };
 
 // The leading block of each channel for `order` (the spectrum's truncation).

@@ -68,5 +68,20 @@ TEST(Scene, UnorderedLevelsAndOverlongSourceAreRefused) {
   EXPECT_LT(msg.size(), 400u) << msg.size();  // the source is not quoted whole
 }
 
+// The error metric is "cosine" unless the scene says otherwise; a [bank] metric is every material's default,
+// and a material's own key overrides it.
+TEST(Scene, MetricIsCosineByDefault) {
+  test::ScratchDir d;
+  test::write_bytes(d / "s.toml", "[[material]]\nname = \"a\"\nsource = \"model:lambert\"\n");
+  const Scene plain = read_scene(d / "s.toml");
+  EXPECT_EQ(plain.metric, ErrorMetric::Cosine);
+  EXPECT_EQ(plain.materials.at(0).metric, ErrorMetric::Cosine);
+  test::write_bytes(d / "s.toml", "[bank]\nmetric = \"f\"\n[[material]]\nname = \"a\"\nsource = \"model:lambert\"\n"
+                                  "[[material]]\nname = \"b\"\nsource = \"model:lambert\"\nmetric = \"cosine\"\n");
+  const Scene f = read_scene(d / "s.toml");
+  EXPECT_EQ(f.materials.at(0).metric, ErrorMetric::F);
+  EXPECT_EQ(f.materials.at(1).metric, ErrorMetric::Cosine);
+}
+
 }  // namespace
 }  // namespace icobrdf
