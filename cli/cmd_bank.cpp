@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <atomic>
+#include <cmath>
 #include <csignal>
 #include <iostream>
 #include <memory>
@@ -118,6 +119,8 @@ int build_and_report(const BuildArgs& a, [[maybe_unused]] Cluster* cluster) {
       j.update({{"representation", m.representation}, {"isotropic", m.isotropic}, {"level", m.level}, {"order", m.order}, {"target", m.target},
                 {"error_measured", m.measured}, {"error_l2", m.measured ? nlohmann::json(m.error_l2) : nlohmann::json()},
                 {"error_max", m.measured ? nlohmann::json(m.error_max) : nlohmann::json()}, {"metric", m.metric},
+                {"asymmetry", m.measured && std::isfinite(m.asymmetry) ? nlohmann::json(m.asymmetry) : nlohmann::json()},
+                {"judged_against", m.reciprocal_reference ? "reciprocal part" : "data"},
                 {"grazing_share", m.measured ? nlohmann::json(m.grazing_share) : nlohmann::json()}, {"anisotropy", m.anisotropy},
                 {"kept_coefficients", m.kept}, {"total_coefficients", m.total}, {"bytes", m.bytes}, {"seconds", m.seconds}});
     }
@@ -129,19 +132,25 @@ int build_and_report(const BuildArgs& a, [[maybe_unused]] Cluster* cluster) {
                      .dump(2)
               << "\n";
   } else {
-    std::cout << fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9} {:>9} {:>9} {:>11} {:>8} {:>7}\n", "material", "repr", "iso",
-                             "level", "order", "target", "rel L2", "rel max", "kept/total", "bytes", "seconds");
+    std::cout << fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9} {:>9} {:>9} {:>9} {:>11} {:>8} {:>7}\n", "material", "repr", "iso",
+                             "level", "order", "target", "rel L2", "rel max", "asym", "kept/total", "bytes", "seconds");
     for (const auto& m : r.materials) {
       if (!m.ok) {
         std::cout << fmt::format("{:<18} FAILED{}: {}\n", m.name, m.rank >= 0 ? fmt::format(" on rank {}", m.rank) : "", m.error);
         continue;
       }
       const std::string l2 = m.measured ? fmt::format("{:.3g}", m.error_l2) : "n/a", mx = m.measured ? fmt::format("{:.3g}", m.error_max) : "n/a";
+      const std::string asym = m.measured && std::isfinite(m.asymmetry) ? fmt::format("{:.3g}", m.asymmetry) : "n/a";
       const auto dash = [](int v) { return v < 0 ? std::string("-") : std::to_string(v); };  // no modes: a lobe alone
-      std::cout << fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9.3g} {:>9} {:>9} {:>11} {:>8} {:>7.2f}{}\n", m.name,
-                               m.representation, m.isotropic ? "yes" : "no", dash(m.level), dash(m.order), m.target, l2, mx, fmt::format("{}/{}", m.kept, m.total), m.bytes, m.seconds,
+      std::cout << fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9.3g} {:>9} {:>9} {:>9} {:>11} {:>8} {:>7.2f}{}\n", m.name,
+                               m.representation, m.isotropic ? "yes" : "no", dash(m.level), dash(m.order), m.target, l2, mx, asym, fmt::format("{}/{}", m.kept, m.total), m.bytes, m.seconds,
                                m.resumed ? " (resumed)" : "");
     }
+    for (const auto& m : r.materials)
+      if (m.ok && m.measured && m.reciprocal_reference && m.target < m.asymmetry)
+        std::cout << fmt::format("note: {}: target {:.3g} is below the data's own asymmetry {:.3g}: the error is against their reciprocal part "
+                                 "(f + f^T)/2; against the raw data no reciprocal BRDF comes closer than {:.3g}\n",
+                                 m.name, m.target, m.asymmetry, m.asymmetry);
     for (const auto& m : r.materials)
       if (m.ok && m.measured && m.metric == "f" && m.grazing_share > kGrazingDominates)
         std::cout << fmt::format("note: {}: {:.0f}% of the reference's norm is from pairs beyond 80 deg, which metric \"f\" weighs fully "

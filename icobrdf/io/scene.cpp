@@ -112,7 +112,7 @@ Scene read_scene(const std::string& path) {
     const std::string w = "[bank]";
     for (const auto& [k, v] : *bank) {
       static const std::set<std::string> known{"level", "levels", "order_max", "target", "metric", "sampling", "store_lut", "lut_float32", "holdout_pairs",
-                                               "representations"};
+                                               "representations", "reciprocal"};
       if (!known.count(std::string(k.str()))) fail(s, w, "unknown key '" + quoted_text(std::string(k.str())) + "'");
       (void)v;
     }
@@ -124,6 +124,7 @@ Scene read_scene(const std::string& path) {
     s.store_lut = get_or(s, *bank, w, "store_lut", s.store_lut);
     s.lut_float32 = get_or(s, *bank, w, "lut_float32", s.lut_float32);
     s.holdout_pairs = get_or(s, *bank, w, "holdout_pairs", s.holdout_pairs);
+    s.reciprocal = get_or(s, *bank, w, "reciprocal", s.reciprocal);
     if (const auto* lv = bank->get("levels")) {
       const auto* arr = lv->as_array();
       if (!arr || arr->empty()) fail(s, w, "'levels' expected a non-empty array of integers");
@@ -176,7 +177,7 @@ Scene read_scene(const std::string& path) {
     const auto* t = (*mats)[i].as_table();
     std::string w = "material " + std::to_string(i + 1);
     if (!t) fail(s, w, "expected a table");
-    static const std::set<std::string> known{"name", "source", "target", "metric", "isotropic", "order", "level", "incidence", "lights", "cameras", "prune"};
+    static const std::set<std::string> known{"name", "source", "target", "metric", "isotropic", "order", "level", "incidence", "lights", "cameras", "prune", "reciprocal"};
     for (const auto& [k, v] : *t) {
       if (!known.count(std::string(k.str()))) fail(s, w, "unknown key '" + quoted_text(std::string(k.str())) + "'");
       (void)v;
@@ -202,6 +203,7 @@ Scene read_scene(const std::string& path) {
     if (m.order != -1 && (m.order < 0 || m.order > 128)) fail(s, w, "'order' expected in [0, 128], found " + std::to_string(m.order));
     if (m.level != -1 && (m.level < 0 || m.level > 8)) fail(s, w, "'level' expected in [0, 8], found " + std::to_string(m.level));
     m.prune = get_or(s, *t, w, "prune", true);
+    m.reciprocal = get_or(s, *t, w, "reciprocal", s.reciprocal);
     if (const auto* inc = t->get("incidence")) {
       const auto* arr = inc->as_array();
       if (!arr || arr->size() != 2 || !(*arr)[0].value<double>() || !(*arr)[1].value<double>())

@@ -26,6 +26,8 @@
 //   lights = [[30, 0], [60, 90]]        (theta, phi) [deg] of the scene's lights: errors over lights x cameras
 //   cameras = [[0, 0], [45, 180]]
 //   prune = true                        drop negligible coefficients while the target holds
+//   reciprocal = true                   judge against the data's reciprocal part (f + f^T)/2 (see below); false:
+//                                       against the raw data (to reproduce a non-reciprocal measurement)
 //
 // Relative L2 error: sqrt(sum w^2 (f_fit - f)^2 / sum w^2 f^2) over the held-out pairs, w = 1 ("f") or
 // cos(theta_i) cos(theta_r) ("cosine": reflected radiance per irradiance, as rendering weighs it): uniform in solid angle on
@@ -35,6 +37,13 @@
 // at target 0.05: "f" misses it at order 16 with a best error 0.887, "cosine" meets it with 8.5 KB).
 // Koenderink & van Doorn (1998) likewise expand g = f cos(theta_i). The "f" metric stays available; its
 // report gives the share of the reference norm from pairs beyond 80 degrees (MaterialReport::grazing_share).
+// Reciprocity (Koenderink & van Doorn 1998, section 2B: "the closest function that fits the data yet respects
+// reciprocity in the least-squares sense"): every representation is reciprocal, while measured data are not
+// exactly. For a source not reciprocal by construction the held-out reference is the reciprocal part
+// (f(w_i, w_r) + f(w_r, w_i)) / 2, and the data's own asymmetry, the metric-weighted relative L2 of
+// f - (f + f^T)/2 over the held-out pairs, is reported beside the error: against the raw data no reciprocal
+// representation can come closer than it (icobrdf/pipeline/held_out.hpp says how samples are judged).
+// [bank] reciprocal sets every material's default.
 // Errors in a scene are InputError naming the file, the material and the key.
 #include <string>
 #include <vector>
@@ -63,6 +72,7 @@ struct SceneMaterial {
   double incidence_min = 0.0, incidence_max = 90.0;  // degrees
   std::vector<std::pair<double, double>> lights, cameras;  // (theta, phi) degrees
   bool prune = true;
+  bool reciprocal = true;  // judged against the reciprocal part of the data
 };
 
 struct Scene {
@@ -76,6 +86,7 @@ struct Scene {
   bool store_lut = false;
   bool lut_float32 = true;
   int holdout_pairs = 4096;
+  bool reciprocal = true;  // every material's default
   // Representations the builder may choose from, per material the one with the fewest bytes meeting the
   // target: "modes", "half-angle", "hybrid" (icobrdf/pipeline/material_candidate.hpp).
   std::vector<std::string> representations{"modes", "half-angle", "hybrid"};
