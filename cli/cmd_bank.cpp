@@ -122,7 +122,8 @@ int build_and_report(const BuildArgs& a, [[maybe_unused]] Cluster* cluster) {
                 {"asymmetry", m.measured && std::isfinite(m.asymmetry) ? nlohmann::json(m.asymmetry) : nlohmann::json()},
                 {"judged_against", m.reciprocal_reference ? "reciprocal part" : "data"},
                 {"grazing_share", m.measured ? nlohmann::json(m.grazing_share) : nlohmann::json()}, {"anisotropy", m.anisotropy},
-                {"kept_coefficients", m.kept}, {"total_coefficients", m.total}, {"bytes", m.bytes}, {"seconds", m.seconds}});
+                {"kept_coefficients", m.kept}, {"total_coefficients", m.total}, {"bytes", m.bytes}, {"seconds", m.seconds},
+                {"target_met", m.target_met}, {"max_bytes", m.max_bytes >= 0 ? nlohmann::json(m.max_bytes) : nlohmann::json()}});
     }
     mats.push_back(j);
   }
@@ -132,8 +133,8 @@ int build_and_report(const BuildArgs& a, [[maybe_unused]] Cluster* cluster) {
                      .dump(2)
               << "\n";
   } else {
-    std::cout << fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9} {:>9} {:>9} {:>9} {:>11} {:>8} {:>7}\n", "material", "repr", "iso",
-                             "level", "order", "target", "rel L2", "rel max", "asym", "kept/total", "bytes", "seconds");
+    std::cout << fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9} {:>4} {:>9} {:>9} {:>9} {:>11} {:>8} {:>7}\n", "material", "repr", "iso",
+                             "level", "order", "target", "met", "rel L2", "rel max", "asym", "kept/total", "bytes", "seconds");
     for (const auto& m : r.materials) {
       if (!m.ok) {
         std::cout << fmt::format("{:<18} FAILED{}: {}\n", m.name, m.rank >= 0 ? fmt::format(" on rank {}", m.rank) : "", m.error);
@@ -142,8 +143,9 @@ int build_and_report(const BuildArgs& a, [[maybe_unused]] Cluster* cluster) {
       const std::string l2 = m.measured ? fmt::format("{:.3g}", m.error_l2) : "n/a", mx = m.measured ? fmt::format("{:.3g}", m.error_max) : "n/a";
       const std::string asym = m.measured && std::isfinite(m.asymmetry) ? fmt::format("{:.3g}", m.asymmetry) : "n/a";
       const auto dash = [](int v) { return v < 0 ? std::string("-") : std::to_string(v); };  // no modes: a lobe alone
-      std::cout << fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9.3g} {:>9} {:>9} {:>9} {:>11} {:>8} {:>7.2f}{}\n", m.name,
-                               m.representation, m.isotropic ? "yes" : "no", dash(m.level), dash(m.order), m.target, l2, mx, asym, fmt::format("{}/{}", m.kept, m.total), m.bytes, m.seconds,
+      const char* met = !m.measured ? "n/a" : m.target_met ? "yes" : "NO";
+      std::cout << fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9.3g} {:>4} {:>9} {:>9} {:>9} {:>11} {:>8} {:>7.2f}{}\n", m.name,
+                               m.representation, m.isotropic ? "yes" : "no", dash(m.level), dash(m.order), m.target, met, l2, mx, asym, fmt::format("{}/{}", m.kept, m.total), m.bytes, m.seconds,
                                m.resumed ? " (resumed)" : "");
     }
     for (const auto& m : r.materials)
@@ -172,6 +174,13 @@ int build_and_report(const BuildArgs& a, [[maybe_unused]] Cluster* cluster) {
     // Under mpirun the line names the first failed material and its rank (a long build's table is far above).
     const std::string which = first && first->rank >= 0 ? fmt::format("material '{}' failed on rank {}: {}; ", first->name, first->rank, message_line(first->error)) : "";
     throw UnsupportedError(fmt::format("bank not written: {}{} material(s) failed (see above); {}", which, failed, kept_for_resume(r)));
+  }
+  std::size_t missed = 0;
+  for (const auto& m : r.materials) missed += m.ok && !m.target_met;
+  if (missed > 0) {
+    std::cerr << fmt::format("icobrdf: {} material(s) missed their target and were written with the lowest error within their "
+                             "max_bytes (on_miss = \"keep-best\"); exit {}\n", missed, kExitTargetsMissed);
+    return kExitTargetsMissed;
   }
   return kExitOk;
 }

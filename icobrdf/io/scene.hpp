@@ -11,6 +11,7 @@
 //   store_lut = false                   store each material's reconstructed LUT on the bank grid
 //   lut_float32 = true                  ... as float32 (its rounding error is recorded)
 //   holdout_pairs = 4096                direction pairs used to measure errors (never used in fitting)
+//   max_bytes, on_miss                  every material's default (as below)
 //   representations = ["modes", "half-angle", "hybrid"]   what the builder may choose from, per material the
 //                                       fewest bytes meeting the target (docs/glossy.md); default all three
 //
@@ -26,6 +27,10 @@
 //   lights = [[30, 0], [60, 90]]        (theta, phi) [deg] of the scene's lights: errors over lights x cameras
 //   cameras = [[0, 0], [45, 180]]
 //   prune = true                        drop negligible coefficients while the target holds
+//   max_bytes = 4096                    largest size of the material's representation [bytes] (default: none)
+//   on_miss = "fail"                    a target not met within max_bytes: "fail" (no bank is written) or
+//                                       "keep-best": the lowest error within max_bytes is written with
+//                                       target_met = false (the build exits 7; see below)
 //   reciprocal = true                   judge against the data's reciprocal part (f + f^T)/2 (see below); false:
 //                                       against the raw data (to reproduce a non-reciprocal measurement)
 //
@@ -44,6 +49,12 @@
 // f - (f + f^T)/2 over the held-out pairs, is reported beside the error: against the raw data no reciprocal
 // representation can come closer than it (icobrdf/pipeline/held_out.hpp says how samples are judged).
 // [bank] reciprocal sets every material's default.
+// Budgets: the builder keeps the candidate with the fewest bytes meeting the target among those within
+// max_bytes. When none does, it minimizes the error within max_bytes: every order of every level tried,
+// isotropic or not as the material allows, each with as many of its largest coefficients as the budget holds
+// (icobrdf/pipeline/modes_representation.hpp fit_modes_within_budget). With on_miss = "keep-best" that candidate is
+// written, its target_met false, and no material is lost; with "fail" the material fails naming the lowest
+// error within the budget. keep-best without max_bytes keeps the lowest error at any size.
 // Errors in a scene are InputError naming the file, the material and the key.
 #include <string>
 #include <vector>
@@ -59,8 +70,10 @@ inline constexpr long long kMaxErrorPairs = 1000000;
 // The scene's words, parsed once by read_scene; to_string gives back the scene's text (resume keys use it).
 enum class ErrorMetric { F, Cosine };                 // "f" | "cosine"
 enum class IsotropicChoice { Auto, Always, Never };   // "auto" | true | false
+enum class OnMiss { Fail, KeepBest };                 // "fail" | "keep-best"
 std::string to_string(ErrorMetric metric);
 std::string to_string(IsotropicChoice choice);        // "auto", "true", "false"
+std::string to_string(OnMiss on_miss);                // "fail", "keep-best"
 std::string to_string(LutSampling sampling);          // "average", "centre"
 
 struct SceneMaterial {
@@ -73,6 +86,8 @@ struct SceneMaterial {
   std::vector<std::pair<double, double>> lights, cameras;  // (theta, phi) degrees
   bool prune = true;
   bool reciprocal = true;  // judged against the reciprocal part of the data
+  long long max_bytes = -1;  // -1: no budget
+  OnMiss on_miss = OnMiss::Fail;
 };
 
 struct Scene {
@@ -87,6 +102,8 @@ struct Scene {
   bool lut_float32 = true;
   int holdout_pairs = 4096;
   bool reciprocal = true;  // every material's default
+  long long max_bytes = -1;        // every material's default; -1: no budget
+  OnMiss on_miss = OnMiss::Fail;   // every material's default
   // Representations the builder may choose from, per material the one with the fewest bytes meeting the
   // target: "modes", "half-angle", "hybrid" (icobrdf/pipeline/material_candidate.hpp).
   std::vector<std::string> representations{"modes", "half-angle", "hybrid"};

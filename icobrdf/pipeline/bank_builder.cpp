@@ -50,6 +50,7 @@ void report_candidate(const MaterialCandidate& c, MaterialReport& rep) {
   rep.kept = c.kept;
   rep.total = c.total;
   rep.bytes = c.bytes;
+  rep.target_met = c.target_met;
 }
 
 // One material from its source: held-out pairs, the best representation, the record as stored.
@@ -59,6 +60,7 @@ MaterialRecord fit_material(const Scene& scene, const SceneMaterial& m, FitConte
   const auto src = open_source(m.source);
   rep.source = src->spec();
   rep.target = m.target;
+  rep.max_bytes = m.max_bytes;
   rep.metric = to_string(m.metric);
   std::optional<HeldOutSplit> held;
   std::optional<HeldOutErrors> errors;

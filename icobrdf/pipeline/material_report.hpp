@@ -27,6 +27,8 @@ struct MaterialReport {
   double anisotropy = 0.0;     // anisotropic energy fraction of the first fit
   int kept = 0, total = 0;     // coefficients kept after pruning / in the full (B|IB)SSS vector
   long long bytes = 0;         // kept coefficients (8 bytes per channel) and their indices (4 bytes each)
+  long long max_bytes = -1;    // the material's budget; -1: none
+  bool target_met = true;      // false: kept as the best within the budget (on_miss = "keep-best")
   double seconds = 0.0;
   int rank = -1;               // the MPI rank that fitted it (icobrdf/cluster/distributed_bank.hpp); -1 in one process
 };
