@@ -118,7 +118,8 @@ MaterialCandidate fit_modes_within_budget(const MaterialProblem& p) {
     const int fits = m.max_bytes < 0 ? total : static_cast<int>(std::min<long long>(total, m.max_bytes / each));
     if (fits < 1) return;
     const PruneResult pr = keep_largest(s, *p.errors, fits);
-    if (best && !(pr.error.l2 < best->error.l2)) return;
+    const long long bytes = modes_bytes(s, pr.kept);
+    if (best && (pr.error.l2 > best->error.l2 || (pr.error.l2 == best->error.l2 && bytes >= best->bytes))) return;  // ties: fewer bytes
     MaterialCandidate c;
     c.representation = "modes";
     c.level = level;
@@ -128,7 +129,7 @@ MaterialCandidate fit_modes_within_budget(const MaterialProblem& p) {
     c.anisotropy = s.anisotropy_fraction;
     c.kept = pr.kept;
     c.total = pr.total;
-    c.bytes = modes_bytes(s, pr.kept);
+    c.bytes = bytes;
     c.record = modes_record(m.name, s);
     best = std::move(c);
   };

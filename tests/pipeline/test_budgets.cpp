@@ -27,10 +27,10 @@ Scene small_scene() {
   return s;
 }
 
-SceneMaterial glossy(double target, long long max_bytes, OnMiss on_miss) {
+SceneMaterial glossy(double target, long long max_bytes, OnMiss on_miss, const std::string& source = "model:ggx:alpha=0.3") {
   SceneMaterial m;
   m.name = "g";
-  m.source = "model:ggx:alpha=0.3";
+  m.source = source;
   m.target = target;
   m.max_bytes = max_bytes;
   m.on_miss = on_miss;
@@ -96,23 +96,26 @@ TEST(Budget, KeepBestIsTheLowestErrorWithinMaxBytes) {
   EXPECT_GT(compared, 2);
 }
 
+// A Phong lobe the modes of order <= 4 meet at 0.2 (as in test_bank_pieces' pruning test).
+const char* kPhong = "model:0.5*lambert+0.5*phong:n=3";
+
 // A target met without a budget is refused within a budget too small for it: "fail" names the lowest error
 // within the budget, "keep-best" keeps it.
 TEST(Budget, FailNamesTheLowestErrorWithinTheBudgetAndKeepBestKeepsIt) {
   const Scene s = small_scene();
-  const SceneMaterial free = glossy(0.3, -1, OnMiss::Fail);
+  const SceneMaterial free = glossy(0.2, -1, OnMiss::Fail, kPhong);
   Chooser choose(s, free);
   const MaterialCandidate unbounded = choose(free);
   ASSERT_TRUE(unbounded.target_met);
   ASSERT_GT(unbounded.bytes, 20);
-  const SceneMaterial tight = glossy(0.3, unbounded.bytes - 1, OnMiss::Fail);
+  const SceneMaterial tight = glossy(0.2, unbounded.bytes - 1, OnMiss::Fail, kPhong);
   try {
     choose(tight);
     FAIL() << "no error";
   } catch (const UnsupportedError& e) {
     EXPECT_NE(std::string(e.what()).find("the lowest error within max_bytes"), std::string::npos) << e.what();
   }
-  const SceneMaterial keep = glossy(0.3, unbounded.bytes - 1, OnMiss::KeepBest);
+  const SceneMaterial keep = glossy(0.2, unbounded.bytes - 1, OnMiss::KeepBest, kPhong);
   const MaterialCandidate kept = choose(keep);
   EXPECT_LE(kept.bytes, keep.max_bytes);
   EXPECT_FALSE(kept.target_met);
