@@ -4,6 +4,7 @@
 #include <fmt/core.h>
 
 #include <atomic>
+#include <cmath>
 #include <csignal>
 #include <iostream>
 #include <memory>
@@ -94,6 +95,11 @@ int build_and_report(const BuildArgs& a, [[maybe_unused]] Cluster* cluster) {
     return g_stop_signal.load() == SIGTERM ? kExitTerminated : kExitInterrupted;
   }
   if (!r.written) throw UnsupportedError(bank_not_written_message(r));
+  if (const std::size_t missed = targets_missed(r); missed > 0) {
+    std::cerr << fmt::format("icobrdf: {} material(s) missed their target and were written with the lowest error within their "
+                             "max_bytes (on_miss = \"keep-best\"); exit {}\n", missed, kExitTargetsMissed);
+    return kExitTargetsMissed;
+  }
   return kExitOk;
 }
 

@@ -23,6 +23,7 @@ class ModelSource final : public BrdfSource {
   std::string spec() const override { return "model:" + model_->spec(); }
   int channels() const override { return model_->channels(); }
   bool has_delta() const override { return !model_->delta_parts().empty(); }
+  bool reciprocal_by_construction() const override { return model_->is_reciprocal(); }
   std::vector<std::string> notes() const override {
     std::vector<std::string> out;
     for (const auto& part : model_->delta_parts())
@@ -123,6 +124,8 @@ std::unique_ptr<BrdfSource> spectrum_source(Spectrum spectrum) {
   const std::string text = spectrum.source;
   return std::make_unique<SpectrumSource>(std::move(spectrum), std::nullopt, text);
 }
+
+std::unique_ptr<BrdfSource> model_source(std::unique_ptr<BrdfModel> model) { return std::make_unique<ModelSource>(std::move(model)); }
 
 std::unique_ptr<BrdfSource> open_source(const std::string& text) {
   if (is_model_source(text)) return std::make_unique<ModelSource>(parse_model_source(text));

@@ -85,6 +85,11 @@ class BrdfSource {
   // Unchanged by any turn about the normal by construction (a MERL table: its lookup depends on the half and
   // difference angles alone), so no isotropy check is needed.
   virtual bool isotropic_by_construction() const { return false; }
+  // f(w_i, w_r) = f(w_r, w_i) by construction wherever it has values (an analytic model that says so,
+  // BrdfModel::is_reciprocal; a MERL table, whose lookup depends on the half and difference angles alone,
+  // which an exchange keeps; modes and lobes). Measured data that are not: the builder judges against their
+  // reciprocal part (icobrdf/pipeline/held_out.hpp).
+  virtual bool reciprocal_by_construction() const { return false; }
   // Judged at its own samples (own_held_out answers for it when the scene gives no lights x cameras): pairs
   // elsewhere would measure its lookup between samples, not the data.
   virtual bool judged_at_own_samples() const { return false; }
@@ -109,5 +114,7 @@ std::vector<std::string> channel_column_names(const BrdfSource& source);
 
 // A source wrapping a spectrum already in memory.
 std::unique_ptr<BrdfSource> spectrum_source(Spectrum spectrum);
+// A source wrapping a model already in memory (its spec() is "model:" + the model's).
+std::unique_ptr<BrdfSource> model_source(std::unique_ptr<BrdfModel> model);
 
 }  // namespace icobrdf

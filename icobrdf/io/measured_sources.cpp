@@ -275,6 +275,7 @@ class MerlSource final : public BrdfSource, public SampleFitHolder {
 
   bool may_miss_values() const override { return true; }
   bool isotropic_by_construction() const override { return true; }
+  bool reciprocal_by_construction() const override { return true; }  // half and difference angles: exchange-invariant
   bool judged_at_own_samples() const override { return true; }
   // A table's fits are isotropic whatever is asked, and its million samples are never the bound.
   int largest_sample_order(bool) const override { return kMaxAutoOrderIsotropic; }

@@ -67,6 +67,22 @@ std::vector<std::pair<double, double>> directions(const Scene& s, const toml::ta
   return out;
 }
 
+// The key "max_bytes" of a [bank] or [[material]] table (an integer >= 1), `fallback` when absent.
+long long max_bytes_or(const Scene& s, const toml::table& t, const std::string& where, long long fallback) {
+  if (!t.get("max_bytes")) return fallback;
+  const int v = get_or(s, t, where, "max_bytes", 0);
+  if (v < 1) fail(s, where, "'max_bytes' expected an integer >= 1, found " + std::to_string(v));
+  return v;
+}
+
+// The key "on_miss" of a [bank] or [[material]] table, `fallback` when absent.
+OnMiss on_miss_or(const Scene& s, const toml::table& t, const std::string& where, OnMiss fallback) {
+  const std::string v = get_or(s, t, where, "on_miss", to_string(fallback));
+  if (v == "fail") return OnMiss::Fail;
+  if (v == "keep-best") return OnMiss::KeepBest;
+  fail(s, where, "'on_miss' expected \"fail\" or \"keep-best\", found \"" + quoted_text(v) + "\"");
+}
+
 // The key "metric" of a [bank] or [[material]] table, `fallback` when absent.
 ErrorMetric metric_or(const Scene& s, const toml::table& t, const std::string& where, ErrorMetric fallback) {
   const std::string metric = get_or(s, t, where, "metric", to_string(fallback));
@@ -84,6 +100,7 @@ bool valid_name(const std::string& n) {
 
 }  // namespace
 
+std::string to_string(OnMiss on_miss) { return on_miss == OnMiss::KeepBest ? "keep-best" : "fail"; }
 std::string to_string(ErrorMetric metric) { return metric == ErrorMetric::Cosine ? "cosine" : "f"; }
 
 std::string to_string(IsotropicChoice choice) {
@@ -105,7 +122,7 @@ void read_bank_table(Scene& s, const toml::table& bank_table) {
   const std::string w = "[bank]";
   for (const auto& [k, v] : *bank) {
     static const std::set<std::string> known{"level", "levels", "order_max", "target", "metric", "sampling", "store_lut", "lut_float32", "holdout_pairs",
-                                             "representations"};
+                                             "representations", "reciprocal", "max_bytes", "on_miss"};
     if (!known.count(std::string(k.str()))) fail(s, w, "unknown key '" + quoted_text(std::string(k.str())) + "'");
     (void)v;
   }
@@ -117,6 +134,9 @@ void read_bank_table(Scene& s, const toml::table& bank_table) {
   s.store_lut = get_or(s, *bank, w, "store_lut", s.store_lut);
   s.lut_float32 = get_or(s, *bank, w, "lut_float32", s.lut_float32);
   s.holdout_pairs = get_or(s, *bank, w, "holdout_pairs", s.holdout_pairs);
+  s.reciprocal = get_or(s, *bank, w, "reciprocal", s.reciprocal);
+  s.max_bytes = max_bytes_or(s, *bank, w, s.max_bytes);
+  s.on_miss = on_miss_or(s, *bank, w, s.on_miss);
   if (const auto* lv = bank->get("levels")) {
     const auto* arr = lv->as_array();
     if (!arr || arr->empty()) fail(s, w, "'levels' expected a non-empty array of integers");
@@ -182,6 +202,9 @@ SceneMaterial read_material_table(const Scene& s, const toml::table* t, std::str
   if (m.order != -1 && (m.order < 0 || m.order > 128)) fail(s, w, "'order' expected in [0, 128], found " + std::to_string(m.order));
   if (m.level != -1 && (m.level < 0 || m.level > 8)) fail(s, w, "'level' expected in [0, 8], found " + std::to_string(m.level));
   m.prune = get_or(s, *t, w, "prune", true);
+  m.reciprocal = get_or(s, *t, w, "reciprocal", s.reciprocal);
+  m.max_bytes = max_bytes_or(s, *t, w, s.max_bytes);
+  m.on_miss = on_miss_or(s, *t, w, s.on_miss);
   if (const auto* inc = t->get("incidence")) {
     const auto* arr = inc->as_array();
     if (!arr || arr->size() != 2 || !(*arr)[0].value<double>() || !(*arr)[1].value<double>())
@@ -225,7 +248,7 @@ Scene read_scene(const std::string& path) {
     const auto* t = (*mats)[i].as_table();
     std::string w = "material " + std::to_string(i + 1);
     if (!t) fail(s, w, "expected a table");
-    static const std::set<std::string> known{"name", "source", "target", "metric", "isotropic", "order", "level", "incidence", "lights", "cameras", "prune"};
+    static const std::set<std::string> known{"name", "source", "target", "metric", "isotropic", "order", "level", "incidence", "lights", "cameras", "prune", "reciprocal", "max_bytes", "on_miss"};
     for (const auto& [k, v] : *t) {
       if (!known.count(std::string(k.str()))) fail(s, w, "unknown key '" + quoted_text(std::string(k.str())) + "'");
       (void)v;

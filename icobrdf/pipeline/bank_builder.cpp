@@ -32,6 +32,12 @@ namespace {
 
 using Say = std::function<void(const std::string&)>;
 
+std::string three_digits(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
 void report_candidate(const MaterialCandidate& c, MaterialReport& rep) {
   rep.representation = c.representation;
   rep.isotropic = c.isotropic;
@@ -44,6 +50,7 @@ void report_candidate(const MaterialCandidate& c, MaterialReport& rep) {
   rep.kept = c.kept;
   rep.total = c.total;
   rep.bytes = c.bytes;
+  rep.target_met = c.target_met;
 }
 
 // One material from its source: held-out pairs, the best representation, the record as stored.
@@ -53,18 +60,34 @@ MaterialRecord fit_material(const Scene& scene, const SceneMaterial& m, FitConte
   const auto src = open_source(m.source);
   rep.source = src->spec();
   rep.target = m.target;
+  rep.max_bytes = m.max_bytes;
+  rep.metric = to_string(m.metric);
   std::optional<HeldOutSplit> held;
   std::optional<HeldOutErrors> errors;
   if (!src->has_delta()) {
     held = held_out_split(scene, m, *src);
-    errors.emplace(held->pairs, m.order >= 0 ? m.order : scene.order_max, m.metric);
+    errors.emplace(held->pairs, m.order >= 0 ? m.order : scene.order_max, m.metric, held->reciprocal_reference);
+    rep.grazing_share = errors->grazing_share();
+    rep.asymmetry = held->asymmetry;
+    rep.reciprocal_reference = held->reciprocal_reference;
+    if (held->asymmetry > 0)
+      say(m.name + ": the data's own asymmetry " + three_digits(held->asymmetry) + "; errors against " +
+          (held->reciprocal_reference ? "their reciprocal part (f + f^T)/2" : "the raw data"));
     if (held->training)
       say(m.name + ": " + std::to_string(held->pairs.wi.rows()) + " measured sample(s) held out, the fits use the rest");
   }
   // Sources of samples are fitted on the samples not held out.
   const BrdfSource& fitted = held && held->training ? *held->training : *src;
   const MaterialProblem problem{scene, m, fitted, errors ? &*errors : nullptr, contexts, say};
-  MaterialCandidate chosen = choose_representation(problem);
+  MaterialCandidate chosen = [&] {
+    try {
+      return choose_representation(problem);
+    } catch (const UnsupportedError& e) {
+      if (!held || held->reciprocal_reference || !(held->asymmetry > m.target)) throw;
+      throw UnsupportedError(std::string(e.what()) + "; the data's own asymmetry " + three_digits(held->asymmetry) +
+                             " exceeds the target: against the raw data (reciprocal = false) no reciprocal representation comes closer");
+    }
+  }();
   report_candidate(chosen, rep);
   chosen.record.name = m.name;
   chosen.record.spectrum.source = rep.source;

@@ -14,8 +14,10 @@
 //      (kept coefficients, bytes, achieved errors, time) (icobrdf/pipeline/bank_assembly.hpp).
 // Materials with delta parts (ideal mirror, retroreflector) have no pointwise error: their order must be
 // given (or order_max is used), and the report says the error was not measured.
-// A material whose target cannot be met, or whose source fails, is reported with its reason; the build then
-// fails as a whole (no bank is written) while the finished materials stay in the resume file.
+// A material whose target cannot be met within its max_bytes, or whose source fails, is reported with its
+// reason; the build then fails as a whole (no bank is written) while the finished materials stay in the
+// resume file. With on_miss = "keep-best" (icobrdf/io/scene.hpp) a missed target is not a failure: the lowest
+// error within the budget is written with target_met = false (MaterialReport), beside every other material.
 //
 // Both output paths, the bank and its resume file OUTPUT.partial, are checked before any work
 // (icobrdf/io/output_path.hpp): a folder, FIFO, device or link there, a missing or unwritable folder, or an output

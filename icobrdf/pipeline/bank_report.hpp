@@ -3,6 +3,7 @@
 // its materials, and the one-line reason a bank was not written.
 #include <nlohmann/json.hpp>
 
+#include <cstddef>
 #include <string>
 
 #include "icobrdf/pipeline/bank_builder.hpp"
@@ -12,13 +13,22 @@ namespace icobrdf {
 // One material's choices and figures: name, source, ok, resumed, rank (under mpirun: the rank that fitted
 // it), and either error (failed) or representation, isotropic, level, order, target, error_measured, error_l2
 // and error_max (null when not measured: delta BRDFs), anisotropy, kept_coefficients, total_coefficients,
-// bytes, seconds.
+// bytes, seconds, metric, asymmetry (the data's own non-reciprocal fraction; null when not measured),
+// judged_against ("reciprocal part" or "data"), grazing_share, target_met and max_bytes (null when none).
 nlohmann::json material_report_json(const MaterialReport& m);
 
 // The table of the build's materials, one line each: name, representation, isotropic, level, order, target,
-// relative L2 and max errors ("n/a" when not measured), kept/total coefficients, bytes, seconds; a failed
+// met, relative L2 and max errors ("n/a" when not measured), the data's asymmetry, kept/total coefficients, bytes,
+// seconds, then a note per material whose target lies below its data's asymmetry or whose metric "f" is dominated
+// by grazing pairs; a failed
 // material's line gives its error (and its rank under mpirun); "wrote OUTPUT" last when the bank was written.
 std::string bank_build_table(const BankBuildResult& r, const std::string& output);
+
+// Share of the reference's norm from pairs beyond 80 degrees above which the table notes that metric "f" is
+// dominated by grazing values a renderer scales by cos theta < 0.17: half.
+inline constexpr double kGrazingDominates = 0.5;
+// Materials written although they missed their target (on_miss = "keep-best").
+std::size_t targets_missed(const BankBuildResult& r);
 
 // The JSON of the whole build: scene, output, written, interrupted, resume_file, materials.
 nlohmann::json bank_build_json(const BankBuildResult& r, const std::string& scene, const std::string& output);

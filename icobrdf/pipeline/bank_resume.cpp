@@ -31,6 +31,10 @@ std::string material_key(const Scene& s, const SceneMaterial& m) {
   for (int l : s.levels) t += "|" + std::to_string(l);
   t += "|repr";
   for (const auto& r : s.representations) t += "|" + r;
+  if (!m.reciprocal) t += "|raw";
+  // Budgets: nothing for the defaults (no budget, "fail"), so that earlier keys hold.
+  if (m.max_bytes >= 0) t += "|max" + std::to_string(m.max_bytes);
+  if (m.on_miss != OnMiss::Fail) t += "|" + to_string(m.on_miss);  // judged against the raw data (the default adds nothing: earlier keys hold)
   return fnv1a_hex(t);
 }
 
@@ -47,8 +51,11 @@ std::optional<std::map<std::string, MaterialRecord>> read_resume_file(const std:
 void store_choice(MaterialRecord& rec, const MaterialReport& rep) {
   rec.figures = {{"target", rep.target},         {"error_l2", rep.error_l2},     {"error_max", rep.error_max},
                  {"kept_coefficients", rep.kept}, {"total_coefficients", rep.total}, {"bytes", static_cast<double>(rep.bytes)},
-                 {"seconds", rep.seconds},        {"fit_level", rep.level}};
-  rec.labels = {{"key", rep.key}, {"error_measured", rep.measured ? "yes" : "no (delta BRDF)"}};
+                 {"seconds", rep.seconds},        {"fit_level", rep.level},        {"grazing_share", rep.grazing_share},
+                 {"asymmetry", rep.asymmetry},    {"max_bytes", static_cast<double>(rep.max_bytes)}};
+  rec.labels = {{"key", rep.key}, {"error_measured", rep.measured ? "yes" : "no (delta BRDF)"}, {"metric", rep.metric},
+                {"judged_against", rep.reciprocal_reference ? "reciprocal part" : "data"},
+                {"target_met", rep.target_met ? "yes" : "no"}};
   // Named for a lobe only: a material of modes alone is stored as before (the material's group says the rest).
   if (rep.representation != "modes") rec.labels["representation"] = rep.representation;
 }
@@ -68,6 +75,12 @@ void report_from_record(const MaterialRecord& rec, MaterialReport& rep) {
   rep.total = static_cast<int>(fig("total_coefficients"));
   rep.bytes = static_cast<long long>(fig("bytes"));
   rep.seconds = fig("seconds");
+  rep.grazing_share = fig("grazing_share");
+  rep.asymmetry = fig("asymmetry");
+  rep.max_bytes = rec.figures.count("max_bytes") ? static_cast<long long>(fig("max_bytes")) : -1;
+  rep.target_met = !(rec.labels.count("target_met") && rec.labels.at("target_met") == "no");
+  rep.reciprocal_reference = rec.labels.count("judged_against") && rec.labels.at("judged_against") == "reciprocal part";
+  if (rec.labels.count("metric")) rep.metric = rec.labels.at("metric");
   rep.anisotropy = rec.spectrum.anisotropy_fraction;
   rep.measured = !(rec.labels.count("error_measured") && rec.labels.at("error_measured") != "yes");
 }

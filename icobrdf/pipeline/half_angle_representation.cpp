@@ -351,7 +351,7 @@ double isotropy_defect(const BrdfSource& source, const HeldOutErrors& errors) {
     wi.row(k) << c * h.wi(k, 0) - s * h.wi(k, 1), s * h.wi(k, 0) + c * h.wi(k, 1), h.wi(k, 2);
     wr.row(k) << c * h.wr(k, 0) - s * h.wr(k, 1), s * h.wr(k, 0) + c * h.wr(k, 1), h.wr(k, 2);
   }
-  const Eigen::MatrixXd rotated = source.eval(wi, wr);
+  const Eigen::MatrixXd rotated = errors.reference_at(source, wi, wr);
   const Eigen::VectorXd& w = errors.weights();
   const double ref = (w.asDiagonal() * h.f).norm();
   const double diff = (w.asDiagonal() * (rotated - h.f)).norm();

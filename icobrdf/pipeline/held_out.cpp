@@ -67,6 +67,33 @@ Drawn draw(const Scene& s, const SceneMaterial& m, const BrdfSource& src) {
   return d;
 }
 
+Eigen::VectorXd metric_weights(const HeldOutPairs& h, ErrorMetric metric) {
+  return metric == ErrorMetric::Cosine ? Eigen::VectorXd(h.wi.col(2).cwiseProduct(h.wr.col(2))) : Eigen::VectorXd::Ones(h.wi.rows());
+}
+
+// |w (f - (f + f^T)/2)| / |w f| over all rows; 0 when the reference norm is 0.
+double asymmetry_of(const Eigen::MatrixXd& f, const Eigen::MatrixXd& ft, const Eigen::VectorXd& w) {
+  const double ref = (w.asDiagonal() * f).norm();
+  const double anti = (w.asDiagonal() * (f - ft)).norm() / 2;
+  return ref > 0 ? anti / ref : 0.0;
+}
+
+// Samples judged at their own values: the exchanged values where two held-out samples are each other's
+// exchange (kSwapToleranceDeg). Returns the rows matched and fills ft there.
+std::vector<Eigen::Index> exchanged_samples(const HeldOutPairs& h, Eigen::MatrixXd& ft) {
+  const double cos_tol = std::cos(kSwapToleranceDeg * M_PI / 180);
+  std::vector<Eigen::Index> matched;
+  ft = h.f;
+  for (Eigen::Index k = 0; k < h.wi.rows(); ++k)
+    for (Eigen::Index l = 0; l < h.wi.rows(); ++l) {
+      if (l == k || h.wi.row(k).dot(h.wr.row(l)) < cos_tol || h.wr.row(k).dot(h.wi.row(l)) < cos_tol) continue;
+      ft.row(k) = h.f.row(l);
+      matched.push_back(k);
+      break;
+    }
+  return matched;
+}
+
 }  // namespace
 
 HeldOutPairs held_out_pairs(const Scene& s, const SceneMaterial& m, const BrdfSource& src) {
@@ -81,17 +108,62 @@ HeldOutSplit held_out_split(const Scene& s, const SceneMaterial& m, const BrdfSo
   HeldOutSplit out;
   out.pairs = std::move(d.pairs);
   out.training = std::move(d.training);
+  if (src.reciprocal_by_construction()) return out;
+  HeldOutPairs& h = out.pairs;
+  const Eigen::VectorXd w = metric_weights(h, m.metric);
+  if (!src.judged_at_own_samples()) {
+    const Eigen::MatrixXd ft = src.eval(h.wr, h.wi);
+    for (Eigen::Index k = 0; k < ft.size(); ++k)
+      if (!std::isfinite(ft.data()[k]))
+        throw InputError("source '" + quoted_text(src.spec()) + "' gives a non-finite value at an exchanged held-out pair");
+    out.asymmetry = asymmetry_of(h.f, ft, w);
+    if (m.reciprocal) {
+      h.f = (h.f + ft) / 2;
+      out.reciprocal_reference = true;
+    }
+    return out;
+  }
+  Eigen::MatrixXd ft;
+  const std::vector<Eigen::Index> rows = exchanged_samples(h, ft);
+  if (rows.empty()) {
+    out.asymmetry = std::nan("");
+    return out;
+  }
+  const auto n = static_cast<Eigen::Index>(rows.size());
+  Eigen::MatrixXd fm(n, h.f.cols()), gm(n, h.f.cols());
+  Eigen::VectorXd wm(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    fm.row(k) = h.f.row(rows[static_cast<size_t>(k)]);
+    gm.row(k) = ft.row(rows[static_cast<size_t>(k)]);
+    wm[k] = w[rows[static_cast<size_t>(k)]];
+  }
+  out.asymmetry = asymmetry_of(fm, gm, wm);
+  if (m.reciprocal) {
+    for (const Eigen::Index k : rows) h.f.row(k) = (h.f.row(k) + ft.row(k)) / 2;  // ft.row(k) is another row's f
+    out.reciprocal_reference = true;
+  }
   return out;
 }
 
-HeldOutErrors::HeldOutErrors(const HeldOutPairs& pairs, int max_order, ErrorMetric metric) : pairs_(&pairs) {
+HeldOutErrors::HeldOutErrors(const HeldOutPairs& pairs, int max_order, ErrorMetric metric, bool reciprocal_reference)
+    : pairs_(&pairs), reciprocal_reference_(reciprocal_reference) {
   ki_ = hemisphere_basis_matrix(max_order, pairs.wi);
   kr_ = hemisphere_basis_matrix(max_order, pairs.wr);
-  w_ = metric == ErrorMetric::Cosine ? Eigen::VectorXd(pairs.wi.col(2).cwiseProduct(pairs.wr.col(2)))
-                                     : Eigen::VectorXd::Ones(pairs.wi.rows());
+  w_ = metric_weights(pairs, metric);
   const Eigen::MatrixXd wf = w_.asDiagonal() * pairs.f;
   ref_norm_ = wf.norm();
   ref_max_ = wf.cwiseAbs().maxCoeff();
+  const double z = std::cos(kGrazingDeg * M_PI / 180);
+  double grazing = 0.0;
+  for (Eigen::Index k = 0; k < wf.rows(); ++k)
+    if (pairs.wi(k, 2) < z || pairs.wr(k, 2) < z) grazing += wf.row(k).squaredNorm();
+  grazing_share_ = ref_norm_ > 0 ? grazing / (ref_norm_ * ref_norm_) : 0.0;
+}
+
+Eigen::MatrixXd HeldOutErrors::reference_at(const BrdfSource& source, const RowMatrix3d& wi, const RowMatrix3d& wr) const {
+  Eigen::MatrixXd f = source.eval(wi, wr);
+  if (reciprocal_reference_ && !source.judged_at_own_samples()) f = (f + source.eval(wr, wi)) / 2;
+  return f;
 }
 
 HeldOutError HeldOutErrors::operator()(const std::vector<Eigen::MatrixXd>& c, int order) const {

@@ -15,6 +15,18 @@
 //     state, spread over the file whatever its order); the fits use all others. A merged sample counts as one pair per
 //     row it merged. Lights x cameras are refused (ArgumentError): samples have no value there.
 //
+// Reciprocity (icobrdf/io/scene.hpp): for a source not reciprocal by construction
+// (BrdfSource::reciprocal_by_construction) the data's asymmetry is measured over the held-out pairs,
+//   asymmetry = |w (f - (f + f^T)/2)| / |w f|,   f^T the values with w_i and w_r exchanged,
+// and with the material's `reciprocal` (the default) the reference f becomes (f + f^T)/2:
+//   * a source with values everywhere (an RGL material, SCATMECH coefficients): f^T is the source evaluated at
+//     the exchanged pairs;
+//   * a source judged at its own samples (CSV samples): f^T exists only where two held-out samples are each
+//     other's exchange, both directions within kSwapToleranceDeg; the asymmetry is measured over those pairs
+//     (NaN when there are none: not measurable), their reference becomes (f + f^T)/2 and every other
+//     sample keeps its raw value (nothing better is known there).
+// A source reciprocal by construction (models that say so, MERL tables, spectra) has asymmetry 0.
+//
 // Errors are measured on w f with w = 1 (metric "f") or w = cos(theta_i) cos(theta_r) (metric "cosine": the
 // projected solid angle, i.e. the reflected radiance per unit irradiance as a renderer integrates it, which
 // does not let the grazing growth of microfacet BRDFs dominate):
@@ -34,9 +46,16 @@ namespace icobrdf {
 
 using HeldOutPairs = PairValues;  // f: pairs x channels
 
+// Two held-out samples are each other's exchange when w_i of one and w_r of the other (and the reverse) are
+// within this angle: a goniometer's angular resolution (0.1-0.5 degrees) with a margin for the rounding of
+// angles written in a CSV file.
+inline constexpr double kSwapToleranceDeg = 1.0;
+
 struct HeldOutSplit {
   HeldOutPairs pairs;
   std::unique_ptr<BrdfSource> training;  // the source without the held-out samples; nullptr: the source itself
+  double asymmetry = 0.0;           // the data's own, as above (NaN: not measurable)
+  bool reciprocal_reference = false;  // pairs.f is the reciprocal part of the source's values
 };
 
 // InputError when the source gives a non-finite value at a pair, or has too few samples to split (fewer
@@ -52,9 +71,13 @@ struct HeldOutError {
 
 // The errors of spectra of order <= max_order against held-out pairs, with the basis values at the pairs
 // computed once.
+// A pair is grazing when theta_i or theta_r exceeds kGrazingDeg: there cos theta < 0.17, and the "f" metric
+// weighs values a renderer scales by less than a sixth.
+inline constexpr double kGrazingDeg = 80.0;
 class HeldOutErrors {
  public:
-  HeldOutErrors(const HeldOutPairs& pairs, int max_order, ErrorMetric metric);
+  // reciprocal_reference: the pairs' f is the reciprocal part of the source's values (HeldOutSplit).
+  HeldOutErrors(const HeldOutPairs& pairs, int max_order, ErrorMetric metric, bool reciprocal_reference = false);
   // `channels`: one coefficient matrix per channel; only its leading block of `order` is used.
   HeldOutError operator()(const std::vector<Eigen::MatrixXd>& channels, int order) const;
   // The values sum_ab C_ab K_a(w_i) K_b(w_r) of such a spectrum at the pairs: pairs x channels.
@@ -63,12 +86,18 @@ class HeldOutErrors {
   HeldOutError of_values(const Eigen::MatrixXd& fit) const;
   const HeldOutPairs& pairs() const { return *pairs_; }
   const Eigen::VectorXd& weights() const { return w_; }  // the metric's w per pair
+  // The reference at other pairs, made as the held-out one was: the source's values, or their reciprocal part.
+  Eigen::MatrixXd reference_at(const BrdfSource& source, const RowMatrix3d& wi, const RowMatrix3d& wr) const;
+  // Share of the squared reference norm sum w^2 f^2 from grazing pairs (kGrazingDeg); 0 when the norm is 0.
+  double grazing_share() const { return grazing_share_; }
 
  private:
   Eigen::MatrixXd ki_, kr_;  // pairs x modes of max_order
   const HeldOutPairs* pairs_;
   Eigen::VectorXd w_;        // pairs
   double ref_norm_ = 0.0, ref_max_ = 0.0;
+  double grazing_share_ = 0.0;
+  bool reciprocal_reference_ = false;
 };
 
 // The leading block of each channel for `order` (the spectrum's truncation).

@@ -110,4 +110,30 @@ LevelOrderChoice search_level_order(const BrdfSource& source, const LevelOrderSe
   throw UnsupportedError(buf);
 }
 
+void each_level_order(const BrdfSource& source, const LevelOrderSearch& search, FitContexts& contexts,
+                      const std::function<void(int level, const Spectrum& spectrum)>& see) {
+  const int max_order = search.fixed_order >= 0 ? search.fixed_order : search.order_max;
+  const int lowest = search.fixed_order >= 0 ? search.fixed_order : 0;
+  for (int level : search.levels) {
+    const int top = top_order(search, contexts, level, max_order);
+    if (top < 0) continue;
+    if (!search.refit_each_order) {
+      const Spectrum all = fit_source(source, at(search, level, top), contexts).spectrum;
+      for (int n = lowest; n <= top; ++n) {
+        Spectrum s = all;
+        s.channels = truncate_channels(all.channels, n);
+        s.order = n;
+        see(level, s);
+      }
+      continue;
+    }
+    for (int n = lowest; n <= top; ++n) {
+      try {
+        see(level, fit_source(source, at(search, level, n), contexts).spectrum);
+      } catch (const UnsupportedError&) {  // an order the samples cannot bound
+      }
+    }
+  }
+}
+
 }  // namespace icobrdf

@@ -47,4 +47,10 @@ LevelOrderChoice search_level_order(const BrdfSource& source, const LevelOrderSe
                                     const std::function<void(LevelOrderChoice&)>& accept,
                                     const std::function<void(const std::string&)>& say);
 
+// Every (level, order) the search considers, for a best effort: `see` gets the spectrum of each order up to
+// the level's largest (the truncations of the fit at the largest order; with refit_each_order each order's
+// own fit, orders whose fit is refused skipped). Nothing for a level that supports none of the orders.
+void each_level_order(const BrdfSource& source, const LevelOrderSearch& search, FitContexts& contexts,
+                      const std::function<void(int level, const Spectrum& spectrum)>& see);
+
 }  // namespace icobrdf

@@ -1,6 +1,7 @@
 #include "icobrdf/pipeline/material_candidate.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <exception>
 #include <optional>
 
@@ -21,14 +22,17 @@ MaterialCandidate choose_representation(const MaterialProblem& problem) {
   std::exception_ptr first_failure;
   std::string others;  // the other representations' reasons, appended to the first one's
   const auto& allowed = problem.scene.representations;
+  const long long budget = problem.material.max_bytes;
   std::vector<MaterialCandidate> made;
   for (const auto& r : representations()) {
     if (std::find(allowed.begin(), allowed.end(), r.name) == allowed.end()) continue;
     try {
       MaterialProblem p = problem;
-      p.bytes_to_beat = best ? best->bytes : -1;
+      p.bytes_to_beat = best ? best->bytes : budget >= 0 ? budget + 1 : -1;
       p.earlier = &made;
       MaterialCandidate c = r.fit(p);
+      if (budget >= 0 && c.bytes > budget)
+        throw UnsupportedError(r.name + ": " + std::to_string(c.bytes) + " bytes meet the target, above max_bytes " + std::to_string(budget));
       if (!best || c.bytes < best->bytes) best = c;
       made.push_back(std::move(c));
     } catch (const UnsupportedError& e) {
@@ -36,15 +40,31 @@ MaterialCandidate choose_representation(const MaterialProblem& problem) {
       else others += std::string("; ") + e.what();
     }
   }
-  if (!best && others.empty()) std::rethrow_exception(first_failure);
-  if (!best) {
+  if (best) return std::move(*best);
+  std::string why = others;
+  if (first_failure) {
     try {
       std::rethrow_exception(first_failure);
     } catch (const UnsupportedError& e) {
-      throw UnsupportedError(e.what() + others);
+      why = e.what() + others;
     }
   }
-  return std::move(*best);
+  // No candidate meets the target within the budget: the lowest error within it, kept or named.
+  if (budget >= 0 || problem.material.on_miss == OnMiss::KeepBest) {
+    MaterialCandidate c = [&] {
+      try {
+        return fit_modes_within_budget(problem);
+      } catch (const UnsupportedError& e) {
+        throw UnsupportedError(why + "; " + e.what());
+      }
+    }();
+    if (c.target_met || problem.material.on_miss == OnMiss::KeepBest) return c;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "; the lowest error within max_bytes %lld is %.3g (%lld bytes; on_miss = \"keep-best\" would keep it)", budget,
+                  c.error.l2, c.bytes);
+    why += buf;
+  }
+  throw UnsupportedError(why);
 }
 
 }  // namespace icobrdf

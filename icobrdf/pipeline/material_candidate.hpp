@@ -4,8 +4,11 @@
 // A representation fitter turns one material (its source, its held-out errors, the scene's settings) into a
 // MaterialCandidate that meets the material's target, or throws UnsupportedError saying why it cannot. The
 // builder asks the representations the scene allows (Scene::representations, in the order of
-// representations()) and keeps the candidate with the fewest bytes (the first listed on a tie); when none
-// meets the target, the first representation's error is the material's. The representations:
+// representations()) and keeps the candidate with the fewest bytes (the first listed on a tie) within the
+// material's max_bytes; when none meets the target within it, and the material has a budget or
+// on_miss = "keep-best", the modes with the lowest error within the budget (fit_modes_within_budget) are the
+// candidate (target_met false when above the target; on_miss = "fail" then fails naming that error);
+// otherwise the first representation's error is the material's. The representations:
 //   "modes"       Helmholtz modes (icobrdf/pipeline/modes_representation.hpp)
 //   "half-angle"  a half-angle factorized lobe alone (icobrdf/pipeline/half_angle_representation.hpp)
 //   "hybrid"      a few isotropic modes plus a half-angle lobe (same header)
@@ -30,8 +33,9 @@ struct Representation {
 
 const std::vector<Representation>& representations();
 
-// The candidate with the fewest bytes over representations(); rethrows the first representation's
-// UnsupportedError when none meets the target. Other errors propagate at once.
+// The candidate with the fewest bytes over representations() within max_bytes, or the best effort above;
+// UnsupportedError (the first representation's reason first) when the material fails. Other errors
+// propagate at once.
 MaterialCandidate choose_representation(const MaterialProblem& problem);
 
 }  // namespace icobrdf

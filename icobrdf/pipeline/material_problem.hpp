@@ -34,6 +34,7 @@ struct MaterialCandidate {
   long long bytes = 0;         // what the kept data costs (the choice minimizes it)
   bool measured = true;        // false for delta BRDFs: the errors are NaN
   HeldOutError error;          // held-out errors of the record
+  bool target_met = true;      // false: the best within the budget (on_miss = "keep-best"), above the target
   // What the bank build report shows of the choice.
   bool isotropic = false;
   int level = -1, order = -1;  // fitting level, expansion order

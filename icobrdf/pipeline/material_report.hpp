@@ -18,9 +18,17 @@ struct MaterialReport {
   double target = 0.0;
   double error_l2 = 0.0;       // relative L2 over the held-out pairs
   double error_max = 0.0;      // max |f_fit - f| / max |f| over the held-out pairs
+  std::string metric = "cosine";  // the error metric ("cosine" or "f", icobrdf/io/scene.hpp)
+  double grazing_share = 0.0;
+  // The data's own asymmetry over the held-out pairs (icobrdf/pipeline/held_out.hpp; 0 for sources reciprocal by
+  // construction, NaN when not measurable), and whether the errors are against the data's reciprocal part.
+  double asymmetry = 0.0;
+  bool reciprocal_reference = false;  // share of the reference norm from grazing pairs (HeldOutErrors::grazing_share)
   double anisotropy = 0.0;     // anisotropic energy fraction of the first fit
   int kept = 0, total = 0;     // coefficients kept after pruning / in the full (B|IB)SSS vector
   long long bytes = 0;         // kept coefficients (8 bytes per channel) and their indices (4 bytes each)
+  long long max_bytes = -1;    // the material's budget; -1: none
+  bool target_met = true;      // false: kept as the best within the budget (on_miss = "keep-best")
   double seconds = 0.0;
   int rank = -1;               // the MPI rank that fitted it (icobrdf/cluster/distributed_bank.hpp); -1 in one process
 };

@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <string>
 
 #include "icobrdf/core/basis/helmholtz_modes.hpp"
 #include "icobrdf/core/basis/isotropic_modes.hpp"
+#include "icobrdf/core/support/error.hpp"
 #include "icobrdf/pipeline/keys.hpp"
 #include "icobrdf/pipeline/level_order_search.hpp"
 #include "icobrdf/pipeline/pruning.hpp"
@@ -101,6 +104,51 @@ MaterialCandidate fit_modes_candidate(const MaterialProblem& p) {
   const Spectrum& s = c.record.spectrum;
   c.bytes = modes_bytes(s, c.kept);
   return c;
+}
+
+MaterialCandidate fit_modes_within_budget(const MaterialProblem& p) {
+  const SceneMaterial& m = p.material;
+  if (!p.errors) throw UnsupportedError("modes: a delta BRDF has no pointwise error to minimize within max_bytes");
+  LevelOrderSearch search = search_for(p);
+  search.base.isotropic = m.isotropic == IsotropicChoice::Always;
+  std::optional<MaterialCandidate> best;
+  const auto consider = [&](int level, Spectrum s) {
+    const long long each = modes_bytes(s, 1);
+    const int total = coefficient_count(s);
+    const int fits = m.max_bytes < 0 ? total : static_cast<int>(std::min<long long>(total, m.max_bytes / each));
+    if (fits < 1) return;
+    const PruneResult pr = keep_largest(s, *p.errors, fits);
+    const long long bytes = modes_bytes(s, pr.kept);
+    if (best && (pr.error.l2 > best->error.l2 || (pr.error.l2 == best->error.l2 && bytes >= best->bytes))) return;  // ties: fewer bytes
+    MaterialCandidate c;
+    c.representation = "modes";
+    c.level = level;
+    c.order = s.order;
+    c.error = pr.error;
+    c.isotropic = s.isotropic;
+    c.anisotropy = s.anisotropy_fraction;
+    c.kept = pr.kept;
+    c.total = pr.total;
+    c.bytes = bytes;
+    c.record = modes_record(m.name, s);
+    best = std::move(c);
+  };
+  each_level_order(p.source, search, p.contexts, [&](int level, const Spectrum& s) {
+    consider(level, s);
+    if (m.isotropic != IsotropicChoice::Auto || s.isotropic) return;
+    Spectrum iso = s;
+    for (auto& ch : iso.channels) ch = isotropic_part(ch, s.order);
+    iso.isotropic = true;
+    consider(level, std::move(iso));
+  });
+  if (!best)
+    throw UnsupportedError("modes: not one coefficient fits max_bytes " + std::to_string(m.max_bytes) + " (" +
+                           std::to_string(8 * p.source.channels() + 12) + " bytes each at least)");
+  best->target_met = best->error.l2 <= m.target;
+  p.say(m.name + ": lowest error within " + (m.max_bytes < 0 ? std::string("any size") : std::to_string(m.max_bytes) + " bytes") + ": " +
+        exact_decimal(best->error.l2) + " at level " + std::to_string(best->level) + " order " + std::to_string(best->order) + " (" +
+        std::to_string(best->bytes) + " bytes)");
+  return std::move(*best);
 }
 
 }  // namespace icobrdf

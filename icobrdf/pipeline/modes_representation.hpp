@@ -15,6 +15,13 @@ namespace icobrdf {
 
 MaterialCandidate fit_modes_candidate(const MaterialProblem& problem);
 
+// The modes with the lowest held-out error within the material's max_bytes (any size without one): every
+// order of every level the search tries (icobrdf/pipeline/level_order_search.hpp each_level_order), as fitted
+// and, for isotropic = "auto", its isotropic projection, each with as many of its largest coefficients as
+// the budget holds. target_met says whether that error meets the target. UnsupportedError when not even one
+// coefficient fits the budget, or for a delta source (no error to minimize).
+MaterialCandidate fit_modes_within_budget(const MaterialProblem& problem);
+
 // The record of a spectrum as the bank stores it: with its IBSSS vector and indices when isotropic.
 MaterialRecord modes_record(const std::string& name, const Spectrum& spectrum);
 

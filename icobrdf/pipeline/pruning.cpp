@@ -60,4 +60,15 @@ PruneResult prune_coefficients(Spectrum& s, const HeldOutErrors& errors, double 
   return r;
 }
 
+PruneResult keep_largest(Spectrum& s, const HeldOutErrors& errors, int kept) {
+  const RankedCoefficients ranked(s);
+  PruneResult r;
+  r.total = static_cast<int>(ranked.total());
+  r.kept = std::min(std::max(kept, 0), r.total);
+  r.pruned = r.kept < r.total;
+  if (r.pruned) s.channels = ranked.with_kept(r.kept);
+  r.error = errors(s.channels, s.order);
+  return r;
+}
+
 }  // namespace icobrdf

@@ -18,4 +18,8 @@ struct PruneResult {
 // target.
 PruneResult prune_coefficients(Spectrum& spectrum, const HeldOutErrors& errors, double target);
 
+// The spectrum with its `kept` largest coefficients only (ranked as above; all of them when kept >= total),
+// and its held-out error.
+PruneResult keep_largest(Spectrum& spectrum, const HeldOutErrors& errors, int kept);
+
 }  // namespace icobrdf

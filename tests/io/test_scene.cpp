@@ -68,5 +68,44 @@ TEST(Scene, UnorderedLevelsAndOverlongSourceAreRefused) {
   EXPECT_LT(msg.size(), 400u) << msg.size();  // the source is not quoted whole
 }
 
+// The error metric is "cosine" unless the scene says otherwise; a [bank] metric is every material's default,
+// and a material's own key overrides it.
+TEST(Scene, MetricIsCosineByDefault) {
+  test::ScratchDir d;
+  test::write_bytes(d / "s.toml", "[[material]]\nname = \"a\"\nsource = \"model:lambert\"\n");
+  const Scene plain = read_scene(d / "s.toml");
+  EXPECT_EQ(plain.metric, ErrorMetric::Cosine);
+  EXPECT_EQ(plain.materials.at(0).metric, ErrorMetric::Cosine);
+  test::write_bytes(d / "s.toml", "[bank]\nmetric = \"f\"\n[[material]]\nname = \"a\"\nsource = \"model:lambert\"\n"
+                                  "[[material]]\nname = \"b\"\nsource = \"model:lambert\"\nmetric = \"cosine\"\n");
+  const Scene f = read_scene(d / "s.toml");
+  EXPECT_EQ(f.materials.at(0).metric, ErrorMetric::F);
+  EXPECT_EQ(f.materials.at(1).metric, ErrorMetric::Cosine);
+}
+
+// max_bytes, on_miss and reciprocal: [bank] gives every material's default, a material's key overrides it;
+// bad values name the key.
+TEST(Scene, BudgetAndReciprocityKeys) {
+  test::ScratchDir d;
+  test::write_bytes(d / "s.toml", "[bank]\nmax_bytes = 4096\non_miss = \"keep-best\"\nreciprocal = false\n"
+                                  "[[material]]\nname = \"a\"\nsource = \"model:lambert\"\n"
+                                  "[[material]]\nname = \"b\"\nsource = \"model:lambert\"\nmax_bytes = 100\non_miss = \"fail\"\nreciprocal = true\n");
+  const Scene s = read_scene(d / "s.toml");
+  EXPECT_EQ(s.materials.at(0).max_bytes, 4096);
+  EXPECT_EQ(s.materials.at(0).on_miss, OnMiss::KeepBest);
+  EXPECT_FALSE(s.materials.at(0).reciprocal);
+  EXPECT_EQ(s.materials.at(1).max_bytes, 100);
+  EXPECT_EQ(s.materials.at(1).on_miss, OnMiss::Fail);
+  EXPECT_TRUE(s.materials.at(1).reciprocal);
+  test::write_bytes(d / "s.toml", "[[material]]\nname = \"a\"\nsource = \"model:lambert\"\n");
+  EXPECT_EQ(read_scene(d / "s.toml").materials.at(0).max_bytes, -1);
+  EXPECT_EQ(read_scene(d / "s.toml").materials.at(0).on_miss, OnMiss::Fail);
+  EXPECT_TRUE(read_scene(d / "s.toml").materials.at(0).reciprocal);
+  test::write_bytes(d / "s.toml", "[[material]]\nname = \"a\"\nsource = \"model:lambert\"\nmax_bytes = 0\n");
+  EXPECT_NE(error_of(d / "s.toml").find("'max_bytes' expected an integer >= 1, found 0"), std::string::npos) << error_of(d / "s.toml");
+  test::write_bytes(d / "s.toml", "[[material]]\nname = \"a\"\nsource = \"model:lambert\"\non_miss = \"best\"\n");
+  EXPECT_NE(error_of(d / "s.toml").find("'on_miss' expected \"fail\" or \"keep-best\""), std::string::npos) << error_of(d / "s.toml");
+}
+
 }  // namespace
 }  // namespace icobrdf

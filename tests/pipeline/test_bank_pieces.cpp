@@ -22,6 +22,9 @@
 namespace icobrdf {
 namespace ICOBRDF_UNITY_ID {
 
+// Sums of a few products of cosines: rounding only.
+constexpr double kRounding = 1e-14;
+
 Scene small_scene() {
   Scene s;
   s.levels = {1, 2};
@@ -75,6 +78,21 @@ TEST(HeldOut, ExactSpectrumHasNoErrorAndTruncationToNothingHasRelativeErrorOne) 
     EXPECT_NEAR(errors(zero, 2).l2, 1.0, 1e-15);
     EXPECT_GT(errors(truncate_channels(spec.channels, 0), 0).l2, 1e-3);
   }
+}
+
+// The share of sum w^2 f^2 from grazing pairs (theta_i or theta_r beyond 80 degrees), for a constant f on
+// two lights (85 and 30 degrees) x two cameras (10, 20 degrees): the pairs of the 85-degree light are grazing.
+// "f": w = 1, two of four equal terms; "cosine": the camera sums cancel, cos^2 85 / (cos^2 85 + cos^2 30).
+TEST(HeldOut, GrazingShareIsTheNormFromPairsBeyondEightyDegrees) {
+  const Scene s = small_scene();
+  SceneMaterial m = material("a", "model:lambert", 0.01);
+  m.lights = {{85, 0}, {30, 0}};
+  m.cameras = {{10, 0}, {20, 90}};
+  const auto src = open_source(m.source);
+  const HeldOutPairs h = held_out_pairs(s, m, *src);
+  EXPECT_NEAR(HeldOutErrors(h, 0, ErrorMetric::F).grazing_share(), 0.5, kRounding);
+  const double c85 = std::cos(85 * M_PI / 180), c30 = std::cos(M_PI / 6);
+  EXPECT_NEAR(HeldOutErrors(h, 0, ErrorMetric::Cosine).grazing_share(), c85 * c85 / (c85 * c85 + c30 * c30), kRounding);
 }
 
 TEST(Pruning, KeepsTheFewestCoefficientsMeetingTheTarget) {

@@ -1,0 +1,166 @@
+// Measured data judged against their reciprocal part (icobrdf/pipeline/held_out.hpp): the data's own asymmetry
+// over the held-out pairs, the reference (f + f^T)/2, and the raw data with reciprocal = false.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "icobrdf/core/models/function_model.hpp"
+#include "icobrdf/io/brdf_source.hpp"
+#include "icobrdf/pipeline/held_out.hpp"
+#include "icobrdf/pipeline/material_candidate.hpp"
+#include "tests/io/io_test_support.hpp"
+#include "tests/support/unity_id.hpp"
+
+namespace icobrdf {
+namespace ICOBRDF_UNITY_ID {
+
+// Sums over 256 pairs of products of cosines, and the errors of exact values: rounding only.
+constexpr double kRounding = 1e-13;
+// A least-squares projection of a constant onto the modes: rounding of the Gram system (Gram error <= 0.1 is
+// what the fit accepts; a constant is the first mode, recovered to ~1e-13 on these grids).
+constexpr double kProjectionRounding = 1e-10;
+
+// f = a + b (cos theta_i - cos theta_r): the reciprocal part is a, the antisymmetric part b (cos_i - cos_r).
+constexpr double kA = 0.3, kB = 0.2;
+std::unique_ptr<BrdfSource> tilted_source() {
+  auto values = [](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) {
+    out.col(0) = (kA + kB * (wi.col(2) - wr.col(2)).array()).matrix();
+  };
+  return model_source(std::make_unique<FunctionModel>(1, values, "tilted", true, false));
+}
+
+// Lights and cameras at cos theta = (k + 1/2) / N (the midpoint nodes u_k), at azimuths that differ.
+constexpr int kNodes = 16;
+SceneMaterial on_nodes() {
+  SceneMaterial m;
+  m.name = "tilted";
+  m.source = "model:tilted";
+  for (int k = 0; k < kNodes; ++k) {
+    const double theta = std::acos((k + 0.5) / kNodes) * 180 / M_PI;
+    m.lights.push_back({theta, 17.0 * k});
+    m.cameras.push_back({theta, 180 + 11.0 * k});
+  }
+  return m;
+}
+
+// The cosine-weighted asymmetry over all light x camera pairs (u, v) of the nodes, with S_p = sum_k u_k^p:
+//   sum u^2 v^2 (b (u - v))^2        = b^2 (2 S4 S2 - 2 S3^2)
+//   sum u^2 v^2 (a + b (u - v))^2    = a^2 S2^2 + b^2 (2 S4 S2 - 2 S3^2)   (the cross term cancels)
+double expected_asymmetry() {
+  double s2 = 0, s3 = 0, s4 = 0;
+  for (int k = 0; k < kNodes; ++k) {
+    const double u = (k + 0.5) / kNodes;
+    s2 += u * u;
+    s3 += u * u * u;
+    s4 += u * u * u * u;
+  }
+  const double anti = kB * kB * (2 * s4 * s2 - 2 * s3 * s3);
+  return std::sqrt(anti / (kA * kA * s2 * s2 + anti));
+}
+
+TEST(Reciprocity, AsymmetryOfAKnownAntisymmetricPartAndTheReferenceIsItsReciprocalPart) {
+  const auto src = tilted_source();
+  ASSERT_FALSE(src->reciprocal_by_construction());
+  const Scene s;
+  const SceneMaterial m = on_nodes();
+  ASSERT_EQ(m.metric, ErrorMetric::Cosine);
+  const HeldOutSplit h = held_out_split(s, m, *src);
+  EXPECT_NEAR(h.asymmetry, expected_asymmetry(), kRounding);
+  EXPECT_GT(h.asymmetry, 0.05);  // far from rounding: the test can fail
+  ASSERT_TRUE(h.reciprocal_reference);
+  EXPECT_LT((h.pairs.f.array() - kA).abs().maxCoeff(), kRounding);  // the reference is the reciprocal part a
+  // The symmetric part itself has no error against the reciprocal reference, and the asymmetry against the raw data.
+  const Eigen::MatrixXd symmetric = Eigen::MatrixXd::Constant(h.pairs.f.rows(), 1, kA);
+  EXPECT_LT(HeldOutErrors(h.pairs, 0, m.metric, true).of_values(symmetric).l2, kRounding);
+  SceneMaterial raw = m;
+  raw.reciprocal = false;
+  const HeldOutSplit r = held_out_split(s, raw, *src);
+  EXPECT_FALSE(r.reciprocal_reference);
+  EXPECT_NEAR(r.asymmetry, expected_asymmetry(), kRounding);
+  EXPECT_NEAR(HeldOutErrors(r.pairs, 0, m.metric).of_values(symmetric).l2, expected_asymmetry(), kRounding);
+}
+
+// The builder's modes (reciprocal by construction) fit the symmetric part a: an order-0 spectrum whose error
+// against the reciprocal part is rounding, while the raw data's asymmetry is reported beside it.
+TEST(Reciprocity, ModesOfTheSymmetricPartMeetATargetBelowTheAsymmetry) {
+  const auto src = tilted_source();
+  Scene s;
+  s.levels = {1, 2};
+  s.order_max = 2;
+  s.representations = {"modes"};
+  SceneMaterial m = on_nodes();
+  m.target = 1e-6;
+  const HeldOutSplit h = held_out_split(s, m, *src);
+  const HeldOutErrors errors(h.pairs, s.order_max, m.metric, h.reciprocal_reference);
+  FitContexts contexts;
+  const MaterialProblem p{s, m, *src, &errors, contexts, [](const std::string&) {}};
+  const MaterialCandidate c = choose_representation(p);
+  EXPECT_EQ(c.order, 0);
+  EXPECT_LT(c.error.l2, kProjectionRounding);
+  EXPECT_GT(h.asymmetry, m.target);
+}
+
+TEST(Reciprocity, ReciprocalSourcesHaveNoAsymmetryAndKeepTheirValues) {
+  Scene s;
+  s.holdout_pairs = 64;
+  SceneMaterial m;
+  m.name = "g";
+  m.source = "model:ggx:alpha=0.3";
+  const auto src = open_source(m.source);
+  EXPECT_TRUE(src->reciprocal_by_construction());
+  const HeldOutSplit h = held_out_split(s, m, *src);
+  EXPECT_EQ(h.asymmetry, 0.0);
+  EXPECT_FALSE(h.reciprocal_reference);
+  EXPECT_EQ(h.pairs.f, src->eval(h.pairs.wi, h.pairs.wr));
+}
+
+// CSV samples in exchanged pairs (k, k'): f = (1 - e) g_k at (w_i, w_r) and (1 + e) g_k at (w_r, w_i). Where both
+// are held out, f - (f + f^T)/2 = -/+ e g_k, so over those pairs the asymmetry is
+//   sqrt(sum w^2 e^2 g^2 * 2 / sum w^2 g^2 ((1 - e)^2 + (1 + e)^2)) = e / sqrt(1 + e^2)
+// whatever g and w (w = cos_i cos_r is the same for both). No two other samples are within 1 degree of an exchange.
+constexpr double kE = 0.25;
+std::string write_exchanged_samples(const test::ScratchDir& d) {
+  const std::string p = d / "x.csv";
+  std::ofstream out(p);
+  out << "theta_i,phi_i,theta_r,phi_r,value\n";
+  for (int k = 0; k < 300; ++k) {
+    const double ti = 10 + 7 * (k % 10), tr = 12 + 7 * ((k / 10) % 10), pr = 20 + 100 * (k / 100), g = 0.2 + 0.01 * (k % 13);
+    out << ti << ",0," << tr << "," << pr << "," << (1 - kE) * g << "\n";
+    out << tr << "," << pr << "," << ti << ",0," << (1 + kE) * g << "\n";
+  }
+  return p;
+}
+
+TEST(Reciprocity, SamplesAreJudgedAgainstTheReciprocalPartWhereHeldOutSamplesAreExchanges) {
+  test::ScratchDir d;
+  const auto src = open_source(write_exchanged_samples(d));
+  EXPECT_FALSE(src->reciprocal_by_construction());
+  const Scene s;
+  SceneMaterial m;
+  m.name = "x";
+  m.source = src->spec();
+  const HeldOutSplit h = held_out_split(s, m, *src);
+  EXPECT_NEAR(h.asymmetry, kE / std::sqrt(1 + kE * kE), kRounding);
+  SceneMaterial raw = m;
+  raw.reciprocal = false;
+  const HeldOutSplit r = held_out_split(s, raw, *src);
+  EXPECT_NEAR(r.asymmetry, h.asymmetry, kRounding);
+  ASSERT_EQ(r.pairs.f.rows(), h.pairs.f.rows());
+  // The exchanged held-out samples (both of each pair) take g; the others keep their raw values.
+  int changed = 0;
+  for (Eigen::Index k = 0; k < h.pairs.f.rows(); ++k) {
+    if (h.pairs.f(k, 0) == r.pairs.f(k, 0)) continue;
+    ++changed;
+    const double ratio = r.pairs.f(k, 0) / h.pairs.f(k, 0);
+    EXPECT_TRUE(std::abs(ratio - (1 - kE)) < kRounding || std::abs(ratio - (1 + kE)) < kRounding) << ratio;
+  }
+  EXPECT_GT(changed, 0);
+  EXPECT_EQ(changed % 2, 0);
+  EXPECT_LT(changed, h.pairs.f.rows());
+}
+
+}  // namespace
+}  // namespace icobrdf
