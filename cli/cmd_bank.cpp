@@ -4,7 +4,6 @@
 #include <fmt/core.h>
 
 #include <atomic>
-#include <cmath>
 #include <csignal>
 #include <iostream>
 #include <memory>
@@ -96,8 +95,7 @@ int build_and_report(const BuildArgs& a, [[maybe_unused]] Cluster* cluster) {
   }
   if (!r.written) throw UnsupportedError(bank_not_written_message(r));
   if (const std::size_t missed = targets_missed(r); missed > 0) {
-    std::cerr << fmt::format("icobrdf: {} material(s) missed their target and were written with the lowest error within their "
-                             "max_bytes (on_miss = \"keep-best\"); exit {}\n", missed, kExitTargetsMissed);
+    std::cerr << fmt::format("icobrdf: {}; exit {}\n", targets_missed_message(missed), kExitTargetsMissed);
     return kExitTargetsMissed;
   }
   return kExitOk;

@@ -62,6 +62,11 @@ std::size_t targets_missed(const BankBuildResult& r) {
   return missed;
 }
 
+std::string targets_missed_message(std::size_t missed) {
+  return fmt::format("{} material(s) missed their target and were written with the lowest error within their max_bytes "
+                     "(on_miss = \"keep-best\")", missed);
+}
+
 nlohmann::json bank_build_json(const BankBuildResult& r, const std::string& scene, const std::string& output) {
   nlohmann::json mats = nlohmann::json::array();
   for (const auto& m : r.materials) mats.push_back(material_report_json(m));

@@ -29,6 +29,8 @@ std::string bank_build_table(const BankBuildResult& r, const std::string& output
 inline constexpr double kGrazingDominates = 0.5;
 // Materials written although they missed their target (on_miss = "keep-best").
 std::size_t targets_missed(const BankBuildResult& r);
+// "N material(s) missed their target and were written with the lowest error within their max_bytes (...)".
+std::string targets_missed_message(std::size_t missed);
 
 // The JSON of the whole build: scene, output, written, interrupted, resume_file, materials.
 nlohmann::json bank_build_json(const BankBuildResult& r, const std::string& scene, const std::string& output);
