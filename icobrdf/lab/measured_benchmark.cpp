@@ -22,6 +22,7 @@
 #include "icobrdf/io/scene.hpp"
 #include "icobrdf/lab/nbrdf_network.hpp"
 #include "icobrdf/pipeline/bank_builder.hpp"
+#include "icobrdf/pipeline/bank_resume.hpp"
 #include "icobrdf/pipeline/memo_source.hpp"
 #include "icobrdf/plot/line_chart.hpp"
 
@@ -175,9 +176,18 @@ MeasuredBench run_measured_bench(const MeasuredBenchOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   const BankBuildResult built = build_bank(scene, b);
   bench.bank_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // The finished materials: the bank, or, when a material missed its target (no bank is written then), the
+  // resume file the build kept them in.
   std::map<std::string, MaterialRecord> records;
-  if (built.written)
-    for (auto& r : read_bank(bank_path).materials) records.emplace(r.name, std::move(r));
+  if (built.written) {
+    ReadOptions no_luts;
+    no_luts.read_luts = false;
+    BankContents bank = read_bank(bank_path, no_luts);
+    for (auto& r : bank.materials) records.emplace(r.name, std::move(r));
+  } else if (!built.resume_file.empty()) {
+    if (auto kept = read_resume_file(built.resume_file))
+      for (auto& [key, r] : *kept) records.emplace(r.name, std::move(r));
+  }
   for (size_t k = 0; k < o.files.size(); ++k) {
     MeasuredRow row;
     row.name = names[k];
