@@ -93,6 +93,10 @@ class BrdfSource {
   // Judged at its own samples (own_held_out answers for it when the scene gives no lights x cameras): pairs
   // elsewhere would measure its lookup between samples, not the data.
   virtual bool judged_at_own_samples() const { return false; }
+  // eval() costs far more per pair than a table lookup or a closed form (an RGL file: an inverse warp per
+  // pair), so that the builder keeps the values of the node batches its fits ask for again
+  // (icobrdf/pipeline/memo_source.hpp).
+  virtual bool slow_to_evaluate() const { return false; }
   // The largest order of the modes (isotropic or general) a least-squares fit of its own samples determines;
   // -1 for a source without samples of its own.
   virtual int largest_sample_order(bool isotropic) const;

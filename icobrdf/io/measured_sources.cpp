@@ -447,6 +447,7 @@ class RglSource final : public BrdfSource {
     s.channel_names = names_;
     return s;
   }
+  bool slow_to_evaluate() const override { return true; }  // an inverse warp of the vndf per pair
 
  private:
   RglModel model_;

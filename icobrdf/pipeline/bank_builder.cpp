@@ -22,6 +22,7 @@
 #include "icobrdf/pipeline/bank_resume.hpp"
 #include "icobrdf/pipeline/held_out.hpp"
 #include "icobrdf/pipeline/material_candidate.hpp"
+#include "icobrdf/pipeline/memo_source.hpp"
 #include "icobrdf/pipeline/reflectance_check.hpp"
 #include "icobrdf/pipeline/resource_estimate.hpp"
 #include "icobrdf/core/support/memory_budget.hpp"
@@ -77,7 +78,11 @@ MaterialRecord fit_material(const Scene& scene, const SceneMaterial& m, FitConte
       say(m.name + ": " + std::to_string(held->pairs.wi.rows()) + " measured sample(s) held out, the fits use the rest");
   }
   // Sources of samples are fitted on the samples not held out.
-  const BrdfSource& fitted = held && held->training ? *held->training : *src;
+  const BrdfSource& training = held && held->training ? *held->training : *src;
+  // A source slow to evaluate is evaluated once per batch of pairs its fits ask for (lobe grids, peak pairs).
+  std::optional<MemoSource> memo;
+  if (training.slow_to_evaluate()) memo.emplace(training);
+  const BrdfSource& fitted = memo ? static_cast<const BrdfSource&>(*memo) : training;
   const MaterialProblem problem{scene, m, fitted, errors ? &*errors : nullptr, contexts, say};
   MaterialCandidate chosen = [&] {
     try {

@@ -2,6 +2,7 @@
 
 #include <Eigen/QR>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -389,6 +390,11 @@ MaterialCandidate fit_hybrid_candidate(const MaterialProblem& p) {
   if (p.earlier)
     for (const auto& c : *p.earlier)
       if (c.representation == "half-angle" && c.record.lobe) first = c.record.lobe;
+  // The half-angle candidate, tried before with the same bytes to beat, ran this very ladder search: when it
+  // left no candidate, the search finds no lobe again.
+  const auto& allowed = p.scene.representations;
+  if (!first && p.earlier && std::find(allowed.begin(), allowed.end(), "half-angle") != allowed.end())
+    throw UnsupportedError("hybrid: no lobe meets target " + short_number(p.material.target) + " (the half-angle candidate's search found none)");
   if (!first) {
     double alone = INFINITY;
     const Eigen::MatrixXd none = Eigen::MatrixXd::Zero(p.errors->pairs().wi.rows(), p.source.channels());
