@@ -35,24 +35,6 @@ struct StreamArgs {
   bool cosine = false, json = false;
 };
 
-void print_streaming(const StreamArgs& a, const lab::StreamingBenchmark& b, const lab::StreamingRanks& ranks) {
-  const Spectrum& s = b.spectrum;
-  const double best = b.best_seconds();
-  std::cout << fmt::format("streaming projection of {}: level {} ({} cells), order {} ({} modes), {} channel(s), {} sampling{}\n", s.source,
-                           a.level, b.cells, s.order, s.modes(), s.channel_count(), a.sampling, s.cosine ? ", g form" : "")
-            << fmt::format("  {} rank(s) x {} thread(s), operators {}; grid and operators {:.3f} s; projection {:.3f} s (best of {}){}\n", ranks.ranks,
-                           ranks.threads_per_rank, ranks.operators, b.context_seconds, best, a.repeat,
-                           a.every > 1 ? fmt::format(" for 1 block in {} ({:.1f} s of it fixed): {:.1f} s for all (estimate)", a.every,
-                                                     b.fixed_seconds, b.whole_estimate_seconds()) : "");
-  std::string mem;
-  for (std::size_t k = 0; k < ranks.peak_rss_bytes.size(); ++k) mem += fmt::format("{}rank {} {:.0f} MB", k ? ", " : "", k, ranks.peak_rss_bytes[k] / 1e6);
-  std::string work;
-  for (std::size_t k = 0; k < ranks.cpu_seconds.size(); ++k) work += fmt::format("{}rank {} {:.2f} s", k ? ", " : "", k, ranks.cpu_seconds[k]);
-  std::cout << "  CPU time of one projection: " << work << "\n"
-            << "  peak resident memory: " << mem << "\n"
-            << fmt::format("  max |C| {:.17g}, Frobenius norm {:.17g}\n", b.max_abs_coefficient, b.frobenius_norm);
-}
-
 void run_streaming(const StreamArgs& a, const DistributedRun& run) {
   FitRequest r;
   r.level = a.level;
@@ -79,7 +61,7 @@ void run_streaming(const StreamArgs& a, const DistributedRun& run) {
   if (a.json)
     std::cout << lab::streaming_report(b, a.level, a.sampling, ranks).dump(2) << "\n";
   else
-    print_streaming(a, b, ranks);
+    std::cout << lab::streaming_text(b, a.level, a.sampling, a.repeat, a.every, ranks);
 }
 
 void add_streaming(CLI::App& bench) {

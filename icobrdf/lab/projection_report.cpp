@@ -2,6 +2,8 @@
 
 #include <fmt/core.h>
 
+#include <string>
+
 #include <Eigen/Core>
 #include <stdexcept>
 
@@ -117,6 +119,50 @@ nlohmann::json projection_report(const ProjectionRequest& q) {
           {"blas_best", best},
           {"eigen_simd", Eigen::SimdInstructionSetsInUse()}, {"cpu_model", cpu_model()},
           {"load_before", load_before}, {"load_after", load_average()}};
+}
+
+namespace {
+
+// The child's run on the kernel OpenBLAS picks (and the other kernel's, when one was timed).
+std::string best_blas_text(const nlohmann::json& best) {
+  if (best.is_null()) return "";
+  if (best.contains("error")) return "  OpenBLAS at its best: not measured (" + best["error"].get<std::string>() + ")\n";
+  const auto line = [](const char* what, const nlohmann::json& r) {
+    if (r.contains("error")) return fmt::format("  {}: not measured ({})\n", what, r["error"].get<std::string>());
+    return fmt::format("  {} ({}, child {}): {:.4f} s ({:.4f} s CPU), {:.1f} GFLOP/s; icobrdf is {:.2f}x its speed ({:.2f}x in CPU time; "
+                       "results agree to {:.1e})\n",
+                       what, r["core"].get<std::string>(), r["environment"].get<std::string>(), r["seconds"].get<double>(),
+                       r["cpu_seconds"].get<double>(), r["gflops"].get<double>(), r["ratio"].get<double>(), r["cpu_ratio"].get<double>(),
+                       r["relative_difference"].get<double>());
+  };
+  std::string out = line("OpenBLAS at its best", best);
+  if (best.contains("other")) out += line("OpenBLAS, the other kernel", best["other"]);
+  return out;
+}
+
+}  // namespace
+
+std::string projection_report_text(const nlohmann::json& j) {
+  const auto d = [&j](const char* key) { return j.at(key).get<double>(); };
+  const auto t = [&j](const char* key) { return j.at(key).get<std::string>(); };
+  const double cells = d("cells"), lut_bytes = 8.0 * cells * cells;
+  return fmt::format("projection C = P^T F P, level {} ({} cells), order {} ({} modes), {} thread(s){}\n", j.at("level").get<int>(),
+                           j.at("cells").get<long>(), j.at("order").get<int>(), j.at("modes").get<long>(), j.at("threads").get<int>(),
+                           j.at("symmetric").get<bool>() ? ", symmetric F (icobrdf reads half of it; OpenBLAS does the general product)" : "")
+         + fmt::format("  machine: {}; kernels on {}; load {} before, {} after\n", t("cpu_model"), t("simd_target"), t("load_before"),
+                           t("load_after"))
+         + fmt::format("  FP64 peak: {:.1f} GFLOP/s {}; nominal {:.1f} ({:.0f} MHz x {} flops/cycle x cores)\n", d("peak_gflops"),
+                           t("peak_source") == "measured" ? "measured (FMA throughput on all threads)" : "(" + t("peak_source") + ")",
+                           d("nominal_peak_gflops"), d("cpu_mhz"), j.at("flops_per_cycle_per_core").get<int>())
+         + fmt::format("  memory: {:.1f} GB/s (triad); reading F once ({:.0f} MB) takes {:.4f} s; {:.0f}% of F in huge pages\n",
+                           d("bandwidth_gbs"), lut_bytes / 1e6, d("stream_seconds"), 100 * d("lut_huge_page_fraction"))
+         + fmt::format("  icobrdf:                {:.4f} s ({:.4f} s CPU), {:.1f} GFLOP/s = {:.0f}% of the FP64 peak\n", d("seconds"),
+                           d("cpu_seconds"), d("gflops"), 100 * d("performed_gflops") / d("peak_gflops"))
+         + fmt::format("  OpenBLAS ({}): {:.4f} s ({:.4f} s CPU), {:.1f} GFLOP/s; icobrdf is {:.2f}x its speed ({:.2f}x in CPU time; results "
+                           "agree to {:.1e})\n",
+                           t("blas_core"), d("blas_seconds"), d("blas_cpu_seconds"), d("blas_gflops"), d("blas_ratio"), d("blas_cpu_ratio"),
+                           d("relative_difference_to_blas")) +
+         best_blas_text(j.at("blas_best"));
 }
 
 }  // namespace icobrdf::lab

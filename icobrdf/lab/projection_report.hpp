@@ -42,5 +42,8 @@ nlohmann::json blas_only_report(int level, int order, int threads, int repeat, b
 // child's run: seconds, gflops, ratio, cpu_ratio, core, environment, relative_difference, and "other" when a
 // second kernel was timed; or {"error": ...}), eigen_simd, cpu_model, load_before, load_after.
 nlohmann::json projection_report(const ProjectionRequest& request);
+// The text report of projection_report's JSON: the sizes, the machine (peak, bandwidth, huge pages), icobrdf's and
+// OpenBLAS's times and their ratio, and OpenBLAS on its own best kernel.
+std::string projection_report_text(const nlohmann::json& report);
 
 }  // namespace icobrdf::lab

@@ -1,5 +1,7 @@
 #include "icobrdf/lab/streaming_benchmark.hpp"
 
+#include <fmt/core.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -86,6 +88,24 @@ nlohmann::json streaming_report(const StreamingBenchmark& b, int level, const st
           {"projection_cpu_seconds_per_rank", ranks.cpu_seconds},
           {"max_abs_coefficient", b.max_abs_coefficient},
           {"frobenius_norm", b.frobenius_norm}};
+}
+
+std::string streaming_text(const StreamingBenchmark& b, int level, const std::string& sampling, int repeat, int every,
+                           const StreamingRanks& ranks) {
+  const Spectrum& s = b.spectrum;
+  const double best = b.best_seconds();
+  std::string out = fmt::format("streaming projection of {}: level {} ({} cells), order {} ({} modes), {} channel(s), {} sampling{}\n", s.source,
+                           level, b.cells, s.order, s.modes(), s.channel_count(), sampling, s.cosine ? ", g form" : "")
+                    + fmt::format("  {} rank(s) x {} thread(s), operators {}; grid and operators {:.3f} s; projection {:.3f} s (best of {}){}\n", ranks.ranks,
+                           ranks.threads_per_rank, ranks.operators, b.context_seconds, best, repeat,
+                           every > 1 ? fmt::format(" for 1 block in {} ({:.1f} s of it fixed): {:.1f} s for all (estimate)", every,
+                                                     b.fixed_seconds, b.whole_estimate_seconds()) : "");
+  std::string mem;
+  for (std::size_t k = 0; k < ranks.peak_rss_bytes.size(); ++k) mem += fmt::format("{}rank {} {:.0f} MB", k ? ", " : "", k, ranks.peak_rss_bytes[k] / 1e6);
+  std::string work;
+  for (std::size_t k = 0; k < ranks.cpu_seconds.size(); ++k) work += fmt::format("{}rank {} {:.2f} s", k ? ", " : "", k, ranks.cpu_seconds[k]);
+  return out + "  CPU time of one projection: " + work + "\n" + "  peak resident memory: " + mem + "\n" +
+         fmt::format("  max |C| {:.17g}, Frobenius norm {:.17g}\n", b.max_abs_coefficient, b.frobenius_norm);
 }
 
 }  // namespace icobrdf::lab

@@ -56,5 +56,9 @@ struct StreamingRanks {
 // context_seconds, projection_seconds (the best), projection_seconds_all, peak_rss_bytes_per_rank,
 // projection_cpu_seconds_per_rank, max_abs_coefficient, frobenius_norm.
 nlohmann::json streaming_report(const StreamingBenchmark& b, int level, const std::string& sampling, const StreamingRanks& ranks);
+// The text report of the same: sizes, ranks and threads, the best time (and the estimate for all blocks when
+// only 1 in `every` was projected), CPU time and peak memory per rank, max |C| and the Frobenius norm.
+std::string streaming_text(const StreamingBenchmark& b, int level, const std::string& sampling, int repeat, int every,
+                           const StreamingRanks& ranks);
 
 }  // namespace icobrdf::lab
