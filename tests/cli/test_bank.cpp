@@ -179,7 +179,8 @@ TEST(CliBank, OneGlossyMaterialBuildsWithTheDefaults) {
   const auto scene = write(d, "s.toml", "[[material]]\nname = \"glossy\"\nsource = \"model:ggx:alpha=0.3\"\ntarget = 0.05\n");
   const auto r = run_cli({"bank", "build", scene, "-o", d.file("b.h5"), "--json", "--quiet"});
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  const json& m = material(json::parse(r.out), "glossy");
+  const json report = json::parse(r.out);
+  const json& m = material(report, "glossy");
   EXPECT_TRUE(m["ok"].get<bool>());
   EXPECT_EQ(m["metric"], "cosine");
   EXPECT_LE(m["error_l2"].get<double>(), 0.05);
