@@ -38,7 +38,7 @@ struct FitArgs {
   std::string source, output, filter = "none", grid = "equal-area", sampling = "average", name;
   int order = kDefaultOrder, level = 4;
   bool order_given = false;
-  bool isotropic = false, cosine = false, json = false, strict = false, quiet = false;
+  bool isotropic = false, cosine = false, json = false, strict = false, quiet = false, non_reciprocal = false;
   double gram_tol = kDefaultGramTolerance;
 };
 
@@ -70,6 +70,7 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
   if (a.quiet) set_progress_stream(nullptr);  // the projection's lines too
   if (run.writes()) r.progress = progress_printer(t0);
   r.isotropic = a.isotropic;
+  r.reciprocal = !a.non_reciprocal;
   r.cosine = a.cosine;
   r.filter = parse_lowpass_filter(a.filter);
   r.gram_tolerance = a.gram_tol;
@@ -82,6 +83,8 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
   if (!source->has_delta() && run.writes())  // a model's delta note is about pointwise values, which fit does not print
     for (const auto& note : source->notes()) std::cerr << "icobrdf: note: " << source->spec() << ": " << note << "\n";
   if (!a.order_given && chooses_order(*source)) r.order = kChooseOrder;
+  if (a.non_reciprocal && source->values_only_at_samples())
+    throw ArgumentError("--non-reciprocal: '" + quoted_text(a.source) + "' holds scattered samples, which are fitted on the reciprocal modes only");
   r.grid_kind = fitting_grid_kind(a.grid);
   run.setup_done();
   const FitResult fit = fit_source(*source, r);
@@ -99,6 +102,7 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
   report.fit = &fit;
   report.checked = last_checked_sample_fit(*source);
   report.missing_samples = merl_missing_samples(*source);
+  report.samples = samples_of(*source);
   report.output = a.output;
   report.level_asked = a.level;
   report.grid_kind = r.grid_kind;
@@ -151,6 +155,7 @@ void add_fit_command(CLI::App& app) {
   cmd->add_option("--level,-l", a->level, "Tessellation level (cells: 10*4^L + 2^(L+1))")->capture_default_str()->check(CLI::Range(0, 8));
   cmd->add_flag("--isotropic", a->isotropic, "Project onto the isotropic modes (IBSSS)");
   cmd->add_flag("--cosine", a->cosine, "Project g = f cos(theta_i) (always for delta models)");
+  cmd->add_flag("--non-reciprocal", a->non_reciprocal, "Keep the antisymmetric terms of a non-reciprocal source (K&vD sec. 2B)");
   cmd->add_option("--filter", a->filter, "Low-pass filter: none, fejer, lanczos, hann, gaussian[:width=W]")->capture_default_str();
   cmd->add_option("--grid", a->grid, "Tessellation: equal-area or geodesic")->capture_default_str();
   cmd->add_option("--sampling", a->sampling, "LUT sampling: average (cell cubature) or centre")->capture_default_str();

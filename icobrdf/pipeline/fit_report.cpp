@@ -3,10 +3,48 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
+#include "icobrdf/core/basis/antisymmetric_modes.hpp"
+#include "icobrdf/pipeline/exchanged_pairs.hpp"
+#include "icobrdf/pipeline/held_out.hpp"
 
 namespace icobrdf {
+
+namespace {
+
+// The samples' own non-reciprocal fraction and the fit's relative residual (weighted RMS over the weighted RMS of
+// the values, worst channel).
+struct DataAsymmetry {
+  ExchangedAsymmetry pairs;
+  double relative_residual = std::nan("");
+};
+
+DataAsymmetry data_asymmetry(const FitReport& report) {
+  DataAsymmetry d;
+  const BrdfSamples& s = *report.samples;
+  d.pairs = exchanged_asymmetry(s.wi, s.wr, s.values, false, kSwapToleranceDeg);
+  if (!report.checked) return d;
+  const Eigen::VectorXd& res = report.checked->fit.residual_rms;
+  const double wsum = s.weights.sum();
+  for (Eigen::Index c = 0; c < res.size() && c < s.values.cols(); ++c) {
+    const double rms = std::sqrt(s.weights.dot(s.values.col(c).cwiseAbs2()) / wsum);
+    if (rms > 0) d.relative_residual = std::isnan(d.relative_residual) ? res(c) / rms : std::max(d.relative_residual, res(c) / rms);
+  }
+  return d;
+}
+
+// The largest relative norm of a channel's antisymmetric part: 0 for reciprocal fits (symmetrized exactly),
+// the kept antisymmetric terms of a fit with --non-reciprocal (FitRequest::reciprocal).
+double kept_antisymmetric_fraction(const Spectrum& s) {
+  double x = 0.0;
+  if (s.cosine) return x;  // g = f cos(theta_i) is not reciprocal in the first place
+  for (const auto& c : s.channels) x = std::max(x, antisymmetric_fraction(c));
+  return x;
+}
+
+}  // namespace
 
 nlohmann::json fit_report_json(const FitReport& report) {
   const Spectrum& s = report.fit->spectrum;
@@ -27,6 +65,7 @@ nlohmann::json fit_report_json(const FitReport& report) {
                    {"reciprocity_violation", s.reciprocity_violation},
                    {"anisotropy_fraction", s.anisotropy_fraction},
                    {"max_albedo", s.max_albedo},
+                   {"antisymmetric_fraction", kept_antisymmetric_fraction(s)},
                    {"seconds", report.seconds}};
   if (!report.grid_fit()) {
     j.erase("gram_error");
@@ -62,6 +101,13 @@ nlohmann::json fit_report_json(const FitReport& report) {
                        {"residual_rms", vec(sf->residual_rms)}};
   }
   if (report.missing_samples >= 0) j["missing_samples"] = report.missing_samples;
+  if (report.samples) {
+    const DataAsymmetry d = data_asymmetry(report);
+    const auto num = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
+    j["data_asymmetry"] = {{"exchanged_samples", d.pairs.samples}, {"tolerance_deg", kSwapToleranceDeg}, {"asymmetry", num(d.pairs.asymmetry)},
+                           {"median_relative_difference", num(d.pairs.median_relative_difference)},
+                           {"relative_residual", num(d.relative_residual)}};
+  }
   return j;
 }
 
@@ -116,8 +162,21 @@ std::string fit_report_text(const FitReport& report) {
   std::string out = fmt::format("{} -> {}\n", s.source, report.output) + spectrum_lines(report);
   out += fmt::format("  max directional albedo {:.6g}, filter {}, {:.3f} s{}\n", s.max_albedo, s.filter, report.seconds,
                      report.ranks > 1 ? fmt::format(" on {} ranks", report.ranks) : "");
+  if (const double anti = kept_antisymmetric_fraction(s); anti > 0)
+    out += fmt::format("  antisymmetric terms kept (non-reciprocal fit): {:.3g} of the coefficients' norm\n", anti);
   if (report.checked) out += sample_fit_lines(report);
   if (report.missing_samples >= 0) out += fmt::format("  MERL missing samples (masked, all channels): {}\n", report.missing_samples);
+  if (report.samples) {
+    const DataAsymmetry d = data_asymmetry(report);
+    if (d.pairs.samples == 0)
+      out += fmt::format("  the data's non-reciprocal fraction: not measurable (no two samples are each other's exchange within {:.3g} deg)\n",
+                         kSwapToleranceDeg);
+    else
+      out += fmt::format("  the data's non-reciprocal fraction {:.3g} (relative L2 of f - (f + f^T)/2 over the {} samples in exchanged pairs within "
+                         "{:.3g} deg; median pair difference {:.3g}%), beside the fit's relative residual {:.3g}: a residual at or below it is "
+                         "the data's own noise\n",
+                         d.pairs.asymmetry, d.pairs.samples, kSwapToleranceDeg, 100 * d.pairs.median_relative_difference, d.relative_residual);
+  }
   return out;
 }
 

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "icobrdf/core/fit/sample_fit_selection.hpp"
+#include "icobrdf/io/sample_csv.hpp"
 #include "icobrdf/pipeline/fit_source.hpp"
 
 namespace icobrdf {
@@ -27,6 +28,10 @@ struct FitReport {
   double seconds = 0.0;                       // wall time of the whole command
   std::string dense_kernels = "none";         // the kernels that solved the normal equations ("none" when none ran)
   int ranks = 1;                              // processes of an mpirun job that fitted it
+  // The samples of a CSV or CURET SOURCE (icobrdf/io/measured_sources.hpp samples_of); null for other fits. Their
+  // exchanged pairs give the data's own non-reciprocal fraction (icobrdf/pipeline/exchanged_pairs.hpp, metric
+  // "f", pairs within kSwapToleranceDeg), reported beside the fit's relative residual.
+  const BrdfSamples* samples = nullptr;
 
   // The tessellation took part in the fit (not samples or stored coefficients).
   bool grid_fit() const { return fit->spectrum.level >= 0; }
@@ -37,7 +42,8 @@ struct FitReport {
 // reciprocity_violation, anisotropy_fraction, max_albedo, seconds; "sample_fit" (samples, unknowns,
 // effective_rank, null_space_dimension, unseen_modes, rank_threshold, condition_of_kept_part, solver,
 // dense_kernels, tikhonov, tikhonov_choice, order_choice, cv_rms, cv_folds, fallback, notes, noise_sigma,
-// residual_rms) for sample fits; missing_samples for MERL tables.
+// residual_rms) for sample fits; missing_samples for MERL tables; "data_asymmetry" (exchanged_samples,
+// tolerance_deg, asymmetry, median_relative_difference, relative_residual) for samples.
 nlohmann::json fit_report_json(const FitReport& report);
 
 // The same as lines of text: what was fitted on which grid, the quality figures, the sample fit's figures

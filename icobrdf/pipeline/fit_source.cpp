@@ -67,6 +67,7 @@ FitResult fit_source(const BrdfSource& source, const FitRequest& request, FitCon
   o.progress = request.progress;
   o.share = request.share;
   o.isotropic = request.isotropic;
+  o.reciprocal = request.reciprocal;
   o.cosine = request.cosine;
   o.filter = request.filter;
   o.gram_tolerance = request.gram_tolerance;

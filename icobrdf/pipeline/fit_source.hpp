@@ -32,6 +32,7 @@ struct FitRequest {
   GridKind grid_kind = GridKind::EqualArea;             // EqualArea or Geodesic (build_fitting_grid)
   LutSampling sampling = LutSampling::CellAverage;      // how the fitting grid samples each cell
   bool isotropic = false;                               // project onto the isotropic modes
+  bool reciprocal = true;                               // false: keep the antisymmetric terms (FitOptions::reciprocal)
   bool cosine = false;                                  // fit g = f cos(theta_i) (forced for delta models)
   LowPassFilter filter;                                 // applied after the projection
   double gram_tolerance = kDefaultGramTolerance;        // largest Gram error accepted for (grid, order)

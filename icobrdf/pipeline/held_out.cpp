@@ -9,6 +9,7 @@
 #include "icobrdf/core/basis/direction.hpp"
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/basis/hemisphere_basis.hpp"
+#include "icobrdf/pipeline/exchanged_pairs.hpp"
 #include "icobrdf/pipeline/keys.hpp"
 
 namespace icobrdf {
@@ -79,18 +80,17 @@ double asymmetry_of(const Eigen::MatrixXd& f, const Eigen::MatrixXd& ft, const E
 }
 
 // Samples judged at their own values: the exchanged values where two held-out samples are each other's
-// exchange (kSwapToleranceDeg). Returns the rows matched and fills ft there.
+// exchange (kSwapToleranceDeg, icobrdf/pipeline/exchanged_pairs.hpp). Returns the rows matched and fills ft there.
 std::vector<Eigen::Index> exchanged_samples(const HeldOutPairs& h, Eigen::MatrixXd& ft) {
-  const double cos_tol = std::cos(kSwapToleranceDeg * M_PI / 180);
+  const std::vector<Eigen::Index> partner = exchanged_partners(h.wi, h.wr, kSwapToleranceDeg);
   std::vector<Eigen::Index> matched;
   ft = h.f;
-  for (Eigen::Index k = 0; k < h.wi.rows(); ++k)
-    for (Eigen::Index l = 0; l < h.wi.rows(); ++l) {
-      if (l == k || h.wi.row(k).dot(h.wr.row(l)) < cos_tol || h.wr.row(k).dot(h.wi.row(l)) < cos_tol) continue;
-      ft.row(k) = h.f.row(l);
-      matched.push_back(k);
-      break;
-    }
+  for (Eigen::Index k = 0; k < h.wi.rows(); ++k) {
+    const Eigen::Index l = partner[static_cast<size_t>(k)];
+    if (l < 0) continue;
+    ft.row(k) = h.f.row(l);
+    matched.push_back(k);
+  }
   return matched;
 }
 

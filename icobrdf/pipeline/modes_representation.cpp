@@ -22,6 +22,9 @@ LevelOrderSearch search_for(const MaterialProblem& p) {
   s.levels = p.material.level >= 0 ? std::vector<int>{p.material.level} : p.scene.levels;
   s.order_max = p.scene.order_max;
   s.fixed_order = p.material.order;
+  // reciprocal = false: the antisymmetric terms of data that are not reciprocal are kept (a source reciprocal by
+  // construction has none beyond rounding, and the fits of scattered samples are of the reciprocal modes).
+  s.base.reciprocal = p.material.reciprocal || p.source.reciprocal_by_construction() || p.source.values_only_at_samples();
   // Scattered samples: no order beyond what they determine (unless the scene fixes it), each order fitted.
   const int cap = p.source.largest_sample_order(p.material.isotropic == IsotropicChoice::Always);
   if (p.source.values_only_at_samples()) {
@@ -47,9 +50,7 @@ void choose_isotropy(const MaterialProblem& p, LevelOrderChoice& c) {
         exact_decimal(e.l2) + " -> " + (c.spectrum.isotropic ? "isotropic" : "anisotropic"));
 }
 
-int coefficient_count(const Spectrum& s) {
-  return s.isotropic ? isotropic_mode_count(s.order) : static_cast<int>(helmholtz_mode_count(s.order));
-}
+int coefficient_count(const Spectrum& s) { return coefficient_total(s); }
 
 }  // namespace
 

@@ -4,18 +4,28 @@
 #include <numeric>
 #include <vector>
 
+#include "icobrdf/core/basis/antisymmetric_modes.hpp"
 #include "icobrdf/core/basis/helmholtz_modes.hpp"
 #include "icobrdf/core/basis/isotropic_modes.hpp"
 
 namespace icobrdf {
 namespace {
 
-// A spectrum's channels as mode coefficient vectors, ranked by magnitude; with_kept(k) rebuilds the channels
-// from the k largest.
+// A spectrum's channels as mode coefficient vectors (the symmetric modes, then the antisymmetric ones when the
+// spectrum has them), ranked by magnitude; with_kept(k) rebuilds the channels from the k largest.
 class RankedCoefficients {
  public:
-  explicit RankedCoefficients(const Spectrum& s) : s_(s) {
-    for (const auto& c : s.channels) v_.push_back(s.isotropic ? ibsss_from_coefficients(c) : bsss_from_coefficients(c));
+  explicit RankedCoefficients(const Spectrum& s) : s_(s), anti_(has_antisymmetric_terms(s)) {
+    for (const auto& c : s.channels) {
+      Eigen::VectorXd v = s.isotropic ? ibsss_from_coefficients(c) : bsss_from_coefficients(c);
+      symmetric_ = v.size();
+      if (anti_) {
+        const Eigen::VectorXd z = s.isotropic ? isotropic_antisymmetric_from_coefficients(c) : antisymmetric_from_coefficients(c);
+        v.conservativeResize(symmetric_ + z.size());
+        v.tail(z.size()) = z;
+      }
+      v_.push_back(std::move(v));
+    }
     const Eigen::Index total = v_[0].size();
     Eigen::VectorXd mag = Eigen::VectorXd::Zero(total);
     for (const auto& v : v_) mag = mag.cwiseMax(v.cwiseAbs());
@@ -29,18 +39,38 @@ class RankedCoefficients {
     for (const auto& v : v_) {
       Eigen::VectorXd w = Eigen::VectorXd::Zero(total());
       for (Eigen::Index k = 0; k < kept; ++k) w[rank_[static_cast<size_t>(k)]] = v[rank_[static_cast<size_t>(k)]];
-      out.push_back(s_.isotropic ? coefficients_from_ibsss(s_.order, w) : coefficients_from_bsss(w));
+      const Eigen::VectorXd sym = w.head(symmetric_);
+      Eigen::MatrixXd c = s_.isotropic ? coefficients_from_ibsss(s_.order, sym) : coefficients_from_bsss(sym);
+      if (anti_) {
+        const Eigen::VectorXd z = w.tail(total() - symmetric_);
+        c += s_.isotropic ? coefficients_from_isotropic_antisymmetric(s_.order, z) : coefficients_from_antisymmetric(s_.order, z);
+      }
+      out.push_back(std::move(c));
     }
     return out;
   }
 
  private:
   const Spectrum& s_;
+  bool anti_;
+  Eigen::Index symmetric_ = 0;
   std::vector<Eigen::VectorXd> v_;
   std::vector<Eigen::Index> rank_;
 };
 
 }  // namespace
+
+bool has_antisymmetric_terms(const Spectrum& s) {
+  for (const auto& c : s.channels)
+    if (c.rows() == c.cols() && (c - c.transpose()).cwiseAbs().maxCoeff() > 0.0) return true;
+  return false;
+}
+
+int coefficient_total(const Spectrum& s) {
+  long long n = s.isotropic ? isotropic_mode_count(s.order) : helmholtz_mode_count(s.order);
+  if (has_antisymmetric_terms(s)) n += s.isotropic ? isotropic_antisymmetric_mode_count(s.order) : antisymmetric_mode_count(s.order);
+  return static_cast<int>(n);
+}
 
 PruneResult prune_coefficients(Spectrum& s, const HeldOutErrors& errors, double target) {
   const RankedCoefficients ranked(s);

@@ -6,9 +6,14 @@
 #include <fstream>
 #include <memory>
 #include <string>
+#include <vector>
 
+#include "icobrdf/core/basis/antisymmetric_modes.hpp"
+#include "icobrdf/core/basis/isotropic_modes.hpp"
 #include "icobrdf/core/models/function_model.hpp"
 #include "icobrdf/io/brdf_source.hpp"
+#include "icobrdf/io/sample_csv.hpp"
+#include "icobrdf/pipeline/exchanged_pairs.hpp"
 #include "icobrdf/pipeline/held_out.hpp"
 #include "icobrdf/pipeline/material_candidate.hpp"
 #include "tests/io/io_test_support.hpp"
@@ -83,14 +88,20 @@ TEST(Reciprocity, AsymmetryOfAKnownAntisymmetricPartAndTheReferenceIsItsReciproc
   EXPECT_NEAR(HeldOutErrors(r.pairs, 0, m.metric).of_values(symmetric).l2, expected_asymmetry(), kRounding);
 }
 
+// A scene of modes alone up to order 2 (f is exactly of order 2).
+Scene modes_scene(std::vector<int> levels) {
+  Scene s;
+  s.levels = std::move(levels);
+  s.order_max = 2;
+  s.representations = {"modes"};
+  return s;
+}
+
 // The builder's modes (reciprocal by construction) fit the symmetric part a: an order-0 spectrum whose error
 // against the reciprocal part is rounding, while the raw data's asymmetry is reported beside it.
 TEST(Reciprocity, ModesOfTheSymmetricPartMeetATargetBelowTheAsymmetry) {
   const auto src = tilted_source();
-  Scene s;
-  s.levels = {1, 2};
-  s.order_max = 2;
-  s.representations = {"modes"};
+  const Scene s = modes_scene({1, 2});
   SceneMaterial m = on_nodes();
   m.target = 1e-6;
   const HeldOutSplit h = held_out_split(s, m, *src);
@@ -101,6 +112,52 @@ TEST(Reciprocity, ModesOfTheSymmetricPartMeetATargetBelowTheAsymmetry) {
   EXPECT_EQ(c.order, 0);
   EXPECT_LT(c.error.l2, kProjectionRounding);
   EXPECT_GT(h.asymmetry, m.target);
+}
+
+// reciprocal = false keeps the antisymmetric terms (paper section 2B). With rho^2 = 1 - cos theta and
+// R_2^0 = 2 rho^2 - 1, cos theta = (1 - R_2^0(rho))/2, so
+//   a                      = 2 pi a I_00^0                  (I_00^0 = 1/(2 pi))
+//   b (cos_i - cos_r)      = -(b/2) (R_2^0(rho_i) - R_2^0(rho_r)) = -pi sqrt(2/3) b J_20^0
+//                                                           (J_20^0 = sqrt(3/2)/(2 pi) (R_2^0(rho_i) - R_2^0(rho_r)))
+// so the modes hold f exactly at order 2 with two coefficients: IBSSS (0,0,0) = 2 pi a and J (2,0,0) =
+// -pi sqrt(2/3) b, the symmetric part evaluating to a and the antisymmetric part to b (cos_i - cos_r).
+TEST(Reciprocity, AntisymmetricTermsHoldTheKnownAntisymmetricPart) {
+  const auto src = tilted_source();
+  const Scene s = modes_scene({2, 3});
+  SceneMaterial m = on_nodes();
+  m.target = 1e-6;
+  m.reciprocal = false;
+  const HeldOutSplit h = held_out_split(s, m, *src);
+  ASSERT_FALSE(h.reciprocal_reference);
+  const HeldOutErrors errors(h.pairs, s.order_max, m.metric, false);
+  FitContexts contexts;
+  const MaterialProblem p{s, m, *src, &errors, contexts, [](const std::string&) {}};
+  const MaterialCandidate c = choose_representation(p);
+  EXPECT_EQ(c.order, 2);
+  EXPECT_TRUE(c.isotropic);
+  EXPECT_LT(c.error.l2, kProjectionRounding);  // the raw data, asymmetry included
+  EXPECT_EQ(c.kept, 2);
+  const Eigen::MatrixXd& C = c.record.spectrum.channels.at(0);
+  const Eigen::VectorXd sym = ibsss_from_coefficients(C), anti = isotropic_antisymmetric_from_coefficients(C);
+  EXPECT_NEAR(sym[0], 2 * M_PI * kA, kProjectionRounding);
+  EXPECT_LT(sym.tail(sym.size() - 1).cwiseAbs().maxCoeff(), kProjectionRounding);
+  const auto modes = isotropic_antisymmetric_modes(2);
+  for (size_t k = 0; k < modes.size(); ++k) {
+    const bool j200 = modes[k].n == 2 && modes[k].m == 0 && modes[k].l == 0;
+    EXPECT_NEAR(anti[static_cast<Eigen::Index>(k)], j200 ? -M_PI * std::sqrt(2.0 / 3.0) * kB : 0.0, kProjectionRounding);
+  }
+  // The split at the held-out pairs: symmetric part a, antisymmetric part b (cos_i - cos_r).
+  const Eigen::MatrixXd half_sum = errors.modes_values({0.5 * (C + C.transpose())}, 2);
+  const Eigen::MatrixXd half_diff = errors.modes_values({0.5 * (C - C.transpose())}, 2);
+  const Eigen::ArrayXd expected_anti = kB * (h.pairs.wi.col(2) - h.pairs.wr.col(2)).array();
+  EXPECT_LT((half_sum.array() - kA).abs().maxCoeff(), kProjectionRounding);
+  EXPECT_LT((half_diff.col(0).array() - expected_anti).abs().maxCoeff(), kProjectionRounding);
+  // The reciprocal modes of the same data miss the raw data by exactly its asymmetry.
+  m.reciprocal = true;
+  const MaterialProblem q{s, m, *src, &errors, contexts, [](const std::string&) {}};
+  m.target = 1.01 * expected_asymmetry();  // met at order 0 (the symmetric part a exactly), not with no coefficient
+  const MaterialCandidate r = choose_representation(q);
+  EXPECT_NEAR(r.error.l2, expected_asymmetry(), kProjectionRounding);
 }
 
 TEST(Reciprocity, ReciprocalSourcesHaveNoAsymmetryAndKeepTheirValues) {
@@ -160,6 +217,24 @@ TEST(Reciprocity, SamplesAreJudgedAgainstTheReciprocalPartWhereHeldOutSamplesAre
   EXPECT_GT(changed, 0);
   EXPECT_EQ(changed % 2, 0);
   EXPECT_LT(changed, h.pairs.f.rows());
+}
+
+// All 600 samples of the file are in exchanged pairs: the fraction `icobrdf fit` reports is e / sqrt(1 + e^2) for
+// either metric (w is the same for both samples of a pair), and every pair differs by |(1+e) - (1-e)| / 1 = 2e.
+TEST(Reciprocity, EveryExchangedSamplePairOfAFileGivesItsNonReciprocalFraction) {
+  test::ScratchDir d;
+  const BrdfSamples samples = read_sample_csv(write_exchanged_samples(d));
+  ASSERT_EQ(samples.wi.rows(), 600);
+  for (const bool cosine : {false, true}) {
+    const ExchangedAsymmetry a = exchanged_asymmetry(samples.wi, samples.wr, samples.values, cosine, kSwapToleranceDeg);
+    EXPECT_EQ(a.samples, 600);
+    EXPECT_NEAR(a.asymmetry, kE / std::sqrt(1 + kE * kE), kRounding);
+    EXPECT_NEAR(a.median_relative_difference, 2 * kE, kRounding);
+  }
+  // One sample alone has no partner: not measurable.
+  const ExchangedAsymmetry none = exchanged_asymmetry(samples.wi.topRows(1), samples.wr.topRows(1), samples.values.topRows(1), false, kSwapToleranceDeg);
+  EXPECT_EQ(none.samples, 0);
+  EXPECT_TRUE(std::isnan(none.asymmetry));
 }
 
 }  // namespace

@@ -29,7 +29,7 @@ Spectrum finish(std::vector<Eigen::MatrixXd> channels, const std::string& source
   double asym = 0.0, aniso = 0.0;
   for (auto& c : channels) {
     asym = std::max(asym, coefficient_asymmetry(c));
-    if (!cosine) c = 0.5 * (c + c.transpose());
+    if (!cosine && o.reciprocal) c = 0.5 * (c + c.transpose());
     const Eigen::MatrixXd iso = isotropic_part(c, s.order);
     aniso = std::max(aniso, anisotropy(c, iso));
     if (o.isotropic) c = iso;

@@ -6,7 +6,10 @@
 //      (icobrdf/core/projection/discrete_basis.hpp, UnsupportedError naming the largest supported order).
 //   2. C = P^T F P per channel: by streaming for models (the LUT is never materialized), or from a LUT.
 //   3. Helmholtz projection of f spectra: C <- (C + C^T)/2, the closest reciprocal spectrum (paper eq. 21);
-//      the relative norm of the removed antisymmetric part is recorded as reciprocity_violation.
+//      the relative norm of the removed antisymmetric part is recorded as reciprocity_violation. With
+//      options.reciprocal false C is kept whole: its antisymmetric part is the data's antisymmetric terms
+//      (icobrdf/core/basis/antisymmetric_modes.hpp; paper section 2B), for reproducing a non-reciprocal
+//      measurement.
 //      Spectra of g = f cos(theta_i) are not symmetrized (g is not reciprocal); for them the figure
 //      records the asymmetry of g's spectrum.
 //   4. Isotropic projection on request (isotropic_part), recording the anisotropic energy fraction.
@@ -35,6 +38,7 @@ inline constexpr double kGrazingCellCos = 1e-3;
 struct FitOptions {
   int order = 8;
   bool isotropic = false;
+  bool reciprocal = true;  // false: keep C's antisymmetric part (step 3 above)
   bool cosine = false;  // project g = f cos(theta_i); forced for models with delta parts
   LowPassFilter filter;
   LutSampling sampling = LutSampling::CellAverage;
