@@ -5,6 +5,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <condition_variable>
 #include <deque>
@@ -52,6 +53,7 @@ void report_candidate(const MaterialCandidate& c, MaterialReport& rep) {
   rep.total = c.total;
   rep.bytes = c.bytes;
   rep.target_met = c.target_met;
+  explain_miss(c, rep);
 }
 
 // One material from its source: held-out pairs, the best representation, the record as stored.
@@ -107,6 +109,20 @@ MaterialRecord fit_material(const Scene& scene, const SceneMaterial& m, FitConte
 }
 
 }  // namespace
+
+void explain_miss(const MaterialCandidate& c, MaterialReport& rep) {
+  if (rep.target_met || !rep.measured) return;
+  std::string note = c.note;
+  const double noise = rep.asymmetry;
+  if (std::isfinite(noise) && noise > 0) {
+    rep.below_noise = rep.error_l2 <= kNoiseMargin * noise;
+    note += std::string(note.empty() ? "" : "; ") + (rep.reciprocal_reference ? "the data's noise estimate (its asymmetry) " : "the data's asymmetry ") +
+            three_digits(noise) + (rep.below_noise ? ": the error is at that noise, " : ": the error is above it, ");
+    note += rep.below_noise ? (rep.reciprocal_reference ? "the target is below what the data resolve" : "no reciprocal representation comes closer")
+                            : "the representation's own floor";
+  }
+  rep.note = note;
+}
 
 MaterialFitter::MaterialFitter(const Scene& scene, const BankBuildOptions& opt)
     : scene_(scene), options_(opt), contexts_(std::make_unique<FitContexts>()), bank_(std::make_unique<BankOperators>(scene)) {}

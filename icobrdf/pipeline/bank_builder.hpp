@@ -41,6 +41,7 @@
 
 namespace icobrdf {
 
+struct MaterialCandidate;  // icobrdf/pipeline/material_problem.hpp
 
 struct BankBuildOptions {
   std::string output;
@@ -67,6 +68,11 @@ struct BankBuildResult {
 };
 
 BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& options);
+
+// A measured material that missed its target (report.target_met false): report.note = the candidate's note (where
+// its search stopped) and the data's noise estimate, its asymmetry; report.below_noise when the error is within
+// kNoiseMargin of it (icobrdf/pipeline/material_report.hpp). Reads error_l2, asymmetry, reciprocal_reference.
+void explain_miss(const MaterialCandidate& candidate, MaterialReport& report);
 
 // Fitting several materials at once. A small fit's parallel regions are short, and two threads gained only
 // 1.28x on a bank of 100 level-4 materials (benchmarks/RESULTS.md), while two such materials fitted side by

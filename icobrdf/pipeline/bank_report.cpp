@@ -22,7 +22,8 @@ nlohmann::json material_report_json(const MaterialReport& m) {
             {"judged_against", m.reciprocal_reference ? "reciprocal part" : "data"},
             {"grazing_share", m.measured ? nlohmann::json(m.grazing_share) : nlohmann::json()}, {"anisotropy", m.anisotropy},
             {"kept_coefficients", m.kept}, {"total_coefficients", m.total}, {"bytes", m.bytes}, {"seconds", m.seconds},
-            {"target_met", m.target_met}, {"max_bytes", m.max_bytes >= 0 ? nlohmann::json(m.max_bytes) : nlohmann::json()}});
+            {"target_met", m.target_met}, {"max_bytes", m.max_bytes >= 0 ? nlohmann::json(m.max_bytes) : nlohmann::json()},
+            {"below_noise", m.below_noise}, {"note", m.note}});
   return j;
 }
 
@@ -37,7 +38,7 @@ std::string bank_build_table(const BankBuildResult& r, const std::string& output
     }
     const std::string l2 = m.measured ? fmt::format("{:.3g}", m.error_l2) : "n/a", mx = m.measured ? fmt::format("{:.3g}", m.error_max) : "n/a";
     const std::string asym = m.measured && std::isfinite(m.asymmetry) ? fmt::format("{:.3g}", m.asymmetry) : "n/a";
-    const char* met = !m.measured ? "n/a" : m.target_met ? "yes" : "NO";
+    const char* met = !m.measured ? "n/a" : m.target_met ? "yes" : m.below_noise ? "noise" : "NO";
     out += fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9.3g} {:>4} {:>9} {:>9} {:>9} {:>11} {:>8} {:>7.2f}{}\n", m.name, m.representation,
                        m.isotropic ? "yes" : "no", dash(m.level), dash(m.order), m.target, met, l2, mx, asym, fmt::format("{}/{}", m.kept, m.total),
                        m.bytes, m.seconds, m.resumed ? " (resumed)" : "");
@@ -47,6 +48,8 @@ std::string bank_build_table(const BankBuildResult& r, const std::string& output
       out += fmt::format("note: {}: target {:.3g} is below the data's own asymmetry {:.3g}: the error is against their reciprocal part "
                          "(f + f^T)/2; against the raw data no reciprocal BRDF comes closer than {:.3g}\n",
                          m.name, m.target, m.asymmetry, m.asymmetry);
+  for (const auto& m : r.materials)
+    if (m.ok && !m.note.empty()) out += fmt::format("note: {}: target {:.3g} missed ({:.3g}): {}\n", m.name, m.target, m.error_l2, m.note);
   for (const auto& m : r.materials)
     if (m.ok && m.measured && m.metric == "f" && m.grazing_share > kGrazingDominates)
       out += fmt::format("note: {}: {:.0f}% of the reference's norm is from pairs beyond 80 deg, which metric \"f\" weighs fully "

@@ -58,6 +58,8 @@ void store_choice(MaterialRecord& rec, const MaterialReport& rep) {
                 {"target_met", rep.target_met ? "yes" : "no"}};
   // Named for a lobe only: a material of modes alone is stored as before (the material's group says the rest).
   if (rep.representation != "modes") rec.labels["representation"] = rep.representation;
+  if (!rep.note.empty()) rec.labels["note"] = rep.note;
+  if (!rep.target_met) rec.labels["below_noise"] = rep.below_noise ? "yes" : "no";
 }
 
 void report_from_record(const MaterialRecord& rec, MaterialReport& rep) {
@@ -81,6 +83,8 @@ void report_from_record(const MaterialRecord& rec, MaterialReport& rep) {
   rep.target_met = !(rec.labels.count("target_met") && rec.labels.at("target_met") == "no");
   rep.reciprocal_reference = rec.labels.count("judged_against") && rec.labels.at("judged_against") == "reciprocal part";
   if (rec.labels.count("metric")) rep.metric = rec.labels.at("metric");
+  if (rec.labels.count("note")) rep.note = rec.labels.at("note");
+  rep.below_noise = rec.labels.count("below_noise") && rec.labels.at("below_noise") == "yes";
   rep.anisotropy = rec.spectrum.anisotropy_fraction;
   rep.measured = !(rec.labels.count("error_measured") && rec.labels.at("error_measured") != "yes");
 }

@@ -78,6 +78,19 @@ constexpr LadderStep kIsotropicLadder[] = {{32, 1, 64, 16},  {64, 1, 64, 32},   
 // needs few phi_h nodes (GGX alpha 0.1 x 0.3, held-out errors at ranks 4-6: 0.025 on 32 x 8 h nodes, 0.010 on
 // 48 x 16, against 0.035 at rank 8 on an unstretched 48 x 32; measured, mean-cosine quantity).
 constexpr LadderStep kAnisotropicLadder[] = {{32, 8, 64, 16}, {48, 16, 64, 16}, {64, 32, 64, 16}, {96, 32, 96, 32}};
+// Measured data (sources not reciprocal by construction: an RGL file, SCATMECH coefficients) carry noise, which no
+// lobe holds: their ladder starts on coarse d grids (the RGL files' lobes reach their lowest held-out errors
+// there, 0.02-0.15 within 64 KiB on grids of 16-32 theta_d x 4-8 phi_d nodes; measured with `bench measured`),
+// and the search stops as soon as its own figures show that a step cannot reach the target:
+//   * rank: each rank is fitted on its own and judged on the held-out pairs; a rank whose error is above
+//     kStallRatio of the best lower rank's ends the step (the error-vs-rank curve flattened, or rose: the
+//     next terms fit the noise at the nodes; the node error alone keeps falling there);
+//   * grid: a step whose node error at its best rank is above the target itself ends the ladder (the
+//     held-out error is the node error plus an interpolation part, so no finer grid within the bytes goes
+//     below it), and so does a step whose held-out error is not below kLadderGain of the best step before.
+constexpr LadderStep kMeasuredLadder[] = {{32, 1, 16, 4}, {64, 1, 32, 8}, {128, 1, 32, 8}, {128, 1, 64, 16}, {256, 1, 128, 32}};
+constexpr double kStallRatio = 0.9;
+constexpr double kLadderGain = 0.9;
 // A source whose data sit on a half-angle table of its own (BrdfSource::own_half_angle_nodes, e.g. a MERL table)
 // is fitted on those nodes alone: the fit samples its values as they are, with no resampling, and missing
 // samples are left out.
@@ -118,7 +131,11 @@ bool lobe_is_isotropic(const MaterialProblem& p) {
 struct LobeFit {
   HalfAngleFactors lobe;
   HeldOutError error;
+  double node_error = 0.0;  // the fit's weighted node error (worst channel)
 };
+
+// Measured data: no analytic form, so noise may put a floor under every lobe (kMeasuredLadder).
+bool measured_data(const MaterialProblem& p) { return !p.source.reciprocal_by_construction(); }
 
 // The first grid of the ladder whose lobe, added to `body` at the held-out pairs, meets the target; nullopt
 // when none does (best error in *best).
@@ -164,8 +181,10 @@ std::optional<HeldOutError> peak_error(const MaterialProblem& p, const BrdfSourc
     wr.row(n++) = b.transpose();
   }
   const RowMatrix3d pi = wi.topRows(n), pr = wr.topRows(n);
-  const Eigen::MatrixXd f = p.source.eval(pi, pr);
-  const Eigen::MatrixXd fit = add_lobe(f - residual.eval(pi, pr), lobe, pi, pr);
+  // The body is the data less the residual; the reference is the held-out one's (the reciprocal part of
+  // measured data, icobrdf/pipeline/held_out.hpp).
+  const Eigen::MatrixXd fit = add_lobe(p.source.eval(pi, pr) - residual.eval(pi, pr), lobe, pi, pr);
+  const Eigen::MatrixXd f = p.errors->reference_at(p.source, pi, pr);
   Eigen::VectorXd w = (1.0 / pdf.head(n).array()).sqrt();
   if (m.metric == ErrorMetric::Cosine) w = w.cwiseProduct(pi.col(2)).cwiseProduct(pr.col(2));
   const double ref = (w.asDiagonal() * f).norm(), ref_max = (w.asDiagonal() * f).cwiseAbs().maxCoeff();
@@ -212,22 +231,58 @@ std::optional<LobeFit> fit_lobe_at(const MaterialProblem& p, const BrdfSource& r
         std::to_string(s.n_theta_d) + "x" + std::to_string(s.n_phi_d) + " d, rank " + std::to_string(fit.factors.rank) +
         ": error " + exact_decimal(e.l2) + (peak ? ", peak-sampled " + exact_decimal(peak->l2) : std::string()));
   if (peak) e = {std::max(e.l2, peak->l2), std::max(e.max, peak->max)};
-  return LobeFit{std::move(fit.factors), e};
+  double node = 0.0;
+  for (const double x : fit.report.error) node = std::max(node, x);
+  return LobeFit{std::move(fit.factors), e, node};
 }
 
 LadderStep step_of(const HalfAngleFactors& l) {
   return {l.n_t, l.n_phi_h, l.n_theta_d, l.n_phi_d, l.centred, l.h_axis, l.h_scale_1};
 }
 
+// What a ladder search found short of the target: its lowest error within the bytes to beat, that lobe, and
+// the figure that ended the search.
+struct LobeMiss {
+  double best = INFINITY;
+  std::optional<LobeFit> fit;  // the lowest-error lobe within the bytes to beat (measured data)
+  std::string stop;            // why the search ended before the last step ("" when it ran them all)
+};
+
+std::string short_number(double x);
+
+// Measured data: the ranks of one grid, each fitted on its own, from 1 to rank_cap, until one meets the target or
+// its held-out error is above kStallRatio of the best before; the best (the one meeting the target, else the
+// lowest error). nullopt when no rank could be fitted.
+std::optional<LobeFit> measured_step(const MaterialProblem& p, const BrdfSource& residual, const Eigen::MatrixXd& body, bool isotropic,
+                                     const LadderStep& s, int rank_cap) {
+  std::optional<LobeFit> best;
+  for (int rank = 1; rank <= rank_cap; ++rank) {
+    auto fit = fit_lobe_at(p, residual, body, isotropic, s, rank);
+    if (!fit) break;
+    if (fit->error.l2 <= p.material.target) return fit;
+    const bool flat = best && fit->error.l2 > kStallRatio * best->error.l2;
+    if (!best || fit->error.l2 < best->error.l2) best = std::move(fit);
+    if (flat) break;
+  }
+  return best;
+}
+
 // The first grid of the ladder whose lobe, added to `body` at the held-out pairs, meets the target; nullopt
-// when none does (best error in *best). Steps whose rank-1 lobe plus `body_bytes` cannot beat
-// p.bytes_to_beat are not tried.
+// when none does (*miss: the best error, for measured data the best lobe and why the search stopped). Steps
+// whose rank-1 lobe plus `body_bytes` cannot beat p.bytes_to_beat are not tried, and the rank stays within it.
 std::optional<LobeFit> fit_lobe(const MaterialProblem& p, const BrdfSource& residual, const Eigen::MatrixXd& body, bool isotropic,
-                                double* best, long long body_bytes = 0) {
+                                LobeMiss* miss, long long body_bytes = 0) {
   const std::optional<HalfAngleNodes> own = p.source.own_half_angle_nodes();
+  const bool measured = measured_data(p);
   const LadderStep own_step[] = {own ? LadderStep{own->n_t, own->n_phi_h, own->n_theta_d, own->n_phi_d, own->centred} : LadderStep{}};
-  const LadderStep* begin = own ? std::begin(own_step) : isotropic ? std::begin(kIsotropicLadder) : std::begin(kAnisotropicLadder);
-  const LadderStep* end = own ? std::end(own_step) : isotropic ? std::end(kIsotropicLadder) : std::end(kAnisotropicLadder);
+  const LadderStep* begin = own ? std::begin(own_step)
+                            : !isotropic ? std::begin(kAnisotropicLadder)
+                            : measured   ? std::begin(kMeasuredLadder)
+                                         : std::begin(kIsotropicLadder);
+  const LadderStep* end = own ? std::end(own_step)
+                          : !isotropic ? std::end(kAnisotropicLadder)
+                          : measured   ? std::end(kMeasuredLadder)
+                                       : std::end(kIsotropicLadder);
   // An anisotropic lobe's axes, once for every grid of the ladder.
   LobeAxes axes;
   if (!isotropic)
@@ -236,13 +291,42 @@ std::optional<LobeFit> fit_lobe(const MaterialProblem& p, const BrdfSource& resi
                               residual.channels());
   const bool stretch = axes.found && axes.ratio() >= kStretchRatio;
   for (const LadderStep* s = begin; s != end; ++s) {
-    if (p.bytes_to_beat >= 0 && body_bytes + rank_one_bytes(*s, residual.channels()) >= p.bytes_to_beat) break;
+    const long long one = rank_one_bytes(*s, residual.channels());
+    if (p.bytes_to_beat >= 0 && body_bytes + one >= p.bytes_to_beat) {
+      if (measured) continue;  // the measured ladder is not ordered by size: a later step may be smaller
+      break;
+    }
+    // The largest rank whose lobe stays below the bytes to beat.
+    const int rank_cap = p.bytes_to_beat < 0 ? kMaxRank
+                                             : static_cast<int>(std::min<long long>(kMaxRank, (p.bytes_to_beat - 1 - body_bytes - kLobeHeaderBytes) /
+                                                                                                   (one - kLobeHeaderBytes)));
     LadderStep step = *s;
     if (stretch) step.h_axis = axes.axis, step.h_scale_1 = std::min(axes.ratio(), kMaxHScale);
-    auto fit = fit_lobe_at(p, residual, body, isotropic, step);
-    if (!fit) continue;  // this grid cannot reach the node target within kMaxRank; a finer one may
-    *best = std::min(*best, fit->error.l2);
+    if (!measured) {
+      auto fit = fit_lobe_at(p, residual, body, isotropic, step);
+      if (!fit) continue;  // this grid cannot reach the node target within kMaxRank; a finer one may
+      if (fit->error.l2 <= p.material.target) return fit;
+      miss->best = std::min(miss->best, fit->error.l2);
+      continue;
+    }
+    auto fit = measured_step(p, residual, body, isotropic, step, rank_cap);
+    if (!fit) continue;
     if (fit->error.l2 <= p.material.target) return fit;
+    const double before = miss->best;
+    if (fit->error.l2 < miss->best) {
+      miss->best = fit->error.l2;
+      miss->fit = *fit;
+    }
+    const std::string grid = std::to_string(s->n_t) + "x" + std::to_string(s->n_theta_d) + "x" + std::to_string(s->n_phi_d);
+    if (fit->node_error > p.material.target) {
+      miss->stop = "on grid " + grid + " the node error at the best rank (" + std::to_string(fit->lobe.rank) + ") is " +
+                   short_number(fit->node_error) + ", above the target";
+      break;
+    }
+    if (std::isfinite(before) && fit->error.l2 > kLadderGain * before) {
+      miss->stop = "grid " + grid + " brought the error from " + short_number(before) + " to " + short_number(fit->error.l2) + " only";
+      break;
+    }
   }
   return std::nullopt;
 }
@@ -359,9 +443,10 @@ double isotropy_defect(const BrdfSource& source, const HeldOutErrors& errors) {
   return ref > 0 ? diff / ref : diff;
 }
 
-// Refuses at once when even the smallest lobe (the first isotropic step, rank 1) cannot beat the bytes found.
+// Refuses at once when even the smallest lobe (the first step of the ladder, rank 1) cannot beat the bytes found.
 static void require_can_beat(const MaterialProblem& p, const char* what, long long body_bytes) {
-  if (p.bytes_to_beat >= 0 && body_bytes + rank_one_bytes(kIsotropicLadder[0], p.source.channels()) >= p.bytes_to_beat)
+  const LadderStep& first = measured_data(p) ? kMeasuredLadder[0] : kIsotropicLadder[0];
+  if (p.bytes_to_beat >= 0 && body_bytes + rank_one_bytes(first, p.source.channels()) >= p.bytes_to_beat)
     throw UnsupportedError(std::string(what) + ": no lobe is smaller than the " + std::to_string(p.bytes_to_beat) +
                            " bytes already found");
 }
@@ -371,12 +456,19 @@ MaterialCandidate fit_half_angle_candidate(const MaterialProblem& p) {
   require_can_beat(p, "half-angle", 0);
   const bool iso = lobe_is_isotropic(p);
   const Eigen::MatrixXd none = Eigen::MatrixXd::Zero(p.errors->pairs().wi.rows(), p.source.channels());
-  double best = INFINITY;
-  auto fit = fit_lobe(p, p.source, none, iso, &best);
-  if (!fit)
-    throw UnsupportedError("half-angle: target " + short_number(p.material.target) + " not met: best relative L2 error " +
-                           short_number(best) + " up to the largest grid and rank " + std::to_string(kMaxRank));
-  return lobe_candidate(p, "half-angle", zero_body(p, iso), std::move(*fit), -1, 0, 0);
+  LobeMiss miss;
+  auto fit = fit_lobe(p, p.source, none, iso, &miss);
+  if (fit) return lobe_candidate(p, "half-angle", zero_body(p, iso), std::move(*fit), -1, 0, 0);
+  const std::string why = "half-angle: target " + short_number(p.material.target) + " not met: best relative L2 error " + short_number(miss.best) +
+                          (miss.stop.empty() ? " up to the largest grid and rank " + std::to_string(kMaxRank) : " (the search stopped: " + miss.stop + ")");
+  if (miss.fit && p.best_efforts) {
+    MaterialCandidate c = lobe_candidate(p, "half-angle", zero_body(p, iso), std::move(*miss.fit), -1, 0, 0);
+    c.target_met = false;
+    c.note = "lobe search: " + (miss.stop.empty() ? std::string("every grid tried") : miss.stop) + "; best " + short_number(c.error.l2) + " at " +
+             std::to_string(c.bytes) + " bytes";
+    p.best_efforts->push_back(std::move(c));
+  }
+  throw UnsupportedError(why);
 }
 
 MaterialCandidate fit_hybrid_candidate(const MaterialProblem& p) {
@@ -396,10 +488,10 @@ MaterialCandidate fit_hybrid_candidate(const MaterialProblem& p) {
   if (!first && p.earlier && std::find(allowed.begin(), allowed.end(), "half-angle") != allowed.end())
     throw UnsupportedError("hybrid: no lobe meets target " + short_number(p.material.target) + " (the half-angle candidate's search found none)");
   if (!first) {
-    double alone = INFINITY;
+    LobeMiss alone;
     const Eigen::MatrixXd none = Eigen::MatrixXd::Zero(p.errors->pairs().wi.rows(), p.source.channels());
     auto fit = fit_lobe(p, p.source, none, lobe_is_isotropic(p), &alone);
-    if (!fit) throw UnsupportedError("hybrid: no lobe meets target " + short_number(p.material.target) + " (best " + short_number(alone) + ")");
+    if (!fit) throw UnsupportedError("hybrid: no lobe meets target " + short_number(p.material.target) + " (best " + short_number(alone.best) + ")");
     first = std::move(fit->lobe);
   }
   double best = INFINITY;  // of the hybrids tried

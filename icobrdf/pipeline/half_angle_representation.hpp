@@ -9,6 +9,10 @@
 //   2. the quantity factorized is the metric's: q = f cos(theta_i) cos(theta_r) for "cosine", q = f for "f";
 //   3. grids from a ladder of increasing size (kIsotropicLadder, kAnisotropicLadder); at each, the rank grows until the weighted node
 //      error is within kNodeShare of the target; the first grid whose held-out error meets the target wins;
+//      measured data (sources not reciprocal by construction) start on coarse d grids (kMeasuredLadder), their
+//      rank stops when the node error stops falling, their ladder when a step's stalled node error is above
+//      the target or its held-out error stopped improving, and the lowest-error lobe within the budget is left
+//      as the best effort (MaterialProblem::best_efforts) with a note naming the figure that stopped the search;
 //   4. the record: an all-zero C of order 0 and the lobe; bytes = the lobe's doubles x 8 + kLobeHeaderBytes.
 // hybrid
 //   lobe0 = the half-angle candidate's lobe (or the same ladder search when there is none); body = isotropic

@@ -23,13 +23,14 @@ MaterialCandidate choose_representation(const MaterialProblem& problem) {
   std::string others;  // the other representations' reasons, appended to the first one's
   const auto& allowed = problem.scene.representations;
   const long long budget = problem.material.max_bytes;
-  std::vector<MaterialCandidate> made;
+  std::vector<MaterialCandidate> made, best_efforts;
   for (const auto& r : representations()) {
     if (std::find(allowed.begin(), allowed.end(), r.name) == allowed.end()) continue;
     try {
       MaterialProblem p = problem;
       p.bytes_to_beat = best ? best->bytes : budget >= 0 ? budget + 1 : -1;
       p.earlier = &made;
+      p.best_efforts = &best_efforts;
       MaterialCandidate c = r.fit(p);
       if (budget >= 0 && c.bytes > budget)
         throw UnsupportedError(r.name + ": " + std::to_string(c.bytes) + " bytes meet the target, above max_bytes " + std::to_string(budget));
@@ -49,19 +50,26 @@ MaterialCandidate choose_representation(const MaterialProblem& problem) {
       why = e.what() + others;
     }
   }
-  // No candidate meets the target within the budget: the lowest error within it, kept or named.
+  // No candidate meets the target within the budget: the lowest error within it, kept or named: the fitters'
+  // best efforts (a lobe search that stopped short), and the modes when the scene allows them or nothing else
+  // is left.
   if (budget >= 0 || problem.material.on_miss == OnMiss::KeepBest) {
-    MaterialCandidate c = [&] {
+    const bool modes_allowed = std::find(allowed.begin(), allowed.end(), "modes") != allowed.end();
+    if (modes_allowed || best_efforts.empty()) {
       try {
-        return fit_modes_within_budget(problem);
+        best_efforts.push_back(fit_modes_within_budget(problem));
       } catch (const UnsupportedError& e) {
-        throw UnsupportedError(why + "; " + e.what());
+        if (best_efforts.empty()) throw UnsupportedError(why + "; " + e.what());
       }
-    }();
+    }
+    MaterialCandidate c = std::move(*std::min_element(best_efforts.begin(), best_efforts.end(), [](const auto& a, const auto& b) {
+      return a.error.l2 < b.error.l2 || (a.error.l2 == b.error.l2 && a.bytes < b.bytes);
+    }));
+    c.target_met = c.error.l2 <= problem.material.target;
     if (c.target_met || problem.material.on_miss == OnMiss::KeepBest) return c;
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "; the lowest error within max_bytes %lld is %.3g (%lld bytes; on_miss = \"keep-best\" would keep it)", budget,
-                  c.error.l2, c.bytes);
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "; the lowest error within max_bytes %lld is %.3g (%s, %lld bytes; on_miss = \"keep-best\" would keep it)", budget,
+                  c.error.l2, c.representation.c_str(), c.bytes);
     why += buf;
   }
   throw UnsupportedError(why);

@@ -6,8 +6,10 @@
 // builder asks the representations the scene allows (Scene::representations, in the order of
 // representations()) and keeps the candidate with the fewest bytes (the first listed on a tie) within the
 // material's max_bytes; when none meets the target within it, and the material has a budget or
-// on_miss = "keep-best", the modes with the lowest error within the budget (fit_modes_within_budget) are the
-// candidate (target_met false when above the target; on_miss = "fail" then fails naming that error);
+// on_miss = "keep-best", the lowest error within the budget is the candidate (target_met false when above the
+// target; on_miss = "fail" then fails naming that error): among the fitters' best efforts
+// (MaterialProblem::best_efforts: the lobe of a measured material's search that stopped short) and the modes
+// within the budget (fit_modes_within_budget; when the scene allows modes, or nothing else was left);
 // otherwise the first representation's error is the material's. The representations:
 //   "modes"       Helmholtz modes (icobrdf/pipeline/modes_representation.hpp)
 //   "half-angle"  a half-angle factorized lobe alone (icobrdf/pipeline/half_angle_representation.hpp)

@@ -26,6 +26,9 @@ struct MaterialProblem {
   std::function<void(const std::string&)> say;  // one progress line (never empty)
   long long bytes_to_beat = -1;                 // bytes of the best candidate so far; -1 when none
   const std::vector<MaterialCandidate>* earlier = nullptr;  // the candidates made before this fitter's
+  // Where a fitter that misses the target leaves its lowest-error candidate within the budget (target_met
+  // false, `note` saying where its search stopped), for on_miss = "keep-best"; nullptr: not wanted.
+  std::vector<MaterialCandidate>* best_efforts = nullptr;
 };
 
 struct MaterialCandidate {
@@ -40,6 +43,7 @@ struct MaterialCandidate {
   int level = -1, order = -1;  // fitting level, expansion order
   double anisotropy = 0.0;     // anisotropic energy fraction of the fit
   int kept = 0, total = 0;     // coefficients kept / in the full vector
+  std::string note;            // a missed target: where the search stopped and the figure that stopped it
 };
 
 }  // namespace icobrdf

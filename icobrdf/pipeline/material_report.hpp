@@ -6,6 +6,13 @@
 
 namespace icobrdf {
 
+// The data's noise estimate is its asymmetry: when f(a, b) and f(b, a) are measured with independent errors of
+// one size, the reciprocal part (f + f^T)/2 keeps noise of exactly the size of the antisymmetric part
+// (f - f^T)/2, so a representation that holds the BRDF but not the noise has an error of about the asymmetry
+// against the reciprocal part. A missed target is explained by the noise when the error is within this
+// factor of it: both are estimates on the held-out pairs, and the equality holds in expectation only.
+inline constexpr double kNoiseMargin = 1.25;
+
 struct MaterialReport {
   std::string name, source, key;
   bool ok = false;
@@ -29,6 +36,10 @@ struct MaterialReport {
   long long bytes = 0;         // kept coefficients (8 bytes per channel) and their indices (4 bytes each)
   long long max_bytes = -1;    // the material's budget; -1: none
   bool target_met = true;      // false: kept as the best within the budget (on_miss = "keep-best")
+  // A missed target (target_met false) explained by a measured figure: the error is within kNoiseMargin of the
+  // data's noise estimate (below_noise), and `note` says where the search stopped and which figure stopped it.
+  bool below_noise = false;
+  std::string note;
   double seconds = 0.0;
   int rank = -1;               // the MPI rank that fitted it (icobrdf/cluster/distributed_bank.hpp); -1 in one process
 };

@@ -35,6 +35,7 @@ class MemoSource final : public BrdfSource {
   bool values_only_at_samples() const override { return source_.values_only_at_samples(); }
   bool may_miss_values() const override { return source_.may_miss_values(); }
   bool isotropic_by_construction() const override { return source_.isotropic_by_construction(); }
+  bool reciprocal_by_construction() const override { return source_.reciprocal_by_construction(); }
   bool judged_at_own_samples() const override { return source_.judged_at_own_samples(); }
   bool slow_to_evaluate() const override { return source_.slow_to_evaluate(); }
   int largest_sample_order(bool isotropic) const override { return source_.largest_sample_order(isotropic); }
