@@ -5,8 +5,19 @@
 #include <numeric>
 
 namespace icobrdf {
+namespace {
 
-std::vector<Eigen::Index> exchanged_partners(const RowMatrix3d& wi, const RowMatrix3d& wr, double tolerance_deg) {
+double polar(const RowMatrix3d& w, Eigen::Index k) { return std::atan2(std::hypot(w(k, 0), w(k, 1)), w(k, 2)); }
+
+// |phi_i - phi_r| in [0, pi]; 0 when either direction is at the pole.
+double azimuth_gap(const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Index k) {
+  const double g = std::abs(std::remainder(std::atan2(wi(k, 1), wi(k, 0)) - std::atan2(wr(k, 1), wr(k, 0)), 2 * M_PI));
+  return std::hypot(wi(k, 0), wi(k, 1)) > 0 && std::hypot(wr(k, 0), wr(k, 1)) > 0 ? g : 0.0;
+}
+
+}  // namespace
+
+std::vector<Eigen::Index> exchanged_partners(const RowMatrix3d& wi, const RowMatrix3d& wr, double tolerance_deg, bool about_normal) {
   const Eigen::Index n = wi.rows();
   const double cos_tol = std::cos(tolerance_deg * M_PI / 180);
   // Two unit vectors within angle t differ in z by at most t (radians): a partner's w_i.z is within t of w_r.z.
@@ -19,10 +30,18 @@ std::vector<Eigen::Index> exchanged_partners(const RowMatrix3d& wi, const RowMat
   std::vector<Eigen::Index> partner(static_cast<size_t>(n), -1);
   for (Eigen::Index k = 0; k < n; ++k) {
     const auto lo = std::lower_bound(z.begin(), z.end(), wr(k, 2) - dz), hi = std::upper_bound(z.begin(), z.end(), wr(k, 2) + dz);
-    double best = -2.0;
+    double best = -1e300;
     for (auto it = lo; it != hi; ++it) {
       const Eigen::Index l = by_z[static_cast<size_t>(it - z.begin())];
       if (l == k) continue;
+      if (about_normal) {
+        const double tol = tolerance_deg * M_PI / 180;
+        const double d = std::max({std::abs(polar(wi, l) - polar(wr, k)), std::abs(polar(wr, l) - polar(wi, k)),
+                                   std::abs(azimuth_gap(wi, wr, l) - azimuth_gap(wi, wr, k))});
+        if (d > tol) continue;
+        if (-d > best) best = -d, partner[static_cast<size_t>(k)] = l;
+        continue;
+      }
       const double a = wi.row(l).dot(wr.row(k)), b = wr.row(l).dot(wi.row(k));
       if (a < cos_tol || b < cos_tol) continue;
       if (a + b > best) best = a + b, partner[static_cast<size_t>(k)] = l;
@@ -32,8 +51,8 @@ std::vector<Eigen::Index> exchanged_partners(const RowMatrix3d& wi, const RowMat
 }
 
 ExchangedAsymmetry exchanged_asymmetry(const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& f, bool cosine,
-                                       double tolerance_deg) {
-  const std::vector<Eigen::Index> partner = exchanged_partners(wi, wr, tolerance_deg);
+                                       double tolerance_deg, bool about_normal) {
+  const std::vector<Eigen::Index> partner = exchanged_partners(wi, wr, tolerance_deg, about_normal);
   ExchangedAsymmetry out;
   double ref = 0.0, anti = 0.0;
   std::vector<double> rel;

@@ -20,8 +20,10 @@ namespace icobrdf {
 
 // For each row k the row l != k whose w_i is within tolerance_deg of w_r of k and whose w_r is within it of w_i
 // of k (the nearest such when several are), or -1. O(S log S + matches) for samples spread over the
-// hemisphere (rows sorted by cos theta_i).
-std::vector<Eigen::Index> exchanged_partners(const RowMatrix3d& wi, const RowMatrix3d& wr, double tolerance_deg);
+// hemisphere (rows sorted by cos theta_i). about_normal: the exchange up to a rotation about the normal
+// (theta_i and theta_r exchanged and the same azimuth gap |phi_i - phi_r|, each within tolerance_deg), the
+// reciprocal partner of an isotropic surface, as CURET's geometries pair up.
+std::vector<Eigen::Index> exchanged_partners(const RowMatrix3d& wi, const RowMatrix3d& wr, double tolerance_deg, bool about_normal = false);
 
 struct ExchangedAsymmetry {
   long long samples = 0;  // samples with a partner (each pair counts twice)
@@ -31,6 +33,6 @@ struct ExchangedAsymmetry {
 
 // f: rows x channels; cosine: w = cos(theta_i) cos(theta_r), else 1.
 ExchangedAsymmetry exchanged_asymmetry(const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& f, bool cosine,
-                                       double tolerance_deg);
+                                       double tolerance_deg, bool about_normal = false);
 
 }  // namespace icobrdf

@@ -18,6 +18,7 @@ namespace {
 // the values, worst channel).
 struct DataAsymmetry {
   ExchangedAsymmetry pairs;
+  bool about_normal = false;  // no exact exchanges: partners up to a rotation about the normal (isotropy assumed)
   double relative_residual = std::nan("");
 };
 
@@ -25,6 +26,10 @@ DataAsymmetry data_asymmetry(const FitReport& report) {
   DataAsymmetry d;
   const BrdfSamples& s = *report.samples;
   d.pairs = exchanged_asymmetry(s.wi, s.wr, s.values, false, kSwapToleranceDeg);
+  if (d.pairs.samples == 0) {
+    d.pairs = exchanged_asymmetry(s.wi, s.wr, s.values, false, kSwapToleranceDeg, true);
+    d.about_normal = d.pairs.samples > 0;
+  }
   if (!report.checked) return d;
   const Eigen::VectorXd& res = report.checked->fit.residual_rms;
   const double wsum = s.weights.sum();
@@ -106,7 +111,7 @@ nlohmann::json fit_report_json(const FitReport& report) {
     const auto num = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
     j["data_asymmetry"] = {{"exchanged_samples", d.pairs.samples}, {"tolerance_deg", kSwapToleranceDeg}, {"asymmetry", num(d.pairs.asymmetry)},
                            {"median_relative_difference", num(d.pairs.median_relative_difference)},
-                           {"relative_residual", num(d.relative_residual)}};
+                           {"relative_residual", num(d.relative_residual)}, {"about_normal", d.about_normal}};
   }
   return j;
 }
@@ -173,9 +178,11 @@ std::string fit_report_text(const FitReport& report) {
                          kSwapToleranceDeg);
     else
       out += fmt::format("  the data's non-reciprocal fraction {:.3g} (relative L2 of f - (f + f^T)/2 over the {} samples in exchanged pairs within "
-                         "{:.3g} deg; median pair difference {:.3g}%), beside the fit's relative residual {:.3g}: a residual at or below it is "
+                         "{:.3g} deg{}; median pair difference {:.3g}%), beside the fit's relative residual {:.3g}: a residual at or below it is "
                          "the data's own noise\n",
-                         d.pairs.asymmetry, d.pairs.samples, kSwapToleranceDeg, 100 * d.pairs.median_relative_difference, d.relative_residual);
+                         d.pairs.asymmetry, d.pairs.samples, kSwapToleranceDeg,
+                         d.about_normal ? ", up to a rotation about the normal (isotropy assumed)" : "", 100 * d.pairs.median_relative_difference,
+                         d.relative_residual);
   }
   return out;
 }

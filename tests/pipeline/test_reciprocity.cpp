@@ -231,6 +231,21 @@ TEST(Reciprocity, EveryExchangedSamplePairOfAFileGivesItsNonReciprocalFraction) 
     EXPECT_NEAR(a.asymmetry, kE / std::sqrt(1 + kE * kE), kRounding);
     EXPECT_NEAR(a.median_relative_difference, 2 * kE, kRounding);
   }
+  // Every second sample (the partners, written right after theirs) turned about the normal by 40 degrees: no
+  // exact exchange is left, but each is its partner's exchange up to that rotation (an isotropic surface's
+  // reciprocal partner, as CURET pairs its geometries), with the same fraction.
+  RowMatrix3d wi = samples.wi, wr = samples.wr;
+  const double c = std::cos(40 * M_PI / 180), s = std::sin(40 * M_PI / 180);
+  for (Eigen::Index k = 1; k < wi.rows(); k += 2)
+    for (RowMatrix3d* w : {&wi, &wr}) {
+      const double x = (*w)(k, 0), y = (*w)(k, 1);
+      (*w)(k, 0) = c * x - s * y;
+      (*w)(k, 1) = s * x + c * y;
+    }
+  EXPECT_EQ(exchanged_asymmetry(wi, wr, samples.values, false, kSwapToleranceDeg).samples, 0);
+  const ExchangedAsymmetry turned = exchanged_asymmetry(wi, wr, samples.values, false, kSwapToleranceDeg, true);
+  EXPECT_EQ(turned.samples, 600);
+  EXPECT_NEAR(turned.asymmetry, kE / std::sqrt(1 + kE * kE), kRounding);
   // One sample alone has no partner: not measurable.
   const ExchangedAsymmetry none = exchanged_asymmetry(samples.wi.topRows(1), samples.wr.topRows(1), samples.values.topRows(1), false, kSwapToleranceDeg);
   EXPECT_EQ(none.samples, 0);
