@@ -1,5 +1,5 @@
 // icobrdf bench measured FILE.bsdf|FOLDER... [--nbrdf DIR] [--target T] [--representations half-angle,hybrid]
-//                        [--pairs N] [--materials-at-once W] [--no-small-lobes] [--quiet] --report DIR
+//                        [--pairs N] [--materials-at-once W] [--no-small-lobes] [--no-bank] [--budgets B,...] [--quiet] --report DIR
 // Real measured materials (RGL .bsdf files; a folder stands for its *.bsdf files) through the bank builder,
 // beside small half-angle lobes within byte budgets and the released Neural-BRDF networks
 // (icobrdf/lab/measured_benchmark.hpp). Writes DIR/report.md, DIR/error-vs-bytes.png and, as the work of the
@@ -19,7 +19,8 @@ struct MeasuredArgs {
   std::string nbrdf, report;
   double target = 0.02;
   int pairs = 20000, materials_at_once = 0;
-  bool quiet = false, no_small = false;
+  bool quiet = false, no_small = false, no_bank = false;
+  std::vector<long long> budgets;
 };
 
 void run_measured(const MeasuredArgs& a) {
@@ -32,6 +33,8 @@ void run_measured(const MeasuredArgs& a) {
   o.pairs = a.pairs;
   o.materials_at_once = a.materials_at_once;
   o.small_lobes = !a.no_small;
+  o.bank = !a.no_bank;
+  if (!a.budgets.empty()) o.budgets = a.budgets;
   if (!a.quiet) o.progress = [](const std::string& line) { std::cerr << line << std::endl; };
   std::cout << lab::write_measured_report(lab::run_measured_bench(o), a.report);
 }
@@ -46,6 +49,8 @@ void add_measured(CLI::App& bench) {
   cmd->add_option("--pairs", a->pairs, "Test pairs per material")->capture_default_str()->check(CLI::Range(100, 10000000));
   cmd->add_option("--materials-at-once", a->materials_at_once, "As bank build --materials-at-once (0 chooses)")->check(CLI::NonNegativeNumber);
   cmd->add_flag("--no-small-lobes", a->no_small, "Skip the small lobes within byte budgets");
+  cmd->add_flag("--no-bank", a->no_bank, "Skip the bank build (small lobes and NBRDF only)");
+  cmd->add_option("--budgets", a->budgets, "Byte budgets of the small lobes (default 1350,2700,5400,10800,21600,43200,65536)")->delimiter(',');
   cmd->add_flag("--quiet,-q", a->quiet, "No progress lines on stderr");
   cmd->add_option("--report", a->report, "Folder for report.md, the figure, the scene and the bank (created if missing)")->required();
   cmd->callback([a] { run_measured(*a); });

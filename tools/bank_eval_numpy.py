@@ -106,6 +106,14 @@ def _node_angles(n_t, n_ph, n_td, n_pd, warp, iso, stretch, centred):
     return th, ph, math.pi / 2 * _node(a_, n_td, centred), math.pi * (b_ + (0.5 if centred else 0.0)) / n_pd
 
 
+def _factor(g, name):
+    """Factor values as stored: float64 / float32, or (format 4.0) integers times <name>_scale[set, r]."""
+    x = g[name][...].astype(np.float64)
+    if name + "_scale" in g:
+        x = x * g[name + "_scale"][...][:, None, :]
+    return x
+
+
 def eval_lobe(g, channels, wi, wr):
     """The half-angle lobe of group g at pairs: pairs x channels."""
     a = {k: g.attrs[k] for k in g.attrs}
@@ -116,7 +124,11 @@ def eval_lobe(g, channels, wi, wr):
     stretch = (float(a["h_axis"]), float(a["h_scale_1"]), float(a["h_scale_2"])) if "h_axis" in a else None
     if stretch == (0.0, 1.0, 1.0):
         stretch = None
-    u, v = g["u"][...], g["v"][...]  # channels x h nodes x R, channels x d nodes x R
+    u, v = _factor(g, "u"), _factor(g, "v")  # sets x h nodes x R, sets x d nodes x R
+    if "factor_sets" in a and _text(a["factor_sets"]) == "shared":  # format 4.0: one set, channel scales
+        s = g["channel_scales"][...]  # channels x R
+        u = np.repeat(u, channels, axis=0)
+        v = v[0][None, :, :] * s[:, None, :]
     theta_h, phi_h, d = half_angle(wi, wr)
     theta_g, phi_g = theta_h, phi_h  # the angles the h grid is laid out in
     if stretch is not None:

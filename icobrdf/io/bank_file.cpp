@@ -193,8 +193,10 @@ void check_bank_contents(const std::string& path, const BankContents& c) {
 // (Outside the anonymous namespace: BankWriter::State holds one.)
 struct BankRootFlags {
   bool lobes = false, fits = false;  // some material has a lobe / a sample-fit record (format_version)
+  bool compact = false;              // some lobe stores float32 / integer / shared factors (format 4)
   void note(const MaterialRecord& m) {
     lobes = lobes || m.lobe.has_value();
+    compact = compact || (m.lobe && (m.lobe->shared() || m.lobe->precision != FactorPrecision::Float64));
     fits = fits || sample_fit_record_matches(m.spectrum);
   }
 };
@@ -206,8 +208,9 @@ void write_bank_rest(h5::Group& root, const BankContents& c, const BankRootFlags
   write_basis(root, c.basis);
   const std::string created = c.created.empty() ? now_iso8601() : c.created;
   root.set_attr("format", bank_format::kName);
-  root.set_attr("format_version", flags.lobes ? (flags.fits ? bank_format::kVersionSampleFit : bank_format::kVersion)
-                                              : (flags.fits ? bank_format::kVersionModesOnlySampleFit : bank_format::kVersionModesOnly));
+  root.set_attr("format_version", flags.compact ? (flags.fits ? bank_format::kVersionCompactLobesSampleFit : bank_format::kVersionCompactLobes)
+                                  : flags.lobes ? (flags.fits ? bank_format::kVersionSampleFit : bank_format::kVersion)
+                                                : (flags.fits ? bank_format::kVersionModesOnlySampleFit : bank_format::kVersionModesOnly));
   root.set_attr("creator", std::string("icobrdf ") + ICOBRDF_VERSION);
   root.set_attr("created", created);
   root.set_attr("conventions", bank_format::kConventions);

@@ -15,15 +15,22 @@
 //   1.1 / 3.1  add the optional group /materials/<name>/sample_fit (the record of a fit of scattered samples:
 //        standard errors, CV error, rank, condition, residual RMS); written only when a material has one,
 //        and ignored by 1.0 / 3.0 readers, which lose nothing else.
+//   4.0  lobes may store their factors as float32, int16 or int8 (attribute precision; integers with
+//        per-column scales u_scale, v_scale) and share one factor set across channels with per-channel term
+//        scales (attribute factor_sets = "shared", dataset channel_scales). A 3.x reader cannot read these
+//        (element types and shapes differ), so files with such a lobe carry major 4 (4.1 with a sample_fit);
+//        files whose lobes are float64 per channel are still written as 3.0 / 3.1.
 namespace icobrdf::bank_format {
 
 inline constexpr const char* kName = "icobrdf-bank";
-inline constexpr int kMajor = 3;            // newest major this reader reads
+inline constexpr int kMajor = 4;            // newest major this reader reads
 inline constexpr int kOldestMajor = 1;      // oldest major this reader reads
 inline constexpr const char* kVersion = "3.0";          // files with a half-angle lobe
 inline constexpr const char* kVersionModesOnly = "1.0";  // files without
 inline constexpr const char* kVersionSampleFit = "3.1";          // lobes, and a sample_fit record
 inline constexpr const char* kVersionModesOnlySampleFit = "1.1";  // no lobe, a sample_fit record
+inline constexpr const char* kVersionCompactLobes = "4.0";         // a lobe of float32 / integer / shared factors
+inline constexpr const char* kVersionCompactLobesSampleFit = "4.1";  // the same, and a sample_fit record
 
 // Root attribute text describing conventions, written verbatim to every file.
 inline constexpr const char* kConventions =

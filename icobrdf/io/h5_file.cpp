@@ -43,6 +43,8 @@ TypeInfo info(Type t) {
     case Type::int32: return {H5T_STD_I32LE, H5T_STD_I32BE, H5T_NATIVE_INT32, 4};
     case Type::int64: return {H5T_STD_I64LE, H5T_STD_I64BE, H5T_NATIVE_INT64, 8};
     case Type::uint8: return {H5T_STD_U8LE, H5T_STD_U8BE, H5T_NATIVE_UINT8, 1};
+    case Type::int16: return {H5T_STD_I16LE, H5T_STD_I16BE, H5T_NATIVE_INT16, 2};
+    case Type::int8: return {H5T_STD_I8LE, H5T_STD_I8BE, H5T_NATIVE_INT8, 1};
   }
   return {H5T_IEEE_F64LE, H5T_IEEE_F64BE, H5T_NATIVE_DOUBLE, 8};
 }
@@ -240,6 +242,8 @@ const char* type_name(Type t) {
     case Type::int32: return "int32";
     case Type::int64: return "int64";
     case Type::uint8: return "uint8";
+    case Type::int16: return "int16";
+    case Type::int8: return "int8";
   }
   return "?";
 }
@@ -523,9 +527,9 @@ Type Group::dataset_type(const std::string& name, const ReadLimits& limits) cons
   Shape shape;
   Handle type;
   Handle d = open_dataset_checked(name, limits, &shape, &type);
-  for (Type t : {Type::float64, Type::float32, Type::int32, Type::int64, Type::uint8})
+  for (Type t : {Type::float64, Type::float32, Type::int32, Type::int64, Type::uint8, Type::int16, Type::int8})
     if (type_is(type.get(), t)) return t;
-  fail(child_path(name), "expected float64, float32, int32, int64 or uint8, found " + describe_type(type.get()));
+  fail(child_path(name), "expected float64, float32, int32, int64, uint8, int16 or int8, found " + describe_type(type.get()));
 }
 
 Shape Group::dataset_shape(const std::string& name, const ReadLimits& limits) const {

@@ -62,7 +62,7 @@ using Shape = std::vector<std::uint64_t>;  // logical row-major shape
 std::string shape_text(const Shape& s);    // "3 x 6 x 6"; "scalar" for rank 0
 
 // Element types stored in the files (all little-endian on disk; big-endian files are read too).
-enum class Type { float64, float32, int32, int64, uint8 };
+enum class Type { float64, float32, int32, int64, uint8, int16, int8 };
 const char* type_name(Type t);
 template <class T> struct TypeOf;
 template <> struct TypeOf<double> { static constexpr Type value = Type::float64; };
@@ -70,6 +70,8 @@ template <> struct TypeOf<float> { static constexpr Type value = Type::float32; 
 template <> struct TypeOf<std::int32_t> { static constexpr Type value = Type::int32; };
 template <> struct TypeOf<std::int64_t> { static constexpr Type value = Type::int64; };
 template <> struct TypeOf<std::uint8_t> { static constexpr Type value = Type::uint8; };
+template <> struct TypeOf<std::int16_t> { static constexpr Type value = Type::int16; };
+template <> struct TypeOf<std::int8_t> { static constexpr Type value = Type::int8; };
 
 // Datasets of at least this many bytes are shuffled and deflated as well as checksummed. Below it deflate
 // saves little on float64 data and costs much: at 4 KiB it was 40% of writing a bank of 1,000 order-6

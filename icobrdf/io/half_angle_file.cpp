@@ -45,27 +45,81 @@ std::string quantity_text(HalfAngleQuantity q, bool long_form) {
 
 std::uint64_t u64(std::int64_t n) { return static_cast<std::uint64_t>(n); }
 
-void write_factor(h5::Group& g, const char* dataset, const std::vector<RowMatrixXd>& m, Eigen::Index rows, int rank,
+// One factor (u or v) of every factor set in the lobe's precision: float64 / float32 values, or integers k
+// with the per-column scales in <dataset>_scale (sets x rank, float64): value = scale * k.
+void write_factor(h5::Group& g, const char* dataset, const std::vector<RowMatrixXd>& m, Eigen::Index rows, int rank, FactorPrecision p,
                   const char* unit, const std::string& description) {
   const size_t per = static_cast<size_t>(rows) * static_cast<size_t>(rank);
+  const Shape shape{u64(static_cast<std::int64_t>(m.size())), u64(rows), u64(rank)};
   std::vector<double> buf(per * m.size());
+  for (size_t c = 0; c < m.size(); ++c) Eigen::Map<RowMatrixXd>(buf.data() + c * per, rows, rank) = m[c];
+  if (p == FactorPrecision::Float64) return g.write(dataset, buf.data(), shape, unit, description);
+  if (p == FactorPrecision::Float32) {
+    const std::vector<float> f(buf.begin(), buf.end());
+    return g.write(dataset, f.data(), shape, unit, description);
+  }
+  std::vector<double> scales(m.size() * static_cast<size_t>(rank));
+  std::vector<std::int16_t> k16(buf.size());
+  std::vector<std::int8_t> k8(buf.size());
   for (size_t c = 0; c < m.size(); ++c)
-    Eigen::Map<RowMatrixXd>(buf.data() + c * per, rows, rank) = m[c];
-  g.write(dataset, buf.data(), Shape{u64(static_cast<std::int64_t>(m.size())), u64(rows), u64(rank)}, unit, description);
+    for (int r = 0; r < rank; ++r) {
+      const double scale = HalfAngleFactors::column_scale(m[c].col(r), p);
+      scales[c * static_cast<size_t>(rank) + static_cast<size_t>(r)] = scale;
+      for (Eigen::Index i = 0; i < rows; ++i) {
+        const double k = scale > 0.0 ? std::round(m[c](i, r) / scale) : 0.0;
+        k16[c * per + static_cast<size_t>(i) * static_cast<size_t>(rank) + static_cast<size_t>(r)] = static_cast<std::int16_t>(k);
+        k8[c * per + static_cast<size_t>(i) * static_cast<size_t>(rank) + static_cast<size_t>(r)] = static_cast<std::int8_t>(k);
+      }
+    }
+  const std::string what = description + " = " + dataset + "_scale[c, r] * this";
+  if (p == FactorPrecision::Int16)
+    g.write(dataset, k16.data(), shape, "1", what);
+  else
+    g.write(dataset, k8.data(), shape, "1", what);
+  g.write((std::string(dataset) + "_scale").c_str(), scales.data(), Shape{shape[0], u64(rank)}, unit,
+          std::string("scale of each column of ") + dataset);
 }
 
-std::vector<RowMatrixXd> read_factor(const h5::Group& g, const char* dataset, int channels, std::int64_t rows, int rank,
+template <class T>
+std::vector<double> read_values(const h5::Group& g, const char* dataset, const ShapePattern& shape, const h5::ReadLimits& lim) {
+  auto a = g.read<T>(dataset, shape, lim);
+  return std::vector<double>(a.data.begin(), a.data.end());
+}
+
+std::vector<RowMatrixXd> read_factor(const h5::Group& g, const char* dataset, int sets, std::int64_t rows, int rank, FactorPrecision p,
                                      const h5::ReadLimits& lim) {
-  auto a = g.read<double>(dataset, ShapePattern{channels, rows, rank}, lim);
-  for (size_t i = 0; i < a.data.size(); ++i)
-    if (!std::isfinite(a.data[i]))
-      g.fail(g.child_path(dataset), "expected finite values, found " + std::to_string(a.data[i]) + " at flat index " +
-                                        std::to_string(i));
-  std::vector<RowMatrixXd> out(static_cast<size_t>(channels));
+  const ShapePattern shape{sets, rows, rank};
+  std::vector<double> data = p == FactorPrecision::Float64   ? read_values<double>(g, dataset, shape, lim)
+                             : p == FactorPrecision::Float32 ? read_values<float>(g, dataset, shape, lim)
+                             : p == FactorPrecision::Int16   ? read_values<std::int16_t>(g, dataset, shape, lim)
+                                                             : read_values<std::int8_t>(g, dataset, shape, lim);
   const size_t per = static_cast<size_t>(rows) * static_cast<size_t>(rank);
-  for (int c = 0; c < channels; ++c)
-    out[static_cast<size_t>(c)] = Eigen::Map<const RowMatrixXd>(a.data.data() + static_cast<size_t>(c) * per, rows, rank);
+  if (const int levels = factor_precision_levels(p); levels > 0) {
+    const std::string name = std::string(dataset) + "_scale";
+    const auto scale = g.read<double>(name, ShapePattern{sets, rank}, lim);
+    for (size_t i = 0; i < scale.data.size(); ++i)
+      if (!(std::isfinite(scale.data[i]) && scale.data[i] >= 0.0))
+        g.fail(g.child_path(name), "expected finite scales >= 0, found " + std::to_string(scale.data[i]) + " at flat index " + std::to_string(i));
+    for (size_t i = 0; i < data.size(); ++i) {
+      if (std::abs(data[i]) > levels)
+        g.fail(g.child_path(dataset), "expected |k| <= " + std::to_string(levels) + ", found " + std::to_string(data[i]) + " at flat index " + std::to_string(i));
+      const size_t set = i / per, r = i % static_cast<size_t>(rank);
+      data[i] *= scale.data[set * static_cast<size_t>(rank) + r];
+    }
+  }
+  for (size_t i = 0; i < data.size(); ++i)
+    if (!std::isfinite(data[i]))
+      g.fail(g.child_path(dataset), "expected finite values, found " + std::to_string(data[i]) + " at flat index " + std::to_string(i));
+  std::vector<RowMatrixXd> out(static_cast<size_t>(sets));
+  for (int c = 0; c < sets; ++c)
+    out[static_cast<size_t>(c)] = Eigen::Map<const RowMatrixXd>(data.data() + static_cast<size_t>(c) * per, rows, rank);
   return out;
+}
+
+// |u_r| |v_r| of term r of channel c (times its channel scale when the factors are shared).
+double term_norm(const HalfAngleFactors& l, int c, int r) {
+  const size_t set = l.shared() ? 0 : static_cast<size_t>(c);
+  return l.u[set].col(r).norm() * l.v[set].col(r).norm() * (l.shared() ? std::abs(l.channel_scales(c, r)) : 1.0);
 }
 
 }  // namespace
@@ -79,6 +133,8 @@ void write_half_angle(h5::Group& material, const HalfAngleFactors& lobe, int cha
   } catch (const InputError& e) {
     bad_lobe(name, e.what());
   }
+  HalfAngleFactors stored = lobe;  // the values the file holds (those of a quantized lobe already)
+  stored.quantize();
   h5::Group g = material.create_group(kHalfAngleGroup);
   g.set_attr("quantity", half_angle_quantity_name(lobe.quantity));
   g.set_attr("isotropic", lobe.isotropic);
@@ -96,21 +152,30 @@ void write_half_angle(h5::Group& material, const HalfAngleFactors& lobe, int cha
   g.set_attr("cosine_floor", lobe.cosine_floor());
   g.set_attr("coordinates", kCoordinates);
   const std::string q = quantity_text(lobe.quantity, true);
-  write_factor(g, "u", lobe.u, lobe.h_nodes(), lobe.rank, "1/sr", "u[c, h node, r]: h factor of term r of " + q);
-  write_factor(g, "v", lobe.v, lobe.d_nodes(), lobe.rank, "1", "v[c, d node, r]: d factor of term r of " + q);
+  // Format 4.0: the precision and shared factor sets (absent: float64, one set per channel).
+  if (lobe.precision != FactorPrecision::Float64) g.set_attr("precision", factor_precision_name(lobe.precision));
+  if (lobe.shared()) {
+    g.set_attr("factor_sets", "shared");
+    g.write_matrix("channel_scales", lobe.channel_scales, "1",
+                   "channel_scales[c, r]: weight of the shared term r in channel c, q_c = sum_r channel_scales[c, r] u[0, h, r] v[0, d, r]");
+  }
+  const std::string set = lobe.shared() ? "0" : "c";
+  write_factor(g, "u", stored.u, lobe.h_nodes(), lobe.rank, lobe.precision, "1/sr", "u[" + set + ", h node, r]: h factor of term r of " + q);
+  write_factor(g, "v", stored.v, lobe.d_nodes(), lobe.rank, lobe.precision, "1", "v[" + set + ", d node, r]: d factor of term r of " + q);
 }
 
 nlohmann::json half_angle_summary(const HalfAngleFactors& l) {
   nlohmann::json terms = nlohmann::json::array();
   for (int c = 0; c < l.channels(); ++c) {
     std::vector<double> w;
-    for (int r = 0; r < l.rank; ++r) w.push_back(l.u[c].col(r).norm() * l.v[c].col(r).norm());
+    for (int r = 0; r < l.rank; ++r) w.push_back(term_norm(l, c, r));
     terms.push_back(w);
   }
   return {{"quantity", half_angle_quantity_name(l.quantity)}, {"isotropic", l.isotropic}, {"rank", l.rank}, {"n_t", l.n_t},
           {"n_phi_h", l.n_phi_h}, {"n_theta_d", l.n_theta_d}, {"n_phi_d", l.n_phi_d}, {"h_warp", l.h_warp},
           {"corners", horizon_corners_name(l.corners)}, {"nodes", l.centred ? "centres" : "ends"}, {"h_axis", l.h_axis}, {"h_scale_1", l.h_scale_1}, {"h_scale_2", l.h_scale_2},
-          {"bytes", l.bytes()}, {"term_norms", terms}};
+          {"bytes", l.bytes()}, {"precision", factor_precision_name(l.precision)}, {"factor_sets", l.shared() ? "shared" : "channels"},
+          {"term_norms", terms}};
 }
 
 std::string half_angle_summary_line(const HalfAngleFactors& l, bool norms) {
@@ -120,6 +185,8 @@ std::string half_angle_summary_line(const HalfAngleFactors& l, bool norms) {
                 l.rank, l.n_t, l.n_phi_h, l.h_warp, l.n_theta_d, l.n_phi_d, l.bytes());
   std::string out = buf;
   if (l.centred) out += ", nodes at bin centres";
+  if (l.precision != FactorPrecision::Float64) out += std::string(", ") + factor_precision_name(l.precision) + " factors";
+  if (l.shared()) out += ", channels share the factors";
   if (l.stretched()) {
     std::snprintf(buf, sizeof buf, ", h grid stretched %.3g x %.3g along %.1f deg", l.h_scale_1, l.h_scale_2, l.h_axis * 180 / M_PI);
     out += buf;
@@ -127,7 +194,7 @@ std::string half_angle_summary_line(const HalfAngleFactors& l, bool norms) {
   for (int c = 0; norms && c < l.channels(); ++c) {
     out += "\n    channel " + std::to_string(c) + " term norms |u_r| |v_r|:";
     for (int r = 0; r < l.rank; ++r) {
-      std::snprintf(buf, sizeof buf, " %.4g", l.u[c].col(r).norm() * l.v[c].col(r).norm());
+      std::snprintf(buf, sizeof buf, " %.4g", term_norm(l, c, r));
       out += buf;
     }
   }
@@ -170,8 +237,27 @@ HalfAngleFactors read_half_angle(const h5::Group& material, int channels, const 
   f.n_phi_d = static_cast<int>(g.attr_int("n_phi_d", 1, kMaxAxisNodes));
   f.rank = static_cast<int>(g.attr_int("rank", 1, kMaxFactorRank));
   const double floor = g.attr_double("cosine_floor");
-  f.u = read_factor(g, "u", channels, std::int64_t{f.n_t} * f.n_phi_h, f.rank, lim);
-  f.v = read_factor(g, "v", channels, std::int64_t{f.n_theta_d} * f.n_phi_d, f.rank, lim);
+  // Format 4.0 storage (absent: float64, a factor set per channel).
+  if (g.has_attr("precision")) {
+    const std::string p = g.attr_string("precision");
+    try {
+      f.precision = factor_precision_from_name(p);
+    } catch (const ArgumentError&) {
+      g.fail(g.path(), "attribute precision: expected 'float64', 'float32', 'int16' or 'int8', found '" + p + "'");
+    }
+  }
+  int sets = channels;
+  if (g.has_attr("factor_sets")) {
+    const std::string s = g.attr_string("factor_sets");
+    if (s != "shared" && s != "channels") g.fail(g.path(), "attribute factor_sets: expected 'shared' or 'channels', found '" + s + "'");
+    if (s == "shared") {
+      sets = 1;
+      const auto m = g.read<double>("channel_scales", ShapePattern{channels, f.rank}, lim);
+      f.channel_scales = Eigen::Map<const RowMatrixXd>(m.data.data(), channels, f.rank);
+    }
+  }
+  f.u = read_factor(g, "u", sets, std::int64_t{f.n_t} * f.n_phi_h, f.rank, f.precision, lim);
+  f.v = read_factor(g, "v", sets, std::int64_t{f.n_theta_d} * f.n_phi_d, f.rank, f.precision, lim);
   try {
     f.validate();
   } catch (const InputError& e) {

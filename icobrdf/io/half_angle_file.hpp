@@ -1,12 +1,16 @@
 #pragma once
 // The half-angle factorized lobe of a material (icobrdf/core/models/half_angle_factors.hpp) <-> the subgroup
-// /materials/<name>/half_angle of a bank (docs/file-format.md, format 2.0).
+// /materials/<name>/half_angle of a bank (docs/file-format.md, formats 2.0-4.0).
 //
 //   attributes  quantity ("f" | "cosine"), isotropic (uint8), h_warp (float64), n_t, n_phi_h, n_theta_d,
 //               n_phi_d, rank (int32), cosine_floor (float64), coordinates (text: the grids, the node
 //               order and the interpolation, enough to evaluate the lobe without icobrdf)
-//   u           channels x (n_t n_phi_h) x rank       float64  [1/sr]   h factors at the h nodes
-//   v           channels x (n_theta_d n_phi_d) x rank float64  [1]      d factors at the d nodes
+//   u           sets x (n_t n_phi_h) x rank       precision  [1/sr]   h factors at the h nodes
+//   v           sets x (n_theta_d n_phi_d) x rank precision  [1]      d factors at the d nodes
+//   (4.0) precision "float64" (absent) | "float32" | "int16" | "int8": integers carry u_scale, v_scale (sets x
+//   rank float64, value = scale k); factor_sets "channels" (absent; sets = channels) | "shared" (sets = 1,
+//   channel_scales: channels x rank float64, term weights per channel). A lobe is written rounded to its
+//   precision (HalfAngleFactors::quantize), so a quantized lobe reads back bitwise.
 //
 // q(h, d) = sum_r u[c, h node, r] v[c, d node, r], interpolated linearly in (t, phi_h) and (theta_d, phi_d);
 // f = q (quantity f) or q / (max(cos theta_i, cosine_floor) max(cos theta_r, cosine_floor)) (quantity cosine),

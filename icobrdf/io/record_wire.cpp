@@ -184,6 +184,8 @@ void put_lobe(WireWriter& w, const HalfAngleFactors& f) {
   for (const auto& m : f.u) w.matrix(m);
   w.integer(static_cast<std::int64_t>(f.v.size()));
   for (const auto& m : f.v) w.matrix(m);
+  w.integer(static_cast<std::int64_t>(f.precision));
+  w.matrix(f.channel_scales);
 }
 
 HalfAngleFactors get_lobe(WireReader& r) {
@@ -209,6 +211,10 @@ HalfAngleFactors get_lobe(WireReader& r) {
   for (auto& m : f.u) m = r.matrix<RowMatrixXd>("lobe.u");
   f.v.resize(static_cast<std::size_t>(r.count("lobe.v", 16)));
   for (auto& m : f.v) m = r.matrix<RowMatrixXd>("lobe.v");
+  const std::int64_t p = r.integer("lobe.precision");
+  if (p < 0 || p > static_cast<std::int64_t>(FactorPrecision::Int8)) r.fail("lobe.precision: unknown value " + std::to_string(p));
+  f.precision = static_cast<FactorPrecision>(p);
+  f.channel_scales = r.matrix<RowMatrixXd>("lobe.channel_scales");
   return f;
 }
 

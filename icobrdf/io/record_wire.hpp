@@ -25,7 +25,7 @@
 
 namespace icobrdf {
 
-inline constexpr std::uint32_t kRecordWireVersion = 1;
+inline constexpr std::uint32_t kRecordWireVersion = 2;  // 2: lobes carry their precision and channel scales
 
 std::string record_wire(const MaterialRecord& record);
 MaterialRecord read_record_wire(const std::string& bytes, const std::string& name);

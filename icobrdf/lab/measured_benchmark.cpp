@@ -38,14 +38,21 @@ constexpr int kMinPairs = 100;
 // Bytes of a lobe beyond its doubles, as the bank counts them (icobrdf/pipeline/half_angle_representation.cpp
 // kLobeHeaderBytes: five int32, two float64, one byte).
 constexpr long long kLobeHeaderBytes = 5 * 4 + 2 * 8 + 1;
-// Grids of the small lobes (n_t, n_theta_d, n_phi_d) and their ranks: the d grids of the glossy ladder's
-// coarse end and below; each budget takes, per d grid and rank, the largest n_t of kSmallLobeNt that fits.
-constexpr int kSmallLobeD[][2] = {{8, 4}, {16, 4}, {16, 8}, {32, 8}, {32, 16}, {64, 16}};
-constexpr int kSmallLobeNt[] = {8, 12, 16, 24, 32, 48, 64, 96, 128};
+// Grids of the small lobes (n_t, n_theta_d, n_phi_d) and their ranks: d grids from the glossy ladder's coarse
+// end down; each budget takes, per storage, d grid and rank, the largest n_t of kSmallLobeNt that fits.
+constexpr int kSmallLobeD[][2] = {{8, 4}, {16, 4}, {16, 8}, {32, 8}, {32, 16}, {64, 16}, {64, 32}, {96, 32}, {128, 32}};
+constexpr int kSmallLobeNt[] = {8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256};
 constexpr int kSmallLobeMaxRank = 4;
+// Storage of the small lobes: factor sets per channel or shared (channel scales), and the precisions.
+constexpr bool kSmallLobeShared[] = {false, true};
+constexpr FactorPrecision kSmallLobePrecisions[] = {FactorPrecision::Float64, FactorPrecision::Float32, FactorPrecision::Int16,
+                                                    FactorPrecision::Int8};
 // Validation pairs of the small lobes' choice (their own seed): a quarter of the test pairs' count is enough
 // to rank grids whose errors differ by more than a few percent.
 constexpr int kValidationShare = 4;
+// Validation errors closer than this share of the lowest are ties, which go to the fewest bytes: the
+// validation error's own sampling spread between candidates fitted to the same data is of this order.
+constexpr double kValidationTie = 0.005;
 
 std::string stem_of(const std::string& path) { return fs::path(path).stem().string(); }
 
@@ -81,59 +88,92 @@ double relative_l2(const Eigen::VectorXd& w, const Eigen::MatrixXd& fit, const E
   return r > 0 ? d / r : d;
 }
 
-long long lobe_bytes(int channels, int rank, int n_t, int n_td, int n_pd) {
-  return 8LL * channels * rank * (n_t + static_cast<long long>(n_td) * n_pd) + kLobeHeaderBytes;
+// Bytes of a lobe as the bank counts them (HalfAngleFactors::bytes + the header) before it is fitted.
+long long lobe_bytes(int channels, int rank, int n_t, int n_td, int n_pd, bool shared, FactorPrecision p) {
+  HalfAngleFactors shape;
+  shape.n_t = n_t, shape.n_theta_d = n_td, shape.n_phi_d = n_pd, shape.rank = rank, shape.precision = p;
+  const int sets = shared ? 1 : channels;
+  shape.u.assign(static_cast<size_t>(sets), RowMatrixXd(n_t, rank));
+  shape.v.assign(static_cast<size_t>(sets), RowMatrixXd(static_cast<Eigen::Index>(n_td) * n_pd, rank));
+  if (shared) shape.channel_scales.resize(channels, rank);
+  return static_cast<long long>(shape.bytes()) + kLobeHeaderBytes;
 }
 
-// The small lobes of one material: per budget, the candidate with the smallest validation error.
+std::string storage_text(bool shared, FactorPrecision p) {
+  return std::string(shared ? "shared " : "") + factor_precision_name(p);
+}
+
+// The small lobes of one material: per budget, the candidate with the smallest validation error among the
+// storages, d grids and ranks (the factors fitted once per grid, rank and factor sets, then rounded to each
+// precision and evaluated as stored).
 std::vector<BudgetPoint> small_lobes(const BrdfSource& source, const TestPairs& test, const TestPairs& validation, const MeasuredBenchOptions& o,
                                      const std::string& name) {
   const int channels = source.channels();
   const MemoSource memo(source);  // the grids repeat across ranks and budgets
+  // The lobes are fitted to the reciprocal part (f(a, b) + f(b, a)) / 2: a lobe is reciprocal (a node stands
+  // for a pair and its swap), so the part it can hold is f_rec, and fitting f at one ordering of each node pair
+  // would add the data's asymmetry at that ordering to the lobe's error against f_rec (and against f).
   const PairSampler sampler = [&memo](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) {
-    out = memo.eval(wi, wr);
+    out = 0.5 * (memo.eval(wi, wr) + memo.eval(wr, wi));
   };
   struct Tried {
     double validation, error, error_reciprocal;
     long long bytes;
     std::string grid;
   };
-  std::map<std::tuple<int, int, int, int>, Tried> tried;
+  std::map<std::tuple<bool, int, int, int, int>, HalfAngleFactors> fitted;
+  std::map<std::tuple<bool, int, int, int, int, int>, Tried> tried;
+  const auto evaluate = [&](const HalfAngleFactors& lobe, const TestPairs& t) {
+    return add_lobe(Eigen::MatrixXd::Zero(t.wi.rows(), channels), lobe, t.wi, t.wr);
+  };
   std::vector<BudgetPoint> points;
-  for (const long long budget : kMeasuredBudgets) {
+  for (const long long budget : o.budgets) {
+    std::vector<Tried> candidates;
+    for (const bool shared : kSmallLobeShared)
+      for (const FactorPrecision precision : kSmallLobePrecisions)
+        for (const auto& d : kSmallLobeD)
+          for (int rank = 1; rank <= kSmallLobeMaxRank; ++rank) {
+            int n_t = 0;
+            for (const int nt : kSmallLobeNt)
+              if (lobe_bytes(channels, rank, nt, d[0], d[1], shared, precision) <= budget) n_t = nt;
+            if (n_t == 0) continue;
+            const auto key = std::make_tuple(shared, n_t, d[0], d[1], rank, static_cast<int>(precision));
+            auto it = tried.find(key);
+            if (it == tried.end()) {
+              const auto fkey = std::make_tuple(shared, n_t, d[0], d[1], rank);
+              auto f = fitted.find(fkey);
+              if (f == fitted.end()) {
+                HalfAngleFitOptions fo;
+                fo.quantity = HalfAngleQuantity::MeanCosine;
+                fo.isotropic = true;
+                fo.n_t = n_t;
+                fo.n_theta_d = d[0];
+                fo.n_phi_d = d[1];
+                fo.fixed_rank = rank;
+                fo.max_rank = rank;
+                fo.shared_channels = shared;
+                fo.max_sweeps = 60;  // as the bank builder's lobes (half_angle_representation.cpp kMaxSweeps)
+                fo.sweep_tolerance = 1e-4;
+                f = fitted.emplace(fkey, fit_half_angle(sampler, channels, fo).factors).first;
+              }
+              HalfAngleFactors lobe = f->second;  // as stored: rounded to the precision
+              lobe.precision = precision;
+              lobe.quantize();
+              const Eigen::MatrixXd t = evaluate(lobe, test);
+              Tried x{relative_l2(validation.w, evaluate(lobe, validation), validation.reciprocal), relative_l2(test.w, t, test.f),
+                      relative_l2(test.w, t, test.reciprocal), static_cast<long long>(lobe.bytes()) + kLobeHeaderBytes,
+                      fmt::format("{}x{}x{} rank {} {}", n_t, d[0], d[1], rank, storage_text(shared, precision))};
+              it = tried.emplace(key, x).first;
+            }
+            candidates.push_back(it->second);
+          }
+    if (candidates.empty()) continue;
+    // The fewest bytes among the candidates within kValidationTie of the lowest validation error.
+    double lowest = INFINITY;
+    for (const Tried& c : candidates) lowest = std::min(lowest, c.validation);
     std::optional<Tried> best;
-    for (const auto& d : kSmallLobeD)
-      for (int rank = 1; rank <= kSmallLobeMaxRank; ++rank) {
-        int n_t = 0;
-        for (const int nt : kSmallLobeNt)
-          if (lobe_bytes(channels, rank, nt, d[0], d[1]) <= budget) n_t = nt;
-        if (n_t == 0) continue;
-        const auto key = std::make_tuple(n_t, d[0], d[1], rank);
-        auto it = tried.find(key);
-        if (it == tried.end()) {
-          HalfAngleFitOptions f;
-          f.quantity = HalfAngleQuantity::MeanCosine;
-          f.isotropic = true;
-          f.n_t = n_t;
-          f.n_theta_d = d[0];
-          f.n_phi_d = d[1];
-          f.fixed_rank = rank;
-          f.max_rank = rank;
-          f.max_sweeps = 60;  // as the bank builder's lobes (half_angle_representation.cpp kMaxSweeps)
-          f.sweep_tolerance = 1e-4;
-          const HalfAngleFit fit = fit_half_angle(sampler, channels, f);
-          const Eigen::MatrixXd zero_v = Eigen::MatrixXd::Zero(validation.wi.rows(), channels);
-          const Eigen::MatrixXd zero_t = Eigen::MatrixXd::Zero(test.wi.rows(), channels);
-          const Eigen::MatrixXd v = add_lobe(zero_v, fit.factors, validation.wi, validation.wr);
-          const Eigen::MatrixXd t = add_lobe(zero_t, fit.factors, test.wi, test.wr);
-          Tried x{relative_l2(validation.w, v, validation.reciprocal), relative_l2(test.w, t, test.f),
-                  relative_l2(test.w, t, test.reciprocal), static_cast<long long>(fit.factors.bytes()) + kLobeHeaderBytes,
-                  fmt::format("{}x{}x{} rank {}", n_t, d[0], d[1], rank)};
-          it = tried.emplace(key, x).first;
-        }
-        if (!best || it->second.validation < best->validation) best = it->second;
-      }
-    if (!best) continue;
+    for (const Tried& c : candidates)
+      if (c.validation <= lowest * (1 + kValidationTie) && (!best || c.bytes < best->bytes)) best = c;
     points.push_back({budget, best->bytes, best->grid, best->error, best->error_reciprocal});
     if (o.progress)
       o.progress(fmt::format("{}: lobe within {} B: {} ({} B), error {:.4f}, reciprocal part {:.4f}", name, budget, best->grid,
@@ -153,18 +193,11 @@ std::string scene_text(const MeasuredBenchOptions& o, const std::vector<std::str
   return s.str();
 }
 
-}  // namespace
-
-MeasuredBench run_measured_bench(const MeasuredBenchOptions& o) {
-  if (o.files.empty()) throw ArgumentError("bench measured: no RGL files given, expected at least one .bsdf file");
-  if (o.pairs < kMinPairs) throw ArgumentError("bench measured: --pairs " + std::to_string(o.pairs) + ", expected >= " + std::to_string(kMinPairs));
-  if (!(o.target > 0)) throw ArgumentError("bench measured: --target " + fmt::format("{}", o.target) + ", expected > 0");
-  MeasuredBench bench;
-  bench.threads = omp_get_max_threads();
-  bench.target = o.target;
-  std::vector<std::string> names;
-  for (const auto& f : o.files) names.push_back(material_name(f));
-  // The builder's choices, all materials in one build.
+// The builder's choices, all materials in one build (scene and bank in o.work_dir); the finished materials
+// into `records`: the bank's, or, when a material missed its target (no bank is written then), those of the
+// resume file the build kept them in.
+BankBuildResult build_measured_bank(const MeasuredBenchOptions& o, const std::vector<std::string>& names, double& seconds,
+                                    std::map<std::string, MaterialRecord>& records) {
   fs::create_directories(o.work_dir);
   const std::string scene_path = (fs::path(o.work_dir) / "measured-scene.toml").string();
   const std::string bank_path = (fs::path(o.work_dir) / "measured-bank.h5").string();
@@ -176,10 +209,7 @@ MeasuredBench run_measured_bench(const MeasuredBenchOptions& o) {
   b.materials_at_once = o.materials_at_once;
   const auto t0 = std::chrono::steady_clock::now();
   const BankBuildResult built = build_bank(scene, b);
-  bench.bank_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  // The finished materials: the bank, or, when a material missed its target (no bank is written then), the
-  // resume file the build kept them in.
-  std::map<std::string, MaterialRecord> records;
+  seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (built.written) {
     ReadOptions no_luts;
     no_luts.read_luts = false;
@@ -189,6 +219,26 @@ MeasuredBench run_measured_bench(const MeasuredBenchOptions& o) {
     if (auto kept = read_resume_file(built.resume_file))
       for (auto& [key, r] : *kept) records.emplace(r.name, std::move(r));
   }
+  return built;
+}
+
+}  // namespace
+
+MeasuredBench run_measured_bench(const MeasuredBenchOptions& o) {
+  if (o.files.empty()) throw ArgumentError("bench measured: no RGL files given, expected at least one .bsdf file");
+  if (o.pairs < kMinPairs) throw ArgumentError("bench measured: --pairs " + std::to_string(o.pairs) + ", expected >= " + std::to_string(kMinPairs));
+  if (!(o.target > 0)) throw ArgumentError("bench measured: --target " + fmt::format("{}", o.target) + ", expected > 0");
+  for (const long long b : o.budgets)
+    if (b <= 0) throw ArgumentError("bench measured: --budgets " + std::to_string(b) + ", expected positive byte counts");
+  MeasuredBench bench;
+  bench.threads = omp_get_max_threads();
+  bench.target = o.target;
+  std::vector<std::string> names;
+  for (const auto& f : o.files) names.push_back(material_name(f));
+  bench.budgets = o.budgets;
+  BankBuildResult built;
+  std::map<std::string, MaterialRecord> records;
+  if (o.bank) built = build_measured_bank(o, names, bench.bank_seconds, records);
   for (size_t k = 0; k < o.files.size(); ++k) {
     MeasuredRow row;
     row.name = names[k];
@@ -249,13 +299,13 @@ std::string measured_bench_markdown(const MeasuredBench& b) {
                      p ? std::to_string(p->bytes) : "-", p ? num(p->error) : "-", p ? num(p->error_reciprocal) : "-");
   }
   s << "\nSmall lobes (error against the reciprocal part) by byte budget:\n\n| material |";
-  for (const long long k : kMeasuredBudgets) s << " <= " << k << " B |";
+  for (const long long k : b.budgets) s << " <= " << k << " B |";
   s << " seconds |\n|---|";
-  for (size_t k = 0; k < std::size(kMeasuredBudgets); ++k) s << "---|";
+  for (size_t k = 0; k < b.budgets.size(); ++k) s << "---|";
   s << "---|\n";
   for (const auto& r : b.rows) {
     s << "| " << r.name << " |";
-    for (const long long k : kMeasuredBudgets) {
+    for (const long long k : b.budgets) {
       std::string cell = "-";
       for (const auto& q : r.budgets)
         if (q.budget == k) cell = fmt::format("{:.4f} ({})", q.error_reciprocal, q.grid);

@@ -8,8 +8,10 @@
 //     `icobrdf bank build` fits them): representation, bytes, seconds of the whole build (materials fitted
 //     at once as the builder plans them);
 //   * small lobes: isotropic half-angle lobes (mean-cosine quantity, icobrdf/core/fit/half_angle_fit.hpp)
-//     within byte budgets (kMeasuredBudgets; kNbrdfBytes is one of them), the grid and rank of each budget
-//     chosen on a validation set of pairs (its own seed) among kSmallLobeGrids, reported on the test pairs;
+//     within byte budgets (kMeasuredBudgets; 2,700 B, NBRDF's size, is one of them), each budget's storage
+//     (factors per channel or shared with channel scales; float64, float32, int16 or int8), grid and rank
+//     chosen on a validation set of pairs (its own seed), reported on the test pairs, the bytes those the
+//     lobe stores (HalfAngleFactors::bytes + the bank's header) and the errors those of the stored values;
 //   * NBRDF at kNbrdfBytes, when the network folder holds <file stem>.h5.
 // Errors (cosine metric: w = cos(theta_i) cos(theta_r), relative L2 over pairs and channels
 // |w (f_fit - f)| / |w f|) on `pairs` test pairs uniform in solid angle, seeded by the material's name, which
@@ -34,6 +36,8 @@ struct MeasuredBenchOptions {
   int pairs = 20000;
   int materials_at_once = 0;  // as `bank build --materials-at-once`
   bool small_lobes = true;
+  bool bank = true;  // false: no bank build (the rows' bank columns stay empty)
+  std::vector<long long> budgets{std::begin(kMeasuredBudgets), std::end(kMeasuredBudgets)};  // of the small lobes
   std::function<void(const std::string&)> progress;  // may be empty
 };
 
@@ -60,9 +64,10 @@ struct MeasuredBench {
   double bank_seconds = 0;
   int threads = 0;
   double target = 0;
+  std::vector<long long> budgets;
 };
 
-// InputError for unreadable files, ArgumentError for bad options (no files, pairs < 100, target <= 0).
+// InputError for unreadable files, ArgumentError for bad options (no files, pairs < 100, target <= 0, a budget <= 0).
 MeasuredBench run_measured_bench(const MeasuredBenchOptions& options);
 // The report as Markdown (tables of the rows, the budgets and the machine's thread count).
 std::string measured_bench_markdown(const MeasuredBench& bench);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <optional>
 #include <random>
 
@@ -137,11 +138,12 @@ struct LobeFit {
 // Measured data: no analytic form, so noise may put a floor under every lobe (kMeasuredLadder).
 bool measured_data(const MaterialProblem& p) { return !p.source.reciprocal_by_construction(); }
 
-// The first grid of the ladder whose lobe, added to `body` at the held-out pairs, meets the target; nullopt
-// when none does (best error in *best).
-// Bytes of a lobe of rank 1 on a ladder step: no lobe on that step costs less.
+long long lobe_bytes(const HalfAngleFactors& lobe) { return static_cast<long long>(lobe.bytes()) + kLobeHeaderBytes; }
+
+// Bytes of the smallest lobe on a ladder step, rank 1 with shared int8 factors (their column scales and the
+// channel scales included): no lobe on that step costs less.
 long long rank_one_bytes(const LadderStep& s, int channels) {
-  return 8LL * channels * (s.n_t * s.n_phi_h + s.n_theta_d * s.n_phi_d) + kLobeHeaderBytes;
+  return (s.n_t * s.n_phi_h + s.n_theta_d * s.n_phi_d) + 2LL * 8 + (channels > 1 ? 8LL * channels : 0) + kLobeHeaderBytes;
 }
 
 // The error of body + lobe on pairs that see the specular peak: w_i as the held-out pairs draw it; w_r
@@ -192,6 +194,41 @@ std::optional<HeldOutError> peak_error(const MaterialProblem& p, const BrdfSourc
   return HeldOutError{ref > 0 ? d.norm() / ref : d.norm(), ref_max > 0 ? d.cwiseAbs().maxCoeff() / ref_max : 0.0};
 }
 
+// Stored forms a lobe that meets the target may take, fewest bytes first (HalfAngleFactors: precision).
+constexpr FactorPrecision kLobePrecisions[] = {FactorPrecision::Int8, FactorPrecision::Int16, FactorPrecision::Float32};
+
+// The stored form of a lobe meeting the target with the fewest bytes: its factors, or factors shared by the
+// channels (fitted on the same grid, the rank from the same node target), each at the narrowest precision of
+// kLobePrecisions whose error (of the stored values) still meets the target; the lobe as it is when none
+// is smaller.
+void compact_lobe(const MaterialProblem& p, const PairSampler& sampler, int channels, HalfAngleFitOptions o,
+                  const std::function<HeldOutError(const HalfAngleFactors&)>& error_of, HalfAngleFactors& lobe, HeldOutError& e) {
+  std::vector<HalfAngleFactors> bases{lobe};
+  if (channels > 1) {
+    o.shared_channels = true;
+    try {
+      bases.push_back(fit_half_angle(sampler, channels, o).factors);
+    } catch (const UnsupportedError&) {  // no shared lobe meets the node target on this grid
+    }
+  }
+  const long long before = lobe_bytes(lobe);
+  for (size_t k = 0; k < bases.size(); ++k)
+    for (const FactorPrecision precision : kLobePrecisions) {
+      HalfAngleFactors q = bases[k];
+      q.precision = precision;
+      q.quantize();
+      if (lobe_bytes(q) >= lobe_bytes(lobe)) continue;
+      const HeldOutError qe = error_of(q);
+      if (qe.l2 > p.material.target) continue;
+      lobe = std::move(q);
+      e = qe;
+      break;  // the next precision of this base is wider
+    }
+  if (lobe_bytes(lobe) < before)
+    p.say(p.material.name + ": stored as " + (lobe.shared() ? "shared " : "") + factor_precision_name(lobe.precision) + " factors, rank " +
+          std::to_string(lobe.rank) + ", " + std::to_string(lobe_bytes(lobe)) + " bytes: error " + exact_decimal(e.l2));
+}
+
 // The lobe of `residual` on one grid, its rank from the target, and its error: the larger of the held-out
 // error of body + lobe (body: values at the held-out pairs) and of the peak-sampled one (peak_error);
 // nullopt when the grid cannot reach the node target.
@@ -225,14 +262,24 @@ std::optional<LobeFit> fit_lobe_at(const MaterialProblem& p, const BrdfSource& r
     return std::nullopt;
   }
   const auto& pairs = p.errors->pairs();
-  HeldOutError e = p.errors->of_values(add_lobe(body, fit.factors, pairs.wi, pairs.wr));
-  const auto peak = peak_error(p, residual, fit.factors);
+  // The held-out error of body + lobe and the peak-sampled one, the larger of the two.
+  const auto error_of = [&](const HalfAngleFactors& lobe, std::optional<HeldOutError>* peak_out) {
+    HeldOutError e = p.errors->of_values(add_lobe(body, lobe, pairs.wi, pairs.wr));
+    const auto peak = peak_error(p, residual, lobe);
+    if (peak_out) *peak_out = peak;
+    if (peak) e = {std::max(e.l2, peak->l2), std::max(e.max, peak->max)};
+    return e;
+  };
+  std::optional<HeldOutError> peak;
+  HeldOutError e = error_of(fit.factors, &peak);
   p.say(p.material.name + ": half-angle " + std::to_string(s.n_t) + "x" + std::to_string(s.n_phi_h) + " h, " +
         std::to_string(s.n_theta_d) + "x" + std::to_string(s.n_phi_d) + " d, rank " + std::to_string(fit.factors.rank) +
-        ": error " + exact_decimal(e.l2) + (peak ? ", peak-sampled " + exact_decimal(peak->l2) : std::string()));
-  if (peak) e = {std::max(e.l2, peak->l2), std::max(e.max, peak->max)};
+        ": error " + exact_decimal(e.l2) + (peak ? " (with the peak-sampled " + exact_decimal(peak->l2) + ")" : std::string()));
   double node = 0.0;
   for (const double x : fit.report.error) node = std::max(node, x);
+  if (e.l2 <= p.material.target) {
+    compact_lobe(p, sampler, residual.channels(), o, [&](const HalfAngleFactors& l) { return error_of(l, nullptr); }, fit.factors, e);
+  }
   return LobeFit{std::move(fit.factors), e, node};
 }
 
@@ -337,8 +384,6 @@ std::string short_number(double x) {
   std::snprintf(buf, sizeof buf, "%.3g", x);
   return buf;
 }
-
-long long lobe_bytes(const HalfAngleFactors& lobe) { return static_cast<long long>(lobe.bytes()) + kLobeHeaderBytes; }
 
 void require_pointwise(const MaterialProblem& p, const char* what) {
   if (!p.errors) throw UnsupportedError(std::string(what) + ": a delta BRDF has no pointwise values to factorize");

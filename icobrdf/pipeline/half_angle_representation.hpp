@@ -13,11 +13,14 @@
 //      rank stops when the node error stops falling, their ladder when a step's stalled node error is above
 //      the target or its held-out error stopped improving, and the lowest-error lobe within the budget is left
 //      as the best effort (MaterialProblem::best_efforts) with a note naming the figure that stopped the search;
-//   4. the record: an all-zero C of order 0 and the lobe; bytes = the lobe's doubles x 8 + kLobeHeaderBytes.
+//   4. the stored form: the grid's lobe, or its channels' shared factors fitted on the same grid, at the
+//      narrowest precision (int8, int16, float32, float64) whose held-out error still meets the target
+//      (HalfAngleFactors: storage; the error is that of the stored values);
+//   5. the record: an all-zero C of order 0 and the lobe; bytes = HalfAngleFactors::bytes + kLobeHeaderBytes.
 // hybrid
 //   lobe0 = the half-angle candidate's lobe (or the same ladder search when there is none); body = isotropic
 //   modes of a low order (kHybridOrders) fitted to f - lobe0 on the first level of the scene that supports
-//   it; lobe = half-angle fit of f - body on lobe0's grid, its rank from the target. The candidate is the
+//   it; lobe = half-angle fit of f - body on lobe0's grid, its rank from the target, stored as in step 4. The candidate is the
 //   body order with the fewest bytes meeting the target; bytes = the body's IBSSS coefficients (8 per
 //   channel + 12 for the indices) + the lobe's bytes. A lobe fitted first keeps the body free of the
 //   ringing a low order would take from the peak.

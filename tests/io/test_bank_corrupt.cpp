@@ -208,8 +208,8 @@ TEST_F(CorruptBank, WrongIndexDtype) {
 }
 
 TEST_F(CorruptBank, NewerMajorVersion) {
-  mutate(path_, [](hid_t f) { set_string_attr(f, "format_version", "4.0"); });
-  expect_refused(read_in_child(path_), path_, {"newer", "4.0", "expected major version 1 to 3"});
+  mutate(path_, [](hid_t f) { set_string_attr(f, "format_version", "5.0"); });
+  expect_refused(read_in_child(path_), path_, {"newer", "5.0", "expected major version 1 to 4"});
 }
 
 TEST_F(CorruptBank, NewerMinorVersionIsAccepted) {

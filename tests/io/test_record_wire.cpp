@@ -80,6 +80,22 @@ TEST(RecordWire, WhatIsReadIsWhatWasWrittenAsTheBankStoresIt) {
   EXPECT_EQ(back.lobe->corners, icobrdf::HorizonCorners::All);
 }
 
+TEST(RecordWire, ALobeOfSharedIntegerFactorsKeepsItsStorage) {
+  icobrdf::MaterialRecord m = full_record();
+  icobrdf::HalfAngleFactors& lobe = *m.lobe;
+  lobe.u.resize(1), lobe.v.resize(1);
+  lobe.channel_scales = icobrdf::RowMatrixXd::Constant(3, 2, 0.25);
+  lobe.channel_scales(2, 1) = -1.5;
+  lobe.precision = icobrdf::FactorPrecision::Int8;
+  lobe.quantize();
+  const icobrdf::MaterialRecord back = icobrdf::read_record_wire(icobrdf::record_wire(m), "record");
+  EXPECT_EQ(image_of(back), image_of(m));
+  ASSERT_TRUE(back.lobe.has_value());
+  EXPECT_EQ(back.lobe->precision, icobrdf::FactorPrecision::Int8);
+  EXPECT_EQ(back.lobe->channel_scales, lobe.channel_scales);
+  EXPECT_EQ(back.lobe->bytes(), lobe.bytes());
+}
+
 TEST(RecordWire, APlainRecordWithoutOptionalPartsRoundTrips) {
   icobrdf::MaterialRecord m;
   m.name = "plain";
@@ -119,7 +135,7 @@ TEST(RecordWire, TruncatedForeignOrPaddedBytesAreOneLineInputErrors) {
     icobrdf::read_record_wire(bad, "record");
     FAIL();
   } catch (const icobrdf::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("expected record version 1"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("expected record version " + std::to_string(icobrdf::kRecordWireVersion)), std::string::npos) << e.what();
   }
 }
 

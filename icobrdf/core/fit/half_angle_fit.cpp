@@ -51,17 +51,20 @@ std::pair<double, double> weighted_error2(const AlsProblem& p, const Eigen::Matr
   return {(p.Wv.array() * E.array()).sum(), (p.W.array() * E.array()).sum()};
 }
 
-// New rows X (n x R) minimizing sum_j Wt(i, j) (T(i, j) - X_i . Y_j)^2 for every i, given Y (m x R).
-// Wt is W or W^T, WT = Wt .* T.
-template <class WMat, class WQMat>
-Eigen::MatrixXd solve_side(const WMat& Wt, const WQMat& WT, const Eigen::MatrixXd& Y) {
+// The pair products Y_r Y_s (r <= s) of the columns of Y, weighted by the rows of Wt: n x R(R+1)/2.
+template <class WMat>
+Eigen::MatrixXd pair_products(const WMat& Wt, const Eigen::MatrixXd& Y) {
   const int R = static_cast<int>(Y.cols());
-  const int P = R * (R + 1) / 2;
-  Eigen::MatrixXd YY(Y.rows(), P);
+  Eigen::MatrixXd YY(Y.rows(), R * (R + 1) / 2);
   for (int r = 0, p = 0; r < R; ++r)
     for (int s = r; s < R; ++s, ++p) YY.col(p) = Y.col(r).cwiseProduct(Y.col(s));
-  const Eigen::MatrixXd A = Wt * YY;  // n x P
-  const Eigen::MatrixXd B = WT * Y;   // n x R
+  return Wt * YY;
+}
+
+// Rows X solving (unpack(A_i) .* G + ridge) X_i = B_i for every i: A is n x R(R+1)/2 (pair_products), B is
+// n x R, G is R x R (all ones for one channel; S^T S for shared factors with channel scales S).
+Eigen::MatrixXd solve_rows(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& G) {
+  const int R = static_cast<int>(B.cols());
   Eigen::MatrixXd X(A.rows(), R);
   // Serial: each row is an R x R solve (~0.1-1 us); a parallel region here cost 25x the whole fit on a loaded
   // 2-core machine (threads waiting at the barrier behind other processes), and the products above thread.
@@ -69,7 +72,7 @@ Eigen::MatrixXd solve_side(const WMat& Wt, const WQMat& WT, const Eigen::MatrixX
   for (Eigen::Index i = 0; i < A.rows(); ++i) {
     Small N(R, R);
     for (int r = 0, p = 0; r < R; ++r)
-      for (int s = r; s < R; ++s, ++p) N(r, s) = N(s, r) = A(i, p);
+      for (int s = r; s < R; ++s, ++p) N(r, s) = N(s, r) = A(i, p) * G(r, s);
     const double tr = N.trace();
     if (!(tr > 0.0)) {
       X.row(i).setZero();
@@ -79,6 +82,14 @@ Eigen::MatrixXd solve_side(const WMat& Wt, const WQMat& WT, const Eigen::MatrixX
     X.row(i) = N.ldlt().solve(B.row(i).transpose()).transpose();
   }
   return X;
+}
+
+// New rows X (n x R) minimizing sum_j Wt(i, j) (T(i, j) - X_i . Y_j)^2 for every i, given Y (m x R).
+// Wt is W or W^T, WT = Wt .* T.
+template <class WMat, class WQMat>
+Eigen::MatrixXd solve_side(const WMat& Wt, const WQMat& WT, const Eigen::MatrixXd& Y) {
+  const Eigen::MatrixXd G = Eigen::MatrixXd::Ones(Y.cols(), Y.cols());
+  return solve_rows(pair_products(Wt, Y), WT * Y, G);
 }
 
 // Leading singular pair of the weighted residual sqrt(a_i b_j) M_ij (Q - U V^T)_ij by power iteration,
@@ -335,32 +346,169 @@ int grow_ranks(const SampledNodes& n, const HalfAngleFitOptions& o, const Eigen:
   return rank;
 }
 
-}  // namespace
+// Shared factors (HalfAngleFactors::channel_scales): q_c = U diag(S_c) V^T for every channel c, fitted by
+// alternating least squares over U, S and V (a weighted CP decomposition of the node values over (h, d,
+// channel)).
+struct SharedFit {
+  Eigen::MatrixXd U, V, S;                         // H x R, D x R, C x R
+  std::vector<std::vector<double>> error_by_rank;  // [channel][r - 1]
+  std::vector<int> sweeps_by_rank;
+};
 
-HalfAngleFit fit_half_angle(const PairSampler& sampler, int channels, const HalfAngleFitOptions& o) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const SerialEigen serial;
-  check_fit_options(channels, o);
-  HalfAngleFit fit;
+// Channel scales minimizing the weighted error for given U, V: per channel M s_c = b_c with
+// M(r, s) = sum_i A(i, rs) U(i, r) U(i, s) (A = pair_products(W, V)) and b_c = column sums of U .* (WQ_c V).
+Eigen::MatrixXd solve_scales(const Eigen::MatrixXd& A, const std::vector<Eigen::MatrixXd>& B, const Eigen::MatrixXd& U) {
+  const int R = static_cast<int>(U.cols());
+  Eigen::MatrixXd M(R, R);
+  for (int r = 0, p = 0; r < R; ++r)
+    for (int q = r; q < R; ++q, ++p) M(r, q) = M(q, r) = A.col(p).dot(U.col(r).cwiseProduct(U.col(q)));
+  const double tr = M.trace();
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(B.size()), R);
+  if (!(tr > 0.0)) return S;
+  M.diagonal().array() += 1e-14 * tr;
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(M);
+  for (size_t c = 0; c < B.size(); ++c)
+    S.row(static_cast<Eigen::Index>(c)) = ldlt.solve(U.cwiseProduct(B[c]).colwise().sum().transpose()).transpose();
+  return S;
+}
+
+// Error (valid nodes) and objective (fitting weights) per channel of the shared factors.
+void shared_errors(const SampledNodes& n, const std::vector<Eigen::MatrixXd>& WQ, const std::vector<double>& norm2, const SharedFit& f,
+                   std::vector<double>& e2, double& objective) {
+  objective = 0.0;
+  for (size_t c = 0; c < n.Q.size(); ++c) {
+    const AlsProblem p{n.W, WQ[c], n.Wv, norm2[c]};
+    const auto [err2, obj2] = weighted_error2(p, n.Q[c], f.U * f.S.row(static_cast<Eigen::Index>(c)).asDiagonal(), f.V);
+    e2[c] = err2;
+    objective += obj2;
+  }
+}
+
+// One sweep: U, then S, then V; columns of U and V rescaled to unit norm (their sizes go into S).
+void shared_sweep(const SampledNodes& n, const std::vector<Eigen::MatrixXd>& WQ, SharedFit& f) {
+  const size_t C = n.Q.size();
+  std::vector<Eigen::MatrixXd> B(C);
+  const Eigen::MatrixXd A = pair_products(n.W, f.V);
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(f.U.rows(), f.U.cols());
+  for (size_t c = 0; c < C; ++c) {
+    B[c] = WQ[c] * f.V;
+    rhs += B[c] * f.S.row(static_cast<Eigen::Index>(c)).asDiagonal();
+  }
+  f.U = solve_rows(A, rhs, f.S.transpose() * f.S);
+  f.S = solve_scales(A, B, f.U);
+  const Eigen::MatrixXd At = pair_products(n.W.transpose(), f.U);
+  Eigen::MatrixXd rhs_v = Eigen::MatrixXd::Zero(f.V.rows(), f.V.cols());
+  for (size_t c = 0; c < C; ++c) rhs_v += (WQ[c].transpose() * f.U) * f.S.row(static_cast<Eigen::Index>(c)).asDiagonal();
+  f.V = solve_rows(At, rhs_v, f.S.transpose() * f.S);
+  for (Eigen::Index r = 0; r < f.U.cols(); ++r) {
+    const double nu = f.U.col(r).norm(), nv = f.V.col(r).norm();
+    if (!(nu > 0.0 && nv > 0.0)) continue;
+    f.U.col(r) /= nu;
+    f.V.col(r) /= nv;
+    f.S.col(r) *= nu * nv;
+  }
+}
+
+// Rank by rank until every channel meets the target (or the fixed rank): each new term starts from the
+// leading singular pair of the weighted residual summed over the channels, its scales by least squares.
+SharedFit grow_shared(const SampledNodes& n, const HalfAngleFitOptions& o, const Eigen::VectorXd& a, const Eigen::VectorXd& b,
+                      std::vector<double>& norm2, std::vector<double>& e2) {
+  const size_t C = n.Q.size();
+  const int max_rank = o.fixed_rank > 0 ? o.fixed_rank : o.max_rank;
+  const double target2 = o.fixed_rank > 0 ? -1.0 : o.target * o.target;
+  std::vector<Eigen::MatrixXd> WQ(C);
+  norm2.assign(C, 0.0);
+  e2.assign(C, 0.0);
+  SharedFit f;
+  f.U.resize(n.W.rows(), 0);
+  f.V.resize(n.W.cols(), 0);
+  f.S.resize(static_cast<Eigen::Index>(C), 0);
+  f.error_by_rank.resize(C);
+  for (size_t c = 0; c < C; ++c) {
+    WQ[c] = n.W.cwiseProduct(n.Q[c]);
+    norm2[c] = n.Wv.cwiseProduct(n.Q[c]).cwiseProduct(n.Q[c]).sum();
+    e2[c] = norm2[c];
+  }
+  const Eigen::VectorXd sa = a.array().sqrt(), sb = b.array().sqrt();
+  const auto meets = [&] {
+    for (size_t c = 0; c < C; ++c)
+      if (norm2[c] > 0.0 && e2[c] > target2 * norm2[c]) return false;
+    return true;
+  };
+  for (int r = 1; r <= max_rank && !meets(); ++r) {
+    Eigen::MatrixXd residual = Eigen::MatrixXd::Zero(n.W.rows(), n.W.cols());
+    for (size_t c = 0; c < C; ++c) residual += n.Q[c] - f.U * f.S.row(static_cast<Eigen::Index>(c)).asDiagonal() * f.V.transpose();
+    const AlsProblem p{n.W, n.W, n.Wv, 0.0};
+    Eigen::VectorXd un, vn;
+    leading_residual_term(p, residual, Eigen::MatrixXd(n.W.rows(), 0), Eigen::MatrixXd(n.W.cols(), 0), un, vn);
+    Eigen::MatrixXd U(n.W.rows(), r), V(n.W.cols(), r);
+    U << f.U, un.cwiseQuotient(sa);
+    V << f.V, vn.cwiseQuotient(sb);
+    f.U = std::move(U);
+    f.V = std::move(V);
+    f.S = solve_scales(pair_products(n.W, f.V), [&] {
+      std::vector<Eigen::MatrixXd> B(C);
+      for (size_t c = 0; c < C; ++c) B[c] = WQ[c] * f.V;
+      return B;
+    }(), f.U);
+    double obj;
+    shared_errors(n, WQ, norm2, f, e2, obj);
+    int sweep = 0;
+    for (; sweep < o.max_sweeps; ++sweep) {
+      shared_sweep(n, WQ, f);
+      double obj2;
+      shared_errors(n, WQ, norm2, f, e2, obj2);
+      const bool stalled = obj - obj2 <= o.sweep_tolerance * obj;
+      obj = obj2;
+      if (stalled || !(obj > 1e-30)) {
+        ++sweep;
+        break;
+      }
+    }
+    f.sweeps_by_rank.push_back(sweep);
+    for (size_t c = 0; c < C; ++c) f.error_by_rank[c].push_back(norm2[c] > 0.0 ? std::sqrt(e2[c] / norm2[c]) : 0.0);
+  }
+  return f;
+}
+
+// The shared fit into fit.factors (one factor set, channel scales) and its report; returns the worst
+// channel's node error.
+double store_shared(const SampledNodes& nodes, const HalfAngleFitOptions& o, const Eigen::VectorXd& a, const Eigen::VectorXd& b,
+                    HalfAngleFit& fit) {
+  std::vector<double> norm2, e2;
+  const SharedFit sf = grow_shared(nodes, o, a, b, norm2, e2);
+  const int rank = static_cast<int>(sf.U.cols()), channels = static_cast<int>(nodes.Q.size());
   HalfAngleFactors& F = fit.factors;
-  F.quantity = o.quantity;
-  F.corners = o.corners;
-  F.centred = o.centred;
-  F.isotropic = o.isotropic;
-  F.h_warp = o.h_warp;
-  if (!o.isotropic) F.h_axis = o.h_axis, F.h_scale_1 = o.h_scale_1, F.h_scale_2 = o.h_scale_2;
-  F.n_t = o.n_t;
-  F.n_phi_h = o.isotropic ? 1 : o.n_phi_h;
-  F.n_theta_d = o.n_theta_d;
-  F.n_phi_d = o.n_phi_d;
-  const int H = F.h_nodes(), D = F.d_nodes();
-  const Eigen::VectorXd a = half_angle_h_weights(F), b = half_angle_d_weights(F);
-  const SampledNodes nodes = sample_nodes(sampler, channels, o, F, a, b, &fit.report.valid_fraction);
-  fit.report.missing_nodes = nodes.missing;
+  F.rank = fit.report.rank = rank;
+  fit.report.sweeps_by_rank = sf.sweeps_by_rank;
+  fit.report.error_by_rank = sf.error_by_rank;
+  fit.report.energies.assign(channels, {});
+  double worst = 0.0;
+  for (int c = 0; c < channels; ++c) {
+    const double e = norm2[c] > 0.0 ? std::sqrt(e2[c] / norm2[c]) : 0.0;
+    fit.report.error.push_back(e);
+    worst = std::max(worst, e);
+    // Weighted norm of each term of the channel, relative to the channel's.
+    for (int r = 0; r < rank; ++r)
+      fit.report.energies[c].push_back(
+          norm2[c] > 0.0 ? std::abs(sf.S(c, r)) * std::sqrt(a.dot(sf.U.col(r).cwiseAbs2()) * b.dot(sf.V.col(r).cwiseAbs2()) / norm2[c]) : 0.0);
+  }
+  F.u.emplace_back(sf.U);
+  F.v.emplace_back(sf.V);
+  F.channel_scales = sf.S;
+  return worst;
+}
+
+// The per-channel fit into fit.factors (terms ordered by weighted energy) and its report; returns the worst
+// channel's node error.
+double store_separate(const SampledNodes& nodes, const HalfAngleFitOptions& o, const Eigen::VectorXd& a, const Eigen::VectorXd& b,
+                      HalfAngleFit& fit) {
   std::vector<ChannelFit> cf;
   std::vector<double> norm2, e2;
   const int rank = grow_ranks(nodes, o, a, b, cf, norm2, e2, fit.report.sweeps_by_rank);
-
+  const int channels = static_cast<int>(nodes.Q.size());
+  const Eigen::Index H = nodes.W.rows(), D = nodes.W.cols();
+  HalfAngleFactors& F = fit.factors;
   F.rank = rank;
   fit.report.rank = rank;
   fit.report.error.resize(channels);
@@ -381,6 +529,33 @@ HalfAngleFit fit_half_angle(const PairSampler& sampler, int channels, const Half
     F.u.emplace_back(U);
     F.v.emplace_back(V);
   }
+  return worst;
+}
+
+}  // namespace
+
+HalfAngleFit fit_half_angle(const PairSampler& sampler, int channels, const HalfAngleFitOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const SerialEigen serial;
+  check_fit_options(channels, o);
+  HalfAngleFit fit;
+  HalfAngleFactors& F = fit.factors;
+  F.quantity = o.quantity;
+  F.corners = o.corners;
+  F.centred = o.centred;
+  F.isotropic = o.isotropic;
+  F.h_warp = o.h_warp;
+  if (!o.isotropic) F.h_axis = o.h_axis, F.h_scale_1 = o.h_scale_1, F.h_scale_2 = o.h_scale_2;
+  F.n_t = o.n_t;
+  F.n_phi_h = o.isotropic ? 1 : o.n_phi_h;
+  F.n_theta_d = o.n_theta_d;
+  F.n_phi_d = o.n_phi_d;
+  const Eigen::VectorXd a = half_angle_h_weights(F), b = half_angle_d_weights(F);
+  const SampledNodes nodes = sample_nodes(sampler, channels, o, F, a, b, &fit.report.valid_fraction);
+  fit.report.missing_nodes = nodes.missing;
+  const double worst = o.shared_channels ? store_shared(nodes, o, a, b, fit) : store_separate(nodes, o, a, b, fit);
+  F.precision = o.precision;
+  F.quantize();
   fit.report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (o.fixed_rank == 0 && worst > o.target) {
     std::ostringstream s;

@@ -64,6 +64,13 @@ struct HalfAngleFitOptions {
   int max_sweeps = 200;            // ALS sweeps per rank
   double sweep_tolerance = 1e-6;   // stop when the objective decreases by less than this fraction of itself
   int fixed_rank = 0;              // > 0: fit exactly this rank (no target check, no refusal)
+  // Channels share one set of factors with per-channel, per-term scales (HalfAngleFactors::channel_scales),
+  // fitted by alternating least squares over u, the scales and v; the rank grows until every channel meets
+  // the target. False: each channel its own factors.
+  bool shared_channels = false;
+  // Precision the factors are stored in: the fitted factors are rounded to it (HalfAngleFactors::quantize)
+  // before they are returned, so that what is evaluated is what a file holds.
+  FactorPrecision precision = FactorPrecision::Float64;
   // Weight (relative to a valid node's) of the extended values at missing nodes next to valid ones;
   // 0 leaves them missing. Only HorizonCorners::All uses such values (0.05 there; measured best on the
   // glossy lobes); with Valid they would only pull the factors away from the valid nodes.

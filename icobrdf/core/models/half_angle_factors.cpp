@@ -28,11 +28,64 @@ HalfAngleQuantity half_angle_quantity_from_name(const std::string& name) {
   throw ArgumentError("half-angle quantity: expected \"f\", \"cosine\" or \"mean-cosine\", got \"" + printable_text(name) + "\"");
 }
 
+const char* factor_precision_name(FactorPrecision p) {
+  switch (p) {
+    case FactorPrecision::Float64: return "float64";
+    case FactorPrecision::Float32: return "float32";
+    case FactorPrecision::Int16: return "int16";
+    case FactorPrecision::Int8: return "int8";
+  }
+  return "float64";
+}
+
+FactorPrecision factor_precision_from_name(const std::string& name) {
+  for (FactorPrecision p : {FactorPrecision::Float64, FactorPrecision::Float32, FactorPrecision::Int16, FactorPrecision::Int8})
+    if (name == factor_precision_name(p)) return p;
+  throw ArgumentError("factor precision: expected \"float64\", \"float32\", \"int16\" or \"int8\", got \"" + printable_text(name) + "\"");
+}
+
+int factor_precision_bytes(FactorPrecision p) {
+  return p == FactorPrecision::Float64 ? 8 : p == FactorPrecision::Float32 ? 4 : p == FactorPrecision::Int16 ? 2 : 1;
+}
+
+int factor_precision_levels(FactorPrecision p) {
+  return p == FactorPrecision::Int16 ? 32767 : p == FactorPrecision::Int8 ? 127 : 0;
+}
+
 std::size_t HalfAngleFactors::bytes() const {
-  std::size_t n = 0;
-  for (const auto& m : u) n += static_cast<std::size_t>(m.size());
-  for (const auto& m : v) n += static_cast<std::size_t>(m.size());
-  return 8 * n;
+  std::size_t n = 0, columns = 0;
+  for (const auto& m : u) n += static_cast<std::size_t>(m.size()), columns += static_cast<std::size_t>(m.cols());
+  for (const auto& m : v) n += static_cast<std::size_t>(m.size()), columns += static_cast<std::size_t>(m.cols());
+  const std::size_t scales = factor_precision_levels(precision) > 0 ? 8 * columns : 0;
+  return static_cast<std::size_t>(factor_precision_bytes(precision)) * n + scales + 8 * static_cast<std::size_t>(channel_scales.size());
+}
+
+double HalfAngleFactors::column_scale(const Eigen::Ref<const Eigen::VectorXd>& column, FactorPrecision p) {
+  const int levels = factor_precision_levels(p);
+  if (levels == 0 || column.size() == 0) return 0.0;
+  // Rounded to a float: the largest value then maps to k = levels again, so that the scale of a quantized
+  // column is the scale it was quantized with (quantize() is idempotent, a file's scale reproduces it).
+  return static_cast<double>(static_cast<float>(column.cwiseAbs().maxCoeff() / levels));
+}
+
+void HalfAngleFactors::quantize() {
+  const auto round_all = [this](std::vector<RowMatrixXd>& sets) {
+    for (auto& m : sets) {
+      if (precision == FactorPrecision::Float32) {
+        m = m.cast<float>().cast<double>();
+        continue;
+      }
+      if (precision == FactorPrecision::Float64) continue;
+      for (Eigen::Index r = 0; r < m.cols(); ++r) {
+        const double scale = column_scale(m.col(r), precision);
+        const double levels = factor_precision_levels(precision);
+        for (Eigen::Index i = 0; i < m.rows(); ++i)
+          m(i, r) = scale > 0.0 ? scale * std::clamp(std::round(m(i, r) / scale), -levels, levels) : 0.0;
+      }
+    }
+  };
+  round_all(u);
+  round_all(v);
 }
 
 double HalfAngleFactors::cosine_floor() const {
@@ -196,15 +249,17 @@ void valid_corner_sum(const HalfAngleFactors& F, const Corners& c, const bool (&
   for (int x = 0; x < nh; ++x)
     for (int y = 0; y < 4; ++y)
       if (ok[x][y]) wsum += c.wh[x] * c.wd[y];
+  const bool shared = F.shared();
   for (int ch = 0; ch < F.channels(); ++ch) {
-    const double* U = F.u[ch].data();
-    const double* V = F.v[ch].data();
+    const double* U = F.u[shared ? 0 : ch].data();
+    const double* V = F.v[shared ? 0 : ch].data();
+    const double* S = shared ? F.channel_scales.data() + static_cast<Eigen::Index>(ch) * R : nullptr;
     double q = 0.0;
     for (int x = 0; x < nh; ++x)
       for (int y = 0; y < 4; ++y) {
         if (!ok[x][y] || c.wh[x] * c.wd[y] == 0.0) continue;
         double uv = 0.0;
-        for (int r = 0; r < R; ++r) uv += U[c.h[x] * R + r] * V[c.d[y] * R + r];
+        for (int r = 0; r < R; ++r) uv += U[c.h[x] * R + r] * V[c.d[y] * R + r] * (S ? S[r] : 1.0);
         q += c.wh[x] * c.wd[y] * uv;
       }
     out(i, ch) = wsum > 0.0 ? q / wsum * scale : 0.0;
@@ -240,6 +295,24 @@ void eval_rows(const HalfAngleFactors& F, const RowMatrix3d& wi, const RowMatrix
         valid_corner_sum<Aniso>(F, c, ok, i, scale, out);
         continue;
       }
+    }
+    if (F.shared()) {  // the terms once, then each channel's weights
+      double term[kMaxStoredRank];
+      const double* U = F.u[0].data();
+      const double* V = F.v[0].data();
+      for (int r = 0; r < R; ++r) {
+        double uh = c.wh[0] * U[c.h[0] * R + r] + c.wh[1] * U[c.h[1] * R + r];
+        if (Aniso) uh += c.wh[2] * U[c.h[2] * R + r] + c.wh[3] * U[c.h[3] * R + r];
+        term[r] = uh * (c.wd[0] * V[c.d[0] * R + r] + c.wd[1] * V[c.d[1] * R + r] + c.wd[2] * V[c.d[2] * R + r] +
+                        c.wd[3] * V[c.d[3] * R + r]);
+      }
+      for (int ch = 0; ch < channels; ++ch) {
+        const double* S = F.channel_scales.data() + static_cast<Eigen::Index>(ch) * R;
+        double q = 0.0;
+        for (int r = 0; r < R; ++r) q += S[r] * term[r];
+        out(i, ch) = q * scale;
+      }
+      continue;
     }
     for (int ch = 0; ch < channels; ++ch) {
       const double* U = F.u[ch].data();
@@ -367,6 +440,12 @@ void HalfAngleFactors::validate() const {
       fail("h scale " + num(k) + ", expected in [" + num(kMinHScale) + ", " + num(kMaxHScale) + "]");
   if (rank < 0) fail("rank = " + num(rank) + ", expected >= 0");
   if (u.empty()) fail("no channels");
+  if (shared()) {
+    if (u.size() != 1 || v.size() != 1) fail(num(u.size()) + " u and " + num(v.size()) + " v factor sets with channel scales, expected 1 each");
+    if (channel_scales.cols() != rank) fail("channel scales of " + num(channel_scales.cols()) + " terms, expected rank " + num(rank));
+    if (rank > kMaxStoredRank) fail("rank " + num(rank) + " with shared factors, expected <= " + num(kMaxStoredRank));
+    if (!channel_scales.allFinite()) fail("channel scales have a non-finite value");
+  }
   if (u.size() != v.size()) fail(num(u.size()) + " u factors but " + num(v.size()) + " v factors");
   for (std::size_t c = 0; c < u.size(); ++c) {
     const std::string ch = " of channel " + num(c);

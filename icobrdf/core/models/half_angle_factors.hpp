@@ -29,6 +29,17 @@
 // Node order (rows of u and v; columns are the R terms):
 //  u: row k * n_phi_h + j for (t_k, phi_h_j);  v: row a * n_phi_d + b for (theta_d_a, phi_d_b).
 //
+// Storage (what bytes() counts and the file holds; the in-memory values are always those the file stores):
+//  Factor sets: per channel (u, v hold one matrix per channel), or shared: u, v hold one matrix each and
+//     channel_scales (channels x rank) weighs term r of channel c, q_c = sum_r s[c, r] u_r(h) v_r(d) -- one
+//     lobe shape for all channels with per-channel, per-term scales (a CP decomposition of the node values
+//     over (h, d, channel)). Exact for a lobe whose channels are multiples of one shape per term (a grey
+//     specular over a coloured body: rank 2 + rank 1 shared terms).
+//  Precision of the factor values: float64, float32 (relative rounding 6e-8), or scaled integers int16 /
+//     int8, one float64 scale per factor column: value = scale * k, |k| <= L = 2^(B-1) - 1, scale = max|column| / L
+//     rounded to a float, so every value is within scale / 2 = max|column| / (2 L) (1 + 6e-8) of the fitted
+//     one (1.5e-5 and 3.9e-3 of the column's largest value). quantize() rounds the factors to it in memory.
+//
 // The fit of such a lobe to a BRDF is icobrdf/core/fit/half_angle_fit.hpp.
 #include <Eigen/Core>
 
@@ -59,6 +70,17 @@ const char* half_angle_quantity_name(HalfAngleQuantity q);
 // ArgumentError for an unknown name.
 HalfAngleQuantity half_angle_quantity_from_name(const std::string& name);
 
+enum class FactorPrecision { Float64, Float32, Int16, Int8 };  // names "float64", "float32", "int16", "int8"
+const char* factor_precision_name(FactorPrecision p);
+FactorPrecision factor_precision_from_name(const std::string& name);  // ArgumentError for an unknown name
+// Bytes of one stored factor value.
+int factor_precision_bytes(FactorPrecision p);
+// Largest |k| of an integer precision (32767, 127); 0 for the floating ones.
+int factor_precision_levels(FactorPrecision p);
+
+
+// Largest rank of a lobe with shared factors (its evaluation keeps the terms of one pair on the stack).
+inline constexpr int kMaxStoredRank = 64;
 
 // Bounds of the h-grid scales (h_scale_1 / h_scale_2 ratios of up to 1e4: far beyond any measured lobe).
 inline constexpr double kMinHScale = 1e-2, kMaxHScale = 1e2;
@@ -83,14 +105,24 @@ struct HalfAngleFactors {
   // Stretch of the h grid (anisotropic only; see the header comment): axis angle [rad] and the two scales.
   double h_axis = 0.0, h_scale_1 = 1.0, h_scale_2 = 1.0;
   int n_t = 0, n_phi_h = 1, n_theta_d = 0, n_phi_d = 0, rank = 0;
-  std::vector<RowMatrixXd> u;  // per channel: (n_t * n_phi_h) x rank
-  std::vector<RowMatrixXd> v;  // per channel: (n_theta_d * n_phi_d) x rank
+  std::vector<RowMatrixXd> u;  // per factor set: (n_t * n_phi_h) x rank
+  std::vector<RowMatrixXd> v;  // per factor set: (n_theta_d * n_phi_d) x rank
+  // Shared factor sets (see Storage above): channels x rank; empty when every channel has its own u and v.
+  RowMatrixXd channel_scales;
+  FactorPrecision precision = FactorPrecision::Float64;
 
-  int channels() const { return static_cast<int>(u.size()); }
+  bool shared() const { return channel_scales.size() > 0; }
+  int channels() const { return shared() ? static_cast<int>(channel_scales.rows()) : static_cast<int>(u.size()); }
   int h_nodes() const { return n_t * n_phi_h; }
   int d_nodes() const { return n_theta_d * n_phi_d; }
-  // Stored doubles x 8.
+  // Stored bytes: factor values x factor_precision_bytes(precision), + 8 per factor column for the integer
+  // scales, + 8 per channel scale (float64).
   std::size_t bytes() const;
+  // Rounds u and v to `precision` (float32: round to nearest float; integers: per column, see Storage);
+  // idempotent. The evaluation then gives what a file's reader gets.
+  void quantize();
+  // The integer scale of a factor column (max|column| / levels rounded to a float; 0 for an all-zero column).
+  static double column_scale(const Eigen::Ref<const Eigen::VectorXd>& column, FactorPrecision p);
   double theta_h_of_t(double t) const;
   bool stretched() const { return h_axis != 0.0 || h_scale_1 != 1.0 || h_scale_2 != 1.0; }
   // The true half vector, not normalized, at grid angles (theta_h, phi_h) (those of h'):
@@ -111,7 +143,8 @@ struct HalfAngleFactors {
   void eval_quantity(const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const;
   // Checks loaded data: n_t >= 2, n_theta_d >= 2, n_phi_d >= 1, n_phi_h = 1 when isotropic and >= 1
   // otherwise, h_warp in [0.25, 8], no stretch when isotropic, h_axis in [-pi, pi] and scales in
-  // [kMinHScale, kMaxHScale], rank >= 0, >= 1 channel, u and v of the stated sizes, all finite.
+  // [kMinHScale, kMaxHScale], rank >= 0, >= 1 channel, u and v of the stated sizes, all finite; shared: one
+  // factor set and channel_scales of rank columns, finite.
   // InputError naming the first violation.
   void validate() const;
 };

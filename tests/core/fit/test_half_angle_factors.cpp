@@ -5,6 +5,7 @@
 // vectors and dot products).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -35,6 +36,9 @@ constexpr double kNotExactFraction = 1e-4;
 // 8 x 8 Gauss-Legendre points per cell on the Jacobian of a stretch of 2.5 x 0.8 (12 x 8 cells), peaked in
 // phi_h near the horizon: measured 2.7e-5 off 2 pi; the bound leaves 4x.
 constexpr double kStretchedWeightTol = 1e-4;
+// Node error of a shared (CP) fit of an exactly shared rank-2 lobe: alternating least squares over three
+// factors converges linearly, not to rounding as the two-factor fit does; 3,000 sweeps leave far below this.
+constexpr double kSharedNodeTol = 1e-8;
 
 struct Coords {
   double t, phi_h, theta_d, phi_d;  // t of the default warp theta_h = (pi/2) t^2; phi_d in [0, pi)
@@ -70,84 +74,163 @@ double max_reciprocity_gap(const HalfAngleFactors& F) {
   return ((a - b).cwiseAbs().array() / a.cwiseAbs().array().max(1e-300)).maxCoeff();
 }
 
-TEST(HalfAngleFactors, ReproducesASeparablePiecewiseLinearFunctionExactly) {
-  // q = sum_r u_r(t) v_r(theta_d, phi_d), node values random, with the two constraints that make q a
-  // function of the pair: at theta_d = 0 (d the pole) q does not depend on phi_d, and at theta_h = 0
-  // (h = n, where phi_d = phi_i - phi_h depends on the azimuth h came from) neither: v_0 has no phi_d
-  // dependence and u_1(0) = 0; and at theta_d = phi_d = pi/2 every theta_h gives the same pair
-  // (w_i = -w_r on the horizon): v = 0 there. Evaluated between nodes by its own definition.
-  const int nt = 9, ntd = 7, npd = 6, R = 2;
-  const double kMaxQ = R * 1.5 * 1.5;  // |q| <= sum_r max|u_r| max|v_r|
-  std::mt19937_64 rng(21);
-  std::uniform_real_distribution<double> val(0.5, 1.5);
-  Eigen::MatrixXd U(nt, R), V(ntd * npd, R);
-  for (int r = 0; r < R; ++r) {
-    for (int k = 0; k < nt; ++k) U(k, r) = (r == 1 && k == 0) ? 0.0 : val(rng);
-    for (int a = 0; a < ntd; ++a)
-      for (int b = 0; b < npd; ++b)
-        V(a * npd + b, r) = (a == 0 || r == 0) ? (b == 0 ? val(rng) : V(a * npd, r)) : val(rng);
-    V((ntd - 1) * npd + npd / 2, r) = 0.0;  // npd even: pi/2 is a node
-    if (r == 0) V.block((ntd - 1) * npd, 0, npd, 1).setZero();  // v_0 has no phi_d dependence
+// q_c = sum_r s[c, r] u_r(t) v_r(theta_d, phi_d) with piecewise-linear factors of random node values, with
+// the two constraints that make q a function of the pair: at theta_d = 0 (d the pole) q does not depend on
+// phi_d, and at theta_h = 0 (h = n, where phi_d = phi_i - phi_h depends on the azimuth h came from) neither:
+// v_0 has no phi_d dependence and u_1(0) = 0; and at theta_d = phi_d = pi/2 every theta_h gives the same pair
+// (w_i = -w_r on the horizon): v = 0 there. Evaluated between nodes by its own definition.
+struct PiecewiseLobe {
+  int nt = 9, ntd = 7, npd = 6, R = 2;
+  Eigen::MatrixXd U, V, S;  // nt x R, (ntd npd) x R, channels x R
+  double max_q = 0;         // |q| <= sum_r |s_r| max|u_r| max|v_r|
+
+  PiecewiseLobe(Eigen::MatrixXd scales, std::uint64_t seed) : S(std::move(scales)) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> val(0.5, 1.5);
+    U.resize(nt, R), V.resize(ntd * npd, R);
+    for (int r = 0; r < R; ++r) {
+      for (int k = 0; k < nt; ++k) U(k, r) = (r == 1 && k == 0) ? 0.0 : val(rng);
+      for (int a = 0; a < ntd; ++a)
+        for (int b = 0; b < npd; ++b)
+          V(a * npd + b, r) = (a == 0 || r == 0) ? (b == 0 ? val(rng) : V(a * npd, r)) : val(rng);
+      V((ntd - 1) * npd + npd / 2, r) = 0.0;  // npd even: pi/2 is a node
+      if (r == 0) V.block((ntd - 1) * npd, 0, npd, 1).setZero();  // v_0 has no phi_d dependence
+    }
+    max_q = (S.cwiseAbs() * Eigen::VectorXd::Constant(R, 1.5 * 1.5)).maxCoeff();
   }
-  const auto lin = [](double x, int n, int& k) {
+  static double lin(double x, int n, int& k) {
     x = std::clamp(x, 0.0, double(n - 1));
     k = std::min(int(x), n - 2);
     return x - k;
-  };
-  const auto exact = [&](const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) {
+  }
+  double q(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr, int channel) const {
     const Coords c = coords(wi, wr);
     int k, a;
     const double ft = lin(c.t * (nt - 1), nt, k), fa = lin(c.theta_d / (M_PI / 2) * (ntd - 1), ntd, a);
     const double y = c.phi_d / (M_PI / npd);
     const int b = std::min(int(y), npd - 1), b1 = (b + 1) % npd;
     const double fb = y - b;
-    double q = 0;
+    double out = 0;
     for (int r = 0; r < R; ++r) {
       const double u = (1 - ft) * U(k, r) + ft * U(k + 1, r);
       const double v = (1 - fa) * ((1 - fb) * V(a * npd + b, r) + fb * V(a * npd + b1, r)) +
                        fa * ((1 - fb) * V((a + 1) * npd + b, r) + fb * V((a + 1) * npd + b1, r));
-      q += u * v;
+      out += S(channel, r) * u * v;
     }
-    return q;
-  };
-  const PairSampler sampler = [&](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) {
-    for (Eigen::Index i = 0; i < wi.rows(); ++i) out(i, 0) = exact(wi.row(i).transpose(), wr.row(i).transpose());
-  };
-  HalfAngleFitOptions o;
-  o.quantity = HalfAngleQuantity::F;
-  o.n_t = nt, o.n_theta_d = ntd, o.n_phi_d = npd;
-  o.fixed_rank = R;
-  o.extension_weight = 0.0;  // the extension of this q across the horizon is not in its span
-  o.sweep_tolerance = 0.0;
-  o.max_sweeps = 3000;
-  const HalfAngleFit fit = fit_half_angle(sampler, 1, o);
-  EXPECT_LT(fit.report.error[0], 1e-13);
-  // Pairs whose interpolation cell has all 2 x 4 corner node pairs valid: q there depends on U V^T at
-  // valid nodes only, which the fit reproduces. (Cells straddling the horizon use extrapolated nodes.)
-  const auto node_valid = [&](int k, int a, int b) {
-    const double th = M_PI / 2 * std::pow(double(k) / (nt - 1), 2), td = M_PI / 2 * a / (ntd - 1), pd = M_PI * b / npd;
-    return std::cos(th) * std::cos(td) - std::sin(th) * std::sin(td) * std::abs(std::cos(pd)) >= -1e-12;
-  };
-  RowMatrix3d wi, wr;
-  uniform_pairs(20000, 22, wi, wr);
-  const Eigen::MatrixXd got = fit.factors.eval(wi, wr);
-  int interior = 0;
-  for (Eigen::Index i = 0; i < wi.rows(); ++i) {
-    const Coords c = coords(wi.row(i).transpose(), wr.row(i).transpose());
-    int k, a;
-    lin(c.t * (nt - 1), nt, k);
-    lin(c.theta_d / (M_PI / 2) * (ntd - 1), ntd, a);
-    const int b = std::min(int(c.phi_d / (M_PI / npd)), npd - 1), b1 = (b + 1) % npd;
-    bool all = true;
-    for (int kk : {k, k + 1})
-      for (int aa : {a, a + 1})
-        for (int bb : {b, b1}) all = all && node_valid(kk, aa, bb);
-    if (!all) continue;
-    ++interior;
-    const double q = exact(wi.row(i).transpose(), wr.row(i).transpose());
-    EXPECT_NEAR(got(i, 0), q, kExactTol * kMaxQ) << i;
+    return out;
   }
+  PairSampler sampler() const {
+    return [this](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) {
+      for (Eigen::Index i = 0; i < wi.rows(); ++i)
+        for (Eigen::Index c = 0; c < out.cols(); ++c) out(i, c) = q(wi.row(i).transpose(), wr.row(i).transpose(), static_cast<int>(c));
+    };
+  }
+  HalfAngleFitOptions options() const {
+    HalfAngleFitOptions o;
+    o.quantity = HalfAngleQuantity::F;
+    o.n_t = nt, o.n_theta_d = ntd, o.n_phi_d = npd;
+    o.fixed_rank = R;
+    o.extension_weight = 0.0;  // the extension of this q across the horizon is not in its span
+    o.sweep_tolerance = 0.0;
+    o.max_sweeps = 3000;
+    return o;
+  }
+  // Largest |fitted - q| over pairs whose interpolation cell has all 2 x 4 corner node pairs valid (q there
+  // depends on the factors at valid nodes only, which a fit reproduces; cells straddling the horizon use
+  // extrapolated nodes); the count of such pairs in *interior.
+  double interior_max_error(const HalfAngleFactors& F, int* interior) const {
+    const auto node_valid = [&](int k, int a, int b) {
+      const double th = M_PI / 2 * std::pow(double(k) / (nt - 1), 2), td = M_PI / 2 * a / (ntd - 1), pd = M_PI * b / npd;
+      return std::cos(th) * std::cos(td) - std::sin(th) * std::sin(td) * std::abs(std::cos(pd)) >= -1e-12;
+    };
+    RowMatrix3d wi, wr;
+    uniform_pairs(20000, 22, wi, wr);
+    const Eigen::MatrixXd got = F.eval(wi, wr);
+    *interior = 0;
+    double worst = 0;
+    for (Eigen::Index i = 0; i < wi.rows(); ++i) {
+      const Coords c = coords(wi.row(i).transpose(), wr.row(i).transpose());
+      int k, a;
+      lin(c.t * (nt - 1), nt, k);
+      lin(c.theta_d / (M_PI / 2) * (ntd - 1), ntd, a);
+      const int b = std::min(int(c.phi_d / (M_PI / npd)), npd - 1), b1 = (b + 1) % npd;
+      bool all = true;
+      for (int kk : {k, k + 1})
+        for (int aa : {a, a + 1})
+          for (int bb : {b, b1}) all = all && node_valid(kk, aa, bb);
+      if (!all) continue;
+      ++*interior;
+      for (Eigen::Index ch = 0; ch < got.cols(); ++ch)
+        worst = std::max(worst, std::abs(got(i, ch) - q(wi.row(i).transpose(), wr.row(i).transpose(), static_cast<int>(ch))));
+    }
+    return worst;
+  }
+};
+
+TEST(HalfAngleFactors, ReproducesASeparablePiecewiseLinearFunctionExactly) {
+  const PiecewiseLobe lobe(Eigen::MatrixXd::Ones(1, 2), 21);
+  const HalfAngleFit fit = fit_half_angle(lobe.sampler(), 1, lobe.options());
+  EXPECT_LT(fit.report.error[0], 1e-13);
+  int interior = 0;
+  EXPECT_LT(lobe.interior_max_error(fit.factors, &interior), kExactTol * lobe.max_q);
   EXPECT_GT(interior, 8000);  // 45% of the pairs are interior on this coarse grid
+}
+
+TEST(HalfAngleFactors, SharedChannelsRecoverAnExactlySeparableRgbLobe) {
+  // Three channels of one rank-2 shape: a coloured term (1, 0.5, 0.1) and a grey one (0.3 in each): exactly
+  // a shared lobe, q_c = sum_r s[c, r] u_r v_r; per channel rank 2 as well, at three times the factors.
+  Eigen::MatrixXd s(3, 2);
+  s << 1.0, 0.3, 0.5, 0.3, 0.1, 0.3;
+  const PiecewiseLobe lobe(s, 31);
+  HalfAngleFitOptions o = lobe.options();
+  o.shared_channels = true;
+  const HalfAngleFit fit = fit_half_angle(lobe.sampler(), 3, o);
+  ASSERT_TRUE(fit.factors.shared());
+  ASSERT_EQ(fit.factors.u.size(), 1u);
+  ASSERT_EQ(fit.factors.channel_scales.rows(), 3);
+  for (double e : fit.report.error) EXPECT_LT(e, kSharedNodeTol);
+  int interior = 0;
+  EXPECT_LT(lobe.interior_max_error(fit.factors, &interior), kSharedNodeTol * lobe.max_q);
+  EXPECT_GT(interior, 8000);
+  // Stored: (9 + 7 x 6) x 2 float64 factor values and 3 x 2 channel scales; per channel 3 x (9 + 42) x 2.
+  EXPECT_EQ(fit.factors.bytes(), 8u * ((9 + 42) * 2 + 3 * 2));
+  const HalfAngleFit separate = fit_half_angle(lobe.sampler(), 3, lobe.options());
+  EXPECT_EQ(separate.factors.bytes(), 8u * 3 * (9 + 42) * 2);
+  // One shared term cannot hold two colours: the rank-1 shared fit leaves an error.
+  o.fixed_rank = 1;
+  const HalfAngleFit one = fit_half_angle(lobe.sampler(), 3, o);
+  EXPECT_GT(*std::max_element(one.report.error.begin(), one.report.error.end()), kNotExactFraction);
+}
+
+TEST(HalfAngleFactors, StoredPrecisionRoundsWithinItsBoundAndIsIdempotent) {
+  // Per value: float32 within 2^-24 relative (round to nearest); integers within scale / 2 with scale =
+  // max|column| / L rounded to a float (relative 2^-24 more).
+  const PiecewiseLobe lobe(Eigen::MatrixXd::Ones(1, 2), 41);
+  const HalfAngleFit fit = fit_half_angle(lobe.sampler(), 1, lobe.options());
+  for (FactorPrecision p : {FactorPrecision::Float32, FactorPrecision::Int16, FactorPrecision::Int8}) {
+    HalfAngleFactors q = fit.factors;
+    q.precision = p;
+    q.quantize();
+    const int L = factor_precision_levels(p);
+    for (int set = 0; set < 2; ++set) {
+      const RowMatrixXd& a = set == 0 ? fit.factors.u[0] : fit.factors.v[0];
+      const RowMatrixXd& b = set == 0 ? q.u[0] : q.v[0];
+      for (Eigen::Index r = 0; r < a.cols(); ++r) {
+        const double m = a.col(r).cwiseAbs().maxCoeff();
+        for (Eigen::Index i = 0; i < a.rows(); ++i) {
+          const double bound = L == 0 ? std::ldexp(std::abs(a(i, r)), -24) : m / (2.0 * L) * (1 + std::ldexp(1.0, -23)) + std::ldexp(m, -24);
+          EXPECT_LE(std::abs(b(i, r) - a(i, r)), bound) << factor_precision_name(p) << " " << set << " " << i << " " << r;
+        }
+      }
+    }
+    HalfAngleFactors twice = q;
+    twice.quantize();
+    EXPECT_EQ(twice.u[0], q.u[0]) << factor_precision_name(p);
+    EXPECT_EQ(twice.v[0], q.v[0]) << factor_precision_name(p);
+    // Stored bytes: values x bytes per value, + one float64 scale per column for the integers.
+    const std::size_t values = (9 + 42) * 2;
+    EXPECT_EQ(q.bytes(), values * factor_precision_bytes(p) + (L > 0 ? 8u * 4 : 0u)) << factor_precision_name(p);
+  }
 }
 
 TEST(HalfAngleFactors, LambertIsRankTwoInTheCosineQuantityWithinTheInterpolationBound) {
