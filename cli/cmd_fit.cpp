@@ -98,6 +98,7 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
   FitReport report;
   report.fit = &fit;
   report.checked = last_checked_sample_fit(*source);
+  report.kernels = last_kernel_fit(*source);
   report.missing_samples = merl_missing_samples(*source);
   report.output = a.output;
   report.level_asked = a.level;
