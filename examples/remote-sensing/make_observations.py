@@ -11,8 +11,8 @@ shape h/b = 2, b/r = 1), independently of the library:
 The white-sky albedo of the truth is iso + vol 0.189184 + geo (-1.377622), the kernels' bihemispherical integrals
 of the MODIS BRDF/albedo ATBD (Strahler et al. 1999, Table 1); the script prints it.
 
-Geometry: solar zenith uniform in [SZA_MIN, SZA_MAX], view zenith uniform in [0, VZA_MAX], relative azimuth uniform
-in [0, 360); noise: each BRF times (1 + NOISE * N(0, 1)), a relative error of NOISE (1% by default). A fixed seed
+Geometry: solar zenith uniform in [SZA_MIN, SZA_MAX] (15..70 deg by default: a season's range at mid latitudes),
+view zenith uniform in [0, VZA_MAX] (70 deg, MISR's outermost cameras), relative azimuth uniform in [0, 360); noise: each BRF times (1 + NOISE * N(0, 1)), a relative error of NOISE (1% by default). A fixed seed
 gives the same file on every machine (numpy's PCG64).
 
 Usage: make_observations.py [-n 200] [--seed 7] [--iso 0.25 --vol 0.12 --geo 0.04] [--noise 0.01] -o obs.csv
@@ -58,8 +58,8 @@ def main():
     p.add_argument('--vol', type=float, default=0.12)
     p.add_argument('--geo', type=float, default=0.04)
     p.add_argument('--noise', type=float, default=0.01, help='relative noise (default 0.01)')
-    p.add_argument('--sza', type=float, nargs=2, default=(20.0, 60.0), metavar=('MIN', 'MAX'))
-    p.add_argument('--vza-max', type=float, default=65.0)
+    p.add_argument('--sza', type=float, nargs=2, default=(15.0, 70.0), metavar=('MIN', 'MAX'))
+    p.add_argument('--vza-max', type=float, default=70.0)
     p.add_argument('-o', '--output', required=True)
     a = p.parse_args()
     rng = np.random.default_rng(a.seed)

@@ -45,7 +45,7 @@ def white_sky_of(icobrdf, source, n_mu=16, n_phi=32):
     mu, w = 0.5 * (x + 1), 0.5 * w
     raa = (np.arange(n_phi) + 0.5) * 360.0 / n_phi
     zi, zr, r = np.meshgrid(np.degrees(np.arccos(mu)), np.degrees(np.arccos(mu)), raa, indexing='ij')
-    weight = (w * mu)[:, None, None] * (w * mu)[None, :, None] * (2 * np.pi) * (2 * np.pi / n_phi)
+    weight = np.broadcast_to((w * mu)[:, None, None] * (w * mu)[None, :, None] * (2 * np.pi) * (2 * np.pi / n_phi), zi.shape)
     f = evaluate(icobrdf, source, zi.ravel(), zr.ravel(), r.ravel()) / np.pi
     return float((f * weight.ravel()).sum() / np.pi)
 
@@ -77,7 +77,10 @@ def main():
     truth = brf(iso, vol, geo, np.radians(a.sza), np.radians(np.abs(vza)), np.where(vza >= 0, 0.0, np.pi))
     modes = evaluate(a.icobrdf, a.spectrum, sza, vza, raa)
     kernels = evaluate(a.icobrdf, k['weights'][0]['model'], sza, vza, raa)
-    obs = np.genfromtxt(a.observations, delimiter=',', names=True, comments='#')
+    lines = [l.strip() for l in open(a.observations) if l.strip() and not l.startswith('#')]
+    names = lines[0].split(',')
+    table = np.array([[float(x) for x in l.split(',')] for l in lines[1:]])
+    obs = {n: table[:, k] for k, n in enumerate(names)}
     rel = np.mod(obs['raa'], 360.0)
     near = (np.abs(obs['sza'] - a.sza) <= 3) & ((np.minimum(rel, 360 - rel) <= 10) | (np.abs(rel - 180) <= 10))
     signed = np.where(np.abs(rel - 180) <= 10, -obs['vza'], obs['vza'])
