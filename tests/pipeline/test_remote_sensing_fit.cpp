@@ -119,7 +119,9 @@ TEST_F(RemoteSensingFit, HotSpotLiesWhereTheDataPutIt) {
   const RossLiModel kernels(k->weights(0, 0), k->weights(1, 0), k->weights(2, 0));
   const int n = static_cast<int>(70.0 / kScanStepDeg) + 1;
   const double resolution = kModesResolutionDeg / std::max(fit_->spectrum.order, 1);
-  for (double sza : {30.0, 40.0, 50.0}) {
+  // At sza = 50 deg and above Ross-Thick's rise towards grazing outgrows the hot spot within vza 70 deg (the truth's
+  // sun-side maximum is then at the end of the range): the hot spot is the maximum at 30 and 40 deg.
+  for (double sza : {30.0, 40.0}) {
     RowMatrix3d wi(n, 3), sun_side(n, 3), forward(n, 3);
     for (int j = 0; j < n; ++j) {
       wi.row(j) = dir(sza, 0).transpose();

@@ -125,7 +125,8 @@ double HapkeModel::value(const Eigen::Vector3d& first, const Eigen::Vector3d& se
   const bool a_near = mi >= mr;
   const RoughAngle& near = a_near ? a : b;
   const RoughAngle& far = a_near ? b : a;
-  const double den = 2.0 - far.e1 - psi / M_PI * near.e1;
+  // 0 only with both directions on the horizon and opposite (psi = pi), where the numerators vanish too: floored.
+  const double den = std::max(2.0 - far.e1 - psi / M_PI * near.e1, kGrazingCosFloor);
   const double mu_near = chi * (near.c + near.s * tb * (cos_psi * far.e2 + sin2_half * near.e2) / den);
   const double mu_far = chi * (far.c + far.s * tb * (far.e2 - sin2_half * near.e2) / den);
   const double shadow = chi / (1.0 - fpsi + fpsi * chi * near.c / near.eta);

@@ -25,7 +25,7 @@
 // a semi-infinite medium of isotropic scatterers: directional albedo 1 - sqrt(1 - w) H(mu_i) (1 for w = 1). The
 // surge adds single-scattered light (B0 up to 1 for most regoliths, but the model does not conserve energy for
 // B0 > 0); the roughness shadows. Diverges as 1/(mu_ie + mu_re) at double grazing (tb = 0 only), floored at
-// kGrazingCosFloor. scripts/derive/hapke_values.py evaluates the formulas independently (numpy).
+// kGrazingCosFloor, as is the denominator 2 - E1(e) - (psi/pi) E1(i) (0 for opposite directions on the horizon). scripts/derive/hapke_values.py evaluates the formulas independently (numpy).
 #include <Eigen/Core>
 
 #include <vector>

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "icobrdf/core/basis/direction.hpp"
@@ -25,8 +26,9 @@ constexpr double kWhiteSkyTol = 1e-4;
 // 0..70 deg (at sza = 0 the Ross-Thick integral is -0.02108, the cubic -0.00757): 0.02.
 constexpr double kBlackSkyPolynomialTol = 0.02;
 // The black-sky integrals at sza = 0 against a 1-D Gauss-Legendre integral of the kernels' closed forms in vza
-// (200 nodes, converged to 1e-10): the library's 96 x 96 nodes in (cos vza, raa) with the Li kernel's kink: 1e-6.
-constexpr double kNadirSunTol = 1e-6;
+// (200 nodes): both meet the Li kernel's kink (where cos t reaches 1), and they agree to 1.6e-6 (Ross-Thick, smooth:
+// to 1e-12): 5e-6.
+constexpr double kNadirSunTol = 5e-6;
 // Noiseless data in the span of the kernels are fitted to rounding (condition ~ 10, values of order 1).
 constexpr double kExactTol = 1e-12;
 // The spread of a standard deviation estimated from N draws is sd / sqrt(2 (N - 1)): 3.5% for 400 draws; four
@@ -115,7 +117,8 @@ TEST(KernelFit, NoiselessWeightsAreRecovered) {
   const double sec = 1 / std::cos(s), cost = std::min(1.0, 2 * std::tan(s) / (sec + 1)), t = std::acos(cost);
   const double li = (t - std::sin(t) * cost) * (sec + 1) / M_PI - sec - 1 + 0.5 * (1 + std::cos(s)) * sec;
   EXPECT_NEAR(k.quantities[2].value(0), 0.25 + 0.12 * ross + 0.04 * li, kExactTol);
-  EXPECT_EQ(k.spec(0).rfind("ross-li:iso=0.25", 0), 0u) << k.spec(0);
+  EXPECT_EQ(k.spec(0).rfind("ross-li:iso=", 0), 0u) << k.spec(0);
+  EXPECT_NE(k.spec(0).find("volume=thick,geometric=sparse"), std::string::npos) << k.spec(0);
 }
 
 // 1/WoD predicts the standard error of a quantity: the spread of the white-sky albedo and of the nadir BRF over
