@@ -8,8 +8,8 @@ layout sza,vza,raa, and prints
 - the white-sky albedo of the truth (the ATBD's kernel integrals), of the kernel fit (from the report, with its
   weight of determination) and of the modes (a Gauss-Legendre x midpoint quadrature of the fitted f:
   (1/pi) integral integral f cos(theta_i) cos(theta_r) dOmega_i dOmega_r);
-- the principal-plane BRF at the solar zenith SZA: truth, both fits and the observations within 10 deg of the
-  plane and 3 deg of SZA, plotted to PNG with matplotlib (Agg). The hot spot lies at vza = +SZA (raa = 0).
+- the principal-plane BRF at the solar zenith SZA: truth, both fits and the observations within 15 deg of the
+  plane and 5 deg of SZA, plotted to PNG with matplotlib (Agg). The hot spot lies at vza = +SZA (raa = 0).
 
 Usage: principal_plane.py FIT.json FIT.h5 OBS.csv --icobrdf PATH [--sza 40] [--truth iso,vol,geo] -o PLOT.png
 """
@@ -82,8 +82,8 @@ def main():
     table = np.array([[float(x) for x in l.split(',')] for l in lines[1:]])
     obs = {n: table[:, k] for k, n in enumerate(names)}
     rel = np.mod(obs['raa'], 360.0)
-    near = (np.abs(obs['sza'] - a.sza) <= 3) & ((np.minimum(rel, 360 - rel) <= 10) | (np.abs(rel - 180) <= 10))
-    signed = np.where(np.abs(rel - 180) <= 10, -obs['vza'], obs['vza'])
+    near = (np.abs(obs['sza'] - a.sza) <= 5) & ((np.minimum(rel, 360 - rel) <= 15) | (np.abs(rel - 180) <= 15))
+    signed = np.where(np.abs(rel - 180) <= 15, -obs['vza'], obs['vza'])
     peak = vza[vza >= 0][np.argmax(modes[vza >= 0][: np.searchsorted(vza[vza >= 0], 65.0)])]
     print(f"principal plane at sza {a.sza:g}: the modes' maximum over vza 0..65 (sun's side) at {peak:.1f} deg "
           f"(hot spot of the data: {a.sza:g})")
