@@ -129,7 +129,8 @@ double HapkeModel::value(const Eigen::Vector3d& first, const Eigen::Vector3d& se
   const double den = std::max(2.0 - far.e1 - psi / M_PI * near.e1, kGrazingCosFloor);
   const double mu_near = chi * (near.c + near.s * tb * (cos_psi * far.e2 + sin2_half * near.e2) / den);
   const double mu_far = chi * (far.c + far.s * tb * (far.e2 - sin2_half * near.e2) / den);
-  const double shadow = chi / (1.0 - fpsi + fpsi * chi * near.c / near.eta);
+  // f = r / mu_i diverges as 1/mu at retro grazing (both on the horizon, psi = 0: this denominator -> 0): floored.
+  const double shadow = chi / std::max(1.0 - fpsi + fpsi * chi * near.c / near.eta, kGrazingCosFloor);
   const double multiple = h_(mu_near) * h_(mu_far);
   return w_ / (4.0 * M_PI) * (mu_near * mu_far) / std::max(mu_near + mu_far, kGrazingCosFloor) * (surge + multiple) * shadow /
          (a.eta * b.eta);

@@ -25,7 +25,8 @@
 // a semi-infinite medium of isotropic scatterers: directional albedo 1 - sqrt(1 - w) H(mu_i) (1 for w = 1). The
 // surge adds single-scattered light (B0 up to 1 for most regoliths, but the model does not conserve energy for
 // B0 > 0); the roughness shadows. Diverges as 1/(mu_ie + mu_re) at double grazing (tb = 0 only), floored at
-// kGrazingCosFloor, as is the denominator 2 - E1(e) - (psi/pi) E1(i) (0 for opposite directions on the horizon). scripts/derive/hapke_values.py evaluates the formulas independently (numpy).
+// kGrazingCosFloor, as are the denominator 2 - E1(e) - (psi/pi) E1(i) (0 for opposite directions on the horizon)
+// and S's 1 - f(psi) + f(psi) chi mu/eta (0 for both on the horizon at psi = 0, where f diverges as 1/mu). scripts/derive/hapke_values.py evaluates the formulas independently (numpy).
 #include <Eigen/Core>
 
 #include <vector>
