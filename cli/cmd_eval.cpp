@@ -3,7 +3,7 @@
 //   icobrdf eval SOURCE --at PAIRS.csv [--radians]
 //
 // SOURCE: model:NAME[:key=value,...] (icobrdf models lists them; sums "model:0.8*lambert+0.2*ggx:alpha=0.1")
-// or any other SOURCE that icobrdf/io/brdf_source.hpp opens. PAIRS.csv: header theta_i,phi_i,theta_r,phi_r or SCATMECH's
+// or any other SOURCE that icobrdf/io/brdf_source.hpp opens. PAIRS.csv: header theta_i,phi_i,theta_r,phi_r, sza,vza,raa, sza,saa,vza,vaa or SCATMECH's
 // thetai,thetas,phis[,rotation], signed theta accepted, degrees unless --radians (icobrdf/io/direction_csv.hpp). Output: CSV with a header of one column per channel ("f" or
 // "f_r,f_g,f_b"; a source naming its channels gives "f_" + name, e.g. "f_550nm" for a spectral RGL material), one line per input row, f in 1/sr, shortest round-trip decimals. Delta parts (mirror,
 // retroreflector) have no pointwise value: the regular part is printed and a note goes to stderr.
@@ -45,7 +45,7 @@ void add_eval_command(CLI::App& app) {
   auto opts = std::make_shared<EvalOptions>();
   auto* cmd = app.add_subcommand("eval", "Print f [1/sr] of a SOURCE (model:NAME[:key=value,...], FILE.h5, MERL, RGL .bsdf, SCATMECH) at direction pairs");
   cmd->add_option("source", opts->source, "model:NAME[:key=value,...], e.g. model:ggx:alpha=0.2,f0=0.04")->required();
-  cmd->add_option("--at", opts->at, "CSV with header theta_i,phi_i,theta_r,phi_r or SCATMECH's thetai,thetas,phis[,rotation] (degrees; negative theta = opposite azimuth)")->required();
+  cmd->add_option("--at", opts->at, "CSV with header theta_i,phi_i,theta_r,phi_r, sza,vza,raa (raa 0: the sun's side), sza,saa,vza,vaa or SCATMECH's thetai,thetas,phis[,rotation] (degrees; negative theta = opposite azimuth)")->required();
   cmd->add_flag("--radians", opts->radians, "Angles in PAIRS.csv are in radians");
   cmd->add_flag("--strict", opts->strict, "Negative f (non-physical) is an error, not a warning");
   cmd->callback([opts] { run_eval(*opts); });

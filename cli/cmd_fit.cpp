@@ -101,6 +101,7 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
   FitReport report;
   report.fit = &fit;
   report.checked = last_checked_sample_fit(*source);
+  report.kernels = last_kernel_fit(*source);
   report.missing_samples = merl_missing_samples(*source);
   report.samples = samples_of(*source);
   report.output = a.output;

@@ -14,5 +14,6 @@ void bind_sampler(pybind11::module_& m);    // Sampler (python/sampler_binding.c
 void bind_spectrum(pybind11::module_& m);   // Spectrum, fit, read_spectrum, write_spectrum, bank_materials
 void bind_operators(pybind11::module_& m);  // lut, DiscreteBasis, Projection, project, reconstruct, smooth,
                                             // evaluate_coefficients (python/operator_binding.cpp)
+void bind_kernel_fit(pybind11::module_& m); // sun_view_directions, kernel_fit (python/kernel_fit_binding.cpp)
 
 }  // namespace icobrdf::python

@@ -24,4 +24,5 @@ PYBIND11_MODULE(icobrdf, m) {
   bind_sampler(m);
   bind_spectrum(m);
   bind_operators(m);
+  bind_kernel_fit(m);
 }

@@ -5,6 +5,7 @@
 
 #include "icobrdf/core/basis/direction.hpp"
 #include "icobrdf/core/support/error.hpp"
+#include "icobrdf/io/angle_columns.hpp"
 #include "icobrdf/io/csv.hpp"
 
 namespace icobrdf {
@@ -35,13 +36,19 @@ bool header_is(const CsvTable& t, const std::vector<std::string>& names) {
 }  // namespace
 
 DirectionPairs read_direction_pairs_csv(const std::string& path, bool radians) {
-  const CsvTable t = read_numeric_csv(path);
+  CsvTable t = read_numeric_csv(path);
   const bool scatmech = header_is(t, {"thetai", "thetas", "phis"});
-  if (!scatmech && !header_is(t, {"theta_i", "phi_i", "theta_r", "phi_r"})) {
+  const bool remote_sensing = header_is(t, {"sza", "vza", "raa"}) || header_is(t, {"sza", "saa", "vza", "vaa"});
+  if (!scatmech && !remote_sensing && !header_is(t, {"theta_i", "phi_i", "theta_r", "phi_r"})) {
     std::string found;
     for (const auto& h : t.header) found += (found.empty() ? "" : ",") + h;
-    throw InputError(t.path + ":1: expected the header theta_i,phi_i,theta_r,phi_r or SCATMECH's thetai,thetas,phis[,rotation], found '" +
-                     quoted_text(found) + "'");
+    throw InputError(t.path + ":1: expected the header theta_i,phi_i,theta_r,phi_r, sza,vza,raa, sza,saa,vza,vaa or SCATMECH's "
+                     "thetai,thetas,phis[,rotation], found '" + quoted_text(found) + "'");
+  }
+  if (remote_sensing) {  // the library's columns (icobrdf/io/angle_columns.hpp); extra columns are ignored
+    AngleColumnOptions o;
+    o.values_expected = false;
+    to_library_columns(t, recognize_angle_columns(t, o), radians);
   }
   const bool rotation = scatmech && t.header.size() > 3 && t.header[3] == "rotation";
   DirectionPairs p;

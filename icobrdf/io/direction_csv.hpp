@@ -2,6 +2,8 @@
 // Lists of directions and direction pairs in CSV (header row required; degrees unless `radians`):
 //   directions:  theta,phi
 //   pairs:       theta_i,phi_i,theta_r,phi_r
+//   pairs in remote sensing's angles: sza,vza,raa or sza,saa,vza,vaa (icobrdf/io/angle_columns.hpp: raa = 0 on the
+//                sun's side; further columns are ignored)
 //   pairs in SCATMECH's geometry: thetai,thetas,phis[,rotation]
 // theta lies in [-90, 90] degrees (pi/2 in radians); a negative theta is the direction (|theta|, phi + 180 deg),
 // the other half of its plane (the goniometer's signed angle). phi and rotation are any finite angles.

@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -137,11 +138,20 @@ class SampleFitHolder {
     last_ = r;
     has_ = true;
   }
+  const KernelFit* last_kernels() const {
+    std::lock_guard<std::mutex> g(mu_);
+    return kernels_ ? &*kernels_ : nullptr;
+  }
+  void store_kernels(const KernelFit& k) const {
+    std::lock_guard<std::mutex> g(mu_);
+    kernels_ = k;
+  }
 
  private:
   mutable std::mutex mu_;
   mutable CheckedSampleFit last_;
   mutable bool has_ = false;
+  mutable std::optional<KernelFit> kernels_;
 };
 
 // The split of a sample fit over the processes of a distributed fit (null in one process).
@@ -317,6 +327,18 @@ class SampleCsvSource final : public BrdfSource, public SampleFitHolder {
       : samples_(std::move(s)), fit_options_(fo), tikhonov_auto_(tikhonov_auto), text_(std::move(text)) {}
   std::string spec() const override { return text_; }
   int channels() const override { return samples_.channels; }
+  // How the columns were read, when not the library's own f in 1/sr at theta_i,phi_i,theta_r,phi_r.
+  std::vector<std::string> notes() const override {
+    const BrdfSamples& s = samples_;
+    if (s.layout == AngleLayout::Library && s.quantity == ValueQuantity::Brdf) return {};
+    std::string n = "columns '" + s.header + "' read as ";
+    if (s.layout == AngleLayout::SunViewRelative) n += "w_i = (sza, 0), w_r = (vza, raa) (raa = 0: the sun's side, hot spot at vza = sza)";
+    else if (s.layout == AngleLayout::SunViewAzimuths) n += "w_i = (sza, 90 - saa), w_r = (vza, 90 - vaa) (compass azimuths; x east, y north)";
+    else n += "theta_i,phi_i,theta_r,phi_r";
+    n += s.quantity == ValueQuantity::Brf ? ", values BRF (f = BRF/pi, declared by " + s.quantity_declared_by + ")" : ", values f in 1/sr";
+    n += std::string(", angles in ") + (s.radians ? "radians" : "degrees");
+    return {n};
+  }
   Eigen::MatrixXd eval(const RowMatrix3d&, const RowMatrix3d&) const override {
     throw ArgumentError("SOURCE '" + text_ + "' holds scattered samples, which have no value at arbitrary directions: " +
                         "fit them first (icobrdf fit " + text_ + " ... -o SPECTRUM.h5) and evaluate the spectrum");
@@ -336,6 +358,8 @@ class SampleCsvSource final : public BrdfSource, public SampleFitHolder {
     plan.choose_tikhonov = tikhonov_auto_ || (plan.choose_order && !tikhonov_given());
     const CheckedSampleFit c = fit_samples_checked(samples_.wi, samples_.wr, samples_.values, samples_.weights, plan);
     store(c);
+    // The kernel-driven baseline on the same samples and folds (three weights: no split needed).
+    store_kernels(fit_kernel_weights(samples_.wi, samples_.wr, samples_.values, samples_.weights, {}, plan.folds));
     Spectrum s = spectrum_of(c, text_, fit_options_.tikhonov_power);
     finish(s, o, ctx);
     return s;
@@ -508,6 +532,20 @@ bool sample_fit_option(const std::string& text, const std::string& k, const std:
   return true;
 }
 
+// columns=NAME/NAME/...: the names in order, lower-case (as the CSV reader gives the header's).
+std::vector<std::string> column_names(const std::string& text, const std::string& v) {
+  std::vector<std::string> names;
+  std::stringstream ss(v);
+  std::string item;
+  while (std::getline(ss, item, '/')) {
+    std::transform(item.begin(), item.end(), item.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (item.empty()) throw ArgumentError("SOURCE '" + quoted_text(text) + "': columns= has an empty name, expected NAME/NAME/...");
+    names.push_back(item);
+  }
+  if (names.empty()) throw ArgumentError("SOURCE '" + quoted_text(text) + "': columns= names no column, expected NAME/NAME/...");
+  return names;
+}
+
 std::unique_ptr<BrdfSource> open_samples(const std::string& text, const std::string& body) {
   const Options op = split_options(body);
   require_file(op.path, text);
@@ -517,9 +555,11 @@ std::unique_ptr<BrdfSource> open_samples(const std::string& text, const std::str
   for (const auto& [k, v] : op.kv) {
     if (k == "radians" && v.empty()) co.radians = true;
     else if (k == "strict" && v.empty()) co.strict = true;
+    else if (k == "values") co.columns.values = v;
+    else if (k == "columns") co.columns.names = column_names(text, v);
     else if (!sample_fit_option(text, k, v, fo, tikhonov_auto))
       throw ArgumentError("SOURCE '" + quoted_text(text) + "': unknown samples option '" + k + (v.empty() ? "" : "=" + v) +
-                          "', expected radians, strict, tikhonov=LAMBDA|auto, power=P or rank-tol=T");
+                          "', expected radians, strict, values=brf|brdf, columns=NAME/NAME/..., tikhonov=LAMBDA|auto, power=P or rank-tol=T");
   }
   return std::make_unique<SampleCsvSource>(read_sample_csv(op.path, co), fo, tikhonov_auto, text);
 }
@@ -596,6 +636,11 @@ const SampleFitResult* last_sample_fit(const BrdfSource& source) {
 
 const CheckedSampleFit* last_checked_sample_fit(const BrdfSource& source) {
   if (const auto* h = dynamic_cast<const SampleFitHolder*>(&source)) return h->last();
+  return nullptr;
+}
+
+const KernelFit* last_kernel_fit(const BrdfSource& source) {
+  if (const auto* c = dynamic_cast<const SampleCsvSource*>(&source)) return c->last_kernels();
   return nullptr;
 }
 

@@ -6,7 +6,8 @@
 //                                                 (r, g, b); spectral files one channel per wavelength of the
 //                                                 file, or the 1-3 wavelengths chosen (interpolated) by lambda
 //   FILE.csv[#OPTIONS] | samples:FILE[#OPTIONS]   BRDF samples (icobrdf/io/sample_csv.hpp); OPTIONS, comma-separated:
-//                                                 radians, strict, tikhonov=LAMBDA|auto, power=P, rank-tol=T
+//                                                 radians, strict, tikhonov=LAMBDA|auto, power=P, rank-tol=T,
+//                                                 values=brf|brdf, columns=NAME/NAME/... (icobrdf/io/angle_columns.hpp)
 //   curet:ABRDF.DAT#sample=N[,table=FILE][,...]    one sample (material) of the CURET database (icobrdf/io/curet.hpp):
 //                                                 205 samples, one channel; the geometry table is table.txt beside
 //                                                 ABRDF.DAT unless table= names it; fit options as for CSV samples
@@ -42,6 +43,7 @@
 #include <string>
 #include <vector>
 
+#include "icobrdf/core/fit/kernel_fit.hpp"
 #include "icobrdf/core/fit/sample_fit.hpp"
 #include "icobrdf/core/fit/sample_fit_selection.hpp"
 #include "icobrdf/io/brdf_source.hpp"
@@ -59,6 +61,9 @@ std::unique_ptr<BrdfSource> open_measured_source(const std::string& text);
 const SampleFitResult* last_sample_fit(const BrdfSource& source);
 // The same with the choices, fallback and notes of the checked fit (CSV; MERL: the plain fit).
 const CheckedSampleFit* last_checked_sample_fit(const BrdfSource& source);
+// The kernel-driven fit (icobrdf/core/fit/kernel_fit.hpp) of the samples of a CSV source, made beside its last
+// fit of the modes on the same folds; nullptr for other sources or before fit() was called.
+const KernelFit* last_kernel_fit(const BrdfSource& source);
 // True for the sources that accept FitOptions::order = kChooseOrder (CSV samples).
 bool chooses_order(const BrdfSource& source);
 

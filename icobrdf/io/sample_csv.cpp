@@ -63,7 +63,7 @@ struct AngleUnitChoice {
   std::string declared_by;  // empty: assumed
 };
 
-AngleUnitChoice angle_unit_of(CsvTable& t, const SampleCsvOptions& options) {
+AngleUnitChoice angle_unit_of(const CsvTable& t, const AngleColumns& columns, const SampleCsvOptions& options) {
   AngleUnitChoice u;
   auto declare = [&](bool radians, const std::string& by) {
     if (!u.declared_by.empty() && u.radians != radians)
@@ -72,23 +72,9 @@ AngleUnitChoice angle_unit_of(CsvTable& t, const SampleCsvOptions& options) {
     if (u.declared_by.empty()) u = {radians, by};
   };
   if (options.radians) declare(true, "the option 'radians'");
-  // Column names: theta_i_deg ... or theta_i_rad ...
-  int suffixed[2] = {0, 0};  // _deg, _rad
-  for (size_t k = 0; k < 4 && k < t.header.size(); ++k)
-    for (int r = 0; r < 2; ++r) {
-      const std::string tail = r ? "_rad" : "_deg";
-      std::string& name = t.header[k];
-      if (name.size() > tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0) {
-        name.erase(name.size() - tail.size());
-        ++suffixed[r];
-      }
-    }
-  if (suffixed[0] + suffixed[1] > 0) {
-    if (suffixed[0] != 4 && suffixed[1] != 4)
-      throw InputError(t.path + ": the angle columns carry " + std::to_string(suffixed[0]) + " '_deg' and " +
-                       std::to_string(suffixed[1]) + " '_rad' suffixes, expected the same suffix on all four or none");
-    declare(suffixed[1] == 4, std::string("the column names (") + (suffixed[1] == 4 ? "_rad" : "_deg") + ")");
-  }
+  // Column names: theta_i_deg ... or theta_i_rad ... (stripped by recognize_angle_columns).
+  if (columns.unit_suffix_radians || columns.unit_suffix_degrees)
+    declare(columns.unit_suffix_radians, std::string("the column names (") + (columns.unit_suffix_radians ? "_rad" : "_deg") + ")");
   for (const auto& [line, text] : t.comments) {
     std::string low = text;
     std::transform(low.begin(), low.end(), low.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -139,41 +125,50 @@ BrdfSamples read_sample_csv(const std::string& path, const SampleCsvOptions& opt
   if (!(options.reciprocity_tolerance >= 0) || !std::isfinite(options.reciprocity_tolerance))
     throw ArgumentError("CSV samples: reciprocity tolerance must be finite and >= 0");
   CsvTable t = read_numeric_csv(path);
-  const AngleUnitChoice unit_choice = angle_unit_of(t, options);
-  require_columns(t, {"theta_i", "phi_i", "theta_r", "phi_r"});
-  if (t.header.size() != 5 && t.header.size() != 7)
-    throw InputError(path + ":1: expected 5 columns (theta_i,phi_i,theta_r,phi_r,value) or 7 (...,r,g,b), found " +
-                     std::to_string(t.header.size()));
+  const AngleColumns columns = recognize_angle_columns(t, options.columns);
+  const AngleUnitChoice unit_choice = angle_unit_of(t, columns, options);
+  const int ch = static_cast<int>(t.header.size()) - columns.angles;
+  if (ch != 1 && ch != 3)
+    throw InputError(path + ":1: expected " + std::to_string(columns.angles + 1) + " columns (" + layout_name(columns.layout) +
+                     ",value) or " + std::to_string(columns.angles + 3) + " (...,r,g,b), found " + std::to_string(t.header.size()));
   if (t.rows.empty()) throw InputError(path + ": no samples after the header, expected at least one data row");
-  const int ch = static_cast<int>(t.header.size()) - 4;
   const bool radians = unit_choice.radians;
   const double full = radians ? 2 * M_PI : 360.0, quarter = full / 4;
   const double unit = radians ? 1.0 : M_PI / 180.0;
   const std::string qtext = radians ? "pi/2" : "90", ftext = radians ? "2 pi" : "360";
 
   // The extreme angles, for the unit checks.
+  // The extreme angles of the file as written (zenith columns: theta_i, theta_r, sza, vza).
   double max_theta = 0, max_phi = 0;
-  for (const auto& row : t.rows) {
-    max_theta = std::max({max_theta, std::abs(row[0]), std::abs(row[2])});
-    max_phi = std::max({max_phi, std::abs(row[1]), std::abs(row[3])});
-  }
+  for (const auto& row : t.rows)
+    for (int k = 0; k < columns.angles; ++k) {
+      const bool zenith = t.header[static_cast<size_t>(k)] == "sza" || t.header[static_cast<size_t>(k)] == "vza" ||
+                          t.header[static_cast<size_t>(k)].rfind("theta", 0) == 0;
+      (zenith ? max_theta : max_phi) = std::max(zenith ? max_theta : max_phi, std::abs(row[static_cast<size_t>(k)]));
+    }
   // Degrees assumed, yet every angle fits radians (every direction within 1.6 degrees of the normal): radians
   // read as degrees, whose fit would reach |f| ~ 1e9.
   if (unit_choice.declared_by.empty() && !radians && max_theta > 0 && max_theta <= M_PI / 2 && max_phi <= 2 * M_PI)
     throw InputError(path + ": every polar angle lies within [-" + num(M_PI / 2) + ", " + num(M_PI / 2) +
                      "] and every azimuth within [-" + num(2 * M_PI) + ", " + num(2 * M_PI) +
                      "]: these look like radians read as degrees (the default); declare the unit: the option 'radians' "
-                     "(FILE.csv#radians), a line '# units: radians' or columns theta_i_rad,phi_i_rad,theta_r_rad,phi_r_rad "
+                     "(FILE.csv#radians), a line '# units: radians' or the suffix _rad on the angle columns (theta_i_rad,... or sza_rad,...) "
                      "('# units: degrees' if they are degrees)");
   // Radians declared, yet a polar angle exceeds pi/2 and the angles fit degrees (one beyond 2 pi).
   const bool degrees_like = radians && max_theta > M_PI / 2 && max_theta <= 90 && max_phi <= 360 && std::max(max_theta, max_phi) > 2 * M_PI;
   const std::string unit_note = (radians ? " radians (declared by " + unit_choice.declared_by + ")" : std::string(" degrees")) +
                                 (degrees_like ? "; the file's angles look like degrees" : "");
 
+  to_library_columns(t, columns, radians);
+
   BrdfSamples s;
   s.path = path;
   s.channels = ch;
   s.radians = radians;
+  s.layout = columns.layout;
+  s.quantity = columns.quantity;
+  s.quantity_declared_by = columns.quantity_declared_by;
+  s.header = columns.original_header;
   s.unit_declared_by = unit_choice.declared_by;
   s.rows = static_cast<long long>(t.rows.size());
   std::map<Key, size_t> index;  // normalized angles -> sample
@@ -185,11 +180,11 @@ BrdfSamples read_sample_csv(const std::string& path, const SampleCsvOptions& opt
     const auto& row = t.rows[r];
     for (int k : {0, 2})
       if (!(std::abs(row[k]) <= quarter))
-        throw InputError(where(t, r) + ": column '" + quoted_text(t.header[k]) + "' expected a polar angle in [-" + qtext + ", " +
+        throw InputError(where(t, r) + ": column '" + quoted_text(columns.file_names[static_cast<size_t>(k)]) + "' expected a polar angle in [-" + qtext + ", " +
                          qtext + "]" + unit_note + ", found " + num(row[k]));
     for (int k : {1, 3})
       if (!(std::abs(row[k]) <= full))
-        throw InputError(where(t, r) + ": column '" + quoted_text(t.header[k]) + "' expected an azimuth in [-" + ftext + ", " +
+        throw InputError(where(t, r) + ": column '" + quoted_text(columns.file_names[static_cast<size_t>(k)]) + "' expected an azimuth in [-" + ftext + ", " +
                          ftext + "]" + (degrees_like ? unit_note : std::string()) + ", found " + num(row[k]));
     if (row[0] < 0 || row[2] < 0) ++s.signed_theta_rows;
     Key key = key_of(row, full);

@@ -3,9 +3,12 @@
 //
 //   theta_i,phi_i,theta_r,phi_r,value          one channel
 //   theta_i,phi_i,theta_r,phi_r,r,g,b          three channels (names of the value columns are free)
-// A header row is required and must begin with theta_i,phi_i,theta_r,phi_r; 5 or 7 columns in all.
+// A header row is required and must begin with theta_i,phi_i,theta_r,phi_r, or with the remote-sensing angles
+// sza,vza,raa or sza,saa,vza,vaa (icobrdf/io/angle_columns.hpp: the mapping, BRF or BRDF values by the column
+// names); then 1 or 3 value columns.
 // Angles in degrees unless radians are declared: by `radians` (the SOURCE option #radians), by the column
-// names (theta_i_rad,phi_i_rad,theta_r_rad,phi_r_rad; the suffix _deg declares degrees; all four alike) or by
+// names (theta_i_rad,phi_i_rad,theta_r_rad,phi_r_rad or sza_rad,...; the suffix _deg declares degrees; every angle
+// column alike) or by
 // a comment line `# units: radians` (or degrees). Declarations that disagree are an InputError.
 // theta in [-90, 90] deg, phi in [-360, 360] deg; surface normal +z, phi from +x towards +y, both directions
 // pointing away from the surface (icobrdf/core/basis/direction.hpp). A negative theta is signed as NIST writes
@@ -15,7 +18,7 @@
 // (not all theta 0), the file is refused as radians read as degrees (such a fit reaches |f| ~ 1e9: every
 // sample within 1.6 deg of the normal); with radians declared, an out-of-range angle's message says when the
 // file's angles fit degrees.
-// Values f in 1/sr; negative values are accepted (measurement noise) and counted.
+// Values f in 1/sr (BRF columns divided by pi); negative values are accepted (measurement noise) and counted.
 // Generic CSV rules (BOM, CRLF, '#' comments, blank lines; NaN, Inf, wrong field counts and decimal
 // commas refused with file:line) are those of icobrdf/io/csv.hpp. Out-of-range angles: InputError with file:line.
 //
@@ -32,6 +35,7 @@
 #include <vector>
 
 #include "icobrdf/core/grid/grid.hpp"
+#include "icobrdf/io/angle_columns.hpp"
 
 namespace icobrdf {
 
@@ -39,6 +43,7 @@ struct SampleCsvOptions {
   bool radians = false;                // declares radians (the option #radians)
   bool strict = false;                 // non-reciprocal pairs are an error
   double reciprocity_tolerance = 1e-6; // relative difference tolerated within a reciprocal pair
+  AngleColumnOptions columns;          // the options columns=... and values=...
 };
 
 struct BrdfSamples {
@@ -58,6 +63,10 @@ struct BrdfSamples {
   bool radians = false;                // the file's angles were radians
   std::string unit_declared_by;        // what declared the unit ("" when degrees were assumed)
   long long signed_theta_rows = 0;     // rows with a negative theta (a direction at phi + 180 deg)
+  AngleLayout layout = AngleLayout::Library;       // the file's angle columns
+  ValueQuantity quantity = ValueQuantity::Brdf;    // the file's values (BRF read as f = BRF / pi)
+  std::string quantity_declared_by;                // what declared it ("" when f was assumed)
+  std::string header;                              // the file's header as found
 };
 
 BrdfSamples read_sample_csv(const std::string& path, const SampleCsvOptions& options = {});

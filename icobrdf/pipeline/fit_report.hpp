@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <string>
 
+#include "icobrdf/core/fit/kernel_fit.hpp"
 #include "icobrdf/core/fit/sample_fit_selection.hpp"
 #include "icobrdf/io/sample_csv.hpp"
 #include "icobrdf/pipeline/fit_source.hpp"
@@ -21,6 +22,7 @@ namespace icobrdf {
 struct FitReport {
   const FitResult* fit = nullptr;
   const CheckedSampleFit* checked = nullptr;  // the sample fit of a measured SOURCE; null for other fits
+  const KernelFit* kernels = nullptr;         // the kernel-driven fit of the same samples (CSV); null for other fits
   std::int64_t missing_samples = -1;          // masked samples of a MERL table (all channels); -1 for other sources
   std::string output;                         // the spectrum file written
   int level_asked = 0;                        // the tessellation level asked for
@@ -42,12 +44,16 @@ struct FitReport {
 // reciprocity_violation, anisotropy_fraction, max_albedo, seconds; "sample_fit" (samples, unknowns,
 // effective_rank, null_space_dimension, unseen_modes, rank_threshold, condition_of_kept_part, solver,
 // dense_kernels, tikhonov, tikhonov_choice, order_choice, cv_rms, cv_folds, fallback, notes, noise_sigma,
-// residual_rms) for sample fits; missing_samples for MERL tables; "data_asymmetry" (exchanged_samples,
-// tolerance_deg, asymmetry, median_relative_difference, relative_residual) for samples.
+// residual_rms) for sample fits; "kernel_fit" (kernels, weights per channel as iso/vol/geo and model spec,
+// condition, determined, noise_sigma and residual_rms, cv_rms, solar_zenith_deg, quantities with value, sigma
+// and inflation = 1/WoD, supported: kernels|modes|undecided) beside it; missing_samples for MERL tables;
+// "data_asymmetry" (exchanged_samples, tolerance_deg, asymmetry, median_relative_difference,
+// relative_residual) for samples.
 nlohmann::json fit_report_json(const FitReport& report);
 
 // The same as lines of text: what was fitted on which grid, the quality figures, the sample fit's figures
-// and choices (with a warning when the samples leave modes undetermined), the masked MERL samples.
+// and choices (with a warning when the samples leave modes undetermined), the kernel-driven fit beside it and
+// which of the two the held-out samples support, the masked MERL samples.
 std::string fit_report_text(const FitReport& report);
 
 }  // namespace icobrdf

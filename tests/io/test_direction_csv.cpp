@@ -108,4 +108,17 @@ TEST(DirectionCsv, ErrorsNameFileLineAndValue) {
   expect_error(dir.file("missing.csv"), {"missing.csv", "cannot open"});
 }
 
+// `--at` files in remote sensing's angles (icobrdf/io/angle_columns.hpp): raa = 0 and vza = sza is the hot spot
+// (w_r = w_i); compass azimuths with vaa = saa likewise; further columns are ignored.
+TEST(DirectionCsv, RemoteSensingLayouts) {
+  TempDir dir;
+  const auto p = icobrdf::read_direction_pairs_csv(write(dir, "rs.csv", "sza,vza,raa,brf\n30,30,0,0.2\n30,-30,0,0.1\n"));
+  ASSERT_EQ(p.wi.rows(), 2);
+  EXPECT_LT((p.wi.row(0) - p.wr.row(0)).norm(), kAngleTol);
+  EXPECT_LT((p.wr.row(1) - Eigen::RowVector3d(-p.wi(1, 0), -p.wi(1, 1), p.wi(1, 2))).norm(), kAngleTol);  // specular
+  const auto q = icobrdf::read_direction_pairs_csv(write(dir, "az.csv", "sza,saa,vza,vaa\n40,135,40,135\n"));
+  EXPECT_LT((q.wi.row(0) - q.wr.row(0)).norm(), kAngleTol);
+  expect_error(write(dir, "bad.csv", "zenith,vza,raa\n1,2,3\n"), {"bad.csv:1", "sza,vza,raa"});
+}
+
 }  // namespace ICOBRDF_UNITY_ID

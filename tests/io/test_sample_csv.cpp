@@ -170,5 +170,69 @@ TEST(SampleCsv, DeclaredUnitsAndUnitMistakes) {
             std::string::npos) << m;
 }
 
+// Remote-sensing layouts (icobrdf/io/angle_columns.hpp): sza,vza,raa puts the sun at azimuth 0 and the viewer at
+// raa, so raa = 0 and vza = sza is the hot spot (the viewer along the sun's rays, w_r = w_i) and raa = 180 the
+// forward (specular) side; BRF columns are divided by pi; a signed vza is the opposite azimuth.
+TEST(SampleCsv, RemoteSensingRelativeAzimuthLayout) {
+  ScratchDir d;
+  test::write_bytes(d / "rs.csv", "sza,vza,raa,brf\n30,30,0,0.5\n30,30,180,0.2\n40,-20,0,0.3\n");
+  const BrdfSamples s = read_sample_csv(d / "rs.csv");
+  ASSERT_EQ(s.wi.rows(), 3);
+  EXPECT_EQ(s.layout, AngleLayout::SunViewRelative);
+  EXPECT_EQ(s.quantity, ValueQuantity::Brf);
+  EXPECT_LT((s.wi.row(0) - s.wr.row(0)).norm(), kDirTol);  // the hot spot
+  const Eigen::Vector3d mirror(-s.wi(1, 0), -s.wi(1, 1), s.wi(1, 2));
+  EXPECT_LT((s.wr.row(1).transpose() - mirror).norm(), kDirTol);  // raa = 180, vza = sza: the specular direction
+  EXPECT_LT((s.wr.row(2).transpose() - direction_from_angles(M_PI / 9, M_PI)).norm(), kDirTol);
+  EXPECT_DOUBLE_EQ(s.values(0, 0), 0.5 / M_PI);
+  EXPECT_EQ(s.signed_theta_rows, 1);
+  // BRDF values are taken as they are; so are those the option declares.
+  test::write_bytes(d / "f.csv", "sza,vza,raa,brdf\n30,30,0,0.5\n");
+  EXPECT_DOUBLE_EQ(read_sample_csv(d / "f.csv").values(0, 0), 0.5);
+  test::write_bytes(d / "nir.csv", "sza,vza,raa,nir\n30,30,0,0.5\n");
+  SampleCsvOptions brf;
+  brf.columns.values = "brf";
+  EXPECT_DOUBLE_EQ(read_sample_csv(d / "nir.csv", brf).values(0, 0), 0.5 / M_PI);
+}
+
+// sza,saa,vza,vaa: compass azimuths of the sun and the sensor seen from the surface; vaa = saa is the sun's side
+// whatever saa, and only the difference matters for an isotropic surface's geometry (w_i . w_r).
+TEST(SampleCsv, RemoteSensingAzimuthLayout) {
+  ScratchDir d;
+  test::write_bytes(d / "az.csv", "sza_rad,saa_rad,vza_rad,vaa_rad,brf\n0.5,1.0,0.5,1.0,0.4\n0.5,4.0,0.3,4.7,0.4\n");
+  const BrdfSamples s = read_sample_csv(d / "az.csv");
+  EXPECT_TRUE(s.radians);
+  EXPECT_EQ(s.layout, AngleLayout::SunViewAzimuths);
+  EXPECT_LT((s.wi.row(0) - s.wr.row(0)).norm(), kDirTol);
+  // Phase angle from the remote-sensing formula with raa = vaa - saa.
+  const double cos_xi = std::cos(0.5) * std::cos(0.3) + std::sin(0.5) * std::sin(0.3) * std::cos(4.7 - 4.0);
+  EXPECT_NEAR(s.wi.row(1).dot(s.wr.row(1)), cos_xi, kDirTol * 4);
+  // Compass north (azimuth 0) is +y, east (90) is +x.
+  test::write_bytes(d / "n.csv", "sza,saa,vza,vaa,brf\n90,0,90,90,0.4\n");
+  const BrdfSamples n = read_sample_csv(d / "n.csv");
+  EXPECT_LT((n.wi.row(0).transpose() - Eigen::Vector3d(0, 1, 0)).norm(), kDirTol);
+  EXPECT_LT((n.wr.row(0).transpose() - Eigen::Vector3d(1, 0, 0)).norm(), kDirTol);
+}
+
+// Unknown value names in a remote-sensing layout, mixed quantities, a header of no layout and columns= of the
+// wrong count are refused in one line; columns= renames the header.
+TEST(SampleCsv, RemoteSensingColumnErrorsAndRenaming) {
+  ScratchDir d;
+  test::write_bytes(d / "nir.csv", "sza,vza,raa,nir\n30,30,0,0.5\n");
+  EXPECT_NE(error_of(d / "nir.csv").find("nir.csv:1: value column 'nir' does not say its quantity"), std::string::npos);
+  test::write_bytes(d / "mix.csv", "sza,vza,raa,brf_red,brdf_nir,brf_blue\n30,30,0,0.5,0.1,0.2\n");
+  EXPECT_NE(error_of(d / "mix.csv").find("expected one quantity for every value column"), std::string::npos);
+  test::write_bytes(d / "other.csv", "solar_zenith,view_zenith,rel_az,brf\n30,30,0,0.5\n");
+  EXPECT_NE(error_of(d / "other.csv").find("'sza,vza,raa'"), std::string::npos);
+  SampleCsvOptions renamed;
+  renamed.columns.names = {"sza", "vza", "raa", "brf"};
+  EXPECT_DOUBLE_EQ(read_sample_csv(d / "other.csv", renamed).values(0, 0), 0.5 / M_PI);
+  renamed.columns.names = {"sza", "vza", "raa"};
+  EXPECT_NE(error_of(d / "other.csv", renamed).find("the option columns= names 3 columns"), std::string::npos);
+  test::write_bytes(d / "range.csv", "sza,vza,raa,brf\n30,95,0,0.5\n");
+  EXPECT_NE(error_of(d / "range.csv").find("range.csv:2: column 'vza' expected a polar angle in [-90, 90] degrees, found 95"),
+            std::string::npos) << error_of(d / "range.csv");
+}
+
 }  // namespace
 }  // namespace icobrdf

@@ -556,14 +556,20 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
       out.order_cv = score_class(o.isotropic, folds);
     }
     const int top = folds.order;
-    if (out.order_cv.chosen < 0)
-      throw UnsupportedError("sample fit: the " + std::to_string(positive) + " samples determine no order of the " +
-                             (plan.choose_class ? std::string("isotropic or general modes") : modes_name(o.isotropic)) +
-                             " (0.." + std::to_string(top) + ") in every cross-validation fold");
+    if (out.order_cv.chosen < 0) {
+      // Too few samples for every fold to train even the constant: the isotropic order 0 (the weighted mean of
+      // the samples, determined by any one of them) instead of a refusal.
+      out.notes.push_back("the " + std::to_string(positive) + " samples determine no order of the " +
+                          (plan.choose_class ? std::string("isotropic or general modes") : modes_name(o.isotropic)) +
+                          " (0.." + std::to_string(top) + ") in every cross-validation fold: fitted the isotropic order 0 (their weighted mean)");
+      o.isotropic = true;
+      folds = assemble_folds(0, true, wi, wr, values, w, plan.folds, o.progress, o.kernels, false, o.split);
+      out.order_cv.chosen = 0;
+    }
     o.order = out.order_cv.chosen;
     out.order_choice = "cross-validation";
     const size_t at = static_cast<size_t>(o.order);
-    out.notes.push_back("order " + std::to_string(o.order) + " chosen by " + std::to_string(plan.folds) +
+    if (!std::isnan(out.order_cv.rms[at])) out.notes.push_back("order " + std::to_string(o.order) + " chosen by " + std::to_string(plan.folds) +
                         "-fold cross-validation over orders 0.." + std::to_string(top) + " (CV RMS " +
                         fmt_g(out.order_cv.rms[at]) + " +- " + fmt_g(out.order_cv.rms_se[at], 2) +
                         " 1/sr; lowest order within 0.5% of the best mean square)");
@@ -693,6 +699,18 @@ CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& w
           }
         }
       }
+    }
+    if (!found && plan.choose_order && o.order > 0) {
+      // The order the cross-validation chose cannot be bounded, even regularized: choose again among the lower
+      // orders (order 0, the weighted mean, is always bounded by the samples).
+      SampleFitPlan lower = plan;
+      lower.max_order = o.order - 1;
+      CheckedSampleFit again = fit_samples_checked(wi, wr, values, weights, lower);
+      again.notes.insert(again.notes.begin(), "order " + std::to_string(o.order) + " of the " + modes_name(o.isotropic) +
+                                                  " reaches |f| = " + fmt_g(out.max_abs_fit) +
+                                                  " 1/sr away from the samples even regularized: chosen again among orders 0.." +
+                                                  std::to_string(o.order - 1));
+      return again;
     }
     if (!found)
       throw UnsupportedError("sample fit: the samples cannot bound a fit of the " + modes_name(o.isotropic) + " of order " +

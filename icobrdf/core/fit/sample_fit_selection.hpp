@@ -50,7 +50,8 @@
 //      ("smallest bounding lambda"; on CURET at order 8 the GCV-best bounded lambda pushes one more material
 //      over 10% relative RMS than plain least squares). The note reports the |f| avoided, lambda (and GCV's),
 //      the condition and the effective degrees of freedom tr H. Only when no lambda bounds the fit is it
-//      refused (UnsupportedError, one line).
+//      refused (UnsupportedError, one line), and then only when the order was given: a cross-validated order that
+//      cannot be bounded is chosen again among the lower orders (order 0, the samples' weighted mean, is bounded).
 //   5. the CV error of the final configuration (the same folds) is recorded.
 // Split over processes (SampleFitPlan::options.split, icobrdf/core/fit/sample_fit.hpp SampleFitSplit): the folds
 // keep their hash of the sample's index among all samples; each process assembles the folds' normal
@@ -157,8 +158,10 @@ struct CheckedSampleFit {
   double max_abs_sample = 0.0;            // largest |sample| [1/sr]
 };
 
-// The requested fit with the choices and checks above. UnsupportedError (one line) when no order is
-// determined or the fit fails the scale check; ArgumentError as fit_samples.
+// The requested fit with the choices and checks above. With choose_order it never refuses: samples that determine
+// no order in every fold get the isotropic order 0 (their weighted mean), and an order the scale check cannot bound
+// is chosen again below it. UnsupportedError (one line) only for a given order that no lambda bounds;
+// ArgumentError as fit_samples.
 CheckedSampleFit fit_samples_checked(const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
                                      const Eigen::VectorXd& weights, const SampleFitPlan& plan);
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 namespace icobrdf {
 
@@ -81,10 +82,65 @@ double LommelSeeligerModel::value(const Eigen::Vector3d& wi, const Eigen::Vector
 
 std::string LommelSeeligerModel::spec() const { return format_model_spec("lommel-seeliger", {{"w", format_parameter(w_)}}); }
 
-double HapkeModel::value(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const {
-  return w_ / (4.0 * M_PI) * h_(wi.z()) * h_(wr.z()) / std::max(wi.z() + wr.z(), kGrazingCosFloor);
+namespace hapke_roughness {
+
+// Hapke's roughness functions of one direction at polar angle x (cosine c, sine s), tb = tan(theta-bar) > 0.
+struct RoughAngle {
+  double c, s, e1, e2, eta;
+};
+RoughAngle rough_angle(double c, double s, double tb, double chi) {
+  RoughAngle a{c, s, 0.0, 0.0, 0.0};
+  if (s > 0.0) {  // E1, E2 -> 0 at the normal (cot x -> infinity)
+    const double k = c / (s * tb);  // cot(x) cot(tb)
+    a.e1 = std::exp(-2.0 * k / M_PI);
+    a.e2 = std::exp(-k * k / M_PI);
+  }
+  a.eta = chi * (c + s * tb * a.e2 / (2.0 - a.e1));
+  return a;
 }
 
-std::string HapkeModel::spec() const { return format_model_spec("hapke", {{"w", format_parameter(w_)}}); }
+}  // namespace hapke_roughness
+using hapke_roughness::rough_angle;
+using hapke_roughness::RoughAngle;
+
+double HapkeModel::value(const Eigen::Vector3d& first, const Eigen::Vector3d& second) const {
+  // Canonical order (z, x, y lexicographic): the formula is symmetric, and this makes its rounding symmetric too.
+  const bool keep = std::make_tuple(first.z(), first.x(), first.y()) <= std::make_tuple(second.z(), second.x(), second.y());
+  const Eigen::Vector3d& wi = keep ? first : second;
+  const Eigen::Vector3d& wr = keep ? second : first;
+  const double mi = std::clamp(wi.z(), 0.0, 1.0), mr = std::clamp(wr.z(), 0.0, 1.0);
+  const double cos_g = std::clamp(wi.dot(wr), -1.0, 1.0);
+  // tan(g/2) = sqrt((1 - cos g)/(1 + cos g)); B -> 0 as g -> pi.
+  const double surge = b0_ > 0.0 && cos_g > -1.0 ? b0_ / (1.0 + std::sqrt((1.0 - cos_g) / (1.0 + cos_g)) / width_) : 0.0;
+  if (theta_bar_ == 0.0)
+    return w_ / (4.0 * M_PI) * (surge + h_(mi) * h_(mr)) / std::max(mi + mr, kGrazingCosFloor);
+  const double tb = std::tan(theta_bar_ * M_PI / 180.0), chi = 1.0 / std::sqrt(1.0 + M_PI * tb * tb);
+  const double si = std::hypot(wi.x(), wi.y()), sr = std::hypot(wr.x(), wr.y());
+  // psi in [0, pi]: 0 when the horizontal parts point the same way (arbitrary at the normal, where it drops out).
+  const double cos_psi = si > 0.0 && sr > 0.0 ? std::clamp((wi.x() * wr.x() + wi.y() * wr.y()) / (si * sr), -1.0, 1.0) : 1.0;
+  const double psi = std::acos(cos_psi), sin2_half = 0.5 * (1.0 - cos_psi);
+  const double fpsi = psi < M_PI ? std::exp(-2.0 * std::tan(0.5 * psi)) : 0.0;
+  const RoughAngle a = rough_angle(mi, si, tb, chi), b = rough_angle(mr, sr, tb, chi);
+  // Near is the direction nearer the normal (i <= e in Hapke's first branch), far the other.
+  const bool a_near = mi >= mr;
+  const RoughAngle& near = a_near ? a : b;
+  const RoughAngle& far = a_near ? b : a;
+  // 0 only with both directions on the horizon and opposite (psi = pi), where the numerators vanish too: floored.
+  const double den = std::max(2.0 - far.e1 - psi / M_PI * near.e1, kGrazingCosFloor);
+  const double mu_near = chi * (near.c + near.s * tb * (cos_psi * far.e2 + sin2_half * near.e2) / den);
+  const double mu_far = chi * (far.c + far.s * tb * (far.e2 - sin2_half * near.e2) / den);
+  // f = r / mu_i diverges as 1/mu at retro grazing (both on the horizon, psi = 0: this denominator -> 0): floored.
+  const double shadow = chi / std::max(1.0 - fpsi + fpsi * chi * near.c / near.eta, kGrazingCosFloor);
+  const double multiple = h_(mu_near) * h_(mu_far);
+  return w_ / (4.0 * M_PI) * (mu_near * mu_far) / std::max(mu_near + mu_far, kGrazingCosFloor) * (surge + multiple) * shadow /
+         (a.eta * b.eta);
+}
+
+std::string HapkeModel::spec() const {
+  return format_model_spec("hapke", {{"w", format_parameter(w_)},
+                                     {"b0", format_parameter(b0_)},
+                                     {"h", format_parameter(width_)},
+                                     {"theta", format_parameter(theta_bar_)}});
+}
 
 }  // namespace icobrdf

@@ -4,13 +4,29 @@
 //
 // Lommel-Seeliger (single scattering only):  f = w / (4 pi (mu_i + mu_r)).
 //   Directional albedo (w/2)(1 - mu_i ln((1 + mu_i)/mu_i)): w (1 - ln 2)/2 at normal incidence, w/2 at grazing.
-// Hapke, isotropic variant: isotropic single scattering (phase function 1), multiple scattering treated
-// exactly for a semi-infinite medium of isotropic scatterers, no opposition surge, no macroscopic
-// roughness (Hapke 1981 eq. with p = 1, B = 0, with Chandrasekhar's exact H function instead of Hapke's
-// approximations of it):
-//   f = w / (4 pi) H(mu_i) H(mu_r) / (mu_i + mu_r).
-//   Directional albedo exactly 1 - sqrt(1 - w) H(mu_i) (= 1 for w = 1: conservative).
-// Both diverge as 1/(mu_i + mu_r) at double grazing; mu_i + mu_r is floored at kGrazingCosFloor.
+// Hapke (Hapke 2012, "Theory of Reflectance and Emittance Spectroscopy", 2nd ed., eqs. 12.46-12.55; Hapke 1984,
+// Icarus 59, for the roughness), with isotropic particles (phase function p = 1), the shadow-hiding opposition
+// surge and the macroscopic roughness theta-bar, Chandrasekhar's exact H function in place of Hapke's
+// approximation of it:
+//   f = r / mu_i,  r = w/(4 pi) mu_ie/(mu_ie + mu_re) [(1 + B(g)) + H(mu_ie) H(mu_re) - 1] S(i, e, psi),
+//   B(g) = B0 / (1 + tan(g/2) / h)                       g the phase angle, cos g = w_i . w_r (0 at the hot spot)
+// with psi the azimuth between the planes of incidence and emergence (0 on the sun's side, in [0, pi]),
+// chi = 1/sqrt(1 + pi tan^2 tb), E1(x) = exp(-2 cot(x) cot(tb)/pi), E2(x) = exp(-cot^2(x) cot^2(tb)/pi),
+// eta(x) = chi [cos x + sin x tan(tb) E2(x)/(2 - E1(x))], f(psi) = exp(-2 tan(psi/2)), and for i <= e
+//   mu_ie = chi [cos i + sin i tan(tb) (cos(psi) E2(e) + sin^2(psi/2) E2(i)) / (2 - E1(e) - (psi/pi) E1(i))]
+//   mu_re = chi [cos e + sin e tan(tb) (E2(e) - sin^2(psi/2) E2(i)) / (2 - E1(e) - (psi/pi) E1(i))]
+//   S = mu_re/eta(e) mu_i/eta(i) chi / (1 - f(psi) + f(psi) chi mu_i/eta(i)),
+// and for e < i the same with i and e exchanged (the last factor then chi mu_r/eta(e)). tb = 0 gives
+// mu_ie = mu_i, mu_re = mu_r, S = 1. mu_i = cos i cancels between r and S, so f is evaluated without dividing
+// by it. Reciprocal: f = w/(4 pi) mu_ie mu_re chi [..] / ((mu_ie + mu_re) eta(i) eta(e) (1 - f + f chi mu/eta)),
+// with mu/eta of the direction nearer the normal, is symmetric (exchanging i and e exchanges the two branches,
+// and mu_ie with mu_re); evaluated from the two directions in a canonical order, exchanging them gives the same
+// bits. With B0 = 0 and tb = 0 this is the isotropic variant below, in which multiple scattering is exact for
+// a semi-infinite medium of isotropic scatterers: directional albedo 1 - sqrt(1 - w) H(mu_i) (1 for w = 1). The
+// surge adds single-scattered light (B0 up to 1 for most regoliths, but the model does not conserve energy for
+// B0 > 0); the roughness shadows. Diverges as 1/(mu_ie + mu_re) at double grazing (tb = 0 only), floored at
+// kGrazingCosFloor, as are the denominator 2 - E1(e) - (psi/pi) E1(i) (0 for opposite directions on the horizon)
+// and S's 1 - f(psi) + f(psi) chi mu/eta (0 for both on the horizon at psi = 0, where f diverges as 1/mu). scripts/derive/hapke_values.py evaluates the formulas independently (numpy).
 #include <Eigen/Core>
 
 #include <vector>
@@ -49,13 +65,15 @@ class LommelSeeligerModel final : public ScalarBrdfModel {
 
 class HapkeModel final : public ScalarBrdfModel {
  public:
-  explicit HapkeModel(double w) : w_(w), h_(w) {}
+  // theta_bar in degrees, [0, 60]; width h > 0.
+  explicit HapkeModel(double w, double b0 = 0.0, double width = 0.05, double theta_bar_deg = 0.0)
+      : w_(w), b0_(b0), width_(width), theta_bar_(theta_bar_deg), h_(w) {}
   double value(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const override;
   std::string spec() const override;
   const ChandrasekharH& h_function() const { return h_; }
 
  private:
-  double w_;
+  double w_, b0_, width_, theta_bar_;
   ChandrasekharH h_;
 };
 

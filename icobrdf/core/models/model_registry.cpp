@@ -126,9 +126,14 @@ const std::vector<Entry>& entries() {
                    number("azimuth", 0.0, -360.0, 360.0, "rotation Q of the lobe frame about the normal", "deg")},
                   false, "unnormalized; cx = cy = -cz = -c: albedo 2 pi c^n/(n+2) at normal incidence"},
                  [](const Values& v) { return std::make_unique<LafortuneModel>(v[0], v[1], v[2], v[3], v[4]); }});
-    t.push_back({{"hapke", "Hapke isotropic scatterers, exact Chandrasekhar H: w/(4 pi) H(mi) H(mr)/(mi+mr)",
-                  {number("w", 0.8, 0.0, 1.0, "single-scattering albedo")}, true, ""},
-                 [](const Values& v) { return std::make_unique<HapkeModel>(v[0]); }});
+    t.push_back({{"hapke", "Hapke 2012 with isotropic particles: exact Chandrasekhar H, opposition surge B0/(1 + tan(g/2)/h), "
+                           "macroscopic roughness theta; b0 = theta = 0: w/(4 pi) H(mi) H(mr)/(mi+mr); reciprocal",
+                  {number("w", 0.8, 0.0, 1.0, "single-scattering albedo"),
+                   number("b0", 0.0, 0.0, 10.0, "amplitude B0 of the shadow-hiding opposition surge"),
+                   number("h", 0.05, 1e-6, 10.0, "angular width h of the opposition surge"),
+                   number("theta", 0.0, 0.0, 60.0, "mean slope angle theta-bar of the macroscopic roughness", "deg")},
+                  false, "b0 = 0 and theta = 0"},
+                 [](const Values& v) { return std::make_unique<HapkeModel>(v[0], v[1], v[2], v[3]); }});
     t.push_back({{"lommel-seeliger", "Lommel-Seeliger single scattering w/(4 pi (cos ti + cos tr))",
                   {number("w", 1.0, 0.0, 1.0, "single-scattering albedo")}, true, ""},
                  [](const Values& v) { return std::make_unique<LommelSeeligerModel>(v[0]); }});
