@@ -19,6 +19,7 @@
 #include "icobrdf/core/support/memory_budget.hpp"
 #include "icobrdf/core/support/progress.hpp"
 #include "icobrdf/io/atomic_write.hpp"
+#include "icobrdf/io/program_end.hpp"
 
 namespace {
 
@@ -74,6 +75,8 @@ void tune_allocator() {
 int main(int argc, char** argv) {
   using namespace icobrdf::cli;
   tune_allocator();
+  icobrdf::guard_standard_streams();  // before any file is opened (icobrdf/io/program_end.hpp)
+  icobrdf::install_stop_signals();
   icobrdf::set_default_dense_kernels(&icobrdf::fit_dense_kernels());  // the sample fits' kernels (OpenBLAS's when as wide as Eigen's)
   CLI::App app{"icobrdf: BRDFs as exact linear algebra on an equal-area icosahedral hemisphere tessellation"};
   app.require_subcommand(1);
@@ -96,7 +99,7 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& e) {
-    return e.get_exit_code();  // a command's own exit code (e.g. 130 after SIGINT), message already printed
+    return icobrdf::finish_standard_output(e.get_exit_code(), kExitIo);  // a command's own exit code (e.g. 130 after SIGINT), message already printed
   } catch (const CLI::ParseError& e) {
     // Under mpirun every rank parses the same command line and would print the same usage error (or the help):
     // rank 0 prints it and exits with the code; the others exit quietly with 0, since a non-zero exit makes
@@ -114,5 +117,5 @@ int main(int argc, char** argv) {
     std::cerr << r.line;
     return r.code;
   }
-  return kExitOk;
+  return icobrdf::finish_standard_output(kExitOk, kExitIo);
 }

@@ -15,6 +15,7 @@ export ASAN_OPTIONS="halt_on_error=1:abort_on_error=0:detect_leaks=1:strict_stri
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
 # Third-party caches kept until exit (fontconfig) are not leaks of ours: scripts/lsan-suppressions.txt.
 export LSAN_OPTIONS="suppressions=$PWD/scripts/lsan-suppressions.txt:print_suppressions=0${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
+root=$PWD
 cd "$BUILD_DIR"
 # Without arguments every test runs except those below. Each one's instrumented code is run by another test
 # here, and each one runs uninstrumented in the test stage; together they cost about 150 s of the stage's wall
@@ -37,5 +38,18 @@ skip=(
   'DirectionSampler[.]ChiSquaredAgainstPdf'
   'MaterialSampler[.]ChiSquaredFiveMaterialsFiveIncidences'
 )
+# And, when the uninstrumented suite has run in this clone (the test stage of .ci/run, build/), every test it
+# measured at SANITIZE_SLOW_SECONDS or more (default 1): on 2 cores CI went over its 45 minutes (58.5 min on
+# 2026-11-28), and these tests are about 12% of the suite but 80% of its test-seconds (tests/ sizes and repeats:
+# sweeps, hard cases, white furnaces, thread and MPI comparisons, kills, budgets), which the sanitizers multiply
+# several times. Their code paths stay instrumented here only where the faster tests reach them (the readers
+# also under the fuzzers); each still runs uninstrumented in the test stage. The file lists each one's seconds.
+slow_seconds=${SANITIZE_SLOW_SECONDS:-1}
+costs=${RELEASE_BUILD_DIR:-$root/build}/Testing/Temporary/CTestCostData.txt
+if [ $# -eq 0 ] && [ -f "$costs" ] && [ "$slow_seconds" != "0" ]; then
+  mapfile -t slow < <(awk -v t="$slow_seconds" '$0 == "---" { exit } NF == 3 && $3 + 0 >= t + 0 { print $1 }' "$costs")
+  echo "sanitize: leaving out ${#slow[@]} tests of ${slow_seconds} s or more in the uninstrumented run ($costs)"
+  for t in "${slow[@]}"; do skip+=("$(printf '%s' "$t" | sed 's/[^A-Za-z0-9_/:-]/[&]/g')\$"); done
+fi
 if [ $# -eq 0 ]; then set -- -E "^($(IFS='|'; echo "${skip[*]}"))"; fi
 ctest --output-on-failure -j"${JOBS:-$(nproc)}" "$@"

@@ -49,12 +49,51 @@ std::set<std::string>& temporaries() {
   return t;
 }
 
+// The same names in fixed slots that a signal handler may read (no lock, no allocation): a slot is claimed
+// (free -> filling), its name copied, then published (-> held); a name too long for a slot, or beyond the
+// last slot, is only in the set above (the signal path then leaves it; no write of ours holds 64 at once).
+constexpr int kSignalSlots = 64;
+constexpr std::size_t kSlotPath = 4096;
+enum SlotState : int { kFree = 0, kFilling = 1, kHeld = 2 };
+struct SignalSlot {
+  std::atomic<int> state{kFree};
+  char path[kSlotPath];
+};
+SignalSlot g_slots[kSignalSlots];
+
+void hold_in_slot(const std::string& p) {
+  if (p.size() >= kSlotPath) return;
+  for (auto& slot : g_slots) {
+    int expected = kFree;
+    if (!slot.state.compare_exchange_strong(expected, kFilling)) continue;
+    std::memcpy(slot.path, p.c_str(), p.size() + 1);
+    slot.state.store(kHeld, std::memory_order_release);
+    return;
+  }
+}
+
+void release_slot(const std::string& p) {
+  for (auto& slot : g_slots)
+    if (slot.state.load(std::memory_order_acquire) == kHeld && p == slot.path) {
+      slot.state.store(kFree, std::memory_order_release);
+      return;
+    }
+}
+
 }  // namespace
 
 void remove_unfinished_temporaries() {
   std::lock_guard<std::mutex> lock(temporaries_mutex());
-  for (const auto& t : temporaries()) ::unlink(t.c_str());
+  for (const auto& t : temporaries()) {
+    ::unlink(t.c_str());
+    release_slot(t);
+  }
   temporaries().clear();
+}
+
+void remove_unfinished_temporaries_in_signal_handler() {
+  for (auto& slot : g_slots)
+    if (slot.state.load(std::memory_order_acquire) == kHeld) ::unlink(slot.path);
 }
 
 std::string file_name(const std::string& path) {
@@ -82,8 +121,15 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   int fd = -1;
   for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
     temp_ = folder + "/." + name + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+    // Held before it exists, so that a stop signal arriving just after the open still removes it (a name with
+    // our pid that exists already is a stale temporary of a dead process of the same pid).
+    hold_in_slot(temp_);
     fd = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd < 0 && errno != EEXIST) fail(path_, "cannot create a temporary in " + folder, errno);
+    if (fd < 0) {
+      const int err = errno;
+      release_slot(temp_);
+      if (err != EEXIST) fail(path_, "cannot create a temporary in " + folder, err);
+    }
   }
   if (fd < 0) fail(path_, "cannot find a free temporary name in " + folder, EEXIST);
   ::close(fd);
@@ -94,7 +140,7 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
 AtomicFile::~AtomicFile() {
   if (!committed_) ::unlink(temp_.c_str());
   std::lock_guard<std::mutex> lock(temporaries_mutex());
-  temporaries().erase(temp_);
+  if (temporaries().erase(temp_) > 0) release_slot(temp_);
 }
 
 void AtomicFile::commit() {

@@ -21,7 +21,10 @@ constexpr double kMinCheckpointSeconds = 1.0;
 }  // namespace
 
 std::string material_key(const Scene& s, const SceneMaterial& m) {
-  std::string t = "icobrdf-bank-material-v1|" + m.source + "|" + exact_decimal(m.target) + "|" + to_string(m.isotropic) + "|" +
+  // v2: the name is part of the key, because the held-out pairs and the lobe's peak samples are seeded by it
+  // (pipeline/held_out.cpp): two materials of one source but different names have different figures and may
+  // choose differently. A v1 resume file matches nothing, so its materials are fitted again.
+  std::string t = "icobrdf-bank-material-v2|" + m.name + "|" + m.source + "|" + exact_decimal(m.target) + "|" + to_string(m.isotropic) + "|" +
                   std::to_string(m.order) + "|" + std::to_string(m.level) + "|" + to_string(m.metric) + "|" + exact_decimal(m.incidence_min) +
                   "|" + exact_decimal(m.incidence_max) + "|" + (m.prune ? "prune" : "keep");
   for (const auto& d : m.lights) t += "|L" + exact_decimal(d.first) + "," + exact_decimal(d.second);

@@ -1,6 +1,6 @@
 #pragma once
 // Resuming a bank build: the finished materials are written (atomically) to OUTPUT.partial, keyed by a hash
-// of the source text, the material's settings and the bank settings; with `resume`, materials whose key
+// of the material's name (it seeds the held-out draws), the source text, the material's settings and the bank settings; with `resume`, materials whose key
 // matches are taken from there. The file is rewritten after the first material, then whenever the time
 // since the last rewrite reaches 10 times that rewrite's duration and at least a second (rewrites grow with
 // the materials kept; this bounds them to 9% of the build, less in builds of cheap materials), and at the

@@ -4,6 +4,7 @@
 
 #include <fstream>
 
+#include "tests/cli/bank_identity.hpp"
 #include "tests/cli/cli_runner.hpp"
 #include "tests/support/unity_id.hpp"
 
@@ -111,6 +112,29 @@ TEST(CliBank, BuildsTheSmallestSufficientModelPerMaterial) {
   const auto sp = run_cli({"spectrum", d.file("opik.h5"), "--json"});
   ASSERT_EQ(sp.exit_code, 0) << sp.err;
   EXPECT_EQ(json::parse(sp.out)["order"].get<int>(), 2);
+}
+
+// Two materials of one source under different names have different held-out pairs (seeded by the name), so
+// neither may be resumed from the other's record: a bank resumed from a file holding only "first" must equal
+// the uninterrupted bank byte for byte, with "second" fitted anew. (The key once left the name out: "second"
+// was filled with the record of "first".)
+TEST(CliBank, ResumeNeverTakesAnotherMaterialOfTheSameSource) {
+  setenv("SOURCE_DATE_EPOCH", "1700000000", 1);  // fixes the bank's `created` attribute
+  TempDir d;
+  const std::string head = "[bank]\nlevel = 2\nlevels = [2]\norder_max = 6\ntarget = 0.2\nholdout_pairs = 512\n";
+  const std::string first = "[[material]]\nname = \"first\"\nsource = \"model:ggx:alpha=0.5\"\n";
+  const std::string second = "[[material]]\nname = \"second\"\nsource = \"model:ggx:alpha=0.5\"\n";
+  const auto one = write(d, "one.toml", head + first), both = write(d, "both.toml", head + first + second);
+  const std::string whole = d.file("whole.h5"), resumed = d.file("resumed.h5");
+  ASSERT_EQ(run_cli({"bank", "build", both, "-o", whole, "--quiet"}).exit_code, 0);
+  // The interrupted build's resume file: the bank of "first" alone (a bank keeps each material's key).
+  ASSERT_EQ(run_cli({"bank", "build", one, "-o", resumed + ".partial", "--quiet"}).exit_code, 0);
+  const auto r = run_cli({"bank", "build", both, "-o", resumed, "--quiet", "--json", "--resume"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = json::parse(r.out);
+  EXPECT_TRUE(material(j, "first")["resumed"].get<bool>());
+  EXPECT_FALSE(material(j, "second")["resumed"].get<bool>());
+  EXPECT_TRUE(icobrdf::test::banks_identical(whole, resumed));
 }
 
 TEST(CliBank, FailingMaterialFailsTheBuildKeepsTheOthersAndResumeReusesThem) {

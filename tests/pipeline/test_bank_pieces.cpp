@@ -157,7 +157,7 @@ TEST(BankResume, MaterialKeyIsTheTextOfTheSceneWords) {
   m.metric = ErrorMetric::Cosine;
   m.isotropic = IsotropicChoice::Never;
   s.sampling = LutSampling::CellAverage;
-  EXPECT_EQ(material_key(s, m), fnv1a_hex("icobrdf-bank-material-v1|model:lambert|0.5|false|-1|-1|cosine|0|90|prune|bank|4|4|average|64|"
+  EXPECT_EQ(material_key(s, m), fnv1a_hex("icobrdf-bank-material-v2|a|model:lambert|0.5|false|-1|-1|cosine|0|90|prune|bank|4|4|average|64|"
                                           "nolut32|1|2|repr|modes|half-angle|hybrid"));
   EXPECT_EQ(to_string(IsotropicChoice::Auto), "auto");
   EXPECT_EQ(to_string(IsotropicChoice::Always), "true");
