@@ -36,7 +36,9 @@ if grep -rq "$root" "$prefix/lib/cmake/icobrdf"; then
   exit 1
 fi
 step "the installed program runs from the relocated prefix"
-"$prefix/bin/icobrdf" models | grep -q "^lambert" || { echo "check-install: $prefix/bin/icobrdf models did not list lambert" >&2; exit 1; }
+# Into a file first: grep -q leaving a pipe early would end the program with SIGPIPE, a failure under pipefail.
+"$prefix/bin/icobrdf" models >"$work/models.txt" && grep -q "^lambert" "$work/models.txt" ||
+  { echo "check-install: $prefix/bin/icobrdf models did not list lambert" >&2; exit 1; }
 
 export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
