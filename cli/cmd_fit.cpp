@@ -25,18 +25,16 @@
 #include "icobrdf/io/spectrum_file.hpp"
 #include "icobrdf/lab/process_usage.hpp"
 #include "icobrdf/pipeline/fit_report.hpp"
+#include "icobrdf/pipeline/fit_order.hpp"
 #include "icobrdf/pipeline/fit_source.hpp"
 #include "icobrdf/pipeline/reflectance_check.hpp"
 
 namespace icobrdf::cli {
 namespace {
 
-// Default order of sources that do not choose their own.
-constexpr int kDefaultOrder = 8;
-
 struct FitArgs {
   std::string source, output, filter = "none", grid = "equal-area", sampling = "average", name;
-  int order = kDefaultOrder, level = 4;
+  int order = kDefaultFitOrder, level = 4;
   bool order_given = false;
   bool isotropic = false, cosine = false, json = false, strict = false, quiet = false, non_reciprocal = false;
   double gram_tol = kDefaultGramTolerance;
@@ -82,7 +80,7 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
   const auto source = open_source(a.source);  // validates the source before any work
   if (!source->has_delta() && run.writes())  // a model's delta note is about pointwise values, which fit does not print
     for (const auto& note : source->notes()) std::cerr << "icobrdf: note: " << source->spec() << ": " << note << "\n";
-  if (!a.order_given && chooses_order(*source)) r.order = kChooseOrder;
+  r.order = fit_order_for(*source, a.order_given ? std::optional<int>(a.order) : std::nullopt);
   if (a.non_reciprocal && source->values_only_at_samples())
     throw ArgumentError("--non-reciprocal: '" + quoted_text(a.source) + "' holds scattered samples, which are fitted on the reciprocal modes only");
   r.grid_kind = fitting_grid_kind(a.grid);

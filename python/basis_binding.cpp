@@ -45,7 +45,7 @@ Parameters
 ----------
 order : int
     Total order N, 0..128.
-dirs : array_like, shape (n, 3)
+dirs : array_like, shape (n, 3) or (3,)
     Unit directions, +z the normal, z >= 0.
 
 Returns
@@ -57,12 +57,12 @@ ndarray, shape (n, M)
 Raises
 ------
 ValueError
-    For an order outside 0..128, or dirs not of shape (n, 3).
+    For an order outside 0..128, or dirs not unit vectors of shape (n, 3) (or (3,): one direction).
 )doc");
   m.def(
       "helmholtz_modes",
       [](int order, const DirArray& wi, const DirArray& wr) {
-        const RowMatrix3d a = directions(wi, "wi"), b = directions(wr, "wr");
+        const auto [a, b] = direction_pairs(wi, wr);
         py::gil_scoped_release release;
         return helmholtz_modes_eval(order, a, b);
       },
@@ -76,7 +76,7 @@ Parameters
 ----------
 order : int
     Total order N, 0..128.
-wi, wr : array_like, shape (n, 3)
+wi, wr : array_like, shape (n, 3) or (3,)
     Incident and remitted unit directions, pair by pair.
 
 Returns
@@ -87,12 +87,12 @@ ndarray, shape (n, M (M + 1) / 2)
 Raises
 ------
 ValueError
-    For an order outside 0..128, or wi, wr not of shape (n, 3).
+    For an order outside 0..128, or wi, wr not unit vectors of shape (n, 3) with the same n (or (3,): one direction paired with every row of the other).
 )doc");
   m.def(
       "isotropic_modes",
       [](int order, const DirArray& wi, const DirArray& wr) {
-        const RowMatrix3d a = directions(wi, "wi"), b = directions(wr, "wr");
+        const auto [a, b] = direction_pairs(wi, wr);
         py::gil_scoped_release release;
         return isotropic_modes_eval(order, a, b);
       },
@@ -105,7 +105,7 @@ Parameters
 ----------
 order : int
     Total order N, 0..128.
-wi, wr : array_like, shape (n, 3)
+wi, wr : array_like, shape (n, 3) or (3,)
     Incident and remitted unit directions, pair by pair.
 
 Returns
@@ -116,7 +116,7 @@ ndarray, shape (n, count)
 Raises
 ------
 ValueError
-    For an order outside 0..128, or wi, wr not of shape (n, 3).
+    For an order outside 0..128, or wi, wr not unit vectors of shape (n, 3) with the same n (or (3,): one direction paired with every row of the other).
 )doc");
 }
 

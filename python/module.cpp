@@ -4,8 +4,9 @@
 // z >= 0), w_i points toward the light; f is in 1/sr; coefficient matrices are M x M, M = (N+1)(N+2)/2, in
 // ANSI order (docs/api.md). Arrays passed in are copied into the library's types (row-major n x 3 for
 // directions); arrays returned are new numpy arrays owned by Python. Long calls release the GIL.
-// Errors map to Python exceptions: ValueError (bad arguments), OSError (files), RuntimeError (input data,
-// unsupported requests), MemoryError (resources). Each class or area is bound in its own file
+// A direction may also be one 1-D array of 3 values, paired with every row of the other argument; directions
+// that are not unit vectors are refused (ValueError). Errors map to Python exceptions: ValueError (bad
+// arguments), OSError (files), RuntimeError (input data, unsupported requests), MemoryError (resources). Each class or area is bound in its own file
 // (python/bindings.hpp).
 #include <pybind11/pybind11.h>
 
@@ -22,7 +23,9 @@ PYBIND11_MODULE(icobrdf, m) {
   bind_basis(m);
   bind_source(m);
   bind_sampler(m);
+  bind_sample_fit(m);
   bind_spectrum(m);
   bind_operators(m);
   bind_kernel_fit(m);
+  bind_bank(m);
 }

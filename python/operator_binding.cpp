@@ -140,7 +140,7 @@ coefficients : ndarray, shape (M, M)
     C, M = (N + 1)(N + 2) / 2 in ANSI order.
 order : int
     Total order N of C.
-wi, wr : array_like, shape (n, 3)
+wi, wr : array_like, shape (n, 3) or (3,)
     Incident and remitted unit directions, pair by pair; +z the normal.
 
 Returns

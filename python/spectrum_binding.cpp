@@ -4,6 +4,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "icobrdf/core/spectrum/spectrum.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
+#include "icobrdf/pipeline/fit_order.hpp"
 #include "icobrdf/pipeline/fit_source.hpp"
 #include "python/bindings.hpp"
 #include "python/py_source.hpp"
@@ -20,11 +22,12 @@
 namespace icobrdf::python {
 namespace {
 
-Spectrum fit(const PySource& src, int level, int order, bool isotropic, bool cosine, const std::string& filter,
+Spectrum fit(const PySource& src, int level, std::optional<int> order, bool isotropic, bool cosine, const std::string& filter,
              const std::string& sampling, double gram_tolerance) {
   FitRequest r;
   r.level = level;
-  r.order = order;
+  if (order && *order < 0) throw ArgumentError("order: expected an order >= 0 or None, found " + std::to_string(*order));
+  r.order = fit_order_for(*src.source, order);
   r.isotropic = isotropic;
   r.cosine = cosine;
   r.filter = parse_lowpass_filter(filter);
@@ -32,8 +35,16 @@ Spectrum fit(const PySource& src, int level, int order, bool isotropic, bool cos
   const auto s = lut_sampling_named(sampling);
   if (!s) throw ArgumentError("sampling: expected 'average' or 'centre', found '" + quoted_text(sampling) + "'");
   r.sampling = *s;
-  py::gil_scoped_release release;
-  return fit_source(*src.source, r).spectrum;
+  Spectrum out;
+  {
+    py::gil_scoped_release release;
+    out = fit_source(*src.source, r).spectrum;
+  }
+  // A fit that did not fit what was asked says so, as `icobrdf fit` does on stderr.
+  if (out.sample_fit && !out.sample_fit->fallback.empty() &&
+      PyErr_WarnEx(PyExc_RuntimeWarning, ("icobrdf.fit " + out.source + ": " + out.sample_fit->fallback).c_str(), 1) != 0)
+    throw py::error_already_set();
+  return out;
 }
 
 constexpr const char* kSpectrumDoc = R"doc(Coefficients of a BRDF in the hemisphere basis.
@@ -63,6 +74,8 @@ coefficients : list of ndarray, shape (M, M)
     C per channel.
 channel_names : list of str
     Labels of the channels (RGB or wavelengths); empty when unlabelled.
+sample_fit : SampleFit or None
+    For a fit of scattered samples: CV error, standard errors, residual RMS, condition and the choices made.
 )doc";
 
 constexpr const char* kFitDoc = R"doc(Project a source onto the modes on the equal-area grid (as ``icobrdf fit``).
@@ -72,9 +85,12 @@ Parameters
 source : Source
     The BRDF to fit.
 level : int, optional
-    Equal-area tessellation level, 0..8 (default 4).
-order : int, optional
-    Total order N of the expansion, 0..128 (default 8); the grid must resolve it.
+    Equal-area tessellation level, 0..8 (default 4); scattered samples use it only for the max_albedo figure.
+order : int or None, optional
+    Total order N of the expansion, 0..128; the grid must resolve it. None (the default): scattered samples
+    (CSV files, ``Source.from_samples``) choose the order and the class of modes (isotropic or general) by
+    5-fold cross-validation, and the Tikhonov lambda by GCV unless given, as ``icobrdf fit`` without
+    ``--order``; other sources take order 8.
 isotropic : bool, optional
     Project onto the isotropic modes (default False).
 cosine : bool, optional
@@ -89,7 +105,15 @@ gram_tolerance : float, optional
 Returns
 -------
 Spectrum
-    The fitted coefficients, with the fit's figures.
+    The fitted coefficients, with the fit's figures; for scattered samples ``Spectrum.sample_fit`` holds the
+    CV error, standard errors, residual RMS, condition and the choices made.
+
+Warns
+-----
+RuntimeWarning
+    When a fit of samples did not fit what was asked: general modes the samples do not determine (in-plane
+    data, unseen modes, condition > 1e6) replaced by the isotropic modes, or those by a regularized fit. The
+    same text is in ``Spectrum.sample_fit.fallback``.
 
 Raises
 ------
@@ -181,6 +205,8 @@ void bind_spectrum(py::module_& m) {
       .def_property_readonly("coefficients", [](const Spectrum& s) { return s.channels; },
                              "C per channel: list of ndarray of shape (M, M).")
       .def_readonly("channel_names", &Spectrum::channel_names, "Labels of the channels (RGB or wavelengths); empty when unlabelled.")
+      .def_readonly("sample_fit", &Spectrum::sample_fit,
+                    "The figures of a fit of scattered samples (SampleFit), None for other spectra.")
       .def(
           "eval",
           [](const Spectrum& s, const DirArray& wi, const DirArray& wr) {
@@ -191,7 +217,7 @@ void bind_spectrum(py::module_& m) {
 
 Parameters
 ----------
-wi, wr : array_like, shape (n, 3)
+wi, wr : array_like, shape (n, 3) or (3,)
     Incident and remitted unit directions, pair by pair; +z the normal.
 
 Returns
@@ -202,13 +228,14 @@ ndarray, shape (n, channels)
 Raises
 ------
 ValueError
-    For wi, wr not of shape (n, 3) with the same n, or directions below the horizon.
+    For wi, wr not unit vectors of shape (n, 3) with the same n (or (3,): one direction paired with every row
+    of the other), or directions below the horizon.
 )doc")
       .def("__repr__", [](const Spectrum& s) {
         return "<icobrdf.Spectrum order " + std::to_string(s.order) + ", " + std::to_string(s.channel_count()) + " channel(s) of " +
                s.source + ">";
       });
-  m.def("fit", &fit, py::arg("source"), py::arg("level") = 4, py::arg("order") = 8, py::arg("isotropic") = false,
+  m.def("fit", &fit, py::arg("source"), py::arg("level") = 4, py::arg("order") = py::none(), py::arg("isotropic") = false,
         py::arg("cosine") = false, py::arg("filter") = "none", py::arg("sampling") = "average",
         py::arg("gram_tolerance") = kDefaultGramTolerance, kFitDoc);
   m.def("read_spectrum", [](const std::string& path, const std::string& name) { return read_spectrum_file(path, name); },

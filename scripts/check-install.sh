@@ -5,9 +5,12 @@
 # UBSan, and for the baseline ISA without sanitizers (ASan's allocator hides the failure an alignment mismatch
 # causes: with the pin removed, the uninstrumented baseline build aborts with "double free or corruption",
 # status 134, while the ASan builds pass). A library built with one set of ISA flags must work from programs built with another: Eigen's
-# alignment is pinned in the exported interface (icobrdf/core/CMakeLists.txt). Also checks that a consumer of
-# icobrdf::core alone configures with every other dependency hidden, that one of icobrdf::io configures, builds
-# and runs with BLAS and LAPACK hidden, and that one of the optional component blas installs its kernels.
+# alignment is pinned in the exported interface (icobrdf/core/CMakeLists.txt). The examples declare CXX alone
+# (project(... LANGUAGES CXX)): the package finds HDF5 without a C compiler. Also checks that the program is in the
+# prefix's bin/ and runs from there, that a consumer of icobrdf::core alone configures with every other dependency
+# hidden, that one of icobrdf::io (declaring C and CXX: HDF5 through CMake's FindHDF5) configures, builds and runs
+# with BLAS and LAPACK hidden, and that one of the optional component blas installs its kernels and runs the
+# program through the imported executable icobrdf::program.
 #   scripts/check-install.sh [BUILD_DIR] [WORK_DIR]     (CTest runs it as the test install_package)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -23,7 +26,7 @@ step "install into $work/staging, then move it to $work/prefix"
 cmake --install "$build" --prefix "$work/staging" >"$work/install.log"
 mv "$work/staging" "$work/prefix"
 prefix="$work/prefix"
-for f in lib/cmake/icobrdf/icobrdfConfig.cmake lib/cmake/icobrdf/icobrdfConfigVersion.cmake include/icobrdf/icobrdf.hpp \
+for f in bin/icobrdf lib/cmake/icobrdf/icobrdfConfig.cmake lib/cmake/icobrdf/icobrdfConfigVersion.cmake include/icobrdf/icobrdf.hpp \
   include/icobrdf/core/grid/grid.hpp include/icobrdf/blas/blas_dense_kernels.hpp lib/libicobrdf_core.a lib/libicobrdf_blas.a \
   lib/libicobrdf_pipeline.a; do
   [ -e "$prefix/$f" ] || { echo "check-install: the package lacks $f" >&2; exit 1; }
@@ -32,6 +35,10 @@ if grep -rq "$root" "$prefix/lib/cmake/icobrdf"; then
   echo "check-install: the package config names the source tree ($root): not relocatable" >&2
   exit 1
 fi
+step "the installed program runs from the relocated prefix"
+# Into a file first: grep -q leaving a pipe early would end the program with SIGPIPE, a failure under pipefail.
+"$prefix/bin/icobrdf" models >"$work/models.txt" && grep -q "^lambert" "$work/models.txt" ||
+  { echo "check-install: $prefix/bin/icobrdf models did not list lambert" >&2; exit 1; }
 
 export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
@@ -59,15 +66,16 @@ if [ -n "$(ls "$prefix"/lib/python3/dist-packages/icobrdf*.so 2>/dev/null)" ]; t
     { echo "check-install: the installed Python module failed" >&2; exit 1; }
 fi
 
-# consumer NAME COMPONENT [ABSENT]: writes $work/NAME/CMakeLists.txt, a program NAME (NAME/main.cpp) that asks the
-# package for COMPONENT alone and links icobrdf::COMPONENT, refusing to configure if icobrdf::ABSENT was loaded.
+# consumer NAME LANGUAGES COMPONENT [ABSENT]: writes $work/NAME/CMakeLists.txt, a project of LANGUAGES ("CXX" or
+# "C CXX") with a program NAME (NAME/main.cpp) that asks the package for COMPONENT alone and links
+# icobrdf::COMPONENT, refusing to configure if icobrdf::ABSENT was loaded.
 consumer() {
   mkdir -p "$work/$1"
   {
-    printf 'cmake_minimum_required(VERSION 3.20)\nproject(%s LANGUAGES C CXX)\n' "$1"
-    printf 'find_package(icobrdf REQUIRED COMPONENTS %s)\n' "$2"
-    [ -z "${3:-}" ] || printf 'if(TARGET icobrdf::%s)\n  message(FATAL_ERROR "icobrdf::%s was loaded although only %s was asked for")\nendif()\n' "$3" "$3" "$2"
-    printf 'add_executable(%s main.cpp)\ntarget_link_libraries(%s PRIVATE icobrdf::%s)\n' "$1" "$1" "$2"
+    printf 'cmake_minimum_required(VERSION 3.20)\nproject(%s LANGUAGES %s)\n' "$1" "$2"
+    printf 'find_package(icobrdf REQUIRED COMPONENTS %s)\n' "$3"
+    [ -z "${4:-}" ] || printf 'if(TARGET icobrdf::%s)\n  message(FATAL_ERROR "icobrdf::%s was loaded although only %s was asked for")\nendif()\n' "$4" "$4" "$3"
+    printf 'add_executable(%s main.cpp)\ntarget_link_libraries(%s PRIVATE icobrdf::%s)\n' "$1" "$1" "$3"
   } >"$work/$1/CMakeLists.txt"
 }
 # build_consumer NAME [CMAKE_ARGS...]: configures (against the relocated prefix) and builds it.
@@ -80,7 +88,7 @@ build_consumer() {
 }
 
 step "a consumer of icobrdf::core alone, with OpenMesh, HDF5, fmt, toml++, nlohmann_json and cairo hidden"
-consumer core_only core io
+consumer core_only CXX core io
 cat >"$work/core_only/main.cpp" <<'CPP'
 #include <cstdio>
 #include <icobrdf/core/basis/hemisphere_basis.hpp>
@@ -91,8 +99,8 @@ build_consumer core_only -DCMAKE_DISABLE_FIND_PACKAGE_OpenMesh=ON -DCMAKE_DISABL
   -DCMAKE_DISABLE_FIND_PACKAGE_PkgConfig=ON
 "$work/core_only/build/core_only" | grep -q "^45 modes up to order 8$" || { echo "check-install: core_only printed the wrong count" >&2; exit 1; }
 
-step "a consumer of icobrdf::io with BLAS and LAPACK hidden: io's measured SOURCEs take core's default (Eigen's) kernels"
-consumer io_only io blas
+step "a consumer of icobrdf::io (C and CXX) with BLAS and LAPACK hidden: io's measured SOURCEs take core's default (Eigen's) kernels"
+consumer io_only "C CXX" io blas
 # A CSV of samples opened as a SOURCE links io's measured sources, whose fits take core's default dense kernels.
 cat >"$work/io_only/main.cpp" <<'CPP'
 #include <cstdio>
@@ -110,8 +118,11 @@ build_consumer io_only -DCMAKE_DISABLE_FIND_PACKAGE_BLAS=ON -DCMAKE_DISABLE_FIND
 "$work/io_only/build/io_only" "$work/io_only/samples.csv" | grep -q "^1 channel, dense kernels Eigen$" ||
   { echo "check-install: io_only did not open the samples with Eigen's default kernels" >&2; exit 1; }
 
-step "a consumer of icobrdf::blas that installs its choice as core's default dense kernels"
-consumer blas_only blas
+step "a consumer of icobrdf::blas that installs its choice as core's default dense kernels and runs icobrdf::program"
+consumer blas_only CXX blas
+# The imported program runs at build time: its list of models, written by a custom command.
+printf 'add_custom_command(OUTPUT models.txt COMMAND icobrdf::program models > models.txt)\nadd_custom_target(models ALL DEPENDS models.txt)\n' \
+  >>"$work/blas_only/CMakeLists.txt"
 cat >"$work/blas_only/main.cpp" <<'CPP'
 #include <cstdio>
 #include <icobrdf/blas/blas_dense_kernels.hpp>
@@ -122,7 +133,8 @@ int main() {
 }
 CPP
 build_consumer blas_only
+grep -q "^lambert" "$work/blas_only/build/models.txt" || { echo "check-install: icobrdf::program did not run in the consumer's build" >&2; exit 1; }
 "$work/blas_only/build/blas_only" >"$work/blas_only.run.log" ||
   { echo "check-install: blas_only failed" >&2; cat "$work/blas_only.run.log" >&2; exit 1; }
 
-echo "check-install: 3 examples ran clean against the relocated package (native and baseline ISA under ASan + UBSan, baseline without); core alone links; io links without BLAS or LAPACK; blas installs its kernels"
+echo "check-install: 3 examples (CXX only) ran clean against the relocated package (native and baseline ISA under ASan + UBSan, baseline without); bin/icobrdf runs; core alone links; io (C and CXX) links without BLAS or LAPACK; blas installs its kernels and runs icobrdf::program"

@@ -26,6 +26,7 @@
 #include "icobrdf/io/curet.hpp"
 #include "icobrdf/io/merl.hpp"
 #include "icobrdf/io/rgl_bsdf.hpp"
+#include "icobrdf/io/sample_arrays.hpp"
 #include "icobrdf/io/sample_csv.hpp"
 #include "icobrdf/io/scatmech_coefficients.hpp"
 
@@ -627,6 +628,16 @@ std::unique_ptr<BrdfSource> open_measured_source(const std::string& text) {
   if (looks_like_scatmech_coefficients(path)) return open_scatmech(text, text);
   if (ends_with(path, ".csv")) return open_samples(text, text);
   return nullptr;
+}
+
+std::unique_ptr<BrdfSource> open_sample_arrays(BrdfSamples samples, const SampleArrayFit& options, const std::string& spec) {
+  const SampleFitOptions& fo = options.fit;
+  if (!(std::isfinite(fo.tikhonov) && fo.tikhonov >= 0 && std::isfinite(fo.tikhonov_power) && fo.tikhonov_power >= 0))
+    throw ArgumentError("samples '" + quoted_text(spec) + "': tikhonov and power must be finite and >= 0, found " +
+                        std::to_string(fo.tikhonov) + " and " + std::to_string(fo.tikhonov_power));
+  if (!std::isfinite(fo.rank_tolerance))
+    throw ArgumentError("samples '" + quoted_text(spec) + "': rank_tol must be finite (< 0: the default)");
+  return std::make_unique<SampleCsvSource>(std::move(samples), fo, options.tikhonov_auto, spec);
 }
 
 const SampleFitResult* last_sample_fit(const BrdfSource& source) {

@@ -1,5 +1,7 @@
 #include "icobrdf/pipeline/fit_source.hpp"
+#include "icobrdf/pipeline/fit_order.hpp"
 
+#include "icobrdf/io/measured_sources.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 #include "icobrdf/pipeline/resource_estimate.hpp"
 
@@ -46,6 +48,11 @@ int FitContexts::supported_order(const FitRequest& request) {
   const int in_memory = largest_order_in_memory(request.level, request.order, 1);
   if (in_memory < 0) require_model_fit_memory(request.level, 0, 1, "a fit");
   return supported_[key] = largest_supported_order(build_discrete_basis(*grid_locked(request), in_memory), request.gram_tolerance);
+}
+
+int fit_order_for(const BrdfSource& source, std::optional<int> order) {
+  if (order) return *order;
+  return chooses_order(source) ? kChooseOrder : kDefaultFitOrder;
 }
 
 FitResult fit_source(const BrdfSource& source, const FitRequest& request) {
