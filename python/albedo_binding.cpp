@@ -123,7 +123,7 @@ const std::string kBlackSkyDoc = std::string(R"doc(Black-sky (directional-hemisp
 
 a(s) = integral over the view hemisphere of f(w_s, w_v) cos(theta_v) dw_v, per channel: for the kernels of
 ``model:ross-li`` the kernel integrals themselves (iso + vol h_vol(s) + geo h_geo(s)), not divided by pi. Delta
-parts add their weight. Accurate to 1e-12 for smooth BRDFs, 1e-6 for the Li-Sparse-R kernel (docs/albedo.md).
+parts add their weight. Accurate to 1e-12 for smooth BRDFs, 4e-6 for the Li-Sparse-R kernel (docs/albedo.md).
 
 Parameters
 ----------

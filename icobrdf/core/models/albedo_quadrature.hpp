@@ -18,10 +18,11 @@
 // mu_s = cos(s) on [0, 1], `sun_polar_nodes` nodes, of 2 mu_s a(mu_s).
 //
 // Accuracy, measured (tests/core/models/test_albedo_quadrature.cpp; docs/albedo.md), default rule:
-// smooth BRDFs to 1e-12 or better (Lambert exact; Minnaert and Lommel-Seeliger against their closed forms, the
-// latter with its log term at grazing; Phong n = 20 at normal incidence); the Ross-Thick kernel's integrals to
-// 1e-9 and the Li-Sparse-R kernel's (with its kink where the crowns' shadows start to overlap) to 2e-6 of the
-// rule refined 4 x; narrow specular lobes (GGX alpha <= 0.05) only as well as 2 x 48 nodes resolve them.
+// smooth BRDFs to 1e-12 (Lambert exact; Minnaert and Lommel-Seeliger against their closed forms; Phong n = 20 at
+// normal incidence; Lommel-Seeliger 4.4e-8 with the sun 0.1 degree above the horizon, near its pole); the
+// Ross-Thick kernel's black-sky integrals to 9e-12 and the Li-Sparse-R kernel's (with its kink where the crowns'
+// shadows start to overlap) to 3.9e-6 of an adaptive quadrature; GGX alpha 0.05 to 3e-6, alpha 0.02 to 9e-4
+// (narrow lobes need more nodes).
 // Cost: 2 polar_nodes x 2 azimuth_nodes (12,288 by default) evaluations per sun direction.
 #include <Eigen/Core>
 

@@ -22,24 +22,31 @@ namespace ICOBRDF_UNITY_ID {
 // Smooth integrands (polynomials in the cosines, or analytic in the panels as Lommel-Seeliger's mu/(mu_s + mu)):
 // the Gauss-Legendre panels converge to rounding; sums of ~1e4 weighted terms of order 1.
 constexpr double kSmoothTol = 1e-12;
-// Lommel-Seeliger's white-sky albedo: the outer rule in mu_s meets a(mu_s)'s mu_s ln(mu_s) term at 0, whose
-// Gauss-Legendre error falls as n^-4: 48 nodes leave ~1e-9 (measured 2.9e-10).
-constexpr double kLogEndpointTol = 1e-9;
+// Lommel-Seeliger's white-sky albedo: the outer rule in mu_s meets a(mu_s)'s mu_s ln(mu_s) term at 0 (measured
+// 2.3e-11 off the closed form).
+constexpr double kLogEndpointTol = 1e-10;
+// Lommel-Seeliger with the sun 0.1 degree above the horizon: the pole of mu/(mu_s + mu) at mu = -mu_s lies
+// 2 mu_s = 0.0035 from the panel [mu_s, 1] of length ~1, which slows Gauss-Legendre down (measured 4.4e-8).
+constexpr double kNearPoleTol = 1e-7;
 // The ATBD prints the white-sky integrals to 6 decimals, and its Li-Sparse-R value differs from the integral of
 // the published formula by 3.6e-5 (tests/core/models/test_kernel_models.cpp): 1e-4.
 constexpr double kWhiteSkyTol = 1e-4;
 // Black-sky kernel integrals against SciPy's adaptive quadrature (QUADPACK error estimates <= 1.1e-10): the
-// library's fixed rule on the Li-Sparse-R kernel's kink (where the crowns' shadows start to overlap) was measured
-// to 1e-6 of the adaptive values; the acceptance criterion is 1e-3, this test holds the measured order.
+// library's fixed rule was measured to 9e-12 on Ross-Thick and 3.9e-6 on the Li-Sparse-R kernel's kink (where the
+// crowns' shadows start to overlap); the acceptance criterion is 1e-3, this test holds the measured order.
 constexpr double kKernelBlackSkyTol = 1e-5;
-// Refining the rule 2 x in every direction changes smooth albedos by rounding only, the Li-Sparse-R kernel's by
-// its kink's error (measured below 2e-6): the rule's own convergence, stated in the header.
-constexpr double kLiRefinementTol = 2e-6;
+// Refining the rule 2 x in the view directions changes smooth albedos by rounding only, the Li-Sparse-R kernel's by
+// its kink's error (measured 3.7e-6 at 0-80 degrees; 3.9e-6 against the adaptive values): the rule's stated error.
+constexpr double kLiRefinementTol = 5e-6;
 // The ATBD's cubic is a fit, not the integral: against the independent values below it is off by up to 0.0184
 // for Ross-Thick between 0 and 70 degrees (its constant -0.007574 against -0.021079 at nadir) and 0.0753 at 80,
 // and by up to 0.0061 for Li-Sparse-R from 0 to 80 degrees: bounds just above those (a mistyped constant breaks them).
 constexpr double kAtbdRossThickApprox = 0.02, kAtbdRossThickApproxAt80 = 0.08;
 constexpr double kAtbdLiSparseApprox = 0.0065;
+
+// The mean over 16 sun azimuths of an anisotropic GGX (alpha 0.3 x 0.6) turned by 37 degrees: the trapezoid rule
+// on a smooth periodic function of the sun's azimuth (measured 1.0e-7).
+constexpr double kSunAzimuthTol = 1e-6;
 
 constexpr double kDeg = M_PI / 180.0;
 
@@ -83,7 +90,7 @@ TEST(AlbedoQuadrature, LommelSeeligerMatchesItsLogarithmicClosedForm) {
   const Eigen::MatrixXd a = black_sky_albedo(*ls, t);
   for (Eigen::Index k = 0; k < t.size(); ++k) {
     const double mu = std::cos(t(k));
-    EXPECT_NEAR(a(k, 0), 0.5 * w * (1.0 - mu * std::log1p(1.0 / mu)), kSmoothTol) << t(k);
+    EXPECT_NEAR(a(k, 0), 0.5 * w * (1.0 - mu * std::log1p(1.0 / mu)), mu > 0.01 ? kSmoothTol : kNearPoleTol) << t(k);
   }
   EXPECT_NEAR(white_sky_albedo(*ls)(0), 2.0 * w / 3.0 * (1.0 - std::log(2.0)), kLogEndpointTol);
 }
@@ -112,7 +119,7 @@ TEST(AlbedoQuadrature, AnAnisotropicModelIsAveragedOverTheSunsAzimuth) {
   // error over 16 sun azimuths, which the smooth dependence on the sun's azimuth makes spectral).
   const auto a0 = black_sky_albedo(*parse_model("ggx-aniso:alpha_x=0.3,alpha_y=0.6,azimuth=0"), t);
   const auto a1 = black_sky_albedo(*parse_model("ggx-aniso:alpha_x=0.3,alpha_y=0.6,azimuth=37"), t);
-  EXPECT_NEAR((a0 - a1).cwiseAbs().maxCoeff(), 0.0, 1e-6);
+  EXPECT_NEAR((a0 - a1).cwiseAbs().maxCoeff(), 0.0, kSunAzimuthTol);
 }
 
 TEST(AlbedoQuadrature, KernelWhiteSkyIntegralsAreTheAtbdValues) {
