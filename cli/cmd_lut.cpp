@@ -1,6 +1,7 @@
 // LUT commands:
 //   icobrdf lut SOURCE --level L [--cosine] [--sampling average|centre] [--float32] [--order N] -o LUT.h5
 //   icobrdf smooth LUT.h5[#MATERIAL] --order N [--filter NAME] [--float32] -o OUT.h5     (S F S^T)
+//   icobrdf albedo SOURCE [--black-sky DEG[,DEG...]] [--white-sky] [--curve] [--json] [--strict]  (icobrdf/pipeline/source_albedo.hpp)
 //   icobrdf albedo LUT.h5[#MATERIAL] [--json] [--strict]                                (white furnace)
 // lut and albedo refuse Inf / NaN and report negative f or albedo (icobrdf/pipeline/reflectance_check.hpp).
 // LUT files: icobrdf/io/lut_file.hpp.
@@ -15,6 +16,7 @@
 #include "icobrdf/io/output_path.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 #include "icobrdf/pipeline/lut_material.hpp"
+#include "icobrdf/pipeline/source_albedo.hpp"
 
 namespace icobrdf::cli {
 namespace {
@@ -22,7 +24,7 @@ namespace {
 struct LutArgs {
   std::string source, input, output, filter = "none", sampling = "average", name = "lut";
   int level = 4, order = 8;
-  bool cosine = false, float32 = false, json = false, strict = false;
+  bool cosine = false, float32 = false, strict = false;
 };
 
 void run_lut(const LutArgs& a) {
@@ -51,20 +53,9 @@ void run_smooth(const LutArgs& a) {
   std::cout << fmt::format("{}: LUT '{}' smoothed to order {} with filter {}\n", a.output, s.name, a.order, s.filter);
 }
 
-void run_albedo(const LutArgs& a) {
-  const nlohmann::json j = lut_albedo_json(a.input, a.strict, &std::cerr);
-  if (a.json) {
-    std::cout << j.dump(2) << "\n";
-    return;
-  }
-  const nlohmann::json& ch = j["channels"];
-  std::cout << fmt::format("{} '{}' ({} cells):\n", a.input, j["material"].get<std::string>(), j["cells"].get<int>());
-  for (size_t c = 0; c < ch.size(); ++c)
-    std::cout << fmt::format("  channel {}: directional albedo max {:.6g} (at theta {:.1f} deg, phi {:.1f} deg), min {:.6g}, mean {:.6g}: {}\n", c,
-                             ch[c]["max_albedo"].get<double>(), ch[c]["worst_theta_deg"].get<double>(), ch[c]["worst_phi_deg"].get<double>(),
-                             ch[c]["min_albedo"].get<double>(), ch[c]["mean_albedo"].get<double>(),
-                             ch[c]["min_albedo"].get<double>() < 0 ? "NON-PHYSICAL (negative albedo)"
-                             : ch[c]["energy_conserving"].get<bool>() ? "passes the white furnace" : "FAILS the white furnace (albedo > 1)");
+void run_albedo(const AlbedoRequest& q, bool json) {
+  const nlohmann::json j = albedo_json(q, &std::cerr);
+  std::cout << (json ? j.dump(2) + "\n" : albedo_text(j));
 }
 
 void add_lut_commands(CLI::App& app) {
@@ -90,12 +81,16 @@ void add_lut_commands(CLI::App& app) {
   smooth->add_option("-o,--output", s->output, "Output file (.h5)")->required();
   smooth->callback([s] { run_smooth(*s); });
 
-  auto b = std::make_shared<LutArgs>();
-  auto* albedo = app.add_subcommand("albedo", "Directional albedo of a LUT and the white-furnace check");
-  albedo->add_option("lut", b->input, "LUT.h5[#MATERIAL]")->required();
-  albedo->add_flag("--json", b->json, "JSON output");
+  auto b = std::make_shared<AlbedoRequest>();
+  auto json = std::make_shared<bool>(false);
+  auto* albedo = app.add_subcommand("albedo", "Black-sky and white-sky albedos of a SOURCE; a LUT's directional albedo and white-furnace check");
+  albedo->add_option("source", b->input, "SOURCE, or LUT.h5[#MATERIAL] (without the options below: the LUT's figures)")->required();
+  albedo->add_option("--black-sky", b->black_sky_deg, "Black-sky albedo at these solar zeniths (DEG[,DEG...])")->delimiter(',');
+  albedo->add_flag("--white-sky", b->white_sky, "White-sky (bihemispherical) albedo");
+  albedo->add_flag("--curve", b->curve, "The directional (black-sky) albedo at every degree from 0 to 89");
+  albedo->add_flag("--json", *json, "JSON output");
   albedo->add_flag("--strict", b->strict, "A negative albedo (non-physical) is an error, not a warning");
-  albedo->callback([b] { run_albedo(*b); });
+  albedo->callback([b, json] { run_albedo(*b, *json); });
 }
 
 const CommandRegistrar kRegLut("lut", add_lut_commands);

@@ -10,6 +10,8 @@ void bind_errors(pybind11::module_& m);     // library errors -> Python exceptio
 void bind_grid(pybind11::module_& m);       // Grid (python/grid_binding.cpp)
 void bind_basis(pybind11::module_& m);      // basis_count, hemisphere_basis, helmholtz_modes, isotropic_modes
 void bind_source(pybind11::module_& m);     // Source (Source.from_samples: arrays), models (python/source_binding.cpp)
+void bind_albedo(pybind11::module_& m);     // black_sky_albedo, white_sky_albedo, albedo_nodes, white_sky_nodes; Source's
+                                            // albedo methods (python/albedo_binding.cpp)
 void bind_sampler(pybind11::module_& m);    // Sampler (python/sampler_binding.cpp)
 void bind_sample_fit(pybind11::module_& m); // SampleFit, the record of a fit of samples (python/sample_fit_binding.cpp)
 void bind_spectrum(pybind11::module_& m);   // Spectrum, fit, read_spectrum, write_spectrum, bank_materials

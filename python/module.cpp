@@ -22,6 +22,7 @@ PYBIND11_MODULE(icobrdf, m) {
   bind_grid(m);
   bind_basis(m);
   bind_source(m);
+  bind_albedo(m);
   bind_sampler(m);
   bind_sample_fit(m);
   bind_spectrum(m);

@@ -8,6 +8,17 @@
 #include "icobrdf/io/brdf_source.hpp"
 
 namespace icobrdf {
+namespace {
+
+std::shared_ptr<const BrdfModel> values_model(std::shared_ptr<const BrdfSource> src) {
+  const std::string spec = src->spec();
+  const int channels = src->channels();
+  return std::make_shared<FunctionModel>(
+      channels, [src = std::move(src)](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) { out = src->eval(wi, wr); },
+      spec, false, false);
+}
+
+}  // namespace
 
 std::shared_ptr<const BrdfModel> model_of_source(const std::string& text, std::string* label, std::vector<std::string>* channel_names) {
   if (channel_names) channel_names->clear();
@@ -17,13 +28,16 @@ std::shared_ptr<const BrdfModel> model_of_source(const std::string& text, std::s
     std::shared_ptr<const BrdfSource> src = open_source(text);
     *label = src->spec();
     if (channel_names) *channel_names = src->channel_names();
-    return std::make_shared<FunctionModel>(
-        src->channels(), [src](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) { out = src->eval(wi, wr); },
-        src->spec(), false, false);
+    return values_model(src);
   }
   std::shared_ptr<const BrdfModel> model = parse_model_source(text.rfind("model:", 0) == 0 ? text : "model:" + text);
   *label = "model:" + model->spec();
   return model;
+}
+
+std::shared_ptr<const BrdfModel> model_of_open_source(std::shared_ptr<const BrdfSource> source) {
+  if (is_model_source(source->spec())) return parse_model_source(source->spec());
+  return values_model(std::move(source));
 }
 
 }  // namespace icobrdf

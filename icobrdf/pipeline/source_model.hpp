@@ -9,10 +9,15 @@
 #include <vector>
 
 #include "icobrdf/core/models/brdf_model.hpp"
+#include "icobrdf/io/brdf_source.hpp"
 
 namespace icobrdf {
 
 std::shared_ptr<const BrdfModel> model_of_source(const std::string& text, std::string* label,
                                                  std::vector<std::string>* channel_names = nullptr);
+
+// The same for a source already open: an analytic model (its spec() begins with "model:") parsed again from
+// its spec, so that its delta parts and isotropy come along; any other source through its values, as above.
+std::shared_ptr<const BrdfModel> model_of_open_source(std::shared_ptr<const BrdfSource> source);
 
 }  // namespace icobrdf

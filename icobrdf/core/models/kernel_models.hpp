@@ -56,6 +56,11 @@ class RossLiModel final : public ScalarBrdfModel {
       : iso_(iso), vol_(vol), geo_(geo), volume_(volume), geometric_(geometric) {}
   double value(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const override;
   std::string spec() const override;
+  double iso() const { return iso_; }
+  double vol() const { return vol_; }
+  double geo() const { return geo_; }
+  VolumeKernel volume() const { return volume_; }
+  GeometricKernel geometric() const { return geometric_; }
 
  private:
   double iso_, vol_, geo_;
