@@ -1,7 +1,5 @@
 // icobrdf eval: values of a BRDF SOURCE at direction pairs.
-//
 //   icobrdf eval SOURCE --at PAIRS.csv [--radians]
-//
 // SOURCE: model:NAME[:key=value,...] (icobrdf models lists them; sums "model:0.8*lambert+0.2*ggx:alpha=0.1")
 // or any other SOURCE that icobrdf/io/brdf_source.hpp opens. PAIRS.csv: header theta_i,phi_i,theta_r,phi_r, sza,vza,raa, sza,saa,vza,vaa or SCATMECH's
 // thetai,thetas,phis[,rotation], signed theta accepted, degrees unless --radians (icobrdf/io/direction_csv.hpp). Output: CSV with a header of one column per channel ("f" or

@@ -1,8 +1,6 @@
 // icobrdf models: the analytic BRDF models a SOURCE "model:NAME[:key=value,...]" can name, with their
 // parameters (default, accepted range or choices, unit, meaning) and energy conservation.
-//
 //   icobrdf models [--json]
-//
 // JSON: {"models": [{"name", "summary", "canonical" (the default spec), "physical", "physical_condition",
 //   "delta", "parameters": [{"name", "default", "min", "max", "unit", "meaning"} or, for choices,
 //   {"name", "default", "choices", "meaning"}]}]}. Angles are in degrees. docs/models.md has the formulas.

@@ -1,7 +1,5 @@
 // icobrdf sample: importance-sampled reflected directions of a SOURCE (icobrdf/io/material_sampler.hpp).
-//
 //   icobrdf sample SOURCE --theta-i DEG [--phi-i DEG] -n N [--seed S] [--level L] [--cell-value centre|average]
-//
 // Output: CSV with header theta_r,phi_r,pdf,weight (weight_r,weight_g,weight_b ... per channel, named like
 // eval's columns), one line per draw: angles in degrees, pdf in 1/sr (piecewise constant over the equal-area
 // cells of the level), weight = f cos(theta_r) / pdf. The uniform numbers come from a 64-bit Mersenne twister
