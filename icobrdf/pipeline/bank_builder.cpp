@@ -32,6 +32,10 @@
 namespace icobrdf {
 namespace {
 
+// An asymmetry up to this is the rounding of a source reciprocal in exact arithmetic, not the data's: such a
+// source is fitted as it is.
+constexpr double kRoundingAsymmetry = 1e-12;
+
 using Say = std::function<void(const std::string&)>;
 
 std::string three_digits(double x) {
@@ -82,8 +86,15 @@ MaterialRecord fit_material(const Scene& scene, const SceneMaterial& m, FitConte
   // Sources of samples are fitted on the samples not held out.
   const BrdfSource& training = held && held->training ? *held->training : *src;
   // A source slow to evaluate is evaluated once per batch of pairs its fits ask for (lobe grids, peak pairs).
+  // A measurement judged against its reciprocal part is fitted to that part (pipeline/memo_source.hpp).
   std::optional<MemoSource> memo;
-  if (training.slow_to_evaluate()) memo.emplace(training);
+  const bool fit_reciprocal_part = held && held->reciprocal_reference && held->asymmetry > kRoundingAsymmetry && !training.values_only_at_samples();
+  if (fit_reciprocal_part) {
+    memo.emplace(training, MemoSource::ReciprocalPart{});
+    say(m.name + ": the fits take the data's reciprocal part (f + f^T)/2");
+  } else if (training.slow_to_evaluate()) {
+    memo.emplace(training);
+  }
   const BrdfSource& fitted = memo ? static_cast<const BrdfSource&>(*memo) : training;
   const MaterialProblem problem{scene, m, fitted, errors ? &*errors : nullptr, contexts, say};
   MaterialCandidate chosen = [&] {

@@ -44,6 +44,7 @@ Eigen::MatrixXd MemoSource::eval(const RowMatrix3d& wi, const RowMatrix3d& wr) c
     }
   }
   Eigen::MatrixXd f = source_.eval(wi, wr);
+  if (reciprocal_part_) f = 0.5 * (f + source_.eval(wr, wi));
   const std::size_t bytes = static_cast<std::size_t>(f.size()) * sizeof(double);
   std::lock_guard<std::mutex> g(lock_);
   ++misses_;

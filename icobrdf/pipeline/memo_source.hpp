@@ -8,6 +8,11 @@
 // Batches are keyed by two independent 64-bit hashes of their rows' bit patterns (and their row count); the
 // values of at most `max_bytes` of batches are kept, the oldest dropped first. Everything else is the
 // wrapped source's. Thread-safe (eval may be called from several threads).
+// Constructed with ReciprocalPart, it remembers (and answers with) the source's reciprocal part
+// f_rec(a, b) = (f(a, b) + f(b, a)) / 2 instead of f: what a reciprocal representation can hold of a
+// non-reciprocal measurement. The bank fits that for a material judged against the reciprocal part, so that a
+// lobe fitted at one ordering of each node pair does not take the data's asymmetry at that ordering as error
+// (fit() is the source's: a projection onto the reciprocal modes is the same for f and f_rec).
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -25,6 +30,8 @@ inline constexpr std::size_t kMemoSourceBytes = std::size_t{160} << 20;
 class MemoSource final : public BrdfSource {
  public:
   explicit MemoSource(const BrdfSource& source, std::size_t max_bytes = kMemoSourceBytes) : source_(source), max_bytes_(max_bytes) {}
+  struct ReciprocalPart {};
+  MemoSource(const BrdfSource& source, ReciprocalPart) : source_(source), max_bytes_(kMemoSourceBytes), reciprocal_part_(true) {}
   std::string spec() const override { return source_.spec(); }
   int channels() const override { return source_.channels(); }
   std::vector<std::string> channel_names() const override { return source_.channel_names(); }
@@ -50,6 +57,7 @@ class MemoSource final : public BrdfSource {
   using Key = std::pair<std::uint64_t, std::uint64_t>;
   const BrdfSource& source_;
   std::size_t max_bytes_;
+  bool reciprocal_part_ = false;
   mutable std::mutex lock_;
   mutable std::map<Key, Eigen::MatrixXd> values_;
   mutable std::deque<Key> order_;  // oldest first

@@ -75,3 +75,33 @@ TEST(MemoSource, DropsTheOldestBatchAtTheBound) {
 }
 
 }  // namespace ICOBRDF_UNITY_ID
+
+namespace ICOBRDF_UNITY_ID {
+
+// f = a + b (cos theta_i - cos theta_r): its reciprocal part is a, its antisymmetric part b (cos_i - cos_r).
+class AntisymmetricSource final : public BrdfSource {
+ public:
+  static constexpr double kA = 0.3, kB = 0.1;
+  std::string spec() const override { return "test:antisymmetric"; }
+  int channels() const override { return 1; }
+  Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
+    return (Eigen::ArrayXd::Constant(wi.rows(), kA) + kB * (wi.col(2).array() - wr.col(2).array())).matrix();
+  }
+  Spectrum fit(const ProjectionContext&, const FitOptions&) const override { throw std::logic_error("not used"); }
+};
+
+// Rounding of a sum of two doubles halved.
+constexpr double kHalfSumRounding = 1e-15;
+
+TEST(MemoSource, TheReciprocalPartIsTheMeanOfBothOrderings) {
+  const AntisymmetricSource src;
+  const MemoSource memo(src, MemoSource::ReciprocalPart{});
+  RowMatrix3d wi, wr;
+  uniform_pairs(300, 5, wi, wr);
+  const Eigen::MatrixXd f = memo.eval(wi, wr);
+  EXPECT_LT((f.array() - AntisymmetricSource::kA).abs().maxCoeff(), kHalfSumRounding);
+  EXPECT_TRUE((memo.eval(wr, wi).array() == f.array()).all()) << "exchanging the directions changes nothing";
+  EXPECT_GT((src.eval(wi, wr).array() - AntisymmetricSource::kA).abs().maxCoeff(), 0.01) << "the source itself is not reciprocal";
+}
+
+}  // namespace ICOBRDF_UNITY_ID
