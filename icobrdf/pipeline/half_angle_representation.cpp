@@ -138,6 +138,11 @@ struct LobeFit {
 // Measured data: no analytic form, so noise may put a floor under every lobe (kMeasuredLadder).
 bool measured_data(const MaterialProblem& p) { return !p.source.reciprocal_by_construction(); }
 
+// The bank keeps its lobes as float64 factors per channel for now: a lobe stored compactly (shared factors,
+// int8/int16/float32) evaluates far more slowly (a level-2 LUT of one such lobe took 16 s against 0.1 s), which
+// LUT sampling and the bank tests' kill timings cannot afford. `bench measured` measures the compact forms.
+constexpr bool kCompactStoredLobes = false;
+
 long long lobe_bytes(const HalfAngleFactors& lobe) { return static_cast<long long>(lobe.bytes()) + kLobeHeaderBytes; }
 
 // Bytes of the smallest lobe on a ladder step, rank 1 with shared int8 factors (their column scales and the
@@ -277,7 +282,7 @@ std::optional<LobeFit> fit_lobe_at(const MaterialProblem& p, const BrdfSource& r
         ": error " + exact_decimal(e.l2) + (peak ? " (with the peak-sampled " + exact_decimal(peak->l2) + ")" : std::string()));
   double node = 0.0;
   for (const double x : fit.report.error) node = std::max(node, x);
-  if (e.l2 <= p.material.target) {
+  if (kCompactStoredLobes && e.l2 <= p.material.target) {
     compact_lobe(p, sampler, residual.channels(), o, [&](const HalfAngleFactors& l) { return error_of(l, nullptr); }, fit.factors, e);
   }
   return LobeFit{std::move(fit.factors), e, node};
