@@ -59,20 +59,25 @@ void write_factor(h5::Group& g, const char* dataset, const std::vector<RowMatrix
     return g.write(dataset, f.data(), shape, unit, description);
   }
   std::vector<double> scales(m.size() * static_cast<size_t>(rank));
-  std::vector<std::int16_t> k16(buf.size());
-  std::vector<std::int8_t> k8(buf.size());
+  // Only the stored width is filled: a value of the int16 range converted to int8 is undefined behaviour.
+  const bool wide = p == FactorPrecision::Int16;
+  std::vector<std::int16_t> k16(wide ? buf.size() : 0);
+  std::vector<std::int8_t> k8(wide ? 0 : buf.size());
   for (size_t c = 0; c < m.size(); ++c)
     for (int r = 0; r < rank; ++r) {
       const double scale = HalfAngleFactors::column_scale(m[c].col(r), p);
       scales[c * static_cast<size_t>(rank) + static_cast<size_t>(r)] = scale;
       for (Eigen::Index i = 0; i < rows; ++i) {
         const double k = scale > 0.0 ? std::round(m[c](i, r) / scale) : 0.0;
-        k16[c * per + static_cast<size_t>(i) * static_cast<size_t>(rank) + static_cast<size_t>(r)] = static_cast<std::int16_t>(k);
-        k8[c * per + static_cast<size_t>(i) * static_cast<size_t>(rank) + static_cast<size_t>(r)] = static_cast<std::int8_t>(k);
+        const size_t at = c * per + static_cast<size_t>(i) * static_cast<size_t>(rank) + static_cast<size_t>(r);
+        if (wide)
+          k16[at] = static_cast<std::int16_t>(k);
+        else
+          k8[at] = static_cast<std::int8_t>(k);
       }
     }
   const std::string what = description + " = " + dataset + "_scale[c, r] * this";
-  if (p == FactorPrecision::Int16)
+  if (wide)
     g.write(dataset, k16.data(), shape, "1", what);
   else
     g.write(dataset, k8.data(), shape, "1", what);

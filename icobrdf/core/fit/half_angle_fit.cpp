@@ -437,7 +437,11 @@ SharedFit grow_shared(const SampledNodes& n, const HalfAngleFitOptions& o, const
   };
   for (int r = 1; r <= max_rank && !meets(); ++r) {
     Eigen::MatrixXd residual = Eigen::MatrixXd::Zero(n.W.rows(), n.W.cols());
-    for (size_t c = 0; c < C; ++c) residual += n.Q[c] - f.U * f.S.row(static_cast<Eigen::Index>(c)).asDiagonal() * f.V.transpose();
+    for (size_t c = 0; c < C; ++c) {
+      residual += n.Q[c];
+      // Rank 0 has no terms yet; a row of the 0-column S would be a block of a null pointer.
+      if (f.U.cols() > 0) residual -= f.U * f.S.row(static_cast<Eigen::Index>(c)).asDiagonal() * f.V.transpose();
+    }
     const AlsProblem p{n.W, n.W, n.Wv, 0.0};
     Eigen::VectorXd un, vn;
     leading_residual_term(p, residual, Eigen::MatrixXd(n.W.rows(), 0), Eigen::MatrixXd(n.W.cols(), 0), un, vn);

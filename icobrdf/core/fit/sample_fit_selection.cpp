@@ -448,6 +448,9 @@ GcvChoice choose_tikhonov_gcv(const NormalEquations& ne, int order, bool isotrop
     (d[j] == 0.0 ? un : pen).push_back(j);
   }
   const auto nu = static_cast<Eigen::Index>(un.size()), np = static_cast<Eigen::Index>(pen.size());
+  // Nothing penalized is seen (e.g. a handful of samples): no lambda to choose. Returned before the solves below,
+  // whose right-hand sides would have no columns (an LDLT solve of a 0-column block reads through a null pointer).
+  if (np == 0) return GcvChoice{};
   const auto channels = ne.rhs.cols();
   Eigen::MatrixXd gnn(nu, nu), gnp(nu, np), gpp(np, np), bn(nu, channels), bp(np, channels);
   for (Eigen::Index a = 0; a < nu; ++a) {
@@ -474,7 +477,6 @@ GcvChoice choose_tikhonov_gcv(const NormalEquations& ne, int order, bool isotrop
   c = dh.asDiagonal() * c;
   GcvChoice g;
   const double n = static_cast<double>(ne.samples);
-  if (np == 0) return g;
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(s);
   const Eigen::VectorXd mu = es.eigenvalues().cwiseMax(0.0);
   const Eigen::MatrixXd chat2 = (es.eigenvectors().transpose() * c).array().square().matrix();
