@@ -114,7 +114,7 @@ std::vector<Eigen::MatrixXd> lobe_lut(const HalfAngleFactors& lobe, const icobrd
 TEST(HalfAngleFile, ACompactLobeSamplesTheLutOfItsDequantizedFloat64Factors) {
   const icobrdf::Grid g = icobrdf::build_equal_area_grid(0, 2);  // the cheap rule: the arithmetic is compared
   for (const bool shared : {false, true})
-    for (const FactorPrecision p : {FactorPrecision::Float32, FactorPrecision::Int16, FactorPrecision::Int8}) {
+    for (const FactorPrecision p : {FactorPrecision::Int16, FactorPrecision::Int8}) {  // integers: scale x k
       const std::string what = std::string(shared ? "shared " : "") + icobrdf::factor_precision_name(p);
       const icobrdf::test::ScratchDir dir;
       const HalfAngleFactors lobe = random_lobe(shared, p);
@@ -123,12 +123,10 @@ TEST(HalfAngleFile, ACompactLobeSamplesTheLutOfItsDequantizedFloat64Factors) {
       plain.precision = FactorPrecision::Float64;
       const auto want = lobe_lut(plain, g);
       EXPECT_GT(want[0].cwiseAbs().maxCoeff(), 0.0) << what;  // a LUT with values to compare
-      const auto in_memory = lobe_lut(lobe, g), from_file = lobe_lut(read, g);
-      ASSERT_EQ(in_memory.size(), want.size()) << what;
-      for (size_t c = 0; c < want.size(); ++c) {
-        EXPECT_EQ(in_memory[c], want[c]) << what << " channel " << c;
-        EXPECT_EQ(from_file[c], want[c]) << what << " channel " << c;
-      }
+      // (The lobe in memory holds the values read, bit for bit: EveryStorageReadsBackAsStoredAndEvaluatesTheSame.)
+      const auto from_file = lobe_lut(read, g);
+      ASSERT_EQ(from_file.size(), want.size()) << what;
+      for (size_t c = 0; c < want.size(); ++c) EXPECT_EQ(from_file[c], want[c]) << what << " channel " << c;
     }
 }
 
