@@ -7,6 +7,8 @@
 //   bench_half_angle --grids                 held-out error against each grid size separately
 //   bench_half_angle --extension             extension weight and rank against held-out error
 //   bench_half_angle --aniso                 anisotropic GGX at a few grids
+//   bench_half_angle --lut                   level-2 LUT of one lobe per stored form: seconds, evaluations, and
+//                                            the degree-9 against the degree-2 cell averages
 #include <benchmark/benchmark.h>
 
 #include <array>
@@ -22,7 +24,10 @@
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/fit/half_angle_fit.hpp"
 #include "icobrdf/core/models/half_angle_factors.hpp"
+#include "icobrdf/core/models/function_model.hpp"
 #include "icobrdf/core/models/model_registry.hpp"
+#include "icobrdf/core/projection/lut.hpp"
+#include "icobrdf/mesh/tessellation.hpp"
 
 using namespace icobrdf;
 
@@ -202,12 +207,70 @@ void aniso_study(std::size_t first) {
 
 }  // namespace
 
+
+// The LUT of a lobe on the level-2 bank grid (cell averages with the grid's cubature) per stored form of the
+// same fitted factors: float64 per channel, then each narrower precision (quantize()), and shared factors. A
+// stored form changes the values, never the work: every form's LUT should take the float64 one's time. Also
+// prints the evaluations a LUT costs and how far cell averages with the cheap degree-2 rule fall from the
+// degree-9 ones.
+void lut_study() {
+  struct Lobe {
+    const char* spec;
+    bool isotropic;
+    int channels;
+  };
+  const Lobe lobes[] = {{"model:oren-nayar:sigma=30,albedo=0.7", false, 1}, {"model:ggx:alpha=0.3,f0=0.04", true, 1}};
+  for (const int degree : {kDefaultCubatureDegree, kLutSamplingDegree}) {
+    const Grid g = build_equal_area_grid(2, degree);
+    std::printf("level 2, cubature degree %d: %d cells, %lld points, %.3g evaluations per LUT\n", degree, g.cells(),
+                static_cast<long long>(g.cubature_weights.size()),
+                static_cast<double>(g.cubature_weights.size()) * static_cast<double>(g.cubature_weights.size()));
+  }
+  const Grid grid = build_equal_area_grid(2);
+  for (const Lobe& l : lobes) {
+    const auto model = parse_model_source(l.spec);
+    HalfAngleFitOptions o;
+    o.quantity = HalfAngleQuantity::MeanCosine;
+    o.isotropic = l.isotropic;
+    o.n_t = 32, o.n_phi_h = l.isotropic ? 1 : 8, o.n_theta_d = 64, o.n_phi_d = 16;
+    o.fixed_rank = 2;
+    const HalfAngleFactors base = fit_half_angle(model_pair_sampler(*model), l.channels, o).factors;
+    const auto lut_of = [](const HalfAngleFactors& F, const Grid& on, double& seconds) {
+      const FunctionModel m(
+          F.channels(), [&F](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) { F.eval(wi, wr, out); },
+          "lobe", F.isotropic, true);
+      const auto t0 = std::chrono::steady_clock::now();
+      Lut lut = build_lut(m, on, false);
+      seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      return lut.channels[0];
+    };
+    double t64 = 0.0;
+    const Eigen::MatrixXd f64 = lut_of(base, grid, t64);
+    std::printf("%s (%s, rank 2): float64 %.2f s\n", l.spec, l.isotropic ? "isotropic" : "anisotropic", t64);
+    for (const FactorPrecision p : {FactorPrecision::Float32, FactorPrecision::Int16, FactorPrecision::Int8}) {
+      HalfAngleFactors q = base;
+      q.precision = p;
+      q.quantize();
+      double t = 0.0;
+      const Eigen::MatrixXd fq = lut_of(q, grid, t);
+      std::printf("  %-7s %.2f s (%.2fx float64), LUT relative difference %.2e\n", factor_precision_name(p), t, t / t64,
+                  (fq - f64).norm() / f64.norm());
+    }
+    for (const int degree : {2, 3, 4, 5, 6, 7}) {
+      double tc = 0.0;
+      const Eigen::MatrixXd fc = lut_of(base, build_equal_area_grid(2, degree), tc);
+      std::printf("  degree-%d cell averages: %.2f s, relative difference from degree 9 %.2e\n", degree, tc, (fc - f64).norm() / f64.norm());
+    }
+  }
+}
+
 int main(int argc, char** argv) {
   for (int k = 1; k < argc; ++k) {
     if (std::strcmp(argv[k], "--study") == 0) return study(), 0;
     if (std::strcmp(argv[k], "--warp") == 0) return warp_study(), 0;
     if (std::strcmp(argv[k], "--grids") == 0) return grid_study(), 0;
     if (std::strcmp(argv[k], "--extension") == 0) return extension_study(), 0;
+    if (std::strcmp(argv[k], "--lut") == 0) return lut_study(), 0;
     if (std::strcmp(argv[k], "--aniso") == 0) return aniso_study(k + 1 < argc ? std::stoul(argv[k + 1]) : 0), 0;
   }
   benchmark::Initialize(&argc, argv);

@@ -202,7 +202,7 @@ void GlossyBank::check_reciprocity() {
 void GlossyBank::check_readers() {
   auto r = run_cli({"bank", "info", bank_});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("icobrdf bank 3.0"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("icobrdf bank 4.0"), std::string::npos) << r.out;  // lobes stored compactly (docs/file-format.md)
   EXPECT_NE(r.out.find("half-angle lobe of q = f (cos_i + cos_r)/2 (isotropic), rank"), std::string::npos) << r.out;
   // The anisotropic lobe's h grid is stretched along its wide axis, y (alpha_y = 0.3 against 0.1).
   EXPECT_NE(r.out.find("(anisotropic)"), std::string::npos) << r.out;

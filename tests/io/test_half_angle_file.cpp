@@ -1,7 +1,8 @@
 // A half-angle lobe through a bank file (icobrdf/io/half_angle_file.hpp) in every storage: factors per channel
 // or shared with channel scales, float64 / float32 / int16 / int8. What is read is what was written and what
 // the in-memory (quantized) lobe evaluates; a float64 lobe with a factor set per channel is written as format
-// 3.0 wrote it (readers of 3.0 read it), a compact one as 4.0; out-of-range integers are refused.
+// 3.0 wrote it (readers of 3.0 read it), a compact one as 4.0; out-of-range integers are refused. A compact lobe
+// is dequantized once, when it is quantized or read: its LUT is that of float64 factors holding the same values.
 #include <gtest/gtest.h>
 
 #include <hdf5.h>
@@ -9,10 +10,13 @@
 #include <random>
 
 #include "icobrdf/core/fit/half_angle_fit.hpp"
+#include "icobrdf/core/models/function_model.hpp"
+#include "icobrdf/core/projection/lut.hpp"
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/h5_file.hpp"
 #include "icobrdf/io/half_angle_file.hpp"
+#include "icobrdf/mesh/tessellation.hpp"
 #include "io_test_support.hpp"
 #include "tests/support/unity_id.hpp"
 
@@ -92,6 +96,37 @@ TEST(HalfAngleFile, EveryStorageReadsBackAsStoredAndEvaluatesTheSame) {
       // A 3.0 lobe: none of the 4.0 attributes.
       EXPECT_EQ(g.has_attr("precision"), p != FactorPrecision::Float64) << what;
       EXPECT_EQ(g.has_attr("factor_sets"), shared) << what;
+    }
+}
+
+// The LUT (cell averages on the level-0 grid with the degree-2 rule, every channel) of a lobe as it stands.
+std::vector<Eigen::MatrixXd> lobe_lut(const HalfAngleFactors& lobe, const icobrdf::Grid& g) {
+  const icobrdf::FunctionModel m(
+      lobe.channels(), [&lobe](const icobrdf::RowMatrix3d& wi, const icobrdf::RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) { lobe.eval(wi, wr, out); },
+      "lobe", true, true);
+  return icobrdf::build_lut(m, g, false).channels;
+}
+
+// Evaluation reads the factor values as doubles whatever the storage: the integers of a file are multiplied
+// by their column scales once, when read (as quantize() leaves them in memory), never per evaluation. So the
+// LUT of a compact lobe, in memory or read back, is bit for bit the LUT of the float64 lobe whose factors are
+// those dequantized values (the same arithmetic on the same doubles), and costs the same evaluations.
+TEST(HalfAngleFile, ACompactLobeSamplesTheLutOfItsDequantizedFloat64Factors) {
+  const icobrdf::Grid g = icobrdf::build_equal_area_grid(0, 2);  // the cheap rule: the arithmetic is compared
+  for (const bool shared : {false, true})
+    for (const FactorPrecision p : {FactorPrecision::Int16, FactorPrecision::Int8}) {  // integers: scale x k
+      const std::string what = std::string(shared ? "shared " : "") + icobrdf::factor_precision_name(p);
+      const icobrdf::test::ScratchDir dir;
+      const HalfAngleFactors lobe = random_lobe(shared, p);
+      const HalfAngleFactors read = *icobrdf::read_bank(write_lobe_bank(dir, lobe)).materials.at(0).lobe;
+      HalfAngleFactors plain = read;  // the dequantized values, stored as float64
+      plain.precision = FactorPrecision::Float64;
+      const auto want = lobe_lut(plain, g);
+      EXPECT_GT(want[0].cwiseAbs().maxCoeff(), 0.0) << what;  // a LUT with values to compare
+      // (The lobe in memory holds the values read, bit for bit: EveryStorageReadsBackAsStoredAndEvaluatesTheSame.)
+      const auto from_file = lobe_lut(read, g);
+      ASSERT_EQ(from_file.size(), want.size()) << what;
+      for (size_t c = 0; c < want.size(); ++c) EXPECT_EQ(from_file[c], want[c]) << what << " channel " << c;
     }
 }
 
