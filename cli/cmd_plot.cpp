@@ -1,12 +1,9 @@
-// icobrdf plot basis|slice|spectrum|sphere|curves|albedo ... -o FILE.png: pictures of basis functions, slices,
-// spectra, lit spheres, in-plane curves and directional albedo (icobrdf/plot/plots.hpp, curve_plots.hpp,
-// docs/plots.md). Every picture is written atomically. The SOURCE is loaded by icobrdf/pipeline/picture_source.hpp
+// icobrdf plot basis|slice|spectrum|sphere|curves|albedo|halfdiff ... -o FILE.png: pictures of basis functions,
+// slices, spectra, lit spheres, in-plane curves, directional albedo and (theta_h, theta_d) images
+// (icobrdf/plot/plots.hpp, curve_plots.hpp, half_diff_plot.hpp, docs/plots.md). Every picture is written atomically. The SOURCE is loaded by icobrdf/pipeline/picture_source.hpp
 // and the option forms are read by icobrdf/plot/plot_options.hpp; this file only wires flags to them.
-#include <fmt/core.h>
-
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <memory>
@@ -15,13 +12,10 @@
 #include "cli/option_checks.hpp"
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/basis/lowpass_filter.hpp"
-#include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/output_path.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
-#include "icobrdf/mesh/tessellation.hpp"
-#include "icobrdf/pipeline/picture_source.hpp"
-#include "icobrdf/pipeline/reflectance_check.hpp"
 #include "icobrdf/plot/curve_plots.hpp"
+#include "icobrdf/plot/half_diff_plot.hpp"
 #include "icobrdf/plot/picture_materials.hpp"
 #include "icobrdf/plot/plot_options.hpp"
 #include "icobrdf/plot/plots.hpp"
@@ -41,10 +35,6 @@ struct PlotArgs {
   double theta_i = 45.0, phi_i = 0.0, sky_radiance = 0.3, exposure = 1.0;
   bool separate = false, sky = false, no_exact = false, json = false, strict = false, log = false;
 };
-
-// Level of the cells at whose directions a shaded spectrum's directional albedo is checked: 656 directions,
-// enough to see a negative lobe of the orders a sphere is shaded with (<= 32), in milliseconds.
-constexpr int kSphereAlbedoLevel = 3;
 
 void report(const PlotArgs& a, nlohmann::json j) {
   if (a.json) std::cout << j.dump(2) << "\n";
@@ -142,21 +132,19 @@ void add_sphere_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
     check_output_path(a->output, {a->source});
     q.shading = plot::parse_shading(a->shading);
     const auto materials = plot::load_sphere_materials(a->source, q.shading, order, a->level, "--shading model");
-    // A sphere shaded from a spectrum with negative albedo would show it clipped to black without a word.
-    const Grid albedo_grid = build_equal_area_grid(kSphereAlbedoLevel);
-    for (const auto& m : materials)
-      if (m.spectrum) check_fitted_albedo(*m.spectrum, albedo_grid, "plot sphere '" + quoted_text(m.name) + "'", {a->strict, &std::cerr});
+    plot::check_sphere_albedo(materials, a->strict);
     const auto f = plot::plot_sphere(a->source, materials, q, a->output);
     report(*a, {{"output", a->output}, {"width", f.width}, {"height", f.height}, {"spheres", f.names}});
   });
 }
 
-// plot curves / plot albedo: the SOURCE's values (unfitted when known everywhere) along the plane of incidence,
-// and integrated over the hemisphere against theta_i.
+// plot curves / albedo / halfdiff: the SOURCE's values (unfitted when known everywhere) along the plane of incidence,
+// integrated over the hemisphere against theta_i, and as an image over (theta_h, theta_d).
 void add_curve_commands(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   auto* curves = plot->add_subcommand("curves", "In-plane curves, Cartesian and polar, for several theta_i");
   auto* albedo = plot->add_subcommand("albedo", "Directional albedo against theta_i, per channel");
-  for (auto* c : {curves, albedo}) {
+  auto* halfdiff = plot->add_subcommand("halfdiff", "f against theta_h and theta_d (phi_d = 90 deg), as MERL pictures");
+  for (auto* c : {curves, albedo, halfdiff}) {
     c->add_option("source", a->source, "SOURCE: model:..., measured file, FILE.h5[#material]")->required();
     c->add_option("--phi-i", a->phi_i, "Azimuth of incidence [deg]")->capture_default_str()->check(finite_in(-360, 360));
     c->add_option("--order,-n", a->order, "Order of a fit, for sources without values everywhere")->capture_default_str()->check(CLI::Range(0, kMaxPlotOrder));
@@ -164,7 +152,7 @@ void add_curve_commands(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   }
   curves->add_option("--theta-i", a->thetas, "Polar angles of incidence [deg]: 0,30,60 or 0 30 60")->capture_default_str()->delimiter(',')
       ->expected(1, static_cast<int>(plot::kMaxCurves))->check(finite_in(0, 90, false, true));
-  curves->add_flag("--log", a->log, "Logarithmic value axis");
+  for (auto* c : {curves, halfdiff}) c->add_flag("--log", a->log, "Logarithmic value scale");
   curves->callback([a] {
     check_output_path(a->output, {a->source});
     const plot::PictureValues v = plot::load_picture_values(a->source, a->order, a->level);
@@ -177,6 +165,11 @@ void add_curve_commands(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
     check_output_path(a->output, {a->source});
     const plot::PictureValues v = plot::load_picture_values(a->source, a->order, a->level);
     plot::plot_albedo(a->source, v.values, v.channels, {}, a->phi_i * kRadPerDeg, a->output);
+    std::cout << "wrote " << a->output << "\n";
+  });
+  halfdiff->callback([a] {
+    check_output_path(a->output, {a->source});
+    plot::plot_half_diff(a->source, plot::load_picture_values(a->source, a->order, a->level).values, a->log, a->output);
     std::cout << "wrote " << a->output << "\n";
   });
 }

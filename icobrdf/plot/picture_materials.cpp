@@ -1,8 +1,11 @@
 #include "icobrdf/plot/picture_materials.hpp"
 
+#include <iostream>
 #include <utility>
 
 #include "icobrdf/core/support/error.hpp"
+#include "icobrdf/mesh/tessellation.hpp"
+#include "icobrdf/pipeline/reflectance_check.hpp"
 
 namespace icobrdf::plot {
 
@@ -30,6 +33,13 @@ std::vector<SphereMaterial> load_sphere_materials(const std::string& text, Spher
   if (m.exact && shading != Shading::Spectrum) materials.push_back({text, std::nullopt, std::move(m.exact), m.exact_channels});
   else materials.push_back({text, std::move(m.spectrum), {}, 1});
   return materials;
+}
+
+void check_sphere_albedo(const std::vector<SphereMaterial>& materials, bool strict) {
+  constexpr int kSphereAlbedoLevel = 3;  // 656 directions (header)
+  const Grid grid = build_equal_area_grid(kSphereAlbedoLevel);
+  for (const auto& m : materials)
+    if (m.spectrum) check_fitted_albedo(*m.spectrum, grid, "plot sphere '" + quoted_text(m.name) + "'", {strict, &std::cerr});
 }
 
 }  // namespace icobrdf::plot

@@ -20,6 +20,7 @@
 #include "icobrdf/plot/curve_plots.hpp"
 #include "icobrdf/plot/disk_raster.hpp"
 #include "icobrdf/plot/figure.hpp"
+#include "icobrdf/plot/half_diff_plot.hpp"
 #include "icobrdf/plot/plot_options.hpp"
 #include "icobrdf/plot/plots.hpp"
 #include "icobrdf/plot/value_scale.hpp"
@@ -33,6 +34,9 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kRounding = 1e-12;
 // Two steps of 8-bit quantization: the drawn colour against the map's colour rounded by the test.
 constexpr int kColourBytes = 2;
+// A line's antialiased pixels against its colour: the core of a 1.8-pixel line is within this of it, the
+// page's other colours (grid, text, other series) far beyond.
+constexpr int kLineBytes = 40;
 
 struct TempDir {
   std::string path;
@@ -155,7 +159,7 @@ TEST(PlotCurves, GgxPeaksAtTheMirrorAngle) {
   int best_y = 1 << 20, best_x = -1;
   for (int y = static_cast<int>(f.cartesian.top); y < static_cast<int>(f.cartesian.bottom); ++y)
     for (int x = static_cast<int>(f.cartesian.left); x < static_cast<int>(f.cartesian.right); ++x)
-      if (byte_distance(img.at(x, y), c) <= 40 && y < best_y) best_y = y, best_x = x;
+      if (byte_distance(img.at(x, y), c) <= kLineBytes && y < best_y) best_y = y, best_x = x;
   ASSERT_GE(best_x, 0);
   constexpr double kPeakPixels = 4.0;  // line width and antialiasing around the drawn peak
   EXPECT_NEAR(best_x, f.cartesian.px(30.0), kPeakPixels);
@@ -163,13 +167,13 @@ TEST(PlotCurves, GgxPeaksAtTheMirrorAngle) {
   double far = 0.0, angle = 0.0;
   for (int y = 0; y < img.height; ++y)
     for (int x = static_cast<int>(f.polar_cx - f.polar_radius); x < img.width; ++x)
-      if (byte_distance(img.at(x, y), c) <= 40 && y < f.polar_cy) {
+      if (byte_distance(img.at(x, y), c) <= kLineBytes && y < f.polar_cy) {
         const double dx = x - f.polar_cx, dy = f.polar_cy - y, r = std::hypot(dx, dy);
         if (r > far) far = r, angle = std::atan2(-dx, dy) * 180.0 / kPi;
       }
   constexpr double kAngleDegrees = 2.0;  // a few pixels at the peak's radius
   EXPECT_NEAR(angle, 30.0, kAngleDegrees);
-  EXPECT_NEAR(far, f.polar_radius, 3.0);  // the peak is the scale's top
+  EXPECT_NEAR(far, f.polar_radius, kPeakPixels);  // the peak is the scale's top
 }
 
 TEST(PlotAlbedo, LambertianAlbedoIsItsAlbedoAtEveryAngle) {
@@ -185,7 +189,7 @@ TEST(PlotAlbedo, LambertianAlbedoIsItsAlbedoAtEveryAngle) {
   const int x = static_cast<int>(std::lround(f.frame.px(45.0))), y = static_cast<int>(std::lround(f.frame.py(0.6)));
   int nearest = 1 << 20;
   for (int dy = -3; dy <= 3; ++dy) nearest = std::min(nearest, byte_distance(img.at(x, y + dy), series_colour(0)));
-  EXPECT_LE(nearest, 40);
+  EXPECT_LE(nearest, kLineBytes);
 }
 
 TEST(PlotSpectrumScale, TheDcCoefficientIsShownApart) {
@@ -211,6 +215,45 @@ TEST(PlotBasisOutput, AFileOrAFolder) {
   EXPECT_EQ(plot_basis(1, d.path, false).at(0), d.path + "/basis.png");
   EXPECT_THROW(plot_basis(1, d.file("no-folder/x.png"), false), ArgumentError);
   EXPECT_THROW(plot_basis(1, d.file("no-folder"), false), ArgumentError);
+}
+
+TEST(PlotHalfDiff, PixelsAreAtTheirHalfAndDifferenceAngles) {
+  constexpr int kSize = 36;
+  // acos of a cosine rounded to a few ulps: about eps / sin(angle), angles >= 1.25 degrees here.
+  constexpr double kAngleRounding = 1e-9;
+  for (int i = 0; i < kSize; i += 5)
+    for (int j = 0; j < kSize; j += 5) {
+      const auto [wi, wo] = half_diff_directions(kSize, i, j);
+      const double th = (kPi / 2) * (j + 0.5) / kSize, td = (kPi / 2) * (i + 0.5) / kSize;
+      const Eigen::Vector3d h = (wi + wo).normalized();
+      EXPECT_NEAR(wi.norm(), 1.0, kRounding);
+      EXPECT_NEAR(wo.norm(), 1.0, kRounding);
+      EXPECT_NEAR(std::acos(std::clamp(h.z(), -1.0, 1.0)), th, kAngleRounding);  // theta_h: the half vector from the normal
+      EXPECT_NEAR(std::acos(std::clamp(wi.dot(h), -1.0, 1.0)), td, kAngleRounding);  // theta_d: w_i from the half vector
+    }
+}
+
+TEST(PlotHalfDiff, GgxIsBrightestAtThetaHZero) {
+  TempDir d;
+  const HalfDiffFigure f = plot_half_diff("ggx", values_of("model:ggx:alpha=0.2"), true, d.file("hd.png"), 120);
+  EXPECT_FALSE(f.scale.is_signed);
+  const PngImage img = read_png(d.file("hd.png"));
+  // Along a row (fixed theta_d = 30 degrees) the map position falls as theta_h grows from 0 to 60 degrees:
+  // GGX's D peaks at h = n (towards theta_h = 90, w_i and w_o graze and 1 / (cos cos) takes over).
+  const int row = f.image.size / 3;
+  double previous = 2.0;
+  for (int j = 0; j <= f.image.size * 2 / 3; j += 10) {
+    const auto [t, dist] = nearest_sequential(img.at(f.image.x + j, f.image.y + row));
+    ASSERT_LE(dist, kColourBytes) << "column " << j;
+    constexpr double kMapStep = 0.01;  // positions of colours a byte apart on the map
+    EXPECT_LE(t, previous + kMapStep) << "column " << j;
+    previous = t;
+  }
+  // From theta_h ~ 0 to 60 degrees D falls by more than a decade (alpha = 0.2): more than a quarter of the
+  // 4-decade map.
+  const double at0 = nearest_sequential(img.at(f.image.x, f.image.y + row)).first;
+  const double at60 = nearest_sequential(img.at(f.image.x + f.image.size * 2 / 3, f.image.y + row)).first;
+  EXPECT_GT(at0 - at60, 0.25);
 }
 
 }  // namespace
