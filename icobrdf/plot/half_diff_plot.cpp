@@ -62,7 +62,9 @@ HalfDiffFigure plot_half_diff(const std::string& label, const PairFunction& valu
   out.width = left + size + 170;
   out.height = top + size + 70;
   Figure fig(out.width, out.height);
-  fig.title("f(theta_h, theta_d) of " + (label.size() > 60 ? label.substr(0, 57) + "..." : label), 16.0);
+  // The title fits the picture's width (about 8 pixels a character at 16 points): long paths keep their end.
+  const std::size_t room = static_cast<std::size_t>(out.width / 9) - 22;
+  fig.title("f(theta_h, theta_d) of " + (label.size() > room ? "..." + label.substr(label.size() - room + 3) : label), 16.0);
   fig.text(out.width / 2.0, 48, fmt::format("phi_d = 90\u00b0, channel mean{}", log ? ", log scale" : ""), 12.0, Align::Centre);
   fig.image(colorize(img, out.scale), left, top);
   for (int deg = 0; deg <= 90; deg += 15) {
