@@ -34,9 +34,7 @@ MaterialRecord read_picture_record(const std::string& text, const MaterialRef& r
 
 }  // namespace
 
-bool is_exact_model(const std::string& text) { return is_model_source(text) && !open_source(text)->has_delta(); }
-
-PictureMaterial load_picture_material(const std::string& text, int order, int level, bool model_only) {
+PictureMaterial load_picture_material(const std::string& text, int order, int level, bool values_only) {
   PictureMaterial m;
   m.name = text;
   const MaterialRef ref = split_material_ref(text);
@@ -48,11 +46,13 @@ PictureMaterial load_picture_material(const std::string& text, int order, int le
   // Models, measured data, and stored materials with a half-angle lobe (whose modes alone are not the
   // material): the values themselves are exact, the spectrum is their projection at `order`.
   std::shared_ptr<const BrdfSource> source = open_source(text);
-  const bool exact = (is_model_source(text) && !source->has_delta()) || m.spectrum.has_value();
+  const bool stored = m.spectrum.has_value();
+  const bool exact = stored || (!source->has_delta() && !source->values_only_at_samples());
   if (exact) {
     m.exact = [source](const RowMatrix3d& wi, const RowMatrix3d& wr) { return source->eval(wi, wr); };
     m.exact_channels = source->channels();
-    if (model_only) return m;
+    m.exact_kind = stored ? "stored" : is_model_source(text) ? "model" : "measured";
+    if (values_only) return m;
   }
   FitRequest r;
   r.level = level;

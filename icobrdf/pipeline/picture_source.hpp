@@ -1,9 +1,11 @@
 #pragma once
-// A SOURCE made ready for a picture (`icobrdf plot slice|sphere`): a spectrum file as stored, or any other
-// SOURCE fitted through fit_source (icobrdf/pipeline/fit_source.hpp) the way `icobrdf fit` fits it (cell-averaged
-// sampling on the equal-area grid, g form when the source has delta parts), and a model without delta
-// parts also as itself. plot/ draws what it is given; cli/ turns these into plot's SliceSource and
-// SphereMaterial and words the flag errors.
+// A SOURCE made ready for a picture (`icobrdf plot ...`): a spectrum file as stored, or any other SOURCE
+// fitted through fit_source (icobrdf/pipeline/fit_source.hpp) the way `icobrdf fit` fits it (cell-averaged
+// sampling on the equal-area grid, g form when the source has delta parts), and a source whose values are
+// known everywhere (a model without delta parts, a measured table or file such as MERL or RGL, a stored
+// material with a half-angle lobe) also as itself. A picture that only needs those values asks for no fit:
+// a measured file is then evaluated directly at the picture's directions (seconds, not a projection).
+// plot/ draws what it is given; cli/ words the flag errors.
 #include <Eigen/Core>
 
 #include <functional>
@@ -22,16 +24,14 @@ struct PictureMaterial {
   // The model itself, values (pairs x channels) for incident/remitted directions; empty: none.
   std::function<Eigen::MatrixXd(const RowMatrix3d& wi, const RowMatrix3d& wr)> exact;
   int exact_channels = 1;            // columns of exact(wi, wr)
+  std::string exact_kind = "model";  // what `exact` is, for a column title: "model", "measured", "stored"
 };
 
-// `text` names a model without delta parts (opens it: ArgumentError for a bad model).
-bool is_exact_model(const std::string& text);
-
 // A spectrum file (FILE.h5[#material]) as stored, InputError when it is missing; any other SOURCE, and a
-// stored material with a half-angle lobe (then also `exact`: its values), fitted at `order` on the
-// equal-area grid of `level`. A model without delta parts also gets `exact`; with
-// `model_only` such a model is not fitted at all.
-PictureMaterial load_picture_material(const std::string& text, int order, int level, bool model_only = false);
+// stored material with a half-angle lobe, fitted at `order` on the equal-area grid of `level`. A source
+// with values everywhere (no delta part, not values at scattered samples only) also gets `exact`; with
+// `values_only` such a source is not fitted at all (no spectrum unless one is stored).
+PictureMaterial load_picture_material(const std::string& text, int order, int level, bool values_only = false);
 
 // The material names of BANK.h5 when `text` names a bank file (no '#') holding more than one material,
 // InputError when that file is missing; empty for any other SOURCE.

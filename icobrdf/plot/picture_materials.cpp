@@ -1,12 +1,17 @@
 #include "icobrdf/plot/picture_materials.hpp"
 
+#include <iostream>
 #include <utility>
 
 #include "icobrdf/core/support/error.hpp"
+#include "icobrdf/mesh/tessellation.hpp"
+#include "icobrdf/pipeline/reflectance_check.hpp"
 
 namespace icobrdf::plot {
 
-SliceSource slice_source(PictureMaterial m) { return SliceSource{std::move(m.name), std::move(*m.spectrum), std::move(m.exact)}; }
+SliceSource slice_source(PictureMaterial m) {
+  return SliceSource{std::move(m.name), std::move(m.spectrum), std::move(m.exact), std::move(m.exact_kind)};
+}
 
 std::vector<SphereMaterial> load_sphere_materials(const std::string& text, SphereRequest::Shading shading, int order, int level,
                                                   const std::string& model_shading_label) {
@@ -19,14 +24,22 @@ std::vector<SphereMaterial> load_sphere_materials(const std::string& text, Spher
     materials.push_back({n, std::move(m.spectrum), std::move(m.exact), m.exact_channels});
   }
   if (!names.empty()) return materials;
-  const bool use_model = shading != Shading::Spectrum && is_exact_model(text);
-  if (shading == Shading::Model && !use_model)
-    throw ArgumentError(model_shading_label + ": needs a model without delta parts, found '" + quoted_text(text) + "'");
-  PictureMaterial m = load_picture_material(text, order, level, use_model);
-  // A stored material with a half-angle lobe comes with its values too: shaded from them unless told not to.
-  if (use_model || (m.exact && shading != Shading::Spectrum)) materials.push_back({text, std::nullopt, std::move(m.exact), m.exact_channels});
+  // A source with values everywhere (a model without delta parts, a measured file, a stored material with a
+  // half-angle lobe) is shaded from them, unfitted, unless told to shade from a spectrum.
+  PictureMaterial m = load_picture_material(text, order, level, shading != Shading::Spectrum);
+  if (shading == Shading::Model && !m.exact)
+    throw ArgumentError(model_shading_label + ": needs values known everywhere (no delta part, not scattered samples), found '" +
+                        quoted_text(text) + "'");
+  if (m.exact && shading != Shading::Spectrum) materials.push_back({text, std::nullopt, std::move(m.exact), m.exact_channels});
   else materials.push_back({text, std::move(m.spectrum), {}, 1});
   return materials;
+}
+
+void check_sphere_albedo(const std::vector<SphereMaterial>& materials, bool strict) {
+  constexpr int kSphereAlbedoLevel = 3;  // 656 directions (header)
+  const Grid grid = build_equal_area_grid(kSphereAlbedoLevel);
+  for (const auto& m : materials)
+    if (m.spectrum) check_fitted_albedo(*m.spectrum, grid, "plot sphere '" + quoted_text(m.name) + "'", {strict, &std::cerr});
 }
 
 }  // namespace icobrdf::plot

@@ -12,12 +12,18 @@ namespace icobrdf::plot {
 // A loaded material as a slice picture's source: its spectrum and, when it has one, the model's values.
 SliceSource slice_source(PictureMaterial m);
 
-// Every material of a bank of several, or the one material of any other SOURCE: as the model itself when
-// it is a model without delta parts and `shading` allows, else as a spectrum (stored, or fitted at `order` on
+// Every material of a bank of several, or the one material of any other SOURCE: as its values (unfitted)
+// when they are known everywhere (a model without delta parts, a measured file) and `shading` allows, else as a spectrum (stored, or fitted at `order` on
 // the equal-area grid of `level`). A stored material with a half-angle lobe comes with its values: shaded from
 // them unless the shading is Spectrum. ArgumentError, starting with `model_shading_label` (the caller's name
-// for the Model shading), when the Model shading is asked of a bank or of a SOURCE that is not such a model.
+// for the Model shading), when the Model shading is asked of a bank or of a SOURCE without such values.
 std::vector<SphereMaterial> load_sphere_materials(const std::string& text, SphereRequest::Shading shading, int order, int level,
                                                   const std::string& model_shading_label);
+
+// A sphere shaded from a spectrum with negative albedo would show it clipped to black without a word: the
+// directional albedo of each material shaded from a spectrum is checked at the 656 directions of the level-3
+// cells (enough to see a negative lobe of the orders a sphere is shaded with, <= 32, in milliseconds) and
+// reported on stderr, or with `strict` thrown (icobrdf/pipeline/reflectance_check.hpp).
+void check_sphere_albedo(const std::vector<SphereMaterial>& materials, bool strict);
 
 }  // namespace icobrdf::plot

@@ -25,6 +25,8 @@ using PairFunction = std::function<Eigen::MatrixXd(const RowMatrix3d& wi, const 
 // Argument checks here throw ArgumentError with neutral wording; `icobrdf plot` checks its flags first
 // and words the same conditions after them (cli/cmd_plot.cpp).
 
+// `out` is a folder (DIR/basis.png, and the --separate files there) or a FILE.png (the pyramid; separate
+// files beside it). ArgumentError naming both forms when it is neither an existing folder nor a .png name.
 // Every K_n^l with n <= order on the Lambert disk (density in the diverging map + contours at multiples
 // of 0.2 max|K|, zero contour bold), as a pyramid: row n, l = -n..n step 2 left to right. Writes
 // DIR/basis.png and, when `separate`, DIR/K_<n>_<l>.png per function (with its colour bar in 1/sqrt(sr)).
@@ -44,31 +46,39 @@ struct SliceRequest {
   std::vector<int> orders{0, 1, 2, 4, 6, 8};
   LowPassFilter filter;
   int panel = 200;
-  bool exact = true;  // add the model itself as a last column (when SliceSource::exact is set)
+  bool exact = true;  // add the values themselves as a last column (when SliceSource::exact is set)
+  bool log = false;   // logarithmic colour and polar scale (icobrdf/plot/value_scale.hpp), kDefaultDecades
 };
 // What a slice is drawn from, already loaded: a spectrum of order >= every requested order (truncated per
-// column; drawn as g = f cos(theta_i) when spectrum.cosine) and, optionally, the BRDF itself.
+// column; drawn as g = f cos(theta_i) when spectrum.cosine) and/or the BRDF itself (a model, or measured
+// data evaluated directly: then no order needs to be asked for).
 struct SliceSource {
   std::string label;   // the title (the SOURCE as the user named it)
-  Spectrum spectrum;
-  PairFunction exact;  // empty: no model column
+  std::optional<Spectrum> spectrum;
+  PairFunction exact;  // empty: no column of the values themselves
+  std::string exact_kind = "model";  // that column's title
 };
 struct SliceFigure {
-  std::vector<PanelRect> disks;  // one per column (orders, then the exact model when drawn)
-  double scale = 0.0;            // colour bar range [-scale, scale] in 1/sr
+  std::vector<PanelRect> disks;  // one per column (orders, then the values themselves when drawn)
+  double scale = 0.0;            // largest |value| in 1/sr: the colour bar's top
+  bool signed_map = false;       // diverging map over [-scale, scale]; else sequential over [0, scale]
   bool g_form = false;           // g = f cos(theta_i) is drawn instead of f
   int width = 0, height = 0;
 };
-// Orders in [0, 32], at most 9 of them, none beyond the spectrum's; theta_i in [0, pi/2).
+// Orders in [0, 32], at most 9 of them, none beyond the spectrum's (none at all is allowed when the source
+// has its values: one column of them); theta_i in [0, pi/2). Disks carry theta rings at 30 and 60 degrees
+// and phi labels; the polar plots' rings are labelled with their values.
 SliceFigure plot_slice(const SliceSource& source, const SliceRequest& request, const std::string& path);
 
 struct SpectrumFigure {
   int width = 0, height = 0;
   bool matrix_drawn = false;
+  double scale = 0.0;  // the colour scale's top: the largest |coefficient| but the DC one
 };
 // The IBSSS layout of the paper's Fig. 3 (of the channel mean) and, for spectra not marked isotropic,
-// the coefficient matrix C as an image.
-SpectrumFigure plot_spectrum(const Spectrum& spectrum, const std::string& label, const std::string& path);
+// the coefficient matrix C as an image, on a diverging scale (linear, or signed log with `log`) set by every
+// coefficient but the DC one, whose value is written out (it would otherwise dwarf the rest).
+SpectrumFigure plot_spectrum(const Spectrum& spectrum, const std::string& label, const std::string& path, bool log = false);
 
 struct SphereRequest {
   double light_theta = 0.785398163397448, light_phi = 2.35619449019234;  // radians, camera frame

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "tests/cli/cli_runner.hpp"
 #include "tests/support/unity_id.hpp"
@@ -62,6 +63,29 @@ TEST(CliPlot, BasisWritesTheGridAndOneFilePerFunction) {
   EXPECT_EQ(files.size(), 1u + 6u);  // basis.png + (2+1)(2+2)/2 functions
   for (const auto& f : files) EXPECT_TRUE(png_header(f.get<std::string>()).valid) << f;
   EXPECT_TRUE(exists(d.file("K_2_-2.png")));
+}
+
+TEST(CliPlot, ListsTakeCommasAndOutputTakesAFileOrAFolder) {
+  TempDir d;
+  // --order 1,2,3 and --order 1 2 3 are the same three columns (plus the model's own).
+  for (const auto& orders : {std::vector<std::string>{"1,2,3"}, std::vector<std::string>{"1", "2", "3"}}) {
+    std::vector<std::string> args{"plot", "slice", "model:lambert", "--level", "2", "--order"};
+    args.insert(args.end(), orders.begin(), orders.end());
+    for (const char* a : {"-o", "", "--json"}) args.push_back(a);
+    args[args.size() - 2] = d.file("s.png");
+    const auto r = run_cli(args);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out).at("columns").get<int>(), 4);
+  }
+  const auto b = run_cli({"plot", "basis", "--order", "1", "-o", d.file("pyramid.png"), "--json"});
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  EXPECT_TRUE(png_header(d.file("pyramid.png")).valid);
+  ASSERT_EQ(run_cli({"plot", "curves", "model:ggx:alpha=0.3", "--theta-i", "0,30,60", "--log", "-o", d.file("c.png")}).exit_code, 0);
+  EXPECT_TRUE(png_header(d.file("c.png")).valid);
+  ASSERT_EQ(run_cli({"plot", "albedo", "model:lambert", "-o", d.file("a.png")}).exit_code, 0);
+  EXPECT_TRUE(png_header(d.file("a.png")).valid);
+  expect_one_line_error(run_cli({"plot", "curves", "model:lambert", "--theta-i", "0,95", "-o", d.file("x.png")}), 2);
+  EXPECT_FALSE(exists(d.file("x.png")));
 }
 
 TEST(CliPlot, SliceSpectrumAndSphere) {

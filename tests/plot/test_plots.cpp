@@ -34,6 +34,9 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr int kByteTolerance = 1;
 // Level-4 equal-area cells: 4 pi / (20 4^4) sr each, i.e. an angular size of about sqrt(that) = 0.0495 rad.
 const double kCellAngle = std::sqrt(4.0 * kPi / (20.0 * 256.0));
+// Half the diagonal of a sphere pixel in units of 1/size of the unit square [-1, 1]^2 (sqrt(2) x 2 / 2): a pixel
+// whose centre lies closer than this to the outline is partly backdrop (anti-aliased outline).
+const double kPixelHalfDiagonal = std::sqrt(2.0);
 
 struct TempDir {
   std::string path;
@@ -103,7 +106,8 @@ TEST(PlotSlice, LambertIsConstantOverTheDisk) {
   EXPECT_EQ(img.width, f.width);
   EXPECT_EQ(img.height, f.height);
   ASSERT_EQ(f.disks.size(), 3u);
-  const auto want = bytes(diverging(1.0));  // every value equals the scale
+  EXPECT_FALSE(f.signed_map);  // a positive BRDF is drawn on the sequential map
+  const auto want = bytes(sequential(1.0));  // every value equals the scale
   const Eigen::Vector3d wi(std::sin(q.theta_i), 0.0, std::cos(q.theta_i));
   const Eigen::Vector2d pin = lambert_to_disk(wi), pmir(-pin.x(), pin.y());
   int checked = 0;
@@ -116,11 +120,16 @@ TEST(PlotSlice, LambertIsConstantOverTheDisk) {
         // keep clear of the incident ring (radius 5) and the mirror reticle (arms to 8 sqrt(2) = 11.3 px, plus
         // line width and antialiasing)
         if ((p - pin).norm() * R < 14.0 || (p - pmir).norm() * R < 14.0) continue;
+        // keep clear of the theta rings at 30 and 60 degrees (radius sqrt(2) sin(theta/2)) and their labels
+        // (lower right quadrant)
+        if (std::fabs(p.norm() - std::sqrt(2.0) * std::sin(kPi / 12)) * R < 3.0 ||
+            std::fabs(p.norm() - std::sqrt(2.0) * std::sin(kPi / 6)) * R < 3.0 || (p.x() > 0.0 && p.y() < 0.0))
+          continue;
         expect_close(img.at(r.x + j, r.y + i), want, kByteTolerance, "pixel " + std::to_string(i) + "," + std::to_string(j));
         ++checked;
       }
   }
-  EXPECT_GT(checked, 1000);
+  EXPECT_GT(checked, 700);
 }
 
 TEST(PlotSlice, MirrorPeaksAtTheMirrorDirection) {
@@ -183,7 +192,7 @@ TEST(PlotSphere, LambertFollowsCosineOfTheLight) {
     for (int i = 2; i < r.size; i += 9)
       for (int j = 2; j < r.size; j += 9) {
         const double x = -1.0 + (2.0 * j + 1.0) / r.size, y = 1.0 - (2.0 * i + 1.0) / r.size;
-        if (x * x + y * y > 1.0) continue;
+        if (std::hypot(x, y) + kPixelHalfDiagonal / r.size > 1.0) continue;  // outline pixels blend with the backdrop
         // Radiance of a Lambertian under irradiance E = pi: L = albedo * max(0, n . light).
         const double c = std::max(0.0, normal_at(r.size, i, j).dot(L));
         const int v = static_cast<int>(std::lround(srgb_encode(kAlbedo * c) * 255));
@@ -213,7 +222,7 @@ TEST(PlotSphere, SkyAddsSkyRadianceTimesAlbedo) {
     for (int i = 4; i < r.size; i += 7)
       for (int j = 4; j < r.size; j += 7) {
         const double x = -1.0 + (2.0 * j + 1.0) / r.size, y = 1.0 - (2.0 * i + 1.0) / r.size;
-        if (x * x + y * y > 1.0) continue;
+        if (std::hypot(x, y) + kPixelHalfDiagonal / r.size > 1.0) continue;  // outline pixels blend with the backdrop
         expect_close(img.at(r.x + j, r.y + i), {v, v, v}, kByteTolerance, shading);
       }
   }

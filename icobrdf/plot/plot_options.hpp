@@ -1,0 +1,34 @@
+#pragma once
+// The option forms of `icobrdf plot`, read and checked here so that the command stays a thin adapter:
+// light directions, shading names, and what a picture of a SOURCE evaluates (its values, or a spectrum).
+// Errors are ArgumentError, one line naming the flag.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "icobrdf/pipeline/picture_source.hpp"
+#include "icobrdf/plot/plots.hpp"
+
+namespace icobrdf::plot {
+
+// "THETA,PHI" in degrees, 0 <= THETA <= 180, PHI finite.
+std::pair<double, double> parse_light(const std::string& text);
+// auto | model | spectrum.
+SphereRequest::Shading parse_shading(const std::string& text);
+
+// The source of a slice picture of SOURCE `text` at truncation `orders`. A source with values of its own
+// (a measured file, a model without delta parts) is not fitted when `orders_given` is false: one column of its
+// values (seconds, where a fit of a measured file takes a minute); otherwise it is fitted once at the largest
+// order, on the equal-area grid of `level`. `orders` is cleared when nothing was fitted.
+SliceSource load_slice_source(const std::string& text, std::vector<int>& orders, bool orders_given, int level);
+
+// What curve and albedo pictures evaluate: the values of SOURCE `text` when known everywhere (unfitted), else
+// its spectrum (stored, or fitted at `order` on the equal-area grid of `level`) evaluated pair by pair.
+struct PictureValues {
+  PairFunction values;
+  int channels = 1;
+  std::string quantity = "f";  // "g = f cos(theta_i)" for a spectrum of g
+};
+PictureValues load_picture_values(const std::string& text, int order, int level);
+
+}  // namespace icobrdf::plot
