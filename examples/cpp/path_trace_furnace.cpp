@@ -3,7 +3,7 @@
 // direction above it). The radiance it sends towards a viewer at w is the directional albedo a(w) (reciprocity),
 // which the loop estimates from per-sample draws (float path) and which is checked against an independent
 // Gauss-Legendre quadrature of f cos (plus the delta parts' weights) within 3 standard errors.
-//   path_trace_furnace [SOURCE]      default: model:0.4*lambert+0.4*ggx:alpha=0.2+0.2*mirror
+//   path_trace_furnace [SOURCE [PATHS]]      defaults: model:0.4*lambert+0.4*ggx:alpha=0.2+0.2*mirror, 200000
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -34,10 +34,15 @@ double albedo_by_quadrature(const RenderMaterial& m, const Eigen::Vector3d& w) {
 
 int main(int argc, char** argv) {
   const std::string source = argc > 1 ? argv[1] : "model:0.4*lambert+0.4*ggx:alpha=0.2+0.2*mirror";
-  const RenderMaterial material = RenderMaterial::open(source);
+  RenderMaterialOptions options;  // 12 incident nodes, 64 x 64 half-vector cells: enough for these smooth materials
+  options.table.theta_nodes = 12;
+  options.table.t_bins = 64;
+  options.table.phi_bins = 64;
+  const RenderMaterial material = RenderMaterial::open(source, options);
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
-  constexpr int kPaths = 200000, kMaxDepth = 8;
+  const int kPaths = argc > 2 ? std::stoi(argv[2]) : 200000;
+  constexpr int kMaxDepth = 8;
   bool ok = true;
   for (const double view_deg : {0.0, 40.0, 70.0}) {
     const Eigen::Vector3f view = direction_from_angles(view_deg * M_PI / 180, 0.5).cast<float>();

@@ -400,17 +400,19 @@ MaterialSample<double> RenderMaterial::sample(const Eigen::Vector3d& wi, double 
   }
   Eigen::Vector3d wr;
   std::uint32_t lobe_flag;
+  double table_pdf = -1.0;  // the table's density at its own draw, when the table is the only regular part
   if (part < n_delta + n_ggx) {
     const RenderGgxPart& g = m.ggx[static_cast<size_t>(part - n_delta)];
     wr = reflect_about(wi, from_tangent(g, sample_ggx_visible_normal(to_tangent(g, wi), g.alpha_x, g.alpha_y, x, u2)));
     lobe_flag = kMaterialGlossy;
   } else {
-    double unused;
-    if (!m.table.sample(wi, x, u2, wr, unused)) return s;
+    double p;
+    if (!m.table.sample(wi, x, u2, wr, p)) return s;
+    if (m.ggx.empty()) table_pdf = a[static_cast<size_t>(part)] / total * p;
     lobe_flag = m.table_flag;
   }
   if (!(wr.z() >= 0.0)) return s;
-  const double pdf = m.regular_pdf(wi, wr);
+  const double pdf = table_pdf >= 0.0 ? table_pdf : m.regular_pdf(wi, wr);
   if (!(pdf > 0.0)) return s;
   double f[kMaxMaterialChannels];
   m.eval_regular(wi, wr, f);

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/fast_atan2.hpp"
 
 namespace icobrdf {
 namespace {
@@ -66,6 +67,7 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
   const auto total = static_cast<size_t>(n_nodes) * static_cast<size_t>(cells_);
   mass_.assign(total, 0.0);
   cdf_.assign(total, 0.0);
+  row_cdf_.assign(static_cast<size_t>(n_nodes) * static_cast<size_t>(nt), 0.0);
   albedo_.assign(static_cast<size_t>(n_nodes), 0.0);
   const double dphi = 2.0 * M_PI / np;
   // Sub-cell centres: 2 x 2 per cell, equal in solid angle (midpoints in cos theta_h and phi_h).
@@ -142,13 +144,15 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
       cdf[cell] = run;
     }
     cdf[cells_ - 1] = 1.0;
+    double* rows = row_cdf_.data() + static_cast<size_t>(n) * opt_.t_bins;
+    for (int k = 0; k < opt_.t_bins; ++k) rows[k] = cdf[(k + 1) * opt_.phi_bins - 1];
   }
 }
 
 HalfVectorBlend HalfVectorTable::blend(const HalfVectorTableOptions& opt, const Eigen::Vector3d& wi) {
   HalfVectorBlend b;
   const double rho = std::sqrt(wi.x() * wi.x() + wi.y() * wi.y());
-  const double theta = std::atan2(rho, wi.z());
+  const double theta = fast_atan2(rho, wi.z());
   double x = std::clamp(theta / kHalfVectorThetaMax, 0.0, 1.0) * (opt.theta_nodes - 1);
   const int a = std::min(static_cast<int>(x), opt.theta_nodes - 2);
   const double fa = x - a;
@@ -160,7 +164,7 @@ HalfVectorBlend HalfVectorTable::blend(const HalfVectorTableOptions& opt, const 
     return b;
   }
   const int m = opt.azimuth_nodes;
-  double y = (rho > 0.0 ? std::atan2(wi.y(), wi.x()) : 0.0) / (2.0 * M_PI) * m;
+  double y = (rho > 0.0 ? fast_atan2(wi.y(), wi.x()) : 0.0) / (2.0 * M_PI) * m;
   if (y < 0.0) y += m;
   int p = static_cast<int>(y);
   double fp = y - p;
@@ -175,13 +179,14 @@ HalfVectorBlend HalfVectorTable::blend(const HalfVectorTableOptions& opt, const 
 }
 
 int HalfVectorTable::cell_of(const Eigen::Vector3d& h) const {
-  const double theta = std::atan2(std::sqrt(h.x() * h.x() + h.y() * h.y()), h.z());
-  const double t = std::pow(std::clamp(theta / (0.5 * M_PI), 0.0, 1.0), 1.0 / opt_.t_warp);
+  const double theta = fast_atan2(std::sqrt(h.x() * h.x() + h.y() * h.y()), h.z());
+  const double x = std::clamp(theta / (0.5 * M_PI), 0.0, 1.0);
+  const double t = opt_.t_warp == 2.0 ? std::sqrt(x) : std::pow(x, 1.0 / opt_.t_warp);
   int k = std::min(static_cast<int>(t * opt_.t_bins), opt_.t_bins - 1);
   // Rounding at an edge: the cell whose cos range holds h.z.
   if (k > 0 && h.z() > cos_edge_[static_cast<size_t>(k)]) --k;
   if (k + 1 < opt_.t_bins && h.z() < cos_edge_[static_cast<size_t>(k) + 1]) ++k;
-  const double phi = (h.x() == 0.0 && h.y() == 0.0) ? 0.0 : std::atan2(h.y(), h.x());
+  const double phi = (h.x() == 0.0 && h.y() == 0.0) ? 0.0 : fast_atan2(h.y(), h.x());
   const int j = std::clamp(static_cast<int>((phi + M_PI) / (2.0 * M_PI) * opt_.phi_bins), 0, opt_.phi_bins - 1);
   return k * opt_.phi_bins + j;
 }
@@ -213,7 +218,12 @@ bool HalfVectorTable::sample(const Eigen::Vector3d& wi, double u1, double u2, Ei
   x = std::clamp(x, 0.0, 1.0);
   const double* cdf = cdf_.data() + static_cast<size_t>(node) * cells_;
   const double* p = mass_.data() + static_cast<size_t>(node) * cells_;
-  int cell = static_cast<int>(std::upper_bound(cdf, cdf + cells_, x) - cdf);
+  // Two searches in short arrays (the row's cumulative end, then the cells of the row): fewer cache lines than
+  // one search over all cells; the same cell (the first whose cumulative mass exceeds x).
+  const double* rows = row_cdf_.data() + static_cast<size_t>(node) * opt_.t_bins;
+  const int row = std::min(static_cast<int>(std::upper_bound(rows, rows + opt_.t_bins, x) - rows), opt_.t_bins - 1);
+  const double* first = cdf + static_cast<size_t>(row) * opt_.phi_bins;
+  int cell = row * opt_.phi_bins + static_cast<int>(std::upper_bound(first, first + opt_.phi_bins, x) - first);
   cell = std::min(cell, cells_ - 1);
   while (p[cell] == 0.0 && cell > 0) --cell;  // x on the upper end of an empty run: the mass before it
   const double lo = cell > 0 ? cdf[cell - 1] : 0.0;

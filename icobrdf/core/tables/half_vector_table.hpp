@@ -114,6 +114,7 @@ class HalfVectorTable {
   std::vector<double> cos_edge_;  // t_bins + 1 values of cos(theta_h) at the t edges
   std::vector<double> mass_;      // nodes x cells, normalized per node (probabilities)
   std::vector<double> cdf_;       // nodes x cells, cumulative
+  std::vector<double> row_cdf_;   // nodes x t_bins: the cumulative mass at the end of each row of cells
   std::vector<double> albedo_;    // nodes
 };
 
