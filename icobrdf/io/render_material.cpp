@@ -81,8 +81,9 @@ struct RenderMaterial::Impl {
   void eval_regular(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr, double* out) const;
   void eval_modes(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr, double* out) const;
   // Albedos of the parts at w_i: deltas, then GGX terms, then the table; returns the number of parts.
-  int part_albedos(const Eigen::Vector3d& wi, std::array<double, kMaxParts>& a, double& total) const;
-  double regular_pdf(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const;
+  // b: the blend of the incident nodes at w_i (HalfVectorTable::blend(nodes, wi)), computed once per call.
+  int part_albedos(const HalfVectorBlend& b, std::array<double, kMaxParts>& a, double& total) const;
+  double regular_pdf(const HalfVectorBlend& b, const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const;
   void finish(const RenderMaterialOptions& options, const NonNegativeBrdf& rest, double t_warp);
 };
 
@@ -135,19 +136,16 @@ void RenderMaterial::Impl::eval_regular(const Eigen::Vector3d& wi_in, const Eige
   for (int c = 0; c < channels; ++c) out[c] = std::max(0.0, out[c] + q[c]);
 }
 
-int RenderMaterial::Impl::part_albedos(const Eigen::Vector3d& wi, std::array<double, kMaxParts>& a, double& total) const {
+int RenderMaterial::Impl::part_albedos(const HalfVectorBlend& b, std::array<double, kMaxParts>& a, double& total) const {
   int n = 0;
   total = 0.0;
   for (const DeltaPart& d : deltas) total += a[static_cast<size_t>(n++)] = d.weight;
-  if (!ggx.empty()) {
-    const HalfVectorBlend b = HalfVectorTable::blend(nodes, wi);
-    for (const RenderGgxPart& g : ggx) {
-      double s = 0.0;
-      for (int i = 0; i < b.count; ++i) s += b.weight[i] * g.albedo[static_cast<size_t>(b.node[i])];
-      total += a[static_cast<size_t>(n++)] = s;
-    }
+  for (const RenderGgxPart& g : ggx) {
+    double s = 0.0;
+    for (int i = 0; i < b.count; ++i) s += b.weight[i] * g.albedo[static_cast<size_t>(b.node[i])];
+    total += a[static_cast<size_t>(n++)] = s;
   }
-  if (!table.empty()) total += a[static_cast<size_t>(n++)] = table.albedo(wi);
+  if (!table.empty()) total += a[static_cast<size_t>(n++)] = table.albedo(b);
   return n;
 }
 
@@ -170,11 +168,11 @@ double ggx_pdf(const RenderGgxPart& g, const Eigen::Vector3d& wi, const Eigen::V
 
 }  // namespace
 
-double RenderMaterial::Impl::regular_pdf(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const {
+double RenderMaterial::Impl::regular_pdf(const HalfVectorBlend& b, const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const {
   if (!(wi.z() >= 0.0) || !(wr.z() >= 0.0)) return 0.0;
   std::array<double, kMaxParts> a;
   double total;
-  part_albedos(wi, a, total);
+  part_albedos(b, a, total);
   if (!(total > 0.0)) return 0.0;
   int n = static_cast<int>(deltas.size());
   double p = 0.0;
@@ -182,7 +180,7 @@ double RenderMaterial::Impl::regular_pdf(const Eigen::Vector3d& wi, const Eigen:
     const double w = a[static_cast<size_t>(n++)];
     if (w > 0.0) p += w * ggx_pdf(g, wi, wr);
   }
-  if (!table.empty() && a[static_cast<size_t>(n)] > 0.0) p += a[static_cast<size_t>(n)] * table.pdf(wi, wr);
+  if (!table.empty() && a[static_cast<size_t>(n)] > 0.0) p += a[static_cast<size_t>(n)] * table.pdf(b, wi, wr);
   return p / total;
 }
 
@@ -350,7 +348,7 @@ MaterialColor<float> RenderMaterial::eval(const Eigen::Vector3f& wi, const Eigen
 
 double RenderMaterial::pdf(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const {
   if (!wi.allFinite() || !wr.allFinite()) return 0.0;
-  return impl_->regular_pdf(wi, wr);
+  return impl_->regular_pdf(HalfVectorTable::blend(impl_->nodes, wi), wi, wr);
 }
 
 float RenderMaterial::pdf(const Eigen::Vector3f& wi, const Eigen::Vector3f& wr) const {
@@ -360,7 +358,7 @@ float RenderMaterial::pdf(const Eigen::Vector3f& wi, const Eigen::Vector3f& wr) 
 double RenderMaterial::albedo_estimate(const Eigen::Vector3d& wi) const {
   std::array<double, kMaxParts> a;
   double total;
-  impl_->part_albedos(wi, a, total);
+  impl_->part_albedos(HalfVectorTable::blend(impl_->nodes, wi), a, total);
   return total;
 }
 
@@ -377,7 +375,8 @@ MaterialSample<double> RenderMaterial::sample(const Eigen::Vector3d& wi, double 
   if (!(wi.z() >= 0.0) || !wi.allFinite() || !(u1 >= 0.0 && u1 <= 1.0) || !(u2 >= 0.0 && u2 <= 1.0)) return s;
   std::array<double, kMaxParts> a;
   double total;
-  const int parts = m.part_albedos(wi, a, total);
+  const HalfVectorBlend b = HalfVectorTable::blend(m.nodes, wi);
+  const int parts = m.part_albedos(b, a, total);
   if (!(total > 0.0)) return s;
   // The part: u1 by the albedos, then rescaled to [0, 1) within it.
   double x = u1 * total, acc = 0.0, part_lo = 0.0;
@@ -407,12 +406,12 @@ MaterialSample<double> RenderMaterial::sample(const Eigen::Vector3d& wi, double 
     lobe_flag = kMaterialGlossy;
   } else {
     double p;
-    if (!m.table.sample(wi, x, u2, wr, p)) return s;
+    if (!m.table.sample(b, wi, x, u2, wr, p)) return s;
     if (m.ggx.empty()) table_pdf = a[static_cast<size_t>(part)] / total * p;
     lobe_flag = m.table_flag;
   }
   if (!(wr.z() >= 0.0)) return s;
-  const double pdf = table_pdf >= 0.0 ? table_pdf : m.regular_pdf(wi, wr);
+  const double pdf = table_pdf >= 0.0 ? table_pdf : m.regular_pdf(b, wi, wr);
   if (!(pdf > 0.0)) return s;
   double f[kMaxMaterialChannels];
   m.eval_regular(wi, wr, f);

@@ -191,15 +191,14 @@ int HalfVectorTable::cell_of(const Eigen::Vector3d& h) const {
   return k * opt_.phi_bins + j;
 }
 
-double HalfVectorTable::albedo(const Eigen::Vector3d& wi) const {
-  const HalfVectorBlend b = blend(opt_, wi);
+double HalfVectorTable::albedo(const HalfVectorBlend& b) const {
   double s = 0.0;
   for (int i = 0; i < b.count; ++i) s += b.weight[i] * albedo_[static_cast<size_t>(b.node[i])];
   return s;
 }
 
-bool HalfVectorTable::sample(const Eigen::Vector3d& wi, double u1, double u2, Eigen::Vector3d& wr, double& pdf_out) const {
-  const HalfVectorBlend b = blend(opt_, wi);
+bool HalfVectorTable::sample(const HalfVectorBlend& b, const Eigen::Vector3d& wi, double u1, double u2, Eigen::Vector3d& wr,
+                             double& pdf_out) const {
   // The node: u1 picks it by the blend weights among the nodes that have mass, then is rescaled to [0, 1).
   double live = 0.0;
   for (int i = 0; i < b.count; ++i)
@@ -241,11 +240,10 @@ bool HalfVectorTable::sample(const Eigen::Vector3d& wi, double u1, double u2, Ei
   return true;
 }
 
-double HalfVectorTable::pdf(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const {
+double HalfVectorTable::pdf(const HalfVectorBlend& b, const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const {
   Eigen::Vector3d h;
   double c;
   if (!(wr.z() >= 0.0) || !(wi.z() >= 0.0) || !reflection_half_vector(wi, wr, h, c)) return 0.0;
-  const HalfVectorBlend b = blend(opt_, wi);
   double live = 0.0;
   for (int i = 0; i < b.count; ++i)
     if (albedo_[static_cast<size_t>(b.node[i])] > 0.0) live += b.weight[i];

@@ -98,11 +98,17 @@ class HalfVectorTable {
   // The estimate of the directional albedo of fbar at node n (the sum of its masses before the floor).
   double node_albedo(int n) const { return albedo_[static_cast<size_t>(n)]; }
   // The same blended to w_i as the densities are.
-  double albedo(const Eigen::Vector3d& wi) const;
+  double albedo(const Eigen::Vector3d& wi) const { return albedo(blend(opt_, wi)); }
+  double albedo(const HalfVectorBlend& b) const;
   // A draw for w_i (unit, z >= 0) from u1, u2 in [0, 1): w_r and its density; false when no node of the blend
   // has mass (an all-zero fbar).
-  bool sample(const Eigen::Vector3d& wi, double u1, double u2, Eigen::Vector3d& wr, double& pdf) const;
-  double pdf(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const;
+  bool sample(const Eigen::Vector3d& wi, double u1, double u2, Eigen::Vector3d& wr, double& pdf) const {
+    return sample(blend(opt_, wi), wi, u1, u2, wr, pdf);
+  }
+  double pdf(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const { return pdf(blend(opt_, wi), wi, wr); }
+  // The same with the blend of w_i already known (blend(options(), wi)).
+  bool sample(const HalfVectorBlend& b, const Eigen::Vector3d& wi, double u1, double u2, Eigen::Vector3d& wr, double& pdf) const;
+  double pdf(const HalfVectorBlend& b, const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const;
 
  private:
   int cell_of(const Eigen::Vector3d& h) const;  // h in the nodes' frame
