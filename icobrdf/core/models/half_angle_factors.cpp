@@ -6,7 +6,9 @@
 #include <chrono>
 #include <random>
 #include <cmath>
+#include <memory>
 #include <sstream>
+#include <utility>
 
 #include "icobrdf/core/models/brdf_model.hpp"
 #include "icobrdf/core/basis/direction.hpp"
@@ -141,15 +143,29 @@ Eigen::Vector3d HalfAngleFactors::h_of_grid_angles(double theta_h, double phi_h)
   return {c * a1 - s * a2, s * a1 + c * a2, std::cos(theta_h)};
 }
 
-namespace {
-
 // The stretch of a grid, precomputed for evaluation: rotation and inverse scales.
-struct HStretch {
+struct HalfAngleStretch {
   bool on = false;
   double c = 1, s = 0, inv1 = 1, inv2 = 1;
-  explicit HStretch(const HalfAngleFactors& F)
+  explicit HalfAngleStretch(const HalfAngleFactors& F)
       : on(F.stretched()), c(std::cos(F.h_axis)), s(std::sin(F.h_axis)), inv1(1.0 / F.h_scale_1), inv2(1.0 / F.h_scale_2) {}
 };
+
+// What the evaluation of one pair needs besides the factors, computed once per batch (or per evaluator).
+struct HalfAnglePairContext {
+  HalfAngleStretch stretch;
+  HalfAngleQuantity divide;
+  double floor;
+  bool drop;
+  HalfAngleNodeTrig ht, dt;
+  HalfAnglePairContext(const HalfAngleFactors& F, bool to_f)
+      : stretch(F), divide(to_f ? F.quantity : HalfAngleQuantity::F), floor(F.cosine_floor()),
+        drop(F.corners == HorizonCorners::Valid) {
+    if (drop) ht = half_angle_h_trig(F), dt = half_angle_d_trig(F);
+  }
+};
+
+namespace {
 
 // Linear interpolation position on nodes 0..n-1 of x in [0, n-1] (clamped): lower node and fraction.
 inline void clamped_cell(double x, int n, int& k, double& f) {
@@ -178,7 +194,7 @@ struct Corners {
 };
 
 template <bool Aniso>
-inline bool pair_corners(const HalfAngleFactors& F, const HStretch& stretch, const double* wi, const double* wr, Corners& c) {
+inline bool pair_corners(const HalfAngleFactors& F, const HalfAngleStretch& stretch, const double* wi, const double* wr, Corners& c) {
   if (wi[2] < -kHorizonSlack || wr[2] < -kHorizonSlack) return false;
   const double sx = wi[0] + wr[0], sy = wi[1] + wr[1], sz = wi[2] + wr[2];
   const double mx = wi[0] - wr[0], my = wi[1] - wr[1], mz = wi[2] - wr[2];
@@ -242,8 +258,8 @@ inline bool all_corners_valid(const HalfAngleNodeTrig& ht, const HalfAngleNodeTr
 }
 
 template <bool Aniso>
-void valid_corner_sum(const HalfAngleFactors& F, const Corners& c, const bool (&ok)[4][4], Eigen::Index i, double scale,
-                      Eigen::Ref<Eigen::MatrixXd> out) {
+void valid_corner_sum(const HalfAngleFactors& F, const Corners& c, const bool (&ok)[4][4], double scale, double* out,
+                      Eigen::Index stride) {
   const int R = F.rank, nh = Aniso ? 4 : 2;
   double wsum = 0.0;
   for (int x = 0; x < nh; ++x)
@@ -262,72 +278,73 @@ void valid_corner_sum(const HalfAngleFactors& F, const Corners& c, const bool (&
         for (int r = 0; r < R; ++r) uv += U[c.h[x] * R + r] * V[c.d[y] * R + r] * (S ? S[r] : 1.0);
         q += c.wh[x] * c.wd[y] * uv;
       }
-    out(i, ch) = wsum > 0.0 ? q / wsum * scale : 0.0;
+    out[ch * stride] = wsum > 0.0 ? q / wsum * scale : 0.0;
+  }
+}
+
+// f (or q) of one pair: out[ch * stride] for every channel.
+template <bool Aniso>
+void eval_pair(const HalfAngleFactors& F, const HalfAnglePairContext& X, const double* wi, const double* wr, double* out,
+               Eigen::Index stride) {
+  const int R = F.rank, channels = F.channels();
+  Corners c;
+  if (!pair_corners<Aniso>(F, X.stretch, wi, wr, c)) {
+    for (int ch = 0; ch < channels; ++ch) out[ch * stride] = 0.0;
+    return;
+  }
+  const double scale = X.divide == HalfAngleQuantity::Cosine ? 1.0 / (std::max(wi[2], X.floor) * std::max(wr[2], X.floor))
+                       : X.divide == HalfAngleQuantity::MeanCosine ? 1.0 / std::max(0.5 * (wi[2] + wr[2]), X.floor)
+                                                                 : 1.0;
+  if (X.drop && !all_corners_valid<Aniso>(X.ht, X.dt, c)) {
+    bool ok[4][4], all = true;
+    for (int x = 0; x < (Aniso ? 4 : 2); ++x)
+      for (int y = 0; y < 4; ++y) all &= ok[x][y] = node_pair_valid(X.ht, c.h[x], X.dt, c.d[y]);
+    if (!all) {
+      valid_corner_sum<Aniso>(F, c, ok, scale, out, stride);
+      return;
+    }
+  }
+  if (F.shared()) {  // the terms once, then each channel's weights
+    double term[kMaxStoredRank];
+    const double* U = F.u[0].data();
+    const double* V = F.v[0].data();
+    for (int r = 0; r < R; ++r) {
+      double uh = c.wh[0] * U[c.h[0] * R + r] + c.wh[1] * U[c.h[1] * R + r];
+      if (Aniso) uh += c.wh[2] * U[c.h[2] * R + r] + c.wh[3] * U[c.h[3] * R + r];
+      term[r] = uh * (c.wd[0] * V[c.d[0] * R + r] + c.wd[1] * V[c.d[1] * R + r] + c.wd[2] * V[c.d[2] * R + r] +
+                      c.wd[3] * V[c.d[3] * R + r]);
+    }
+    for (int ch = 0; ch < channels; ++ch) {
+      const double* S = F.channel_scales.data() + static_cast<Eigen::Index>(ch) * R;
+      double q = 0.0;
+      for (int r = 0; r < R; ++r) q += S[r] * term[r];
+      out[ch * stride] = q * scale;
+    }
+    return;
+  }
+  for (int ch = 0; ch < channels; ++ch) {
+    const double* U = F.u[ch].data();
+    const double* V = F.v[ch].data();
+    double q = 0.0;
+    for (int r = 0; r < R; ++r) {
+      double uh = c.wh[0] * U[c.h[0] * R + r] + c.wh[1] * U[c.h[1] * R + r];
+      if (Aniso) uh += c.wh[2] * U[c.h[2] * R + r] + c.wh[3] * U[c.h[3] * R + r];
+      const double vd = c.wd[0] * V[c.d[0] * R + r] + c.wd[1] * V[c.d[1] * R + r] + c.wd[2] * V[c.d[2] * R + r] +
+                        c.wd[3] * V[c.d[3] * R + r];
+      q += uh * vd;
+    }
+    out[ch * stride] = q * scale;
   }
 }
 
 template <bool Aniso>
 void eval_rows(const HalfAngleFactors& F, const RowMatrix3d& wi, const RowMatrix3d& wr, bool to_f,
                Eigen::Ref<Eigen::MatrixXd> out) {
-  const HalfAngleQuantity divide = to_f ? F.quantity : HalfAngleQuantity::F;
-  const double floor = F.cosine_floor();
   const Eigen::Index rows = wi.rows();
-  const int R = F.rank, channels = F.channels();
-  const HStretch stretch(F);
-  const bool drop = F.corners == HorizonCorners::Valid;
-  HalfAngleNodeTrig ht, dt;
-  if (drop) ht = half_angle_h_trig(F), dt = half_angle_d_trig(F);
+  const HalfAnglePairContext X(F, to_f);
+  const Eigen::Index stride = out.outerStride();
 #pragma omp parallel for schedule(static) if (rows > 2048)
-  for (Eigen::Index i = 0; i < rows; ++i) {
-    Corners c;
-    if (!pair_corners<Aniso>(F, stretch, wi.data() + 3 * i, wr.data() + 3 * i, c)) {
-      for (int ch = 0; ch < channels; ++ch) out(i, ch) = 0.0;
-      continue;
-    }
-    const double scale = divide == HalfAngleQuantity::Cosine ? 1.0 / (std::max(wi(i, 2), floor) * std::max(wr(i, 2), floor))
-                         : divide == HalfAngleQuantity::MeanCosine ? 1.0 / std::max(0.5 * (wi(i, 2) + wr(i, 2)), floor)
-                                                                   : 1.0;
-    if (drop && !all_corners_valid<Aniso>(ht, dt, c)) {
-      bool ok[4][4], all = true;
-      for (int x = 0; x < (Aniso ? 4 : 2); ++x)
-        for (int y = 0; y < 4; ++y) all &= ok[x][y] = node_pair_valid(ht, c.h[x], dt, c.d[y]);
-      if (!all) {
-        valid_corner_sum<Aniso>(F, c, ok, i, scale, out);
-        continue;
-      }
-    }
-    if (F.shared()) {  // the terms once, then each channel's weights
-      double term[kMaxStoredRank];
-      const double* U = F.u[0].data();
-      const double* V = F.v[0].data();
-      for (int r = 0; r < R; ++r) {
-        double uh = c.wh[0] * U[c.h[0] * R + r] + c.wh[1] * U[c.h[1] * R + r];
-        if (Aniso) uh += c.wh[2] * U[c.h[2] * R + r] + c.wh[3] * U[c.h[3] * R + r];
-        term[r] = uh * (c.wd[0] * V[c.d[0] * R + r] + c.wd[1] * V[c.d[1] * R + r] + c.wd[2] * V[c.d[2] * R + r] +
-                        c.wd[3] * V[c.d[3] * R + r]);
-      }
-      for (int ch = 0; ch < channels; ++ch) {
-        const double* S = F.channel_scales.data() + static_cast<Eigen::Index>(ch) * R;
-        double q = 0.0;
-        for (int r = 0; r < R; ++r) q += S[r] * term[r];
-        out(i, ch) = q * scale;
-      }
-      continue;
-    }
-    for (int ch = 0; ch < channels; ++ch) {
-      const double* U = F.u[ch].data();
-      const double* V = F.v[ch].data();
-      double q = 0.0;
-      for (int r = 0; r < R; ++r) {
-        double uh = c.wh[0] * U[c.h[0] * R + r] + c.wh[1] * U[c.h[1] * R + r];
-        if (Aniso) uh += c.wh[2] * U[c.h[2] * R + r] + c.wh[3] * U[c.h[3] * R + r];
-        const double vd = c.wd[0] * V[c.d[0] * R + r] + c.wd[1] * V[c.d[1] * R + r] + c.wd[2] * V[c.d[2] * R + r] +
-                          c.wd[3] * V[c.d[3] * R + r];
-        q += uh * vd;
-      }
-      out(i, ch) = q * scale;
-    }
-  }
+  for (Eigen::Index i = 0; i < rows; ++i) eval_pair<Aniso>(F, X, wi.data() + 3 * i, wr.data() + 3 * i, out.data() + i, stride);
 }
 
 }  // namespace
@@ -413,6 +430,18 @@ Eigen::MatrixXd HalfAngleFactors::eval(const RowMatrix3d& wi, const RowMatrix3d&
   Eigen::MatrixXd out(wi.rows(), channels());
   eval(wi, wr, out);
   return out;
+}
+
+HalfAnglePairEvaluator::HalfAnglePairEvaluator(std::shared_ptr<const HalfAngleFactors> lobe) : lobe_(std::move(lobe)) {
+  if (!lobe_) throw ArgumentError("HalfAnglePairEvaluator: no lobe");
+  context_ = std::make_shared<const HalfAnglePairContext>(*lobe_, true);
+}
+
+void HalfAnglePairEvaluator::eval(const double* wi, const double* wr, double* out) const {
+  if (lobe_->isotropic)
+    eval_pair<false>(*lobe_, *context_, wi, wr, out, 1);
+  else
+    eval_pair<true>(*lobe_, *context_, wi, wr, out, 1);
 }
 
 void HalfAngleFactors::eval_quantity(const RowMatrix3d& wi, const RowMatrix3d& wr,

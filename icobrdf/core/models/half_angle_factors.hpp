@@ -47,6 +47,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -175,6 +176,26 @@ inline bool node_pair_valid(const HalfAngleNodeTrig& h, int i, const HalfAngleNo
   const double* b = d.m.data() + 4 * j;
   return a[1] * b[1] - a[0] * b[0] * std::abs(a[2] * b[2] + a[3] * b[3]) >= -kHorizonSlack;
 }
+
+// f of a lobe at one direction pair, for per-sample callers (a renderer's eval at each path vertex): bitwise
+// the values of HalfAngleFactors::eval at the same pair (both run the same per-pair code); what that code needs
+// besides the factors (the stretch, the cosine floor, the node trig tables of HorizonCorners::Valid) is
+// computed once here instead of once per batch, and nothing is allocated per call.
+// wi, wr: 3 doubles each (unit vectors); out: channels() doubles [1/sr]; 0 where a direction is below the
+// horizon (z < -kHorizonSlack). eval may be called from several threads at once.
+struct HalfAnglePairContext;
+class HalfAnglePairEvaluator {
+ public:
+  // ArgumentError for a null lobe.
+  explicit HalfAnglePairEvaluator(std::shared_ptr<const HalfAngleFactors> lobe);
+  int channels() const { return lobe_->channels(); }
+  const HalfAngleFactors& lobe() const { return *lobe_; }
+  void eval(const double* wi, const double* wr, double* out) const;
+
+ private:
+  std::shared_ptr<const HalfAngleFactors> lobe_;
+  std::shared_ptr<const HalfAnglePairContext> context_;
+};
 
 // The pair of node (h row, d row) of a grid (isotropic grids: phi_h = 0).
 void half_angle_node_pair(const HalfAngleFactors& grid, int h_row, int d_row, Eigen::Vector3d& wi,

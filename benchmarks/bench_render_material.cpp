@@ -1,0 +1,133 @@
+// Per-sample calls of a renderer-facing material (icobrdf/io/render_material.hpp), one thread unless noted:
+//   BM_Eval<Real>/M     eval(w_i, w_r) at 4096 random pairs in turn; items_per_second = calls per second
+//   BM_Pdf<Real>/M      pdf(w_i, w_r) at the same pairs
+//   BM_Sample<Real>/M   sample(w_i, u1, u2) at 4096 random incident directions and numbers in turn
+//   BM_Build/M          building the material (tables over the incident direction)
+// Materials M: 0 a half-angle lobe (rank <= 4, fitted to GGX alpha 0.3: a bank's half-angle representation),
+// 1 the GGX alpha 0.3 model, 2 model 0.5*lambert+0.5*mirror (a delta part). ->Threads(2) shares one material.
+#include <benchmark/benchmark.h>
+
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "icobrdf/core/basis/direction.hpp"
+#include "icobrdf/core/fit/half_angle_fit.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
+#include "icobrdf/io/render_material.hpp"
+
+namespace {
+
+using namespace icobrdf;
+constexpr int kPairs = 4096;
+
+Spectrum no_modes() {
+  Spectrum s;
+  s.order = 0;
+  s.isotropic = true;
+  s.channels = {Eigen::MatrixXd::Zero(1, 1)};
+  s.source = "half-angle lobe";
+  return s;
+}
+
+const HalfAngleFactors& lobe() {
+  static const HalfAngleFactors l = [] {
+    const auto m = parse_model_source("model:ggx:alpha=0.3");
+    HalfAngleFitOptions o;
+    o.max_rank = 4;
+    o.target = 0.02;
+    return fit_half_angle(model_pair_sampler(*m), 1, o).factors;
+  }();
+  return l;
+}
+
+RenderMaterial make(int which) {
+  if (which == 0) return RenderMaterial(no_modes(), lobe());
+  return RenderMaterial::open(which == 1 ? "model:ggx:alpha=0.3" : "model:0.5*lambert+0.5*mirror");
+}
+
+const RenderMaterial& material(int which) {
+  static const std::vector<std::shared_ptr<RenderMaterial>> all = [] {
+    std::vector<std::shared_ptr<RenderMaterial>> v;
+    for (int i = 0; i < 3; ++i) v.push_back(std::make_shared<RenderMaterial>(make(i)));
+    return v;
+  }();
+  return *all[static_cast<size_t>(which)];
+}
+
+template <class Real>
+struct Inputs {
+  std::vector<Eigen::Matrix<Real, 3, 1>> wi, wr;
+  std::vector<Real> u1, u2;
+  Inputs() {
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int i = 0; i < kPairs; ++i) {
+      wi.push_back(direction_from_angles(std::acos(u(rng)), 2 * M_PI * u(rng)).cast<Real>());
+      wr.push_back(direction_from_angles(std::acos(u(rng)), 2 * M_PI * u(rng)).cast<Real>());
+      u1.push_back(static_cast<Real>(u(rng)));
+      u2.push_back(static_cast<Real>(u(rng)));
+    }
+  }
+};
+
+template <class Real>
+const Inputs<Real>& inputs() {
+  static const Inputs<Real> in;
+  return in;
+}
+
+template <class Real>
+void BM_Eval(benchmark::State& state) {
+  const RenderMaterial& m = material(static_cast<int>(state.range(0)));
+  const Inputs<Real>& in = inputs<Real>();
+  int i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(m.eval(in.wi[static_cast<size_t>(i)], in.wr[static_cast<size_t>(i)]));
+    i = (i + 1) & (kPairs - 1);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+template <class Real>
+void BM_Pdf(benchmark::State& state) {
+  const RenderMaterial& m = material(static_cast<int>(state.range(0)));
+  const Inputs<Real>& in = inputs<Real>();
+  int i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(m.pdf(in.wi[static_cast<size_t>(i)], in.wr[static_cast<size_t>(i)]));
+    i = (i + 1) & (kPairs - 1);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+template <class Real>
+void BM_Sample(benchmark::State& state) {
+  const RenderMaterial& m = material(static_cast<int>(state.range(0)));
+  const Inputs<Real>& in = inputs<Real>();
+  int i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(m.sample(in.wi[static_cast<size_t>(i)], in.u1[static_cast<size_t>(i)], in.u2[static_cast<size_t>(i)]));
+    i = (i + 1) & (kPairs - 1);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+void BM_Build(benchmark::State& state) {
+  lobe();
+  for (auto _ : state) benchmark::DoNotOptimize(make(static_cast<int>(state.range(0))));
+  state.SetItemsProcessed(state.iterations());
+}
+
+BENCHMARK_TEMPLATE(BM_Eval, double)->DenseRange(0, 2);
+BENCHMARK_TEMPLATE(BM_Eval, float)->DenseRange(0, 2);
+BENCHMARK_TEMPLATE(BM_Pdf, double)->DenseRange(0, 2);
+BENCHMARK_TEMPLATE(BM_Pdf, float)->DenseRange(0, 2);
+BENCHMARK_TEMPLATE(BM_Sample, double)->DenseRange(0, 2);
+BENCHMARK_TEMPLATE(BM_Sample, float)->DenseRange(0, 2);
+BENCHMARK_TEMPLATE(BM_Sample, double)->Arg(0)->Threads(2);
+BENCHMARK(BM_Build)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

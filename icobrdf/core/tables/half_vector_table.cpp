@@ -1,0 +1,258 @@
+#include "icobrdf/core/tables/half_vector_table.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/fast_atan2.hpp"
+
+namespace icobrdf {
+namespace {
+
+// Points per side of a cell for the share of it whose reflection is above the horizon.
+constexpr int kHorizonShareSide = 8;
+
+// w_r = 2 (w_i . h) h - w_i.
+inline Eigen::Vector3d reflect_about(const Eigen::Vector3d& wi, const Eigen::Vector3d& h) { return 2.0 * wi.dot(h) * h - wi; }
+
+inline Eigen::Vector3d polar_vector(double cos_theta, double phi) {
+  const double s = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
+  return {s * std::cos(phi), s * std::sin(phi), cos_theta};
+}
+
+}  // namespace
+
+void HalfVectorTable::check(const HalfVectorTableOptions& o) {
+  const bool ok = o.theta_nodes >= 2 && (o.azimuth_nodes == 1 || o.azimuth_nodes >= 4) && o.t_bins >= 4 &&
+                  o.phi_bins >= 4 && o.t_warp >= 1.0 && o.t_warp <= 4.0;
+  if (!ok)
+    throw ArgumentError("half-vector table: expected theta_nodes >= 2, azimuth_nodes 1 or >= 4, t_bins >= 4, phi_bins >= 4, "
+                        "t_warp in [1, 4]; got " + std::to_string(o.theta_nodes) + ", " + std::to_string(o.azimuth_nodes) +
+                        ", " + std::to_string(o.t_bins) + ", " + std::to_string(o.phi_bins) + ", " + std::to_string(o.t_warp));
+}
+
+Eigen::Vector3d HalfVectorTable::node_direction(const HalfVectorTableOptions& opt, int n) {
+  const int a = n / opt.azimuth_nodes, b = n % opt.azimuth_nodes;
+  const double theta = kHalfVectorThetaMax * a / (opt.theta_nodes - 1), phi = 2.0 * M_PI * b / opt.azimuth_nodes;
+  return polar_vector(std::cos(theta), phi);
+}
+
+double HalfVectorTable::horizon_share(const Eigen::Vector3d& wi, int cell) const {
+  const int k = cell / opt_.phi_bins, j = cell % opt_.phi_bins;
+  const double c0 = cos_edge_[static_cast<size_t>(k)], c1 = cos_edge_[static_cast<size_t>(k) + 1], dphi = 2.0 * M_PI / opt_.phi_bins;
+  int above = 0;
+  for (int a = 0; a < kHorizonShareSide; ++a)
+    for (int b = 0; b < kHorizonShareSide; ++b) {
+      const Eigen::Vector3d h = polar_vector(c0 + (c1 - c0) * (a + 0.5) / kHorizonShareSide, -M_PI + dphi * (j + (b + 0.5) / kHorizonShareSide));
+      above += wi.dot(h) > 0.0 && reflect_about(wi, h).z() >= 0.0;
+    }
+  return static_cast<double>(above) / (kHorizonShareSide * kHorizonShareSide);
+}
+
+double HalfVectorTable::cell_area(int cell) const {
+  const int k = cell / opt_.phi_bins;
+  return (cos_edge_[static_cast<size_t>(k)] - cos_edge_[static_cast<size_t>(k) + 1]) * (2.0 * M_PI / opt_.phi_bins);
+}
+
+HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTableOptions& options) : opt_(options) {
+  check(opt_);
+  const int nt = opt_.t_bins, np = opt_.phi_bins;
+  cells_ = nt * np;
+  cos_edge_.resize(static_cast<size_t>(nt) + 1);
+  for (int k = 0; k <= nt; ++k) cos_edge_[static_cast<size_t>(k)] = std::cos(0.5 * M_PI * std::pow(static_cast<double>(k) / nt, opt_.t_warp));
+  cos_edge_[static_cast<size_t>(nt)] = 0.0;
+  const int n_nodes = nodes();
+  const auto total = static_cast<size_t>(n_nodes) * static_cast<size_t>(cells_);
+  mass_.assign(total, 0.0);
+  cdf_.assign(total, 0.0);
+  row_cdf_.assign(static_cast<size_t>(n_nodes) * static_cast<size_t>(nt), 0.0);
+  albedo_.assign(static_cast<size_t>(n_nodes), 0.0);
+  const double dphi = 2.0 * M_PI / np;
+  // Sub-cell centres: 2 x 2 per cell, equal in solid angle (midpoints in cos theta_h and phi_h).
+  RowMatrix3d h(static_cast<Eigen::Index>(cells_) * 4, 3);
+  for (int k = 0; k < nt; ++k)
+    for (int j = 0; j < np; ++j)
+      for (int q = 0; q < 4; ++q) {
+        const double c0 = cos_edge_[static_cast<size_t>(k)], c1 = cos_edge_[static_cast<size_t>(k) + 1];
+        const double c = c0 + (c1 - c0) * (0.25 + 0.5 * (q / 2)), phi = -M_PI + dphi * (j + 0.25 + 0.5 * (q % 2));
+        h.row((static_cast<Eigen::Index>(k) * np + j) * 4 + q) = polar_vector(c, phi).transpose();
+      }
+  RowMatrix3d wi(h.rows(), 3), wr(h.rows(), 3);
+  for (int n = 0; n < n_nodes; ++n) {
+    const Eigen::Vector3d w = node_direction(n);
+    wi.rowwise() = w.transpose();
+    Eigen::VectorXd jac(h.rows());  // cos(theta_r) 4 (w_i . h), 0 where w_r cannot be
+    for (Eigen::Index r = 0; r < h.rows(); ++r) {
+      const Eigen::Vector3d hr = h.row(r).transpose();
+      const double c = w.dot(hr);
+      const Eigen::Vector3d o = reflect_about(w, hr);
+      jac[r] = (c > 0.0 && o.z() >= 0.0) ? o.z() * 4.0 * c : 0.0;
+      wr.row(r) = jac[r] > 0.0 ? o.transpose() : Eigen::RowVector3d(0, 0, 1);  // fbar is not asked below the horizon
+    }
+    const Eigen::VectorXd v = fbar(wi, wr);
+    double* m = mass_.data() + static_cast<size_t>(n) * cells_;
+    double sum = 0.0;
+    int open = 0;  // cells that can hold reflected directions
+    std::vector<char> can(static_cast<size_t>(cells_), 0);
+    for (int cell = 0; cell < cells_; ++cell) {
+      double s = 0.0;
+      bool any = false;
+      int valid = 0;
+      for (int q = 0; q < 4; ++q) {
+        const Eigen::Index r = static_cast<Eigen::Index>(cell) * 4 + q;
+        if (jac[r] == 0.0) continue;
+        any = true;
+        ++valid;
+        const double x = v[r];
+        if (!(x >= 0.0) || !std::isfinite(x)) {
+          char buf[200];
+          std::snprintf(buf, sizeof buf, "half-vector table: fbar = %.6g at w_i = (%.6g, %.6g, %.6g), w_r = (%.6g, %.6g, %.6g); expected a finite value >= 0",
+                        x, w.x(), w.y(), w.z(), wr(r, 0), wr(r, 1), wr(r, 2));
+          throw UnsupportedError(buf);
+        }
+        s += x * jac[r];
+      }
+      if (!any) {  // the corners: a sliver of the cell may still reflect above the horizon
+        const int k = cell / np, j = cell % np;
+        for (int q = 0; q < 4 && !any; ++q) {
+          const Eigen::Vector3d hc = polar_vector(cos_edge_[static_cast<size_t>(k + q / 2)], -M_PI + dphi * (j + q % 2));
+          any = w.dot(hc) > 0.0 && reflect_about(w, hc).z() >= 0.0;
+        }
+      }
+      // A cell the horizon cuts: the mean over its valid points times the share of it that reflects above the
+      // horizon (kHorizonShareSide^2 points; geometry only), not a quarter per valid point.
+      const double share = valid == 4 ? 1.0 : valid == 0 ? 0.0 : horizon_share(w, cell);
+      m[cell] = valid > 0 ? s / valid * share * cell_area(cell) : 0.0;
+      sum += m[cell];
+      if (any) can[static_cast<size_t>(cell)] = 1, ++open;
+    }
+    albedo_[static_cast<size_t>(n)] = sum;
+    if (!(sum > 0.0)) continue;  // an all-zero node: never drawn (its blend weight goes to no draw)
+    const double floor = kHalfVectorFloor * sum / open;
+    double acc = 0.0;
+    for (int cell = 0; cell < cells_; ++cell) {
+      if (can[static_cast<size_t>(cell)]) m[cell] = std::max(m[cell], floor);
+      acc += m[cell];
+    }
+    double run = 0.0;
+    double* cdf = cdf_.data() + static_cast<size_t>(n) * cells_;
+    for (int cell = 0; cell < cells_; ++cell) {
+      m[cell] /= acc;
+      run += m[cell];
+      cdf[cell] = run;
+    }
+    cdf[cells_ - 1] = 1.0;
+    double* rows = row_cdf_.data() + static_cast<size_t>(n) * opt_.t_bins;
+    for (int k = 0; k < opt_.t_bins; ++k) rows[k] = cdf[(k + 1) * opt_.phi_bins - 1];
+  }
+}
+
+HalfVectorBlend HalfVectorTable::blend(const HalfVectorTableOptions& opt, const Eigen::Vector3d& wi) {
+  HalfVectorBlend b;
+  const double rho = std::sqrt(wi.x() * wi.x() + wi.y() * wi.y());
+  const double theta = fast_atan2(rho, wi.z());
+  double x = std::clamp(theta / kHalfVectorThetaMax, 0.0, 1.0) * (opt.theta_nodes - 1);
+  const int a = std::min(static_cast<int>(x), opt.theta_nodes - 2);
+  const double fa = x - a;
+  if (opt.azimuth_nodes == 1) {
+    if (rho > 0.0) b.c = wi.x() / rho, b.s = wi.y() / rho;
+    b.count = 2;
+    b.node[0] = a, b.weight[0] = 1.0 - fa;
+    b.node[1] = a + 1, b.weight[1] = fa;
+    return b;
+  }
+  const int m = opt.azimuth_nodes;
+  double y = (rho > 0.0 ? fast_atan2(wi.y(), wi.x()) : 0.0) / (2.0 * M_PI) * m;
+  if (y < 0.0) y += m;
+  int p = static_cast<int>(y);
+  double fp = y - p;
+  if (p >= m) p = 0, fp = 0.0;
+  const int p1 = p + 1 == m ? 0 : p + 1;
+  b.count = 4;
+  b.node[0] = a * m + p, b.weight[0] = (1.0 - fa) * (1.0 - fp);
+  b.node[1] = a * m + p1, b.weight[1] = (1.0 - fa) * fp;
+  b.node[2] = (a + 1) * m + p, b.weight[2] = fa * (1.0 - fp);
+  b.node[3] = (a + 1) * m + p1, b.weight[3] = fa * fp;
+  return b;
+}
+
+int HalfVectorTable::cell_of(const Eigen::Vector3d& h) const {
+  const double theta = fast_atan2(std::sqrt(h.x() * h.x() + h.y() * h.y()), h.z());
+  const double x = std::clamp(theta / (0.5 * M_PI), 0.0, 1.0);
+  const double t = opt_.t_warp == 2.0 ? std::sqrt(x) : std::pow(x, 1.0 / opt_.t_warp);
+  int k = std::min(static_cast<int>(t * opt_.t_bins), opt_.t_bins - 1);
+  // Rounding at an edge: the cell whose cos range holds h.z.
+  if (k > 0 && h.z() > cos_edge_[static_cast<size_t>(k)]) --k;
+  if (k + 1 < opt_.t_bins && h.z() < cos_edge_[static_cast<size_t>(k) + 1]) ++k;
+  const double phi = (h.x() == 0.0 && h.y() == 0.0) ? 0.0 : fast_atan2(h.y(), h.x());
+  const int j = std::clamp(static_cast<int>((phi + M_PI) / (2.0 * M_PI) * opt_.phi_bins), 0, opt_.phi_bins - 1);
+  return k * opt_.phi_bins + j;
+}
+
+double HalfVectorTable::albedo(const HalfVectorBlend& b) const {
+  double s = 0.0;
+  for (int i = 0; i < b.count; ++i) s += b.weight[i] * albedo_[static_cast<size_t>(b.node[i])];
+  return s;
+}
+
+bool HalfVectorTable::sample(const HalfVectorBlend& b, const Eigen::Vector3d& wi, double u1, double u2, Eigen::Vector3d& wr,
+                             double& pdf_out) const {
+  // The node: u1 picks it by the blend weights among the nodes that have mass, then is rescaled to [0, 1).
+  double live = 0.0;
+  for (int i = 0; i < b.count; ++i)
+    if (albedo_[static_cast<size_t>(b.node[i])] > 0.0) live += b.weight[i];
+  if (!(live > 0.0)) return false;
+  double x = u1 * live, acc = 0.0;
+  int node = -1;
+  double node_lo = 0.0, node_w = 1.0;
+  for (int i = 0; i < b.count; ++i) {
+    if (!(albedo_[static_cast<size_t>(b.node[i])] > 0.0) || b.weight[i] == 0.0) continue;
+    node = b.node[i], node_lo = acc, node_w = b.weight[i];  // the last live node takes u1 rounding up to its end
+    if (x < acc + b.weight[i]) break;
+    acc += b.weight[i];
+  }
+  x = (x - node_lo) / node_w;
+  x = std::clamp(x, 0.0, 1.0);
+  const double* cdf = cdf_.data() + static_cast<size_t>(node) * cells_;
+  const double* p = mass_.data() + static_cast<size_t>(node) * cells_;
+  // Two searches in short arrays (the row's cumulative end, then the cells of the row): fewer cache lines than
+  // one search over all cells; the same cell (the first whose cumulative mass exceeds x).
+  const double* rows = row_cdf_.data() + static_cast<size_t>(node) * opt_.t_bins;
+  const int row = std::min(static_cast<int>(std::upper_bound(rows, rows + opt_.t_bins, x) - rows), opt_.t_bins - 1);
+  const double* first = cdf + static_cast<size_t>(row) * opt_.phi_bins;
+  int cell = row * opt_.phi_bins + static_cast<int>(std::upper_bound(first, first + opt_.phi_bins, x) - first);
+  cell = std::min(cell, cells_ - 1);
+  while (p[cell] == 0.0 && cell > 0) --cell;  // x on the upper end of an empty run: the mass before it
+  const double lo = cell > 0 ? cdf[cell - 1] : 0.0;
+  const double f = std::clamp(p[cell] > 0.0 ? (x - lo) / p[cell] : 0.5, 0.0, 1.0);
+  const int k = cell / opt_.phi_bins, j = cell % opt_.phi_bins;
+  const double c0 = cos_edge_[static_cast<size_t>(k)], c1 = cos_edge_[static_cast<size_t>(k) + 1];
+  const Eigen::Vector3d hl = polar_vector(c0 + (c1 - c0) * f, -M_PI + 2.0 * M_PI / opt_.phi_bins * (j + u2));
+  const Eigen::Vector3d h(b.c * hl.x() - b.s * hl.y(), b.s * hl.x() + b.c * hl.y(), hl.z());
+  wr = reflect_about(wi, h);
+  const double c = wi.dot(h);
+  if (!(c > 0.0)) return false;
+  double density = 0.0;
+  for (int i = 0; i < b.count; ++i) density += b.weight[i] * mass_[static_cast<size_t>(b.node[i]) * cells_ + cell];
+  pdf_out = density / live / cell_area(cell) / (4.0 * c);
+  return true;
+}
+
+double HalfVectorTable::pdf(const HalfVectorBlend& b, const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const {
+  Eigen::Vector3d h;
+  double c;
+  if (!(wr.z() >= 0.0) || !(wi.z() >= 0.0) || !reflection_half_vector(wi, wr, h, c)) return 0.0;
+  double live = 0.0;
+  for (int i = 0; i < b.count; ++i)
+    if (albedo_[static_cast<size_t>(b.node[i])] > 0.0) live += b.weight[i];
+  if (!(live > 0.0)) return 0.0;
+  const Eigen::Vector3d hl(b.c * h.x() + b.s * h.y(), -b.s * h.x() + b.c * h.y(), h.z());
+  const int cell = cell_of(hl);
+  double density = 0.0;
+  for (int i = 0; i < b.count; ++i) density += b.weight[i] * mass_[static_cast<size_t>(b.node[i]) * cells_ + cell];
+  return density / live / cell_area(cell) / (4.0 * c);
+}
+
+}  // namespace icobrdf

@@ -1,0 +1,127 @@
+#pragma once
+// HalfVectorTable: importance sampling of reflected directions by tables over the half vector, built once for
+// a set of incident directions (nodes) and blended between them, so that nothing is built per incident
+// direction when sampling.
+//
+// Cells: the hemisphere of the half vector h in the coordinates of a half-angle lobe
+// (icobrdf/core/models/half_angle_factors.hpp): t in [0, 1] with theta_h = (pi/2) t^t_warp, n_t equal bins of t
+// (so that cells crowd at h = n, where glossy lobes are), and n_phi equal bins of phi_h in [-pi, pi). Cell
+// (k, j) has the solid angle A_kj = (cos theta_k - cos theta_k+1) (2 pi / n_phi).
+// Nodes: incident directions at theta_a = theta_max a / (n_theta - 1), a < n_theta (theta_max = 89 degrees: a
+// spectrum of g = f cos is infinite at grazing), and, for an anisotropic BRDF, phi_b = 2 pi b / n_azimuth. With
+// n_azimuth = 1 (isotropic BRDFs) the node's w_i has phi = 0 and w_i is first turned by -phi_i about the
+// normal (w_r and h turn with it; solid angles are kept).
+// Per node, the mass of cell (k, j) is m = integral over the cell of q(h) dw_h, with
+//   q(h) = fbar(w_i, w_r(h)) cos(theta_r) 4 (w_i . h),  w_r(h) = 2 (w_i . h) h - w_i,
+// fbar >= 0 the caller's value (a material's mean over channels of max(f, 0)), 0 where w_r is below the horizon
+// or w_i . h <= 0; 4 (w_i . h) is the Jacobian dw_r / dw_h, so the masses sum to the directional albedo of fbar
+// (the estimate albedo() returns). m is estimated by the midpoint rule of 2 x 2 sub-cells equal in solid angle;
+// in a cell the horizon of w_r cuts, by the mean over its sub-cell centres above it times the share of the cell
+// above it (8 x 8 points).
+// A cell with a sub-cell centre or a corner whose w_r is above the horizon gets at least
+// kHalfVectorFloor x (mean mass of such cells): a cell whose four points miss a narrow feature of f is still
+// drawn, so the density is positive wherever f cos can be (the estimator stays unbiased), at a cost of at most
+// that fraction of the draws.
+// Density: within the cell drawn from the node's cumulative masses, h is uniform in solid angle; the blend of
+// the nodes (linear in theta_i, and periodic-linear in phi_i when anisotropic) picks one node per draw with
+// its blend weight, so the density of w_r is
+//   pdf(w_r) = sum_n weight_n P_n(cell of h) / A_cell / (4 w_i . h)   [1/sr].
+// sample() may return a w_r below the horizon (the caller treats it as a failed draw: f is 0 there).
+// Accuracy: the weights f cos / pdf vary within a cell as f does over it, and between nodes as the BRDF does
+// between neighbouring incident angles: refine n_t, n_phi and n_theta for narrow lobes (the defaults resolve a
+// GGX lobe of alpha 0.05 with about 12 bins of t across its width). Where f cos(theta_r) falls to 0 at the
+// horizon of w_r across a cell, the weights in it spread as a ramp's do (a relative standard deviation of 0.58
+// within the cell): for a GGX lobe of alpha 0.3 at theta_i = 75 degrees that makes about 0.08 over all draws.
+// Thread safety: const methods may be called from several threads at once; no allocation in them.
+#include <Eigen/Core>
+
+#include <functional>
+#include <vector>
+
+#include "icobrdf/core/grid/grid.hpp"
+
+namespace icobrdf {
+
+// The floor of a cell's mass, as a fraction of the mean mass of the cells that can hold reflected directions.
+inline constexpr double kHalfVectorFloor = 1e-4;
+// The largest polar angle of an incident node [rad] (89 degrees).
+inline constexpr double kHalfVectorThetaMax = 89.0 * M_PI / 180.0;
+
+struct HalfVectorTableOptions {
+  int theta_nodes = 24;   // incident polar angles (>= 2)
+  int azimuth_nodes = 1;  // incident azimuths (1: isotropic; else >= 4)
+  int t_bins = 128;       // bins of t (>= 4)
+  int phi_bins = 128;     // bins of phi_h (>= 4)
+  double t_warp = 2.0;    // theta_h = (pi/2) t^t_warp, in [1, 4]
+};
+
+// fbar at rows of pairs (w_i, w_r) (n x 3 each): n values >= 0 (a caller's max(f, 0), averaged over channels).
+using NonNegativeBrdf = std::function<Eigen::VectorXd(const RowMatrix3d& wi, const RowMatrix3d& wr)>;
+
+// The half vector h = normalize(w_i + w_r) of a reflected pair and c = w_i . h (the Jacobian dw_r / dw_h is
+// 1 / (4 c)); false when w_i + w_r = 0 or c <= 0 (no density there).
+inline bool reflection_half_vector(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr, Eigen::Vector3d& h, double& c) {
+  h = wi + wr;
+  const double len = h.norm();
+  if (!(len > 0.0)) return false;
+  h /= len;
+  c = wi.dot(h);
+  return c > 0.0;
+}
+
+// The nodes blended for an incident direction: up to 4 nodes with weights summing to 1, and (isotropic) the
+// turn Rz(-phi_i) = [[c, s], [-s, c]] taking w_i into the nodes' frame.
+struct HalfVectorBlend {
+  int count = 0;
+  int node[4] = {0, 0, 0, 0};
+  double weight[4] = {0, 0, 0, 0};
+  double c = 1, s = 0;
+};
+
+class HalfVectorTable {
+ public:
+  // The node layout alone (used for other per-node tables over the same incident directions).
+  static HalfVectorBlend blend(const HalfVectorTableOptions& options, const Eigen::Vector3d& wi);
+  static Eigen::Vector3d node_direction(const HalfVectorTableOptions& options, int n);
+  // ArgumentError for options out of range.
+  static void check(const HalfVectorTableOptions& options);
+
+  HalfVectorTable() = default;
+  // ArgumentError for options out of range; UnsupportedError when fbar returns a negative or non-finite value
+  // (the message names the pair).
+  HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTableOptions& options);
+  const HalfVectorTableOptions& options() const { return opt_; }
+  bool empty() const { return mass_.empty(); }
+  int nodes() const { return opt_.theta_nodes * opt_.azimuth_nodes; }
+  // The incident direction of node n (n = a * azimuth_nodes + b).
+  Eigen::Vector3d node_direction(int n) const { return node_direction(opt_, n); }
+  // The estimate of the directional albedo of fbar at node n (the sum of its masses before the floor).
+  double node_albedo(int n) const { return albedo_[static_cast<size_t>(n)]; }
+  // The same blended to w_i as the densities are.
+  double albedo(const Eigen::Vector3d& wi) const { return albedo(blend(opt_, wi)); }
+  double albedo(const HalfVectorBlend& b) const;
+  // A draw for w_i (unit, z >= 0) from u1, u2 in [0, 1): w_r and its density; false when no node of the blend
+  // has mass (an all-zero fbar).
+  bool sample(const Eigen::Vector3d& wi, double u1, double u2, Eigen::Vector3d& wr, double& pdf) const {
+    return sample(blend(opt_, wi), wi, u1, u2, wr, pdf);
+  }
+  double pdf(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const { return pdf(blend(opt_, wi), wi, wr); }
+  // The same with the blend of w_i already known (blend(options(), wi)).
+  bool sample(const HalfVectorBlend& b, const Eigen::Vector3d& wi, double u1, double u2, Eigen::Vector3d& wr, double& pdf) const;
+  double pdf(const HalfVectorBlend& b, const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const;
+
+ private:
+  int cell_of(const Eigen::Vector3d& h) const;  // h in the nodes' frame
+  double cell_area(int cell) const;
+  double horizon_share(const Eigen::Vector3d& wi, int cell) const;
+
+  HalfVectorTableOptions opt_;
+  int cells_ = 0;
+  std::vector<double> cos_edge_;  // t_bins + 1 values of cos(theta_h) at the t edges
+  std::vector<double> mass_;      // nodes x cells, normalized per node (probabilities)
+  std::vector<double> cdf_;       // nodes x cells, cumulative
+  std::vector<double> row_cdf_;   // nodes x t_bins: the cumulative mass at the end of each row of cells
+  std::vector<double> albedo_;    // nodes
+};
+
+}  // namespace icobrdf
