@@ -12,6 +12,7 @@
 #include "cli/option_checks.hpp"
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/basis/lowpass_filter.hpp"
+#include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/output_path.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 #include "icobrdf/plot/curve_plots.hpp"

@@ -20,10 +20,12 @@ SliceSource slice_source(PictureMaterial m);
 std::vector<SphereMaterial> load_sphere_materials(const std::string& text, SphereRequest::Shading shading, int order, int level,
                                                   const std::string& model_shading_label);
 
-// A sphere shaded from a spectrum with negative albedo would show it clipped to black without a word: the
-// directional albedo of each material shaded from a spectrum is checked at the 656 directions of the level-3
-// cells (enough to see a negative lobe of the orders a sphere is shaded with, <= 32, in milliseconds) and
-// reported on stderr, or with `strict` thrown (icobrdf/pipeline/reflectance_check.hpp).
+// A sphere shaded from a spectrum or from values with negative albedo would show it clipped to black without a
+// word: the directional albedo of each material shaded from a spectrum is checked at the 656 directions of the
+// level-3 cells (enough to see a negative lobe of the orders a sphere is shaded with, <= 32, in milliseconds),
+// that of a material shaded from its values (a model, a measured file) by a cell sum at the 164 directions of
+// the level-2 cells; either is reported on stderr, or with `strict` thrown
+// (icobrdf/pipeline/reflectance_check.hpp).
 void check_sphere_albedo(const std::vector<SphereMaterial>& materials, bool strict);
 
 }  // namespace icobrdf::plot

@@ -222,9 +222,11 @@ TEST(RenderMaterial, DrawsFollowThePdfForEveryRepresentation) {
         draws.push_back(s.wr);
         EXPECT_NEAR(s.pdf, m->pdf(wi, s.wr), 1e-12 * s.pdf) << name;
       }
+      // C++17 lambdas cannot capture a structured binding (clang refuses): the material through a plain pointer.
+      const auto* material = &*m;
       const auto density = [&](const RowMatrix3d& w) {
         Eigen::VectorXd p(w.rows());
-        for (Eigen::Index i = 0; i < w.rows(); ++i) p[i] = m->pdf(wi, w.row(i).transpose());
+        for (Eigen::Index i = 0; i < w.rows(); ++i) p[i] = material->pdf(wi, w.row(i).transpose());
         return p;
       };
       // The density over the upper hemisphere integrates to the probability of a valid draw.
