@@ -34,7 +34,7 @@ MaterialRecord read_picture_record(const std::string& text, const MaterialRef& r
 
 }  // namespace
 
-PictureMaterial load_picture_material(const std::string& text, int order, int level, bool values_only) {
+PictureMaterial load_picture_material(const std::string& text, int order, int level, bool values_only, bool fit_allowed) {
   PictureMaterial m;
   m.name = text;
   const MaterialRef ref = split_material_ref(text);
@@ -54,6 +54,7 @@ PictureMaterial load_picture_material(const std::string& text, int order, int le
     m.exact_kind = stored ? "stored" : is_model_source(text) ? "model" : "measured";
     if (values_only) return m;
   }
+  if (!fit_allowed) return m;
   FitRequest r;
   r.level = level;
   r.order = order;

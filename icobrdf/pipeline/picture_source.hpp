@@ -30,8 +30,10 @@ struct PictureMaterial {
 // A spectrum file (FILE.h5[#material]) as stored, InputError when it is missing; any other SOURCE, and a
 // stored material with a half-angle lobe, fitted at `order` on the equal-area grid of `level`. A source
 // with values everywhere (no delta part, not values at scattered samples only) also gets `exact`; with
-// `values_only` such a source is not fitted at all (no spectrum unless one is stored).
-PictureMaterial load_picture_material(const std::string& text, int order, int level, bool values_only = false);
+// `values_only` such a source is not fitted at all (no spectrum unless one is stored). With `fit_allowed` false
+// nothing is fitted: a source without values everywhere comes back with neither (a caller that needs the values
+// refuses it before any work).
+PictureMaterial load_picture_material(const std::string& text, int order, int level, bool values_only = false, bool fit_allowed = true);
 
 // The material names of BANK.h5 when `text` names a bank file (no '#') holding more than one material,
 // InputError when that file is missing; empty for any other SOURCE.

@@ -28,7 +28,8 @@ std::vector<SphereMaterial> load_sphere_materials(const std::string& text, Spher
   if (!names.empty()) return materials;
   // A source with values everywhere (a model without delta parts, a measured file, a stored material with a
   // half-angle lobe) is shaded from them, unfitted, unless told to shade from a spectrum.
-  PictureMaterial m = load_picture_material(text, order, level, shading != Shading::Spectrum);
+  // Shading from the model needs its values: nothing is fitted before a source without them is refused.
+  PictureMaterial m = load_picture_material(text, order, level, shading != Shading::Spectrum, shading != Shading::Model);
   if (shading == Shading::Model && !m.exact)
     throw ArgumentError(model_shading_label + ": needs values known everywhere (no delta part, not scattered samples), found '" +
                         quoted_text(text) + "'");
