@@ -91,9 +91,11 @@ void remove_unfinished_temporaries() {
   temporaries().clear();
 }
 
-void remove_unfinished_temporaries_in_signal_handler() {
+int remove_unfinished_temporaries_in_signal_handler() {
+  int removed = 0;
   for (auto& slot : g_slots)
-    if (slot.state.load(std::memory_order_acquire) == kHeld) ::unlink(slot.path);
+    if (slot.state.load(std::memory_order_acquire) == kHeld && ::unlink(slot.path) == 0) ++removed;
+  return removed;
 }
 
 std::string file_name(const std::string& path) {

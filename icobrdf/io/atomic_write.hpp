@@ -45,7 +45,7 @@ void remove_unfinished_temporaries();
 
 // The same from a signal handler: async-signal-safe (reads fixed slots, calls only unlink); the registry is
 // left as it is, since the program ends next (icobrdf/io/program_end.hpp).
-void remove_unfinished_temporaries_in_signal_handler();
+int remove_unfinished_temporaries_in_signal_handler();  // how many were removed
 
 // atomic_write of a text (or any bytes) as the whole file.
 void atomic_write_text(const std::string& path, const std::string& text);

@@ -28,11 +28,14 @@ void open_on(int fd, const char* device, int flags) {
 }
 
 extern "C" void icobrdf_on_program_stop_signal(int sig) {
-  remove_unfinished_temporaries_in_signal_handler();
-  static const char kInt[] = "icobrdf: interrupted (SIGINT); unfinished output files removed\n";
-  static const char kTerm[] = "icobrdf: terminated (SIGTERM); unfinished output files removed\n";
-  const char* line = sig == SIGINT ? kInt : kTerm;
-  (void)!::write(STDERR_FILENO, line, std::strlen(line));
+  // Said only when files were removed: a stop with nothing unfinished ends silently, as programs stopped by a
+  // signal do (under mpirun, a usage error on rank 0 makes mpirun terminate the other ranks: one line, not two).
+  if (remove_unfinished_temporaries_in_signal_handler() > 0) {
+    static const char kInt[] = "icobrdf: interrupted (SIGINT); unfinished output files removed\n";
+    static const char kTerm[] = "icobrdf: terminated (SIGTERM); unfinished output files removed\n";
+    const char* line = sig == SIGINT ? kInt : kTerm;
+    (void)!::write(STDERR_FILENO, line, std::strlen(line));
+  }
   ::_exit(128 + sig);
 }
 

@@ -7,7 +7,8 @@
 //   the standard output would go into that file); a write to a closed standard output then fails, and
 //   finish_standard_output says the stream was closed.
 // - install_stop_signals(): SIGINT and SIGTERM remove the temporaries of unfinished atomic writes
-//   (icobrdf/io/atomic_write.hpp), write one line and end the process with 128 + the signal (130, 143).
+//   (icobrdf/io/atomic_write.hpp), write one line when they removed any, and end the process with 128 + the
+//   signal (130, 143).
 //   Files already renamed into place stay. A command that stops cleanly on its own (bank build keeps its
 //   finished materials) installs its own handler over this one.
 // - finish_standard_output(code, io_code): flushes the standard output; when a write to it failed (full disk,
