@@ -4,6 +4,8 @@
 #include <optional>
 #include <utility>
 
+#include "icobrdf/core/models/function_model.hpp"
+#include "icobrdf/core/projection/lut.hpp"
 #include "icobrdf/core/projection/reflection.hpp"
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
@@ -40,23 +42,16 @@ std::vector<SphereMaterial> load_sphere_materials(const std::string& text, Spher
 
 namespace {
 
-// The directional albedo of a material's values at the grid's cell directions (cells x channels): f at every
-// pair of cell centres, summed over the outgoing cells with their mean cosines and solid angles
+// The directional albedo of a material's values at the grid's cell directions (cells x channels): the LUT of
+// the values at the cell centres, summed over the outgoing cells with their mean cosines and solid angles
 // (icobrdf/core/projection/reflection.hpp).
 Eigen::MatrixXd value_albedo(const SphereMaterial& m, const Grid& grid) {
-  const Eigen::Index n = grid.directions.rows();
-  RowMatrix3d wi(n * n, 3), wr(n * n, 3);
-  for (Eigen::Index i = 0; i < n; ++i)
-    for (Eigen::Index j = 0; j < n; ++j) {
-      wi.row(i * n + j) = grid.directions.row(i);
-      wr.row(i * n + j) = grid.directions.row(j);
-    }
-  const Eigen::MatrixXd f = m.model(wi, wr);
-  Eigen::MatrixXd albedo(n, f.cols());
-  for (Eigen::Index c = 0; c < f.cols(); ++c) {
-    const Eigen::MatrixXd lut = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(f.col(c).data(), n, n);
-    albedo.col(c) = directional_albedo(lut, false, grid);
-  }
+  const FunctionModel values(
+      m.model_channels, [&m](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) { out = m.model(wi, wr); },
+      m.name, false, false);
+  const Lut lut = build_lut(values, grid, false, LutSampling::CellCentre);
+  Eigen::MatrixXd albedo(grid.directions.rows(), values.channels());
+  for (int c = 0; c < values.channels(); ++c) albedo.col(c) = directional_albedo(lut.channels[static_cast<size_t>(c)], false, grid);
   return albedo;
 }
 
