@@ -1,7 +1,6 @@
-// icobrdf plot basis|slice|spectrum|sphere|curves|albedo|halfdiff ... -o FILE.png: pictures of basis functions,
-// slices, spectra, lit spheres, in-plane curves, directional albedo and (theta_h, theta_d) images
-// (icobrdf/plot/plots.hpp, curve_plots.hpp, half_diff_plot.hpp, docs/plots.md). Every picture is written atomically. The SOURCE is loaded by icobrdf/pipeline/picture_source.hpp
-// and the option forms are read by icobrdf/plot/plot_options.hpp; this file only wires flags to them.
+// icobrdf plot basis|slice|spectrum|sphere|curves|albedo|halfdiff|samples|bytes ... -o FILE.png: the pictures of icobrdf/plot/
+// (docs/plots.md), written atomically. SOURCEs are loaded by icobrdf/pipeline/picture_source.hpp and the option forms read by
+// icobrdf/plot/plot_options.hpp; this file only wires flags to them.
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -15,6 +14,7 @@
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/output_path.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
+#include "icobrdf/plot/bytes_plot.hpp"
 #include "icobrdf/plot/curve_plots.hpp"
 #include "icobrdf/plot/half_diff_plot.hpp"
 #include "icobrdf/plot/picture_materials.hpp"
@@ -33,7 +33,7 @@ struct PlotArgs {
   int order = 4, level = 4, size = 256, panel = 200, basis_panel = 0;
   std::vector<int> orders{0, 1, 2, 4, 6, 8};
   std::vector<double> thetas{0.0, 30.0, 60.0};
-  double theta_i = 45.0, phi_i = 0.0, sky_radiance = 0.3, exposure = 1.0;
+  double theta_i = 45.0, phi_i = 0.0, sky_radiance = 0.3, exposure = 1.0, phi_d = 90.0;
   bool separate = false, sky = false, no_exact = false, json = false, strict = false, log = false;
 };
 
@@ -70,7 +70,6 @@ void add_slice_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   slice->add_option("--panel", a->panel, "Disk diameter in pixels")->capture_default_str()->check(CLI::Range(64, 800));
   slice->add_flag("--no-exact", a->no_exact, "Do not add the model itself as a last column");
   slice->add_option("-o,--output", a->output, "Output PNG")->required();
-  slice->add_flag("--json", a->json, "Print the figures as JSON");
   slice->callback([a, slice] {
     plot::SliceRequest q;
     q.theta_i = a->theta_i * kRadPerDeg;
@@ -92,7 +91,6 @@ void add_spectrum_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   auto* spec = plot->add_subcommand("spectrum", "IBSSS overview (paper Fig. 3) and the coefficient matrix of a spectrum file");
   spec->add_option("source", a->source, "SPECTRUM.h5[#material]")->required();
   spec->add_option("-o,--output", a->output, "Output PNG")->required();
-  spec->add_flag("--json", a->json, "Print the figures as JSON");
   spec->add_flag("--log", a->log, "Signed logarithmic colour scale");
   spec->callback([a] {
     const MaterialRef ref = split_material_ref(a->source);
@@ -118,7 +116,6 @@ void add_sphere_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   sphere->add_option("--level,-l", a->level, "Grid level of that fit")->capture_default_str()->check(CLI::Range(0, 8));
   sphere->add_option("--shading", a->shading, "auto (the values when known everywhere), model (those values), or spectrum")->capture_default_str();
   sphere->add_option("-o,--output", a->output, "Output PNG")->required();
-  sphere->add_flag("--json", a->json, "Print the figures as JSON");
   sphere->add_flag("--strict", a->strict, "Negative reflectance of a material is an error (default: a warning)");
   sphere->callback([a, sphere] {
     plot::SphereRequest q;
@@ -139,39 +136,61 @@ void add_sphere_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   });
 }
 
-// plot curves / albedo / halfdiff: the SOURCE's values (unfitted when known everywhere) along the plane of incidence,
-// integrated over the hemisphere against theta_i, and as an image over (theta_h, theta_d).
+// plot curves / albedo / halfdiff / samples / bytes: the SOURCE's values (unfitted when known everywhere) along the plane of
+// incidence, integrated over the hemisphere against theta_i, as an image over (theta_h, theta_d); scattered samples over
+// their fit; a bank material's candidates, error against bytes.
 void add_curve_commands(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   auto* curves = plot->add_subcommand("curves", "In-plane curves, Cartesian and polar, for several theta_i");
   auto* albedo = plot->add_subcommand("albedo", "Directional albedo against theta_i, per channel");
-  auto* halfdiff = plot->add_subcommand("halfdiff", "f against theta_h and theta_d (phi_d = 90 deg), as MERL pictures");
-  for (auto* c : {curves, albedo, halfdiff}) {
+  auto* halfdiff = plot->add_subcommand("halfdiff", "f against theta_h and theta_d at one phi_d, as MERL pictures");
+  auto* samples = plot->add_subcommand("samples", "Scattered samples (CSV, CURET) over their fitted in-plane curves, residuals below");
+  for (auto* c : {curves, albedo, halfdiff, samples}) {
     c->add_option("source", a->source, "SOURCE: model:..., measured file, FILE.h5[#material]")->required();
-    c->add_option("--phi-i", a->phi_i, "Azimuth of incidence [deg]")->capture_default_str()->check(finite_in(-360, 360));
-    c->add_option("--order,-n", a->order, "Order of a fit, for sources without values everywhere")->capture_default_str()->check(CLI::Range(0, kMaxPlotOrder));
+    if (c != samples) c->add_option("--phi-i", a->phi_i, "Azimuth of incidence [deg]")->capture_default_str()->check(finite_in(-360, 360));
+    c->add_option("--order,-n", a->order, "Order of a fit, for sources without values everywhere (samples: chosen by cross-validation)")->check(CLI::Range(0, kMaxPlotOrder));
     c->add_option("-o,--output", a->output, "Output PNG")->required();
   }
-  curves->add_option("--theta-i", a->thetas, "Polar angles of incidence [deg]: 0,30,60 or 0 30 60")->capture_default_str()->delimiter(',')
-      ->expected(1, static_cast<int>(plot::kMaxCurves))->check(finite_in(0, 90, false, true));
-  for (auto* c : {curves, halfdiff}) c->add_flag("--log", a->log, "Logarithmic value scale");
-  curves->callback([a] {
+  for (auto* c : {curves, samples})
+    c->add_option("--theta-i", a->thetas, "Polar angles of incidence [deg]: 0,30,60 or 0 30 60 (samples: the most measured)")->delimiter(',')
+        ->expected(1, static_cast<int>(plot::kMaxCurves))->check(finite_in(0, 90, false, true));
+  for (auto* c : {curves, halfdiff, samples}) c->add_flag("--log", a->log, "Logarithmic value scale");
+  halfdiff->add_option("--phi-d", a->phi_d, "Difference azimuth phi_d [deg]")->capture_default_str()->check(finite_in(-360, 360));
+  const auto values = [a] {
     check_output_path(a->output, {a->source});
-    const plot::PictureValues v = plot::load_picture_values(a->source, a->order, a->level);
+    return plot::load_picture_values(a->source, a->order, a->level);
+  };
+  curves->callback([a, values] {
+    const plot::PictureValues v = values();
     plot::CurveRequest q{{}, a->phi_i * kRadPerDeg, a->log};
     for (double t : a->thetas) q.theta_i.push_back(t * kRadPerDeg);
     plot::plot_curves(a->source, v.values, v.quantity, q, a->output);
-    std::cout << "wrote " << a->output << "\n";
+    report(*a, {{"output", a->output}});
   });
-  albedo->callback([a] {
-    check_output_path(a->output, {a->source});
-    const plot::PictureValues v = plot::load_picture_values(a->source, a->order, a->level);
+  albedo->callback([a, values] {
+    const plot::PictureValues v = values();
     plot::plot_albedo(a->source, v.values, v.channels, {}, a->phi_i * kRadPerDeg, a->output);
-    std::cout << "wrote " << a->output << "\n";
+    report(*a, {{"output", a->output}});
   });
-  halfdiff->callback([a] {
+  halfdiff->callback([a, values] {
+    plot::plot_half_diff(a->source, values().values, a->log, a->output, plot::kHalfDiffSize, a->phi_d * kRadPerDeg);
+    report(*a, {{"output", a->output}});
+  });
+  samples->callback([a, samples] {
     check_output_path(a->output, {a->source});
-    plot::plot_half_diff(a->source, plot::load_picture_values(a->source, a->order, a->level).values, a->log, a->output);
-    std::cout << "wrote " << a->output << "\n";
+    const plot::SamplePicture p = plot::load_sample_picture(a->source, samples->count("--order") ? a->order : -1, a->level);
+    plot::SamplePlotRequest q{{}, a->log};
+    if (samples->count("--theta-i")) for (double t : a->thetas) q.theta_i.push_back(t * kRadPerDeg);
+    const auto f = plot::plot_samples(a->source, p.samples, p.fit, p.fit_label, q, a->output);
+    report(*a, {{"output", a->output}, {"width", f.width}, {"height", f.height}, {"samples", f.total}, {"drawn", f.points.size()},
+                {"theta_i", f.group_theta_deg}, {"residual_rms", f.residual_rms}, {"fit", p.fit_label}});
+  });
+  auto* bytes = plot->add_subcommand("bytes", "Error against bytes of the candidates of a bank material, log-log");
+  bytes->add_option("source", a->source, "BANK.h5[#material] (a bank built by bank build)")->required();
+  bytes->add_option("-o,--output", a->output, "Output PNG")->required();
+  bytes->callback([a] {
+    check_output_path(a->output, {a->source});
+    const auto f = plot::plot_bytes(a->source, read_bank_candidates(a->source), a->output);
+    report(*a, {{"output", a->output}, {"width", f.width}, {"height", f.height}, {"points", f.points}, {"representations", f.representations}});
   });
 }
 
@@ -184,6 +203,8 @@ void add_plot_command(CLI::App& app) {
   add_spectrum_command(plot, a);
   add_sphere_command(plot, a);
   add_curve_commands(plot, a);
+  for (auto* c : plot->get_subcommands([](CLI::App*) { return true; }))
+    if (!c->get_option_no_throw("--json")) c->add_flag("--json", a->json, "Print the figures as JSON");
 }
 
 const CommandRegistrar kCmdPlotRegistrar("plot", add_plot_command);

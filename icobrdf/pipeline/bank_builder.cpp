@@ -22,6 +22,7 @@
 #include "icobrdf/pipeline/bank_assembly.hpp"
 #include "icobrdf/pipeline/bank_resume.hpp"
 #include "icobrdf/pipeline/held_out.hpp"
+#include "icobrdf/pipeline/bank_candidates.hpp"
 #include "icobrdf/pipeline/material_candidate.hpp"
 #include "icobrdf/pipeline/memo_source.hpp"
 #include "icobrdf/pipeline/reflectance_check.hpp"
@@ -96,7 +97,9 @@ MaterialRecord fit_material(const Scene& scene, const SceneMaterial& m, FitConte
     memo.emplace(training);
   }
   const BrdfSource& fitted = memo ? static_cast<const BrdfSource&>(*memo) : training;
-  const MaterialProblem problem{scene, m, fitted, errors ? &*errors : nullptr, contexts, say};
+  MaterialProblem problem{scene, m, fitted, errors ? &*errors : nullptr, contexts, say};
+  std::vector<CandidatePoint> tried;  // every (bytes, error) reached: the label `candidates` (bank_candidates.hpp)
+  problem.tried = &tried;
   MaterialCandidate chosen = [&] {
     try {
       return choose_representation(problem);
@@ -116,6 +119,7 @@ MaterialRecord fit_material(const Scene& scene, const SceneMaterial& m, FitConte
                         {opt.strict, &warnings});
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   store_choice(rec, rep);
+  if (!tried.empty()) rec.labels[kCandidatesLabel] = candidates_text(std::move(tried));
   return rec;
 }
 

@@ -417,6 +417,7 @@ std::optional<LobeFit> fit_lobe(const MaterialProblem& p, const BrdfSource& resi
     if (!measured) {
       auto fit = fit_lobe_at(p, residual, body, isotropic, step);
       if (!fit) continue;  // this grid cannot reach the node target within kMaxRank; a finer one may
+      note_tried(p, body_bytes + lobe_bytes(fit->lobe), fit->error.l2);
       if (fit->error.l2 <= p.material.target) return fit;
       miss->best = std::min(miss->best, fit->error.l2);
       continue;
@@ -424,6 +425,7 @@ std::optional<LobeFit> fit_lobe(const MaterialProblem& p, const BrdfSource& resi
     const long long budget = p.bytes_to_beat < 0 ? -1 : p.bytes_to_beat - body_bytes;
     auto fit = measured_step(p, residual, body, isotropic, step, rank_cap, budget);
     if (!fit) continue;
+    note_tried(p, body_bytes + lobe_bytes(fit->lobe), fit->error.l2);
     if (fit->error.l2 <= p.material.target) return fit;
     const double before = miss->best;
     if (fit->error.l2 < miss->best && (budget < 0 || lobe_bytes(fit->lobe) < budget)) {

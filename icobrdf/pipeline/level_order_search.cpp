@@ -45,6 +45,7 @@ std::optional<LevelOrderChoice> first_order_meeting(const BrdfSource& source, co
     if (all) {
       const double l2 = errors(truncate_channels(all->channels, n), n).l2;
       best.see(l2, level, n);
+      if (search.seen) search.seen(level, n, l2);
       if (l2 > target) continue;
     }
     LevelOrderChoice c;
@@ -57,6 +58,7 @@ std::optional<LevelOrderChoice> first_order_meeting(const BrdfSource& source, co
     }
     c.error = errors(c.spectrum.channels, n);
     if (!all) best.see(c.error.l2, level, n);
+    if (!all && search.seen) search.seen(level, n, c.error.l2);
     if (c.error.l2 > target) continue;
     c.level = level;
     c.order = n;

@@ -27,6 +27,8 @@ struct LevelOrderSearch {
   int order_max = 16;
   int fixed_order = -1;     // >= 0: only this order
   bool refit_each_order = false;  // fit every order instead of truncating the top one
+  // Told the held-out error of every (level, order) the search measures (optional).
+  std::function<void(int level, int order, double error_l2)> seen;
 };
 
 struct LevelOrderChoice {

@@ -31,7 +31,9 @@ MaterialCandidate choose_representation(const MaterialProblem& problem) {
       p.bytes_to_beat = best ? best->bytes : budget >= 0 ? budget + 1 : -1;
       p.earlier = &made;
       p.best_efforts = &best_efforts;
+      p.representation = r.name;
       MaterialCandidate c = r.fit(p);
+      note_tried(p, c.bytes, c.error.l2);
       if (budget >= 0 && c.bytes > budget)
         throw UnsupportedError(r.name + ": " + std::to_string(c.bytes) + " bytes meet the target, above max_bytes " + std::to_string(budget));
       if (!best || c.bytes < best->bytes) best = c;
@@ -58,6 +60,9 @@ MaterialCandidate choose_representation(const MaterialProblem& problem) {
     if (modes_allowed || best_efforts.empty()) {
       try {
         best_efforts.push_back(fit_modes_within_budget(problem));
+        MaterialProblem p = problem;
+        p.representation = "modes";
+        note_tried(p, best_efforts.back().bytes, best_efforts.back().error.l2);
       } catch (const UnsupportedError& e) {
         if (best_efforts.empty()) throw UnsupportedError(why + "; " + e.what());
       }

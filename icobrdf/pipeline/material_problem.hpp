@@ -16,6 +16,15 @@ namespace icobrdf {
 
 struct MaterialCandidate;
 
+// One (bytes, held-out error) a representation reached for a material: a candidate, or a step of a fitter's
+// search (an order of the modes, a grid of a lobe). The bank keeps them (icobrdf/pipeline/bank_candidates.hpp)
+// for the picture of error against bytes (`icobrdf plot bytes`).
+struct CandidatePoint {
+  std::string representation;  // "modes", "half-angle" or "hybrid"
+  long long bytes = 0;
+  double error_l2 = 0.0;       // relative L2 over the held-out pairs, in the material's metric
+};
+
 // Everything a representation fitter may use for one material.
 struct MaterialProblem {
   const Scene& scene;
@@ -29,7 +38,16 @@ struct MaterialProblem {
   // Where a fitter that misses the target leaves its lowest-error candidate within the budget (target_met
   // false, `note` saying where its search stopped), for on_miss = "keep-best"; nullptr: not wanted.
   std::vector<MaterialCandidate>* best_efforts = nullptr;
+  // Where the points a fitter reaches go (note_tried), named by `representation` (choose_representation sets
+  // both); nullptr: not kept.
+  std::vector<CandidatePoint>* tried = nullptr;
+  std::string representation{};
 };
+
+// Keeps (bytes, error_l2) of the fitter being run in p.tried, when kept and the error is finite.
+inline void note_tried(const MaterialProblem& p, long long bytes, double error_l2) {
+  if (p.tried && error_l2 == error_l2 && error_l2 < 1e308) p.tried->push_back({p.representation, bytes, error_l2});
+}
 
 struct MaterialCandidate {
   std::string representation;  // "modes", "half-angle" or "hybrid"

@@ -84,6 +84,11 @@ MaterialCandidate fit_modes_candidate(const MaterialProblem& p) {
     c.isotropic = search.base.isotropic;
   } else {
     search.base.isotropic = m.isotropic == IsotropicChoice::Always;
+    // Every order measured, unpruned: its reciprocal modes (8 bytes a channel and their indices).
+    search.seen = [&p, iso = search.base.isotropic](int, int order, double l2) {
+      const long long modes = iso ? isotropic_mode_count(order) : helmholtz_mode_count(order);
+      note_tried(p, modes * (8LL * p.source.channels() + (iso ? 12 : 16)), l2);
+    };
     const auto accept = [&](LevelOrderChoice& found) {
       if (m.isotropic == IsotropicChoice::Auto) choose_isotropy(p, found);
     };

@@ -88,4 +88,12 @@ PictureMaterial stored_bank_material(const std::string& bank, const std::string&
   return m;
 }
 
+void add_stored_values(PictureMaterial& m) {
+  if (m.exact || !m.spectrum) return;
+  auto sp = std::make_shared<const Spectrum>(*m.spectrum);
+  m.exact = [sp](const RowMatrix3d& wi, const RowMatrix3d& wr) { return evaluate_material(*sp, std::nullopt, wi, wr); };
+  m.exact_channels = sp->channel_count();
+  m.exact_kind = "stored";
+}
+
 }  // namespace icobrdf

@@ -41,5 +41,9 @@ std::vector<std::string> several_bank_materials(const std::string& text);
 // Material `name` of BANK.h5 `bank`: its spectrum as stored, or for a material with a half-angle lobe its
 // values as `exact` (no spectrum).
 PictureMaterial stored_bank_material(const std::string& bank, const std::string& name);
+// For pictures drawn from values (`plot sphere --shading model`): a material with a spectrum but no `exact` (a
+// stored spectrum, a bank material of modes) gets the spectrum's values as `exact` (icobrdf/io/material_eval.hpp:
+// f, a spectrum of g divided by cos(theta_i)); others are left as they are.
+void add_stored_values(PictureMaterial& m);
 
 }  // namespace icobrdf

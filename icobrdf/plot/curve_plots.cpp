@@ -154,19 +154,24 @@ AlbedoFigure plot_albedo(const std::string& label, const PairFunction& values, i
   const Eigen::VectorXd wcos = g.solid_angles.cwiseProduct(g.directions.col(2));
   AlbedoFigure out;
   out.albedo.assign(static_cast<std::size_t>(channels), {});
-  for (double d = 0.0; d <= kAlbedoLastDeg + 1e-9; d += kAlbedoStepDeg) {
-    RowMatrix3d wis(g.cells(), 3);
-    wis.rowwise() = incident(d / kDegPerRad, phi_i).transpose();
-    const Eigen::MatrixXd v = values(wis, g.directions);
-    if (v.cols() != channels) throw ArgumentError(fmt::format("albedo plot: {} channels expected, the values have {}", channels, v.cols()));
-    out.theta_i_deg.push_back(d);
+  // Every theta_i's pairs in one batch (one parallel region of the source's evaluation, not one per angle).
+  for (double d = 0.0; d <= kAlbedoLastDeg + 1e-9; d += kAlbedoStepDeg) out.theta_i_deg.push_back(d);
+  const Eigen::Index cells = g.cells(), angles = static_cast<Eigen::Index>(out.theta_i_deg.size());
+  RowMatrix3d wis(cells * angles, 3), wrs(cells * angles, 3);
+  for (Eigen::Index t = 0; t < angles; ++t) {
+    wis.middleRows(t * cells, cells).rowwise() = incident(out.theta_i_deg[static_cast<std::size_t>(t)] / kDegPerRad, phi_i).transpose();
+    wrs.middleRows(t * cells, cells) = g.directions;
+  }
+  const Eigen::MatrixXd v = values(wis, wrs);
+  if (v.rows() != wis.rows() || v.cols() != channels)
+    throw ArgumentError(fmt::format("albedo plot: {} x {} values expected, found {} x {}", wis.rows(), channels, v.rows(), v.cols()));
+  for (Eigen::Index t = 0; t < angles; ++t)
     for (int c = 0; c < channels; ++c) {
       double a = 0.0;  // cells without a value (a table's empty bins) are left out
-      for (Eigen::Index k = 0; k < v.rows(); ++k)
-        if (std::isfinite(v(k, c))) a += v(k, c) * wcos(k);
+      for (Eigen::Index k = 0; k < cells; ++k)
+        if (std::isfinite(v(t * cells + k, c))) a += v(t * cells + k, c) * wcos(k);
       out.albedo[static_cast<std::size_t>(c)].push_back(a);
     }
-  }
   std::vector<Series> series;
   const Rgb rgb[3] = {{0.85, 0.15, 0.1}, {0.1, 0.6, 0.15}, {0.15, 0.3, 0.9}};
   for (int c = 0; c < channels; ++c) {

@@ -10,22 +10,24 @@
 
 namespace icobrdf::plot {
 
-std::pair<Eigen::Vector3d, Eigen::Vector3d> half_diff_directions(int size, int i, int j) {
+std::pair<Eigen::Vector3d, Eigen::Vector3d> half_diff_directions(int size, int i, int j, double phi_d) {
   const double th = (M_PI / 2) * (j + 0.5) / size, td = (M_PI / 2) * (i + 0.5) / size;
-  const Eigen::Vector3d d(0.0, std::sin(td), std::cos(td));  // phi_d = 90 degrees
+  const Eigen::Vector3d d(std::sin(td) * std::cos(phi_d), std::sin(td) * std::sin(phi_d), std::cos(td));
   const Eigen::Vector3d wi(d.x() * std::cos(th) + d.z() * std::sin(th), d.y(), -d.x() * std::sin(th) + d.z() * std::cos(th));
   const Eigen::Vector3d h(std::sin(th), 0.0, std::cos(th));
   return {wi, 2.0 * wi.dot(h) * h - wi};
 }
 
-HalfDiffFigure plot_half_diff(const std::string& label, const PairFunction& values, bool log, const std::string& path, int size) {
+HalfDiffFigure plot_half_diff(const std::string& label, const PairFunction& values, bool log, const std::string& path, int size,
+                              double phi_d) {
   if (!values) throw ArgumentError("half/difference plot: no values to draw");
+  if (!std::isfinite(phi_d)) throw ArgumentError("half/difference plot: phi_d is not finite");
   if (size < 32 || size > 1024) throw ArgumentError(fmt::format("half/difference plot: size {} outside 32..1024 pixels", size));
   std::vector<int> pixel;
   std::vector<Eigen::Vector3d> wis, wos;
   for (int i = 0; i < size; ++i)
     for (int j = 0; j < size; ++j) {
-      const auto [wi, wo] = half_diff_directions(size, i, j);
+      const auto [wi, wo] = half_diff_directions(size, i, j, phi_d);
       if (wi.z() <= 0.0 || wo.z() <= 0.0) continue;
       pixel.push_back(i * size + j);
       wis.push_back(wi);
@@ -65,7 +67,7 @@ HalfDiffFigure plot_half_diff(const std::string& label, const PairFunction& valu
   // The title fits the picture's width (about 8 pixels a character at 16 points): long paths keep their end.
   const std::size_t room = static_cast<std::size_t>(out.width / 9) - 22;
   fig.title("f(theta_h, theta_d) of " + (label.size() > room ? "..." + label.substr(label.size() - room + 3) : label), 16.0);
-  fig.text(out.width / 2.0, 48, fmt::format("phi_d = 90\u00b0, channel mean{}", log ? ", log scale" : ""), 12.0, Align::Centre);
+  fig.text(out.width / 2.0, 48, fmt::format("phi_d = {}\u00b0, channel mean{}", format_number(std::round(phi_d * 180.0 / M_PI * 100) / 100), log ? ", log scale" : ""), 12.0, Align::Centre);
   fig.image(colorize(img, out.scale), left, top);
   for (int deg = 0; deg <= 90; deg += 15) {
     const double p = size * deg / 90.0;

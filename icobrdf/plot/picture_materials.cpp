@@ -22,9 +22,9 @@ std::vector<SphereMaterial> load_sphere_materials(const std::string& text, Spher
   using Shading = SphereRequest::Shading;
   const std::vector<std::string> names = several_bank_materials(text);
   std::vector<SphereMaterial> materials;
-  if (!names.empty() && shading == Shading::Model) throw ArgumentError(model_shading_label + ": a bank holds spectra only");
   for (const auto& n : names) {
     PictureMaterial m = stored_bank_material(text, n);  // a material with a lobe comes as its values
+    if (shading == Shading::Model) add_stored_values(m);  // modes: their reconstruction
     materials.push_back({n, std::move(m.spectrum), std::move(m.exact), m.exact_channels});
   }
   if (!names.empty()) return materials;
@@ -32,6 +32,7 @@ std::vector<SphereMaterial> load_sphere_materials(const std::string& text, Spher
   // half-angle lobe) is shaded from them, unfitted, unless told to shade from a spectrum.
   // Shading from the model needs its values: nothing is fitted before a source without them is refused.
   PictureMaterial m = load_picture_material(text, order, level, shading != Shading::Spectrum, shading != Shading::Model);
+  if (shading == Shading::Model) add_stored_values(m);  // a stored spectrum: its values
   if (shading == Shading::Model && !m.exact)
     throw ArgumentError(model_shading_label + ": needs values known everywhere (no delta part, not scattered samples), found '" +
                         quoted_text(text) + "'");

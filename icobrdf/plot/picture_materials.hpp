@@ -15,8 +15,10 @@ SliceSource slice_source(PictureMaterial m);
 // Every material of a bank of several, or the one material of any other SOURCE: as its values (unfitted)
 // when they are known everywhere (a model without delta parts, a measured file) and `shading` allows, else as a spectrum (stored, or fitted at `order` on
 // the equal-area grid of `level`). A stored material with a half-angle lobe comes with its values: shaded from
-// them unless the shading is Spectrum. ArgumentError, starting with `model_shading_label` (the caller's name
-// for the Model shading), when the Model shading is asked of a bank or of a SOURCE without such values.
+// them unless the shading is Spectrum; with the Model shading every stored material (a bank's, FILE.h5#material)
+// is shaded from its values (modes: their reconstruction, icobrdf/pipeline/picture_source.hpp add_stored_values).
+// ArgumentError, starting with `model_shading_label` (the caller's name for the Model shading), when the Model
+// shading is asked of a SOURCE without such values (a model with delta parts, scattered samples).
 std::vector<SphereMaterial> load_sphere_materials(const std::string& text, SphereRequest::Shading shading, int order, int level,
                                                   const std::string& model_shading_label);
 

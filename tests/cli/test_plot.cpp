@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cstdint>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -121,6 +122,58 @@ TEST(CliPlot, BadArgumentsGiveOneLineErrorsAndNoFile) {
   ASSERT_EQ(run_cli({"fit", "model:lambert", "--order", "2", "--level", "2", "-o", d.file("l.h5")}).exit_code, 0);
   expect_one_line_error(run_cli({"plot", "slice", d.file("l.h5"), "--order", "4", "-o", out}), 2);
   EXPECT_FALSE(exists(out));
+}
+
+TEST(CliPlot, SamplesHalfDiffAzimuthAndStoredValues) {
+  TempDir d;
+  const std::string ptfe = std::string(ICOBRDF_SOURCE_DIR) + "/tests/data/measured/ptfe532.csv";
+  const auto r = run_cli({"plot", "samples", ptfe, "--theta-i", "15,45", "--log", "-o", d.file("s.png"), "--json"});
+  expect_png_of_reported_size(r, d.file("s.png"));
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j.at("theta_i").size(), 2u);
+  EXPECT_GT(j.at("drawn").get<int>(), 0);
+  EXPECT_EQ(j.at("samples").get<int>(), 1824);  // the file's rows (tests/data/measured/README.md), none merged
+  expect_one_line_error(run_cli({"plot", "samples", "model:lambert", "-o", d.file("x.png")}), 2);
+  EXPECT_FALSE(exists(d.file("x.png")));
+  ASSERT_EQ(run_cli({"plot", "halfdiff", "model:ggx:alpha=0.3", "--phi-d", "0", "-o", d.file("hd.png")}).exit_code, 0);
+  EXPECT_TRUE(png_header(d.file("hd.png")).valid);
+  // A stored spectrum shaded from its values (--shading model) as from its spectrum.
+  ASSERT_EQ(run_cli({"fit", "model:lambert", "--order", "2", "--level", "2", "-o", d.file("l.h5")}).exit_code, 0);
+  const auto m = run_cli({"plot", "sphere", d.file("l.h5"), "--shading", "model", "--size", "64", "-o", d.file("m.png"), "--json"});
+  expect_png_of_reported_size(m, d.file("m.png"));
+  // Its slice without --order: the default orders 0, 1, 2, 4, 6, 8 up to its own order 2.
+  const auto sl = run_cli({"plot", "slice", d.file("l.h5"), "-o", d.file("sl.png"), "--json"});
+  ASSERT_EQ(sl.exit_code, 0) << sl.err;
+  EXPECT_EQ(nlohmann::json::parse(sl.out).at("columns").get<int>(), 3);
+}
+
+// A tiny scene's bank keeps every point its build reached: the modes' orders and the lobe's grids, drawn as
+// error against bytes.
+TEST(CliPlot, BytesOfATinyBankMaterial) {
+  TempDir d;
+  const std::string scene = d.file("s.toml"), bank = d.file("b.h5");
+  {
+    std::ofstream(scene) << "[bank]\nlevels = [1, 2]\norder_max = 4\nholdout_pairs = 2000\n"
+                            "[[material]]\nname = \"ggx\"\nsource = \"model:ggx:alpha=0.3\"\ntarget = 0.05\n";
+  }
+  ASSERT_EQ(run_cli({"bank", "build", scene, "-o", bank, "--quiet"}).exit_code, 0);
+  const auto info = nlohmann::json::parse(run_cli({"bank", "info", bank, "--json"}).out);
+  EXPECT_EQ(info.at("materials").at(0).at("candidates").get<std::string>().rfind("icobrdf-candidates 1;", 0), 0u);
+  const auto r = run_cli({"plot", "bytes", bank + "#ggx", "-o", d.file("bytes.png"), "--json"});
+  expect_png_of_reported_size(r, d.file("bytes.png"));
+  const auto j = nlohmann::json::parse(r.out);
+  // Orders 0..2 at level 1 and 0..4 at level 2 share their sizes: 5 modes points, and at least the lobe chosen.
+  EXPECT_GE(j.at("points").get<int>(), 6);
+  EXPECT_EQ(j.at("representations").at(0), "half-angle");
+  EXPECT_EQ(j.at("representations").at(1), "modes");
+  // The stored lobe's slice without --order: one column of its values.
+  const auto sl = run_cli({"plot", "slice", bank + "#ggx", "-o", d.file("sl.png"), "--json"});
+  ASSERT_EQ(sl.exit_code, 0) << sl.err;
+  EXPECT_EQ(nlohmann::json::parse(sl.out).at("columns").get<int>(), 1);
+  // A spectrum file is no bank build's material.
+  ASSERT_EQ(run_cli({"fit", "model:lambert", "--order", "0", "--level", "1", "-o", d.file("l.h5")}).exit_code, 0);
+  expect_one_line_error(run_cli({"plot", "bytes", d.file("l.h5"), "-o", d.file("x.png")}), 3);
+  EXPECT_FALSE(exists(d.file("x.png")));
 }
 
 }  // namespace

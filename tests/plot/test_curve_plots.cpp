@@ -24,10 +24,14 @@
 #include "icobrdf/plot/plot_options.hpp"
 #include "icobrdf/plot/plots.hpp"
 #include "icobrdf/plot/value_scale.hpp"
+#include "tests/plot/plot_test_support.hpp"
 #include "tests/support/unity_id.hpp"
 
 namespace icobrdf::plot {
 namespace ICOBRDF_UNITY_ID {
+
+using test::TempDir;
+using test::byte_distance;
 
 constexpr double kPi = 3.14159265358979323846;
 // Rounding of a few operations on doubles of order one.
@@ -38,25 +42,9 @@ constexpr int kColourBytes = 2;
 // page's other colours (grid, text, other series) far beyond.
 constexpr int kLineBytes = 40;
 
-struct TempDir {
-  std::string path;
-  TempDir() {
-    char t[] = "/tmp/icobrdf_curvesXXXXXX";
-    path = mkdtemp(t);
-  }
-  ~TempDir() { std::system(("rm -rf '" + path + "'").c_str()); }
-  std::string file(const std::string& n) const { return path + "/" + n; }
-};
-
 PairFunction values_of(const std::string& text) {
   std::shared_ptr<const BrdfSource> s = open_source(text);
   return [s](const RowMatrix3d& wi, const RowMatrix3d& wr) { return s->eval(wi, wr); };
-}
-
-int byte_distance(const std::array<int, 3>& a, const Rgb& c) {
-  int d = 0;
-  for (int k = 0; k < 3; ++k) d = std::max(d, std::abs(a[k] - static_cast<int>(std::lround(c[k] * 255))));
-  return d;
 }
 
 // The position t in [0, 1] of the sequential map nearest to a drawn colour, and how far (bytes) it is.
@@ -221,16 +209,20 @@ TEST(PlotHalfDiff, PixelsAreAtTheirHalfAndDifferenceAngles) {
   constexpr int kSize = 36;
   // acos of a cosine rounded to a few ulps: about eps / sin(angle), angles >= 1.25 degrees here.
   constexpr double kAngleRounding = 1e-9;
-  for (int i = 0; i < kSize; i += 5)
-    for (int j = 0; j < kSize; j += 5) {
-      const auto [wi, wo] = half_diff_directions(kSize, i, j);
-      const double th = (kPi / 2) * (j + 0.5) / kSize, td = (kPi / 2) * (i + 0.5) / kSize;
-      const Eigen::Vector3d h = (wi + wo).normalized();
-      EXPECT_NEAR(wi.norm(), 1.0, kRounding);
-      EXPECT_NEAR(wo.norm(), 1.0, kRounding);
-      EXPECT_NEAR(std::acos(std::clamp(h.z(), -1.0, 1.0)), th, kAngleRounding);  // theta_h: the half vector from the normal
-      EXPECT_NEAR(std::acos(std::clamp(wi.dot(h), -1.0, 1.0)), td, kAngleRounding);  // theta_d: w_i from the half vector
-    }
+  for (const double phi_d : {kPi / 2, 0.0, kPi / 4, -2.0})
+    for (int i = 0; i < kSize; i += 5)
+      for (int j = 0; j < kSize; j += 5) {
+        const auto [wi, wo] = half_diff_directions(kSize, i, j, phi_d);
+        const double th = (kPi / 2) * (j + 0.5) / kSize, td = (kPi / 2) * (i + 0.5) / kSize;
+        const Eigen::Vector3d h = (wi + wo).normalized();
+        EXPECT_NEAR(wi.norm(), 1.0, kRounding);
+        EXPECT_NEAR(wo.norm(), 1.0, kRounding);
+        EXPECT_NEAR(std::acos(std::clamp(h.z(), -1.0, 1.0)), th, kAngleRounding);  // theta_h: the half vector from the normal
+        EXPECT_NEAR(std::acos(std::clamp(wi.dot(h), -1.0, 1.0)), td, kAngleRounding);  // theta_d: w_i from the half vector
+        // phi_d: the azimuth of w_i in the frame of h (w_i turned back by theta_h about y: h to the normal).
+        const Eigen::Vector2d d(wi.x() * std::cos(th) - wi.z() * std::sin(th), wi.y());
+        EXPECT_NEAR(std::remainder(std::atan2(d.y(), d.x()) - phi_d, 2 * kPi), 0.0, kAngleRounding) << "phi_d " << phi_d;
+      }
 }
 
 TEST(PlotHalfDiff, GgxIsBrightestAtThetaHZero) {

@@ -23,10 +23,13 @@
 #include "icobrdf/plot/plots.hpp"
 #include "icobrdf/plot/slice_data.hpp"
 #include "icobrdf/plot/sphere_shading.hpp"
+#include "tests/plot/plot_test_support.hpp"
 #include "tests/support/unity_id.hpp"
 
 namespace icobrdf::plot {
 namespace ICOBRDF_UNITY_ID {
+
+using test::TempDir;
 
 constexpr double kPi = 3.14159265358979323846;
 // One step of 8-bit quantization: a colour computed in double precision and rounded to a byte differs from
@@ -37,16 +40,6 @@ const double kCellAngle = std::sqrt(4.0 * kPi / (20.0 * 256.0));
 // Half the diagonal of a sphere pixel in units of 1/size of the unit square [-1, 1]^2 (sqrt(2) x 2 / 2): a pixel
 // whose centre lies closer than this to the outline is partly backdrop (anti-aliased outline).
 const double kPixelHalfDiagonal = std::sqrt(2.0);
-
-struct TempDir {
-  std::string path;
-  TempDir() {
-    char t[] = "/tmp/icobrdf_plotXXXXXX";
-    path = mkdtemp(t);
-  }
-  ~TempDir() { std::system(("rm -rf '" + path + "'").c_str()); }
-  std::string file(const std::string& n) const { return path + "/" + n; }
-};
 
 bool exists(const std::string& p) { return access(p.c_str(), F_OK) == 0; }
 
