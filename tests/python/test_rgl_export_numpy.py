@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """`icobrdf export SOURCE --format rgl` read by an independent RGL evaluator written here in numpy from the
 format's description (Dupuy & Jakob 2018; the evaluation of Mitsuba 3's `measured` BSDF), against
-`icobrdf eval` of the source: an analytic glossy model and a glossy bank material (half-angle lobe) built
-from a one-material scene.
+`icobrdf eval` of the source: a glossy bank material (half-angle lobe of GGX alpha 0.2) built from a
+one-material scene.
 
 Run as: /usr/bin/python3 tests/python/test_rgl_export_numpy.py <path to icobrdf>
 Exits 77 (skipped) without numpy; prints the figures and exits non-zero on failure.
@@ -188,7 +188,8 @@ def main():
             f.write(SCENE)
         run([exe, "bank", "build", os.path.join(d, "scene.toml"), "-o", os.path.join(d, "bank.h5"), "--no-progress"])
         wi, wo = uniform_pairs(PAIRS, 5)
-        for source in ["model:ggx:alpha=0.3,f0=0.04", os.path.join(d, "bank.h5") + "#lobe"]:
+        # The bank material only (the analytic model's export is checked by the C++ tests; each case costs seconds).
+        for source in [os.path.join(d, "bank.h5") + "#lobe"]:
             out = os.path.join(d, "x.bsdf")
             run([exe, "export", source, "--format", "rgl", "-o", out])
             mine = rgl_eval(out, wi, wo)
@@ -199,7 +200,7 @@ def main():
             failures += not ok
             print("%s %s: numpy evaluator vs icobrdf eval of the source %.4g (<= %g); vs icobrdf's RGL reader %.2g (<= %g)"
                   % ("ok  " if ok else "FAIL", os.path.basename(source), agreement, AGREEMENT, same, SAME_FILE_TOL))
-    print("%d passed, %d failed" % (2 - failures, failures))
+    print("%d passed, %d failed" % (1 - failures, failures))
     return 1 if failures else 0
 
 
