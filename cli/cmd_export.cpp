@@ -1,5 +1,6 @@
 // icobrdf export SPECTRUM.h5[#MATERIAL] --format scatmech [--channel C] [--isotropic] -o FILE.csv [--json]
 // icobrdf export SPECTRUM.h5[#MATERIAL] --format scatmech --wavelength-degree P [--wavelengths UM,UM,...] [--isotropic] -o FILE.csv
+// icobrdf export SOURCE --format rgl|merl -o FILE [--json]
 // Writes a spectrum in another program's format. Formats:
 //   scatmech   coefficient file of NIST SCATMECH's ZernikeExpansion_BRDF_Model (icobrdf/io/scatmech_coefficients.hpp):
 //              rows 1,1,n,m,l,l,0,a of the unpolarized element; f spectra only; an anisotropic spectrum is
@@ -9,6 +10,8 @@
 //              "550nm", or --wavelengths in micrometres, one per channel); the coefficients are fitted by a
 //              polynomial of degree P in lambda [um] and written as rows 1,1,n,m,l,l,p,a for p = 0..P
 //              (icobrdf/io/scatmech_coefficients.hpp write_scatmech_polynomial); the misfit is reported.
+//   rgl, merl  files renderers load from any isotropic SOURCE, read back and compared with it
+//              (icobrdf/pipeline/renderer_export.hpp): RGL tensor file (Mitsuba 3, pbrt-v4), MERL table.
 // The output is written atomically (nothing is written on error). Figures: rows written, order, channel,
 // anisotropic energy fraction; --json prints them as JSON.
 #include <fmt/core.h>
@@ -25,6 +28,7 @@
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/output_path.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
+#include "icobrdf/pipeline/renderer_export.hpp"
 
 namespace icobrdf::cli {
 namespace {
@@ -54,8 +58,13 @@ void run_polynomial_export(const ExportArgs& a, const Spectrum& s) {
 }
 
 void run_export(const ExportArgs& a) {
-  if (a.format != "scatmech") throw ArgumentError("--format: expected 'scatmech', found '" + a.format + "'");
   check_output_path(a.output, {a.input});
+  if (a.format != "scatmech") {
+    if (a.channel >= 0 || a.wavelength_degree >= 0 || a.isotropic) throw ArgumentError("export: --channel, --wavelength-degree and --isotropic are for --format scatmech");
+    const RendererExport e = export_for_renderer(a.input, a.format, a.output);
+    std::cout << (a.json ? renderer_export_json(e).dump(2) + "\n" : renderer_export_text(e));
+    return;
+  }
   const MaterialRef ref = split_material_ref(a.input);
   const Spectrum s = read_spectrum_file(ref.path, ref.name);
   if (a.wavelength_degree >= 0) return run_polynomial_export(a, s);
@@ -82,9 +91,9 @@ void run_export(const ExportArgs& a) {
 
 void add_export_command(CLI::App& app) {
   auto a = std::make_shared<ExportArgs>();
-  auto* cmd = app.add_subcommand("export", "Write a spectrum in another program's format (SCATMECH coefficient CSV)");
-  cmd->add_option("spectrum", a->input, "SPECTRUM.h5[#MATERIAL]")->required();
-  cmd->add_option("--format", a->format, "Output format: scatmech")->required();
+  auto* cmd = app.add_subcommand("export", "Write a material in another program's format (SCATMECH coefficients, RGL tensor file, MERL table)");
+  cmd->add_option("source", a->input, "SPECTRUM.h5[#MATERIAL] (scatmech); any SOURCE (rgl, merl)")->required();
+  cmd->add_option("--format", a->format, "Output format: scatmech, rgl or merl")->required();
   cmd->add_option("--channel", a->channel, "Channel of a 3-channel spectrum (0, 1, 2)")->check(CLI::Range(0, 2));
   cmd->add_option("--wavelength-degree", a->wavelength_degree,
                   "Fit the channels, one per wavelength, by a polynomial of this degree in lambda (SCATMECH's p column)")

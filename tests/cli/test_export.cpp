@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -239,7 +240,38 @@ TEST(CliMeasured, ExportRefusesUnknownFormat) {
   TempDir d;
   const auto r = run_cli({"export", d.file("none.h5"), "--format", "pdf", "-o", d.file("x.csv")});
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("--format: expected 'scatmech', found 'pdf'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--format: expected 'scatmech', 'rgl' or 'merl', found 'pdf'"), std::string::npos) << r.err;
+}
+
+// Exports renderers load: the JSON figures of an RGL and a MERL export of a glossy model (the agreement of
+// each file read back), and the one-line refusals that leave no file.
+TEST(CliExport, RglAndMerlExportsReportTheirAgreementReadBack) {
+  TempDir d;
+  // The RGL export's acceptance figure (cosine metric); a MERL table stores doubles: rounding at its nodes.
+  constexpr double kRglAgreement = 0.03, kMerlNodeTol = 1e-15;
+  auto r = run_cli({"export", "model:ggx:alpha=0.3,f0=0.04", "--format", "rgl", "-o", d.file("g.bsdf"), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_LE(j["cosine_rel_l2"].get<double>(), kRglAgreement);
+  EXPECT_EQ(j["theta_i_nodes"], 24);
+  r = run_cli({"export", "model:ggx:alpha=0.3,f0=0.04", "--format", "merl", "-o", d.file("g.binary"), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  j = nlohmann::json::parse(r.out);
+  EXPECT_LE(j["node_max_rel"].get<double>(), kMerlNodeTol);
+  EXPECT_EQ(j["bytes"], 34992012);
+  // Both files are SOURCEs again.
+  std::ofstream(d.file("p.csv")) << "theta_i,phi_i,theta_r,phi_r\n30,0,30,180\n";
+  for (const char* f : {"g.bsdf", "g.binary"}) EXPECT_EQ(run_cli({"eval", d.file(f), "--at", d.file("p.csv")}).exit_code, 0) << f;
+  for (const auto& [source, says] : std::vector<std::pair<std::string, std::string>>{
+           {"model:ggx-aniso:alpha_x=0.1,alpha_y=0.3", "is anisotropic"}, {"model:mirror", "has a delta part"}}) {
+    r = run_cli({"export", source, "--format", "rgl", "-o", d.file("no.bsdf")});
+    EXPECT_EQ(r.exit_code, 2) << source;
+    EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+  r = run_cli({"export", "model:lambert", "--format", "merl", "--channel", "0", "-o", d.file("no.bsdf")});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(slurp(d.file("no.bsdf")).empty());
 }
 
 }  // namespace
