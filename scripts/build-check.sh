@@ -21,7 +21,9 @@ BUILD_DIR=${CHECK_BUILD_DIR:-build-check}
 disabled=$((1 << 12))
 grep -qw avx512f /proc/cpuinfo 2>/dev/null || disabled=$((disabled | (1 << 8)))
 grep -qw avx512vnni /proc/cpuinfo 2>/dev/null || disabled=$((disabled | (1 << 7)))  # AVX3_DL: Ice Lake, Zen 4
-cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Check -DCMAKE_C_FLAGS_CHECK="-O1 -gline-tables-only" -DCMAKE_CXX_FLAGS_CHECK="-O1 -gline-tables-only" \
+gen=()  # Ninja for a new build directory, as scripts/build.sh
+[ -f "$BUILD_DIR/CMakeCache.txt" ] || ! command -v ninja >/dev/null || gen=(-G Ninja)
+cmake -S . -B "$BUILD_DIR" "${gen[@]}" -DCMAKE_BUILD_TYPE=Check -DCMAKE_C_FLAGS_CHECK="-O1 -gline-tables-only" -DCMAKE_CXX_FLAGS_CHECK="-O1 -gline-tables-only" \
   -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DICOBRDF_SANITIZE=ON -DICOBRDF_FUZZ=ON -DICOBRDF_NATIVE=OFF -DICOBRDF_HWY_DISABLED_TARGETS=$disabled \
   -DICOBRDF_BUILD_TESTS=ON -DICOBRDF_BUILD_BENCHMARKS=OFF >/dev/null
 if [ $# -gt 0 ]; then

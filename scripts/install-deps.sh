@@ -2,7 +2,7 @@
 # Installs the Debian packages icobrdf needs that are missing. Quiet when everything is present.
 set -euo pipefail
 packages=(
-  build-essential cmake pkg-config
+  build-essential cmake ninja-build pkg-config
   libeigen3-dev libhwy-dev libopenmesh-dev libhdf5-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libbenchmark-dev libcairo2-dev libopenblas-dev libboost-dev
   python3 python3-numpy python3-h5py python3-matplotlib
