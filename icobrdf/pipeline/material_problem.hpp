@@ -29,6 +29,9 @@ struct MaterialProblem {
   // Where a fitter that misses the target leaves its lowest-error candidate within the budget (target_met
   // false, `note` saying where its search stopped), for on_miss = "keep-best"; nullptr: not wanted.
   std::vector<MaterialCandidate>* best_efforts = nullptr;
+  // Work cap of a lobe search over measured data, in node-terms (icobrdf/pipeline/half_angle_representation.cpp
+  // kLobeSearchWork); < 0: that default.
+  long long lobe_work_cap = -1;
 };
 
 struct MaterialCandidate {
