@@ -687,7 +687,9 @@ MaterialCandidate fit_half_angle_candidate(const MaterialProblem& p) {
   auto fit = fit_lobe(p, p.source, none, iso, &miss);
   if (fit) return lobe_candidate(p, "half-angle", zero_body(p, iso), std::move(*fit), -1, 0, 0);
   const std::string why = "half-angle: target " + short_number(p.material.target) + " not met: best relative L2 error " + short_number(miss.best) +
-                          (miss.stop.empty() ? " up to the largest grid and rank " + std::to_string(kMaxRank) : " (the search stopped: " + miss.stop + ")");
+                          (miss.stop.empty() ? (miss.floor.empty() ? " up to the largest grid and rank " + std::to_string(kMaxRank) : " over every grid tried")
+                                             : " (the search stopped: " + miss.stop + ")") +
+                          (miss.floor.empty() ? std::string() : "; " + miss.floor);
   if (miss.fit && p.best_efforts) {
     MaterialCandidate c = lobe_candidate(p, "half-angle", zero_body(p, iso), std::move(*miss.fit), -1, 0, 0);
     c.target_met = false;
