@@ -24,6 +24,7 @@
 #include "icobrdf/lab/nbrdf_network.hpp"
 #include "icobrdf/pipeline/bank_builder.hpp"
 #include "icobrdf/pipeline/bank_resume.hpp"
+#include "icobrdf/pipeline/lobe_budget.hpp"
 #include "icobrdf/pipeline/memo_source.hpp"
 #include "icobrdf/plot/line_chart.hpp"
 
@@ -35,13 +36,8 @@ namespace fs = std::filesystem;
 // Smallest number of test pairs: below it the error's own sampling spread (~1/sqrt(pairs) of the glossy
 // peaks' share) exceeds the differences the report compares.
 constexpr int kMinPairs = 100;
-// Bytes of a lobe beyond its doubles, as the bank counts them (icobrdf/pipeline/half_angle_representation.cpp
-// kLobeHeaderBytes: five int32, two float64, one byte).
-constexpr long long kLobeHeaderBytes = 5 * 4 + 2 * 8 + 1;
-// Grids of the small lobes (n_t, n_theta_d, n_phi_d) and their ranks: d grids from the glossy ladder's coarse
-// end down; each budget takes, per storage, d grid and rank, the largest n_t of kSmallLobeNt that fits.
-constexpr int kSmallLobeD[][2] = {{8, 4}, {16, 4}, {16, 8}, {32, 8}, {32, 16}, {64, 16}, {64, 32}, {96, 32}, {128, 32}};
-constexpr int kSmallLobeNt[] = {8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256};
+// Grids of the small lobes: the bank's budget grids (icobrdf/pipeline/lobe_budget.hpp); each budget takes, per
+// storage, d grid and rank, the largest n_t that fits.
 constexpr int kSmallLobeMaxRank = 4;
 // Storage of the small lobes: factor sets per channel or shared (channel scales), and the precisions.
 constexpr bool kSmallLobeShared[] = {false, true};
@@ -88,17 +84,6 @@ double relative_l2(const Eigen::VectorXd& w, const Eigen::MatrixXd& fit, const E
   return r > 0 ? d / r : d;
 }
 
-// Bytes of a lobe as the bank counts them (HalfAngleFactors::bytes + the header) before it is fitted.
-long long lobe_bytes(int channels, int rank, int n_t, int n_td, int n_pd, bool shared, FactorPrecision p) {
-  HalfAngleFactors shape;
-  shape.n_t = n_t, shape.n_theta_d = n_td, shape.n_phi_d = n_pd, shape.rank = rank, shape.precision = p;
-  const int sets = shared ? 1 : channels;
-  shape.u.assign(static_cast<size_t>(sets), RowMatrixXd(n_t, rank));
-  shape.v.assign(static_cast<size_t>(sets), RowMatrixXd(static_cast<Eigen::Index>(n_td) * n_pd, rank));
-  if (shared) shape.channel_scales.resize(channels, rank);
-  return static_cast<long long>(shape.bytes()) + kLobeHeaderBytes;
-}
-
 std::string storage_text(bool shared, FactorPrecision p) {
   return std::string(shared ? "shared " : "") + factor_precision_name(p);
 }
@@ -131,11 +116,9 @@ std::vector<BudgetPoint> small_lobes(const BrdfSource& source, const TestPairs& 
     std::vector<Tried> candidates;
     for (const bool shared : kSmallLobeShared)
       for (const FactorPrecision precision : kSmallLobePrecisions)
-        for (const auto& d : kSmallLobeD)
+        for (const auto& d : kLobeBudgetD)
           for (int rank = 1; rank <= kSmallLobeMaxRank; ++rank) {
-            int n_t = 0;
-            for (const int nt : kSmallLobeNt)
-              if (lobe_bytes(channels, rank, nt, d[0], d[1], shared, precision) <= budget) n_t = nt;
+            const int n_t = largest_n_t(budget, channels, rank, d[0], d[1], shared, precision);
             if (n_t == 0) continue;
             const auto key = std::make_tuple(shared, n_t, d[0], d[1], rank, static_cast<int>(precision));
             auto it = tried.find(key);

@@ -17,6 +17,7 @@
 #include "icobrdf/core/fit/lobe_axes.hpp"
 #include "icobrdf/io/material_eval.hpp"
 #include "icobrdf/pipeline/keys.hpp"
+#include "icobrdf/pipeline/lobe_budget.hpp"
 #include "icobrdf/pipeline/modes_representation.hpp"
 
 namespace icobrdf {
@@ -46,9 +47,6 @@ constexpr int kMaxRank = 8;
 // time for changes in the third digit of the error (measured on the glossy scene).
 constexpr int kMaxSweeps = 60;
 constexpr double kSweepTolerance = 1e-4;
-// Bytes counted for a lobe beyond its doubles: the 8 numbers describing its grids (n_t, n_phi_h, n_theta_d,
-// n_phi_d, rank as int32; h_warp, cosine floor as float64; the quantity as one byte).
-constexpr long long kLobeHeaderBytes = 5 * 4 + 2 * 8 + 1;
 // Body orders of a hybrid (isotropic modes: 5 and 14 coefficients at orders 2 and 4): a body is worth its
 // bytes when it takes terms off the lobe (Lambert is rank 2 in the cosine quantity), which low orders do.
 constexpr int kHybridOrders[] = {2, 4};
@@ -80,20 +78,37 @@ constexpr LadderStep kIsotropicLadder[] = {{32, 1, 64, 16},  {64, 1, 64, 32},   
 // 48 x 16, against 0.035 at rank 8 on an unstretched 48 x 32; measured, mean-cosine quantity).
 constexpr LadderStep kAnisotropicLadder[] = {{32, 8, 64, 16}, {48, 16, 64, 16}, {64, 32, 64, 16}, {96, 32, 96, 32}};
 // Measured data (sources not reciprocal by construction: an RGL file, SCATMECH coefficients) carry noise, which no
-// lobe holds: their ladder starts on coarse d grids (the RGL files' lobes reach their lowest held-out errors
-// there, 0.02-0.15 within 64 KiB on grids of 16-32 theta_d x 4-8 phi_d nodes; measured with `bench measured`),
-// and the search stops as soon as its own figures show that a step cannot reach the target:
+// lobe holds. Isotropic lobes of such data are searched over the budget grids (icobrdf/pipeline/lobe_budget.hpp:
+// every d grid, each rank at the largest n_t the bytes allow; measured_search); anisotropic ones over
+// kAnisotropicLadder. Either way:
 //   * rank: each rank is fitted on its own and judged on the held-out pairs; a rank whose error is above
-//     kStallRatio of the best lower rank's ends the step (the error-vs-rank curve flattened, or rose: the
+//     kStallRatio of the best lower rank's ends the d grid (the error-vs-rank curve flattened, or rose: the
 //     next terms fit the noise at the nodes; the node error alone keeps falling there);
-//   * grid: a step whose held-out error is not below kLadderGain of the best step before ends the ladder.
-//     A step's node error is no bound on the next step's: finer d grids resolve what the coarse one averaged,
-//     and the rank stall moves with the grid (RGL, target 0.02: acrylic_felt_green's node error 0.031 at rank 3
-//     on 32x16x4 with held-out 0.029 there, then 0.025 on 64x32x8; ilm_l3_37_matte 0.026 and 0.058, then 0.041
-//     on 64x32x8 at rank 3; per-channel float64 factors, measured).
-constexpr LadderStep kMeasuredLadder[] = {{32, 1, 16, 4}, {64, 1, 32, 8}, {128, 1, 32, 8}, {128, 1, 64, 16}, {256, 1, 128, 32}};
+//   * anisotropic grids: a step whose held-out error is not below kLadderGain of the best step before ends the
+//     ladder. The isotropic search has no such rule (it ended RGL ilm_l3_37_matte on 128x32x8 at 0.0405 after
+//     64x32x8's 0.0378, where 128x16x8 and 256 x 128x32 reach 0.041 at 2,700 B and 0.025 at 37 KB): it visits
+//     every d grid within its work cap (kLobeSearchWork).
 constexpr double kStallRatio = 0.9;
 constexpr double kLadderGain = 0.9;
+// Work of one material's isotropic measured search, in node-terms (n_t x n_theta_d x n_phi_d x rank summed over
+// the lobes fitted): the fit's sweeps and the source's sampling grow with it. A search that would pass it ends
+// there, and the best lobe so far is the material's (the note says so). 256 x 128x32 at rank 4 alone is 4.2e6;
+// 6e6 took 7.6 s of CPU per RGL material (five in 38 s of user time, measured), so the five stay within
+// about a minute on 2 cores.
+constexpr long long kLobeSearchWork = 8000000;
+// Storage the isotropic measured search sizes n_t for: shared factors for several channels (a third of the
+// values for RGB), int16 (rounding 1.5e-5 of a column's largest value, far below measured data's errors;
+// `bench measured` chose shared int16 at 1,350-5,400 B for four of five RGL materials).
+constexpr FactorPrecision kSearchPrecision = FactorPrecision::Int16;
+// A lobe is not judged on the held-out pairs when its weighted node error, times the lowest ratio of held-out to
+// node error among the material's lobes judged so far, is above the best held-out error over this margin:
+// the node error weighs grazing nodes as the mean-cosine quantity does, the held-out error as the cosine
+// metric does, so their ratio is the material's (RGL acrylic_felt_green: held-out 0.031 where the node error
+// is 0.065), and it varies between grids and ranks by less than this margin (measured, RGL files).
+constexpr double kNodeScreen = 0.8;
+// Largest rank of the isotropic measured search: `bench measured`'s error curves on the RGL files level off at
+// rank 4 (larger ranks fit the noise at the nodes); the bank met 0.02 on ilm_l3_37_metallic at rank 5.
+constexpr int kMaxMeasuredRank = 6;
 // A source whose data sit on a half-angle table of its own (BrdfSource::own_half_angle_nodes, e.g. a MERL table)
 // is fitted on those nodes alone: the fit samples its values as they are, with no resampling, and missing
 // samples are left out.
@@ -135,9 +150,10 @@ struct LobeFit {
   HalfAngleFactors lobe;
   HeldOutError error;
   double node_error = 0.0;  // the fit's weighted node error (worst channel)
+  bool screened = false;    // not judged (kNodeScreen): `error` is the node error, a lower estimate
 };
 
-// Measured data: no analytic form, so noise may put a floor under every lobe (kMeasuredLadder).
+// Measured data: no analytic form, so noise may put a floor under every lobe (measured_search).
 bool measured_data(const MaterialProblem& p) { return !p.source.reciprocal_by_construction(); }
 
 long long lobe_bytes(const HalfAngleFactors& lobe) { return static_cast<long long>(lobe.bytes()) + kLobeHeaderBytes; }
@@ -206,7 +222,7 @@ constexpr FactorPrecision kLobePrecisions[] = {FactorPrecision::Int8, FactorPrec
 void compact_lobe(const MaterialProblem& p, const PairSampler& sampler, int channels, HalfAngleFitOptions o,
                   const std::function<HeldOutError(const HalfAngleFactors&)>& error_of, HalfAngleFactors& lobe, HeldOutError& e) {
   std::vector<HalfAngleFactors> bases{lobe};
-  if (channels > 1) {
+  if (channels > 1 && !lobe.shared()) {
     o.shared_channels = true;
     try {
       bases.push_back(fit_half_angle(sampler, channels, o).factors);
@@ -245,7 +261,7 @@ void lowest_error_form(const MaterialProblem& p, const PairSampler& sampler, int
                        const std::function<HeldOutError(const HalfAngleFactors&)>& error_of, long long budget, HalfAngleFactors& lobe,
                        HeldOutError& e) {
   std::vector<HalfAngleFactors> bases{lobe};
-  if (channels > 1) {
+  if (channels > 1 && !lobe.shared()) {
     o.shared_channels = true;
     try {
       bases.push_back(fit_half_angle(sampler, channels, o).factors);
@@ -281,9 +297,12 @@ void lowest_error_form(const MaterialProblem& p, const PairSampler& sampler, int
 // The lobe of `residual` on one grid, its rank from the target, and its error: the larger of the held-out
 // error of body + lobe (body: values at the held-out pairs) and of the peak-sampled one (peak_error);
 // nullopt when the grid cannot reach the node target. Measured data short of the target: the stored form of
-// lowest error within `budget` bytes (lowest_error_form).
+// lowest error within `budget` bytes (lowest_error_form). shared: the channels' shared factors are fitted
+// (and their stored forms tried) instead of per-channel ones. A fit whose node error is at least `screen`
+// (kNodeScreen x the best held-out error so far) is returned unjudged (LobeFit::screened).
 std::optional<LobeFit> fit_lobe_at(const MaterialProblem& p, const BrdfSource& residual, const Eigen::MatrixXd& body, bool isotropic,
-                                   const LadderStep& s, int fixed_rank = 0, long long budget = -1) {
+                                   const LadderStep& s, int fixed_rank = 0, long long budget = -1, bool shared = false,
+                                   double screen = INFINITY) {
   const PairSampler sampler = [&residual](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) {
     out = residual.eval(wi, wr);
   };
@@ -305,11 +324,19 @@ std::optional<LobeFit> fit_lobe_at(const MaterialProblem& p, const BrdfSource& r
   o.skip_missing = p.source.may_miss_values();  // measured data may have missing samples
   o.h_axis = s.h_axis, o.h_scale_1 = s.h_scale_1;
   o.fixed_rank = fixed_rank;
+  o.shared_channels = shared && residual.channels() > 1;
   HalfAngleFit fit;
   try {
     fit = fit_half_angle(sampler, residual.channels(), o);
   } catch (const UnsupportedError&) {
     return std::nullopt;
+  }
+  double node = 0.0;
+  for (const double x : fit.report.error) node = std::max(node, x);
+  if (node >= screen) {
+    p.say(p.material.name + ": half-angle " + std::to_string(s.n_t) + " h, " + std::to_string(s.n_theta_d) + "x" + std::to_string(s.n_phi_d) +
+          " d, rank " + std::to_string(fit.factors.rank) + ": node error " + exact_decimal(node) + ", not below the best held-out error");
+    return LobeFit{std::move(fit.factors), HeldOutError{node, node}, node, true};
   }
   const auto& pairs = p.errors->pairs();
   // The held-out error of body + lobe and the peak-sampled one, the larger of the two.
@@ -325,8 +352,6 @@ std::optional<LobeFit> fit_lobe_at(const MaterialProblem& p, const BrdfSource& r
   p.say(p.material.name + ": half-angle " + std::to_string(s.n_t) + "x" + std::to_string(s.n_phi_h) + " h, " +
         std::to_string(s.n_theta_d) + "x" + std::to_string(s.n_phi_d) + " d, rank " + std::to_string(fit.factors.rank) +
         ": error " + exact_decimal(e.l2) + (peak ? " (with the peak-sampled " + exact_decimal(peak->l2) + ")" : std::string()));
-  double node = 0.0;
-  for (const double x : fit.report.error) node = std::max(node, x);
   // Compact forms only in banks without LUTs: a LUT samples the lobe at every pair of the bank grid's cubature
   // points (7.6e7 evaluations at level 2, 15-25 s per material on one thread, whatever the factors' storage;
   // bench_half_angle --lut), and it outweighs the lobe's bytes in the file (cells^2 values per channel: 28,224
@@ -357,6 +382,7 @@ struct LobeMiss {
   double best = INFINITY;
   std::optional<LobeFit> fit;  // the lowest-error lobe within the bytes to beat (measured data)
   std::string stop;            // why the search ended before the last step ("" when it ran them all)
+  std::string floor;           // the isotropic measured search: its error against bytes (floor_text)
 };
 
 std::string short_number(double x);
@@ -379,6 +405,105 @@ std::optional<LobeFit> measured_step(const MaterialProblem& p, const BrdfSource&
   return best;
 }
 
+// "n_t x n_theta_d x n_phi_d rank R [shared ]precision": a lobe's grid and stored form in messages.
+std::string lobe_text(const HalfAngleFactors& l) {
+  return std::to_string(l.n_t) + "x" + std::to_string(l.n_theta_d) + "x" + std::to_string(l.n_phi_d) + " rank " + std::to_string(l.rank) +
+         (l.shared() ? " shared " : " ") + factor_precision_name(l.precision);
+}
+
+// One lobe the isotropic measured search judged: its stored bytes and held-out error.
+struct CurvePoint {
+  long long bytes;
+  double error;
+};
+
+// A missed target's measured figure: the lowest error of the search (its bytes, grid and form) beside the
+// lowest error within half those bytes. A small gain for twice the bytes is the curve of error against bytes
+// flattening: the isotropic half-angle lobe's floor on these data within the grids and ranks tried.
+std::string floor_text(const std::vector<CurvePoint>& curve, const LobeFit& best) {
+  const long long bytes = lobe_bytes(best.lobe);
+  double half = INFINITY;
+  for (const CurvePoint& c : curve)
+    if (c.bytes <= bytes / 2) half = std::min(half, c.error);
+  std::string s = "error against bytes: " + short_number(best.error.l2) + " at " + std::to_string(bytes) + " B (" + lobe_text(best.lobe) + ")";
+  if (std::isfinite(half)) {
+    char gain[64];
+    std::snprintf(gain, sizeof gain, "%.0f %%", 100.0 * (1.0 - best.error.l2 / half));
+    s += ", " + short_number(half) + " within " + std::to_string(bytes / 2) + " B: twice the bytes gained " + gain;
+  }
+  return s;
+}
+
+// Measured data, isotropic lobe: for each d grid of kLobeBudgetD (smallest first), the ranks from 1, each on the
+// largest n_t of kLobeBudgetNt whose lobe (shared kSearchPrecision factors for several channels, per channel
+// for one) stays below the bytes to beat, until a rank stalls (kStallRatio) or no n_t fits; every lobe fitted
+// counts n_t x n_theta_d x n_phi_d x rank towards the work cap (MaterialProblem::lobe_work_cap, < 0:
+// kLobeSearchWork), and the search ends before a lobe that would pass it. Lobes whose node error cannot beat
+// the best so far are not judged (kNodeScreen). The first lobe meeting the target wins, on the smallest n_t of
+// its d grid and rank that still meets it; nullopt when none does (*miss: the lowest error within the bytes,
+// that lobe, the error-vs-bytes figure and why the search ended).
+std::optional<LobeFit> measured_search(const MaterialProblem& p, const BrdfSource& residual, const Eigen::MatrixXd& body, LobeMiss* miss,
+                                       long long body_bytes) {
+  const int channels = residual.channels();
+  const bool shared = channels > 1;
+  const long long budget = p.bytes_to_beat < 0 ? -1 : p.bytes_to_beat - body_bytes;  // a lobe stays below it
+  const long long cap = p.lobe_work_cap >= 0 ? p.lobe_work_cap : kLobeSearchWork;
+  long long work = 0;
+  std::vector<CurvePoint> curve;
+  double ratio = INFINITY;  // lowest held-out / node error of the lobes judged (kNodeScreen)
+  const auto grid_name = [](int n_t, const int* d) { return std::to_string(n_t) + "x" + std::to_string(d[0]) + "x" + std::to_string(d[1]); };
+  const auto fit_at = [&](int n_t, const int* d, int rank, double screen) -> std::optional<LobeFit> {
+    work += static_cast<long long>(n_t) * d[0] * d[1] * rank;
+    return fit_lobe_at(p, residual, body, true, LadderStep{n_t, 1, d[0], d[1]}, rank, budget, shared, screen);
+  };
+  for (const auto& d : kLobeBudgetD) {
+    double grid_best = INFINITY, previous_node = INFINITY;
+    for (int rank = 1; rank <= kMaxMeasuredRank; ++rank) {
+      const int n_t = largest_n_t(budget < 0 ? -1 : budget - 1, channels, rank, d[0], d[1], shared, kSearchPrecision);
+      if (n_t == 0) break;
+      if (work + static_cast<long long>(n_t) * d[0] * d[1] * rank > cap) {
+        miss->stop = "its work cap (" + std::to_string(cap) + " node-terms) ended it before " + grid_name(n_t, d) + " rank " + std::to_string(rank) +
+                     ", " + std::to_string(work) + " spent";
+        if (miss->fit) miss->floor = floor_text(curve, *miss->fit);
+        return std::nullopt;
+      }
+      auto fit = fit_at(n_t, d, rank, std::isfinite(ratio) ? miss->best / (kNodeScreen * ratio) : INFINITY);
+      if (!fit) break;
+      const double node = fit->node_error;
+      if (fit->screened) {
+        // Not judged: the rank stalls when the node error stopped falling (kStallRatio), else a higher rank
+        // may still do better.
+        if (node > kStallRatio * previous_node) break;
+        previous_node = node;
+        continue;
+      }
+      previous_node = node;
+      if (node > 0) ratio = std::min(ratio, fit->error.l2 / node);
+      if (budget >= 0 && lobe_bytes(fit->lobe) >= budget) break;
+      curve.push_back({lobe_bytes(fit->lobe), fit->error.l2});
+      note_tried(p, body_bytes + lobe_bytes(fit->lobe), fit->error.l2);
+      if (fit->error.l2 <= p.material.target) {
+        // The smallest n_t of this d grid and rank that still meets the target, within the work cap.
+        const int* nt = std::find(std::begin(kLobeBudgetNt), std::end(kLobeBudgetNt), n_t);
+        while (nt != std::begin(kLobeBudgetNt) && work + static_cast<long long>(*(nt - 1)) * d[0] * d[1] * rank <= cap) {
+          --nt;
+          auto smaller = fit_at(*nt, d, rank, INFINITY);
+          if (!smaller || smaller->error.l2 > p.material.target) break;
+          note_tried(p, body_bytes + lobe_bytes(smaller->lobe), smaller->error.l2);
+          if (lobe_bytes(smaller->lobe) < lobe_bytes(fit->lobe)) fit = std::move(smaller);
+        }
+        return fit;
+      }
+      if (fit->error.l2 < miss->best) miss->best = fit->error.l2, miss->fit = *fit;
+      const bool flat = fit->error.l2 > kStallRatio * grid_best;
+      grid_best = std::min(grid_best, fit->error.l2);
+      if (flat) break;
+    }
+  }
+  if (miss->fit) miss->floor = floor_text(curve, *miss->fit);
+  return std::nullopt;
+}
+
 // The first grid of the ladder whose lobe, added to `body` at the held-out pairs, meets the target; nullopt
 // when none does (*miss: the best error, for measured data the best lobe and why the search stopped). Steps
 // whose rank-1 lobe plus `body_bytes` cannot beat p.bytes_to_beat are not tried, and the rank stays within it.
@@ -386,15 +511,10 @@ std::optional<LobeFit> fit_lobe(const MaterialProblem& p, const BrdfSource& resi
                                 LobeMiss* miss, long long body_bytes = 0) {
   const std::optional<HalfAngleNodes> own = p.source.own_half_angle_nodes();
   const bool measured = measured_data(p);
+  if (measured && isotropic && !own) return measured_search(p, residual, body, miss, body_bytes);
   const LadderStep own_step[] = {own ? LadderStep{own->n_t, own->n_phi_h, own->n_theta_d, own->n_phi_d, own->centred} : LadderStep{}};
-  const LadderStep* begin = own ? std::begin(own_step)
-                            : !isotropic ? std::begin(kAnisotropicLadder)
-                            : measured   ? std::begin(kMeasuredLadder)
-                                         : std::begin(kIsotropicLadder);
-  const LadderStep* end = own ? std::end(own_step)
-                          : !isotropic ? std::end(kAnisotropicLadder)
-                          : measured   ? std::end(kMeasuredLadder)
-                                       : std::end(kIsotropicLadder);
+  const LadderStep* begin = own ? std::begin(own_step) : !isotropic ? std::begin(kAnisotropicLadder) : std::begin(kIsotropicLadder);
+  const LadderStep* end = own ? std::end(own_step) : !isotropic ? std::end(kAnisotropicLadder) : std::end(kIsotropicLadder);
   // An anisotropic lobe's axes, once for every grid of the ladder.
   LobeAxes axes;
   if (!isotropic)
@@ -405,7 +525,7 @@ std::optional<LobeFit> fit_lobe(const MaterialProblem& p, const BrdfSource& resi
   for (const LadderStep* s = begin; s != end; ++s) {
     const long long one = rank_one_bytes(*s, residual.channels());
     if (p.bytes_to_beat >= 0 && body_bytes + one >= p.bytes_to_beat) {
-      if (measured) continue;  // the measured ladder is not ordered by size: a later step may be smaller
+      if (measured) continue;  // a later step may be smaller
       break;
     }
     // The largest rank whose lobe stays below the bytes to beat.
@@ -553,8 +673,11 @@ double isotropy_defect(const BrdfSource& source, const HeldOutErrors& errors) {
 
 // Refuses at once when even the smallest lobe (the first step of the ladder, rank 1) cannot beat the bytes found.
 static void require_can_beat(const MaterialProblem& p, const char* what, long long body_bytes) {
-  const LadderStep& first = measured_data(p) ? kMeasuredLadder[0] : kIsotropicLadder[0];
-  if (p.bytes_to_beat >= 0 && body_bytes + rank_one_bytes(first, p.source.channels()) >= p.bytes_to_beat)
+  const int channels = p.source.channels();
+  const long long smallest = measured_data(p) ? stored_lobe_bytes(channels, 1, kLobeBudgetNt[0], kLobeBudgetD[0][0], kLobeBudgetD[0][1],
+                                                                  channels > 1, kSearchPrecision)
+                                              : rank_one_bytes(kIsotropicLadder[0], channels);
+  if (p.bytes_to_beat >= 0 && body_bytes + smallest >= p.bytes_to_beat)
     throw UnsupportedError(std::string(what) + ": no lobe is smaller than the " + std::to_string(p.bytes_to_beat) +
                            " bytes already found");
 }
@@ -568,12 +691,14 @@ MaterialCandidate fit_half_angle_candidate(const MaterialProblem& p) {
   auto fit = fit_lobe(p, p.source, none, iso, &miss);
   if (fit) return lobe_candidate(p, "half-angle", zero_body(p, iso), std::move(*fit), -1, 0, 0);
   const std::string why = "half-angle: target " + short_number(p.material.target) + " not met: best relative L2 error " + short_number(miss.best) +
-                          (miss.stop.empty() ? " up to the largest grid and rank " + std::to_string(kMaxRank) : " (the search stopped: " + miss.stop + ")");
+                          (miss.stop.empty() ? (miss.floor.empty() ? " up to the largest grid and rank " + std::to_string(kMaxRank) : " over every grid tried")
+                                             : " (the search stopped: " + miss.stop + ")") +
+                          (miss.floor.empty() ? std::string() : "; " + miss.floor);
   if (miss.fit && p.best_efforts) {
     MaterialCandidate c = lobe_candidate(p, "half-angle", zero_body(p, iso), std::move(*miss.fit), -1, 0, 0);
     c.target_met = false;
-    c.note = "lobe search: " + (miss.stop.empty() ? std::string("every grid tried") : miss.stop) + "; best " + short_number(c.error.l2) + " at " +
-             std::to_string(c.bytes) + " bytes";
+    c.note = "lobe search: " + (miss.stop.empty() ? std::string("every grid tried") : miss.stop) + "; " +
+             (miss.floor.empty() ? "best " + short_number(c.error.l2) + " at " + std::to_string(c.bytes) + " bytes" : miss.floor);
     p.best_efforts->push_back(std::move(c));
   }
   throw UnsupportedError(why);

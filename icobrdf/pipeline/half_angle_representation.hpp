@@ -9,10 +9,14 @@
 //   2. the quantity factorized is the metric's: q = f cos(theta_i) cos(theta_r) for "cosine", q = f for "f";
 //   3. grids from a ladder of increasing size (kIsotropicLadder, kAnisotropicLadder); at each, the rank grows until the weighted node
 //      error is within kNodeShare of the target; the first grid whose held-out error meets the target wins;
-//      measured data (sources not reciprocal by construction) start on coarse d grids (kMeasuredLadder), their
-//      rank stops when the node error stops falling, their ladder when a step's stalled node error is above
-//      the target or its held-out error stopped improving, and the lowest-error lobe within the budget is left
-//      as the best effort (MaterialProblem::best_efforts) with a note naming the figure that stopped the search;
+//      measured data (sources not reciprocal by construction), isotropic lobes: every d grid of the budget
+//      grids (icobrdf/pipeline/lobe_budget.hpp), each rank on the largest n_t whose lobe stays below the bytes
+//      to beat, ranks until the held-out error stalls, within a work cap per material (kLobeSearchWork or
+//      MaterialProblem::lobe_work_cap; node-terms n_t x n_theta_d x n_phi_d x rank, not wall time); the first
+//      lobe meeting the target wins at the smallest n_t still meeting it. Short of the target, the
+//      lowest-error lobe within the budget is left as the best effort (MaterialProblem::best_efforts) with a
+//      note giving its error against bytes (the lowest error, and within half those bytes) and why the search
+//      ended;
 //   4. the stored form: the grid's lobe, or its channels' shared factors fitted on the same grid, at the
 //      narrowest precision (int8, int16, float32, float64) whose held-out error still meets the target
 //      (HalfAngleFactors: storage; the error is that of the stored values);

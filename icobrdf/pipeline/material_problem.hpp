@@ -42,6 +42,9 @@ struct MaterialProblem {
   // both); nullptr: not kept.
   std::vector<CandidatePoint>* tried = nullptr;
   std::string representation{};
+  // Work cap of a lobe search over measured data, in node-terms (icobrdf/pipeline/half_angle_representation.cpp
+  // kLobeSearchWork); < 0: that default.
+  long long lobe_work_cap = -1;
 };
 
 // Keeps (bytes, error_l2) of the fitter being run in p.tried, when kept and the error is finite.
