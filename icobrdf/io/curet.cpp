@@ -17,7 +17,7 @@ namespace icobrdf {
 namespace {
 
 // Plane-of-incidence test on sin(phi_r - phi_i), as the CSV reader's.
-constexpr double kPlaneTolerance = 1e-10;
+constexpr double kCuretPlaneTolerance = 1e-10;
 
 struct NumberLine {
   int line = 0;
@@ -52,7 +52,7 @@ std::vector<NumberLine> read_number_lines(const std::string& path) {
   return out;
 }
 
-std::string num(double x) {
+std::string curet_number(double x) {
   char b[64];
   std::snprintf(b, sizeof b, "%.10g", x);
   return b;
@@ -86,15 +86,15 @@ CuretDatabase read_curet(const std::string& brdf_path, const std::string& table_
     if (t.fields.size() != 5)
       throw InputError(where + ": expected 5 fields (index theta_v phi_v theta_i phi_i), found " + std::to_string(t.fields.size()));
     if (t.fields[0] != static_cast<double>(k + 1))
-      throw InputError(where + ": expected geometry index " + std::to_string(k + 1) + ", found " + num(t.fields[0]));
+      throw InputError(where + ": expected geometry index " + std::to_string(k + 1) + ", found " + curet_number(t.fields[0]));
     static const char* names[] = {"theta_v", "phi_v", "theta_i", "phi_i"};
     for (int a : {1, 3})
       if (!(t.fields[a] >= 0 && t.fields[a] <= M_PI / 2))
-        throw InputError(where + ": " + names[a - 1] + " expected a polar angle in [0, pi/2] radians, found " + num(t.fields[a]) +
+        throw InputError(where + ": " + names[a - 1] + " expected a polar angle in [0, pi/2] radians, found " + curet_number(t.fields[a]) +
                          (t.fields[a] > M_PI / 2 && t.fields[a] <= 90 ? " (degrees? the CURET table is in radians)" : ""));
     for (int a : {2, 4})
       if (!(std::abs(t.fields[a]) <= 2 * M_PI))
-        throw InputError(where + ": " + names[a - 1] + " expected an azimuth in [-2 pi, 2 pi] radians, found " + num(t.fields[a]));
+        throw InputError(where + ": " + names[a - 1] + " expected an azimuth in [-2 pi, 2 pi] radians, found " + curet_number(t.fields[a]));
     db.wr.row(k) = direction_from_angles(t.fields[1], t.fields[2]).transpose();
     db.wi.row(k) = direction_from_angles(t.fields[3], t.fields[4]).transpose();
     angles.push_back({t.fields[1], t.fields[2], t.fields[3], t.fields[4]});
@@ -119,10 +119,10 @@ CuretDatabase read_curet(const std::string& brdf_path, const std::string& table_
                        std::to_string(g) + " geometries of " + table_path + "), found " + std::to_string(b.fields.size()));
     const double n = b.fields[0];
     if (!(n >= 1 && n == std::floor(n) && n < 1e9))
-      throw InputError(where + ": expected a sample number >= 1 in field 1, found " + num(n));
+      throw InputError(where + ": expected a sample number >= 1 in field 1, found " + curet_number(n));
     const auto [it, fresh] = seen.emplace(static_cast<int>(n), b.line);
     if (!fresh)
-      throw InputError(where + ": sample " + num(n) + " repeats line " + std::to_string(it->second) + ", expected each sample once");
+      throw InputError(where + ": sample " + curet_number(n) + " repeats line " + std::to_string(it->second) + ", expected each sample once");
     db.sample_numbers.push_back(static_cast<int>(n));
     for (Eigen::Index k = 0; k < g; ++k) db.values(static_cast<Eigen::Index>(s), k) = b.fields[static_cast<size_t>(k) + 1];
   }
@@ -153,7 +153,7 @@ BrdfSamples curet_samples(const CuretDatabase& db, int number) {
     if (s.values(k, 0) < 0) ++s.negative_values;
     const double cross = db.wi(k, 0) * db.wr(k, 1) - db.wi(k, 1) * db.wr(k, 0);  // sin(dphi) sin(theta_i) sin(theta_v)
     const double si = db.wi.row(k).head<2>().norm(), sr = db.wr.row(k).head<2>().norm();
-    if (si > 0 && sr > 0 && std::abs(cross) / (si * sr) > kPlaneTolerance) plane = false;
+    if (si > 0 && sr > 0 && std::abs(cross) / (si * sr) > kCuretPlaneTolerance) plane = false;
   }
   s.plane_of_incidence = plane;
   for (const auto& [a, b] : db.reciprocal_pairs) {

@@ -22,7 +22,7 @@ namespace {
 
 const char* const kColumns[8] = {"i", "j", "n", "m", "k", "l", "p", "a"};
 
-std::string where(const std::string& path, int line) { return path + ":" + std::to_string(line); }
+std::string line_where(const std::string& path, int line) { return path + ":" + std::to_string(line); }
 
 std::vector<std::string> split_fields(const std::string& s) {  // blank-separated
   std::vector<std::string> out;
@@ -152,37 +152,37 @@ ScatmechCoefficients read_scatmech_coefficients(const std::string& path) {
           ok = lower == kColumns[k];
         }
         if (!ok)
-          throw InputError(where(path, lineno) + ": expected the header 'i,j,n,m,k,l,p,a' or a coefficient row, found '" +
+          throw InputError(line_where(path, lineno) + ": expected the header 'i,j,n,m,k,l,p,a' or a coefficient row, found '" +
                            line + "'");
         continue;
       }
     }
     if (fl.size() != 8)
-      throw InputError(where(path, lineno) + ": expected 8 fields (i,j,n,m,k,l,p,a), found " + std::to_string(fl.size()));
+      throw InputError(line_where(path, lineno) + ": expected 8 fields (i,j,n,m,k,l,p,a), found " + std::to_string(fl.size()));
     ScatmechRow r{};
     int* ints[7] = {&r.i, &r.j, &r.n, &r.m, &r.k, &r.l, &r.p};
     for (int k = 0; k < 7; ++k)
       if (!parse_int(fl[static_cast<size_t>(k)], *ints[k]))
-        throw InputError(where(path, lineno) + ": column '" + kColumns[k] + "' expected an integer, found '" +
+        throw InputError(line_where(path, lineno) + ": column '" + kColumns[k] + "' expected an integer, found '" +
                          fl[static_cast<size_t>(k)] + "'");
-    if (!parse_double(fl[7], r.a)) throw InputError(where(path, lineno) + ": column 'a' expected a number, found '" + fl[7] + "'");
-    if (!std::isfinite(r.a)) throw InputError(where(path, lineno) + ": column 'a' expected a finite number, found '" + fl[7] + "'");
+    if (!parse_double(fl[7], r.a)) throw InputError(line_where(path, lineno) + ": column 'a' expected a number, found '" + fl[7] + "'");
+    if (!std::isfinite(r.a)) throw InputError(line_where(path, lineno) + ": column 'a' expected a finite number, found '" + fl[7] + "'");
     r.line = lineno;
     if (r.i < 1 || r.i > 4 || r.j < 1 || r.j > 4)
-      throw InputError(where(path, lineno) + ": Mueller indices i, j expected in 1..4, found " + std::to_string(r.i) + ", " +
+      throw InputError(line_where(path, lineno) + ": Mueller indices i, j expected in 1..4, found " + std::to_string(r.i) + ", " +
                        std::to_string(r.j));
     if (r.i > r.j)
-      throw InputError(where(path, lineno) + ": Mueller indices expected i <= j (SCATMECH derives M_ji from M_ij), found i = " +
+      throw InputError(line_where(path, lineno) + ": Mueller indices expected i <= j (SCATMECH derives M_ji from M_ij), found i = " +
                        std::to_string(r.i) + ", j = " + std::to_string(r.j));
     if (r.p < 0 || r.p > 4)
-      throw InputError(where(path, lineno) + ": wavelength power p expected in 0..4, found " + std::to_string(r.p));
+      throw InputError(line_where(path, lineno) + ": wavelength power p expected in 0..4, found " + std::to_string(r.p));
     if (r.i == 1 && r.j == 1) {
       if (r.n < 0 || r.m < 0 || r.n > kMaxScatmechOrder || r.m > kMaxScatmechOrder)
-        throw InputError(where(path, lineno) + ": radial orders n, m expected in [0, " + std::to_string(kMaxScatmechOrder) +
+        throw InputError(line_where(path, lineno) + ": radial orders n, m expected in [0, " + std::to_string(kMaxScatmechOrder) +
                          "], found " + std::to_string(r.n) + ", " + std::to_string(r.m));
       const int L = std::abs(r.l);
       if (L > std::min(r.n, r.m) || (r.n - L) % 2 != 0 || (r.m - L) % 2 != 0)
-        throw InputError(where(path, lineno) + ": unpolarized term needs |l| <= min(n, m) with n - l and m - l even, found n = " +
+        throw InputError(line_where(path, lineno) + ": unpolarized term needs |l| <= min(n, m) with n - l and m - l even, found n = " +
                          std::to_string(r.n) + ", m = " + std::to_string(r.m) + ", l = " + std::to_string(r.l));
       ++f.unpolarized_rows;
       if (r.k != r.l) ++f.k_differs_rows;
