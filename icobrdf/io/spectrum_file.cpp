@@ -21,7 +21,7 @@ namespace {
 using h5::Shape;
 using h5::ShapePattern;
 
-std::uint64_t u64(std::int64_t n) { return static_cast<std::uint64_t>(n); }
+std::uint64_t dim64(std::int64_t n) { return static_cast<std::uint64_t>(n); }
 
 using RowMap = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
 using RowMapF = Eigen::Map<Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
@@ -135,13 +135,13 @@ static void write_lut(h5::Group& g, const MaterialRecord& rec, std::int64_t cell
       // A record read from a float32 LUT (resumed builds, bank extract) holds already rounded values, which
       // round again exactly: keep the rounding error recorded against the original values.
       if (rec.lut_max_rounding_error >= 0) err = std::max(err, rec.lut_max_rounding_error);
-      g.write("lut", f.data(), Shape{u64(ch), u64(cells), u64(cells)}, "1/sr", what + " (float32)");
+      g.write("lut", f.data(), Shape{dim64(ch), dim64(cells), dim64(cells)}, "1/sr", what + " (float32)");
       // The rounding error is a material attribute (docs/file-format.md), next to the float32 dataset.
       g.set_attr("lut_max_abs_rounding_error", err);
     } else {
       std::vector<double> d(per * ch);
       for (int c = 0; c < ch; ++c) RowMap(d.data() + c * per, cells, cells) = rec.lut[c];
-      g.write("lut", d.data(), Shape{u64(ch), u64(cells), u64(cells)}, "1/sr", what);
+      g.write("lut", d.data(), Shape{dim64(ch), dim64(cells), dim64(cells)}, "1/sr", what);
     }
   }
 }
@@ -222,11 +222,11 @@ static void write_sample_fit(h5::Group& g, const Spectrum& s) {
   r.set_attr("class_choice", f.class_choice);
   r.set_attr("cv_rms_isotropic", f.cv_rms_isotropic);
   r.set_attr("cv_rms_general", f.cv_rms_general);
-  r.write("residual_rms", f.residual_rms.data(), Shape{u64(ch)}, "1/sr", "weighted residual RMS per channel");
-  r.write("noise_sigma", f.noise_sigma.data(), Shape{u64(ch)}, "1/sr",
+  r.write("residual_rms", f.residual_rms.data(), Shape{dim64(ch)}, "1/sr", "weighted residual RMS per channel");
+  r.write("noise_sigma", f.noise_sigma.data(), Shape{dim64(ch)}, "1/sr",
           "estimated error of a sample of weight 1 per channel, RSS / (samples - tr H); NaN when not estimable");
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> se = f.standard_error;
-  r.write("standard_error", se.data(), Shape{u64(ch), u64(k)}, "1",
+  r.write("standard_error", se.data(), Shape{dim64(ch), dim64(k)}, "1",
           "standard error of each mode coefficient (columns in the order of the attribute modes), "
           "sigma * sqrt(diag(M M^T)) from the least-squares covariance; NaN where undefined");
 }
@@ -350,15 +350,15 @@ void write_material(h5::Group& materials, const MaterialRecord& rec) {
 
   std::vector<double> buf(static_cast<size_t>(ch * m * m));
   for (int c = 0; c < ch; ++c) RowMap(buf.data() + c * m * m, m, m) = s.channels[c];
-  g.write("C", buf.data(), Shape{u64(ch), u64(m), u64(m)}, "1",
+  g.write("C", buf.data(), Shape{dim64(ch), dim64(m), dim64(m)}, "1",
           std::string("C[c, a, b] = coefficient of K_a(w_i) K_b(w_r) in the expansion of ") +
               (s.cosine ? "g = f cos(theta_i)" : "f") + " [1/sr]; K in sr^-1/2, so C is dimensionless");
 
   if (has_ibsss) {
     const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> v = rec.ibsss;
-    g.write("ibsss", v.data(), Shape{u64(ch), u64(v.cols())}, "1", "isotropic mode coefficients a_nm^l per channel, columns as ibsss_indices");
+    g.write("ibsss", v.data(), Shape{dim64(ch), dim64(v.cols())}, "1", "isotropic mode coefficients a_nm^l per channel, columns as ibsss_indices");
     g.write("ibsss_indices", reinterpret_cast<const std::int32_t*>(rec.ibsss_indices.data()),
-            Shape{u64(rec.ibsss_indices.rows()), 3}, "index", "(n, m, l) of each ibsss column");
+            Shape{dim64(rec.ibsss_indices.rows()), 3}, "index", "(n, m, l) of each ibsss column");
   }
 
   write_lut(g, rec, cells);
@@ -399,7 +399,7 @@ void read_material_lut(const h5::Group& g, MaterialRecord& rec, int ch, const h5
   if (t != h5::Type::float64 && t != h5::Type::float32)
     g.fail(obj, std::string("expected float64 or float32, found ") + h5::type_name(t));
   const h5::Shape shape = g.dataset_shape("lut", lim);
-  if (shape.size() != 3 || shape[0] != u64(ch) || shape[1] != shape[2] || shape[1] == 0)
+  if (shape.size() != 3 || shape[0] != dim64(ch) || shape[1] != shape[2] || shape[1] == 0)
     g.fail(obj, "expected shape " + std::to_string(ch) + " x cells x cells, found " + h5::shape_text(shape));
   const std::int64_t cells = static_cast<std::int64_t>(shape[1]);
   if (s.level < 0 || s.grid_kind.empty())

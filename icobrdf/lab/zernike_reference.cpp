@@ -12,7 +12,7 @@
 namespace icobrdf::lab {
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();  // 2^-52
+constexpr double kRefEps = std::numeric_limits<double>::epsilon();  // 2^-52
 
 #if defined(__SIZEOF_FLOAT128__)
 using Quad = __float128;
@@ -55,7 +55,7 @@ std::vector<ZernikeRow> zernike_vs_closed_sum(int n_max, int n_block, int sample
         row.recurrence_error = std::max(row.recurrence_error, std::abs(rec[static_cast<size_t>(zernike_radial_index(n, l))] - ref));
         row.reference_error_bound = std::max(row.reference_error_bound, (n + 4) * kQuadRoundoff * static_cast<double>(abs_sum));
         row.closed_double_error = std::max(row.closed_double_error, std::abs(sum_d - ref));
-        row.closed_double_estimate = std::max(row.closed_double_estimate, kEps * static_cast<double>(abs_sum));
+        row.closed_double_estimate = std::max(row.closed_double_estimate, kRefEps * static_cast<double>(abs_sum));
       }
   }
   return rows;

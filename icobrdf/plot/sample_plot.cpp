@@ -12,9 +12,9 @@
 namespace icobrdf::plot {
 namespace {
 
-constexpr double kDegPerRad = 180.0 / M_PI;
-constexpr int kCurveSamples = 359;                        // points per fitted curve: every half degree
-constexpr double kCurveReach = (90.0 - 0.5) / kDegPerRad;  // as the in-plane curves: the horizon itself is not drawn
+constexpr double kSamplePlotDegPerRad = 180.0 / M_PI;
+constexpr int kFitCurveSamples = 359;                        // points per fitted curve: every half degree
+constexpr double kFitCurveReach = (90.0 - 0.5) / kSamplePlotDegPerRad;  // as the in-plane curves: the horizon itself is not drawn
 const Rgb kZeroLine{0.35, 0.35, 0.35};
 
 // A sample's place in its plane of incidence: signed theta_r [deg] and its incidence, or nothing off the planes.
@@ -33,8 +33,8 @@ InPlane in_plane(const Eigen::RowVector3d& wi, const Eigen::RowVector3d& wr) {
     return p;
   }
   const double d = std::remainder(std::atan2(wr(1), wr(0)) - p.phi_i, 2 * M_PI);  // in [-pi, pi]
-  if (std::fabs(d) <= kPlaneTolerance) p.in = true, p.x_deg = -tr * kDegPerRad;  // backward (incident) side
-  else if (std::fabs(d) >= M_PI - kPlaneTolerance) p.in = true, p.x_deg = tr * kDegPerRad;
+  if (std::fabs(d) <= kPlaneTolerance) p.in = true, p.x_deg = -tr * kSamplePlotDegPerRad;  // backward (incident) side
+  else if (std::fabs(d) >= M_PI - kPlaneTolerance) p.in = true, p.x_deg = tr * kSamplePlotDegPerRad;
   return p;
 }
 
@@ -42,11 +42,11 @@ InPlane in_plane(const Eigen::RowVector3d& wi, const Eigen::RowVector3d& wr) {
 std::vector<double> populated_angles(const std::vector<InPlane>& places) {
   std::map<long, int> count;
   for (const auto& p : places)
-    if (p.in) ++count[std::lround(p.theta_i * kDegPerRad)];
+    if (p.in) ++count[std::lround(p.theta_i * kSamplePlotDegPerRad)];
   std::vector<std::pair<long, int>> by_count(count.begin(), count.end());
   std::stable_sort(by_count.begin(), by_count.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
   std::vector<double> angles;
-  for (std::size_t k = 0; k < by_count.size() && k < kMaxSampleGroups; ++k) angles.push_back(by_count[k].first / kDegPerRad);
+  for (std::size_t k = 0; k < by_count.size() && k < kMaxSampleGroups; ++k) angles.push_back(by_count[k].first / kSamplePlotDegPerRad);
   std::sort(angles.begin(), angles.end());
   return angles;
 }
@@ -71,13 +71,13 @@ SamplePlotFigure plot_samples(const std::string& label, const SampleSet& s, cons
   if (q.theta_i.size() > kMaxSampleGroups)
     throw ArgumentError(fmt::format("sample plot: at most {} incidence angles, found {}", kMaxSampleGroups, q.theta_i.size()));
   for (double t : q.theta_i)
-    if (!(t >= 0.0 && t < M_PI / 2)) throw ArgumentError(fmt::format("sample plot: theta_i {} degrees outside [0, 90)", t * kDegPerRad));
+    if (!(t >= 0.0 && t < M_PI / 2)) throw ArgumentError(fmt::format("sample plot: theta_i {} degrees outside [0, 90)", t * kSamplePlotDegPerRad));
   std::vector<InPlane> places(static_cast<std::size_t>(n));
   for (Eigen::Index k = 0; k < n; ++k) places[static_cast<std::size_t>(k)] = in_plane(s.wi.row(k), s.wr.row(k));
   const std::vector<double> angles = q.theta_i.empty() ? populated_angles(places) : q.theta_i;
   if (angles.empty())
     throw ArgumentError(fmt::format("sample plot '{}': none of the {} samples lies within {} degrees of its plane of incidence", label, n,
-                                    format_number(kPlaneTolerance * kDegPerRad)));
+                                    format_number(kPlaneTolerance * kSamplePlotDegPerRad)));
 
   SamplePlotFigure out;
   out.total = n;
@@ -107,24 +107,24 @@ SamplePlotFigure plot_samples(const std::string& label, const SampleSet& s, cons
   }
   if (out.points.empty())
     throw ArgumentError(fmt::format("sample plot '{}': no sample within {} degree of the incidence angles asked lies within {} degrees of its plane of incidence",
-                                    label, format_number(kIncidenceTolerance * kDegPerRad), format_number(kPlaneTolerance * kDegPerRad)));
+                                    label, format_number(kIncidenceTolerance * kSamplePlotDegPerRad), format_number(kPlaneTolerance * kSamplePlotDegPerRad)));
 
   // Series: the groups' fitted curves, then their samples (markers on top), then the residuals.
-  const Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(kCurveSamples, -kCurveReach, kCurveReach);
+  const Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(kFitCurveSamples, -kFitCurveReach, kFitCurveReach);
   std::vector<Series> top, bottom;
   for (int g = 0; g < groups; ++g) {
     const double theta = members[g] ? sum_t[g] / members[g] : angles[g];
     const double phi = sum_c[g] != 0.0 || sum_s[g] != 0.0 ? std::atan2(sum_s[g], sum_c[g]) : 0.0;
-    out.group_theta_deg.push_back(theta * kDegPerRad);
+    out.group_theta_deg.push_back(theta * kSamplePlotDegPerRad);
     const RowMatrix3d plane = plane_of_incidence_directions(phi, t);
     RowMatrix3d wis(plane.rows(), 3);
     wis.rowwise() = Eigen::RowVector3d(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
     const Eigen::VectorXd curve = mean_fit(fit, wis, plane);
     Series c;
-    c.label = fmt::format("theta_i = {}\u00b0 ({} samples)", format_number(std::round(theta * kDegPerRad * 10) / 10), members[g]);
+    c.label = fmt::format("theta_i = {}\u00b0 ({} samples)", format_number(std::round(theta * kSamplePlotDegPerRad * 10) / 10), members[g]);
     c.colour = sample_group_colour(g);
     c.marker = Marker::None;
-    for (Eigen::Index m = 0; m < t.size(); ++m) c.x.push_back(t(m) * kDegPerRad), c.y.push_back(curve(m));
+    for (Eigen::Index m = 0; m < t.size(); ++m) c.x.push_back(t(m) * kSamplePlotDegPerRad), c.y.push_back(curve(m));
     top.push_back(std::move(c));
   }
   for (int g = 0; g < groups; ++g) {
@@ -145,7 +145,7 @@ SamplePlotFigure plot_samples(const std::string& label, const SampleSet& s, cons
   fig.title("Samples and fit of " + (label.size() > 70 ? "..." + label.substr(label.size() - 67) : label), 17.0);
   fig.text(out.width / 2.0, 50,
            fmt::format("{} of {} samples lie within {}\u00b0 of their plane of incidence (drawn); residual RMS over all {}: {} 1/sr", out.points.size(), n,
-                       format_number(kPlaneTolerance * kDegPerRad), n, format_number(out.residual_rms)),
+                       format_number(kPlaneTolerance * kSamplePlotDegPerRad), n, format_number(out.residual_rms)),
            12.0, Align::Centre);
   ChartOptions co;
   co.x_label = "signed theta_r [deg] (forward side > 0)";
