@@ -87,7 +87,7 @@ void add_slice_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   });
 }
 
-void add_spectrum_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
+void add_plot_spectrum_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   auto* spec = plot->add_subcommand("spectrum", "IBSSS overview (paper Fig. 3) and the coefficient matrix of a spectrum file");
   spec->add_option("source", a->source, "SPECTRUM.h5[#material]")->required();
   spec->add_option("-o,--output", a->output, "Output PNG")->required();
@@ -200,7 +200,7 @@ void add_plot_command(CLI::App& app) {
   plot->require_subcommand(1);
   add_basis_command(plot, a);
   add_slice_command(plot, a);
-  add_spectrum_command(plot, a);
+  add_plot_spectrum_command(plot, a);
   add_sphere_command(plot, a);
   add_curve_commands(plot, a);
   for (auto* c : plot->get_subcommands([](CLI::App*) { return true; }))
