@@ -50,6 +50,11 @@ slow_seconds=${SANITIZE_SLOW_SECONDS:-0.3}
 costs=${RELEASE_BUILD_DIR:-$root/build}/Testing/Temporary/CTestCostData.txt
 if [ $# -eq 0 ] && [ -f "$costs" ] && [ "$slow_seconds" != "0" ]; then
   mapfile -t slow < <(awk -v t="$slow_seconds" '$0 == "---" { exit } NF == 3 && $3 + 0 >= t + 0 { print $1 }' "$costs")
+  # A fixture's setup test stays (ctest does not run it for the tests that need it once -E leaves it out).
+  mapfile -t setups < <(ctest --show-only=json-v1 | /usr/bin/python3 -c 'import json, sys
+for t in json.load(sys.stdin)["tests"]:
+    if any(p["name"] == "FIXTURES_SETUP" for p in t.get("properties", [])): print(t["name"])')
+  mapfile -t slow < <(printf '%s\n' "${slow[@]}" | grep -vxF -f <(printf '%s\n' "${setups[@]}"))
   echo "sanitize: leaving out ${#slow[@]} tests of ${slow_seconds} s or more in the uninstrumented run ($costs)"
   for t in "${slow[@]}"; do skip+=("$(printf '%s' "$t" | sed 's/[^A-Za-z0-9_/:-]/[&]/g')\$"); done
 fi
