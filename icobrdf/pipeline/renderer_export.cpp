@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "icobrdf/core/fit/half_angle_fit.hpp"
 #include "icobrdf/core/models/function_model.hpp"
 #include "icobrdf/core/models/model_registry.hpp"
 #include "icobrdf/core/support/error.hpp"
@@ -21,21 +22,6 @@ namespace icobrdf {
 // Helpers in a namespace of their own: the library compiles in unity batches.
 namespace renderer_export_detail {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-// Pairs uniform in solid angle on both hemispheres, the same on every platform.
-void uniform_pairs(int n, std::uint64_t seed, RowMatrix3d& wi, RowMatrix3d& wr) {
-  wi.resize(n, 3);
-  wr.resize(n, 3);
-  std::uint64_t counter = seed;
-  const auto next = [&counter] { return static_cast<double>(splitmix64(counter++) >> 11) * 0x1.0p-53; };
-  for (int k = 0; k < n; ++k)
-    for (RowMatrix3d* w : {&wi, &wr}) {
-      const double z = next(), phi = 2 * kPi * next(), s = std::sqrt(std::max(0.0, 1 - z * z));
-      w->row(k) << s * std::cos(phi), s * std::sin(phi), z;
-    }
-}
 
 Eigen::MatrixXd values(const BrdfModel& model, const RowMatrix3d& wi, const RowMatrix3d& wr) {
   Eigen::MatrixXd out(wi.rows(), model.channels());
