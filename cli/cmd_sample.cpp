@@ -17,12 +17,14 @@
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/material_sampler.hpp"
 #include "icobrdf/io/sample_draws.hpp"
+#include "icobrdf/pipeline/resource_estimate.hpp"
 
 namespace icobrdf::cli {
 
 namespace {
 
-// More draws than this in one run print gigabytes of CSV; a renderer calls the library instead.
+// More draws than this in one run print gigabytes of CSV (memory stays bounded: sample_draws.hpp); a
+// renderer calls the library instead.
 constexpr long long kMaxDraws = 100'000'000;
 
 struct SampleOptions {
@@ -37,9 +39,11 @@ struct SampleOptions {
 void run_sample(const SampleOptions& o) {
   const auto mode = lut_sampling_named(o.cell_value);
   if (!mode) throw ArgumentError("--cell-value: expected 'centre' or 'average', found '" + quoted_text(o.cell_value) + "'");
-  const MaterialSampler sampler(open_source(o.source), o.level, *mode);
+  std::shared_ptr<const BrdfSource> source = open_source(o.source);
+  require_sampling_memory(o.level, *mode == LutSampling::CellAverage, source->channels(), "sampling " + o.source);
+  const MaterialSampler sampler(std::move(source), o.level, *mode);
   const Eigen::Vector3d wi = direction_from_angles(o.theta_i * M_PI / 180, o.phi_i * M_PI / 180);
-  std::cout << material_samples_csv(sampler, draw_material_samples(sampler, wi, o.n, o.seed));
+  write_material_samples_csv(std::cout, sampler, wi, o.n, o.seed);  // a failed stream is reported at the end (main)
 }
 
 void add_sample_command(CLI::App& app) {

@@ -8,7 +8,10 @@
 #include <fstream>
 #include <sstream>
 
+#include <sys/stat.h>
+
 #include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/memory_budget.hpp"
 #include "icobrdf/core/support/text.hpp"
 
 namespace icobrdf {
@@ -25,6 +28,28 @@ std::vector<std::string> split(const std::string& line) {
 
 std::string where(const std::string& path, int line) { return path + ":" + std::to_string(line); }
 
+// std::getline with a bound: false at the end of the input; InputError for a line of more than
+// kMaxCsvLineBytes (read no further). Counts the bytes taken into *consumed.
+bool bounded_line(std::istream& in, std::string& line, const std::string& path, int lineno, std::uint64_t* consumed) {
+  line.clear();
+  std::streambuf* buf = in.rdbuf();
+  for (;;) {
+    const int c = buf->sbumpc();
+    if (c == std::char_traits<char>::eof()) return !line.empty();  // a last line without its newline
+    ++*consumed;
+    if (c == '\n') return true;
+    if (line.size() >= kMaxCsvLineBytes)
+      throw InputError(where(path, lineno) + ": line longer than " + std::to_string(kMaxCsvLineBytes) +
+                       " bytes, expected CSV text (short lines of numbers)");
+    line.push_back(static_cast<char>(c));
+  }
+}
+
+void hold_csv_to_budget(const std::string& path, double text_bytes, const char* when) {
+  require_memory(kCsvMemoryPerFileByte * text_bytes, "reading " + path + " (" + byte_size_text(text_bytes) + " of CSV " + when + ")",
+                 "a smaller file needs less");
+}
+
 }  // namespace
 
 CsvTable read_numeric_csv(const std::string& path) {
@@ -32,10 +57,18 @@ CsvTable read_numeric_csv(const std::string& path) {
   if (!in) throw InputError(path + ": cannot open for reading");
   CsvTable t;
   t.path = path;
+  struct stat st {};
+  const bool regular = ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+  if (regular) hold_csv_to_budget(path, static_cast<double>(st.st_size), "text");
   std::string line;
   int lineno = 0;
-  while (std::getline(in, line)) {
+  std::uint64_t consumed = 0, next_check = kCsvBudgetStepBytes;
+  while (bounded_line(in, line, path, lineno + 1, &consumed)) {
     ++lineno;
+    if (!regular && consumed >= next_check) {
+      hold_csv_to_budget(path, static_cast<double>(consumed), "read so far");
+      next_check += kCsvBudgetStepBytes;
+    }
     if (lineno == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
     if (!line.empty() && line.back() == '\r') line.pop_back();
     const std::string content = trim(line);

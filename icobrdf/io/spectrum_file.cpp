@@ -443,6 +443,7 @@ MaterialRecord read_material(const h5::Group& materials, const std::string& name
   if (!problem.empty()) materials.fail(materials.child_path(name), "invalid material name: " + problem);
   const h5::Group g = materials.open_group(name);
   g.check_links();
+  const h5::ReadScope budget;  // the material's datasets together are held to the memory budget
   MaterialRecord rec;
   rec.name = name;
   Spectrum& s = rec.spectrum;

@@ -6,6 +6,7 @@
 #include "icobrdf/core/basis/hemisphere_basis.hpp"
 #include "icobrdf/core/support/memory_budget.hpp"
 #include "icobrdf/core/projection/streaming_projection.hpp"
+#include "icobrdf/io/sample_draws.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 
 namespace icobrdf {
@@ -44,6 +45,51 @@ double lut_bytes(int level, int order, int channels, bool float32, int threads) 
   const double lut = kDouble * ch * c * c;
   const double fit = context_bytes(c, m) + kDouble * (threads + 4) * ch * m * m;
   return 2 * c * kGridBytesPerCell + lut * (float32 ? 1.5 : 2.0) + fit;
+}
+
+// Cubature points per cell of the degree-9 rule a grid carries (the average of its 36-38).
+constexpr double kCubaturePointsPerCell = 37.0;
+// Doubles per draw of one block: u1, u2, the direction, pdf, cell, weights, and about 80 bytes of CSV text.
+constexpr double kDrawBytesPerChannel = 2 * kDouble;
+constexpr double kDrawBytes = 7 * kDouble + 80.0;
+
+double sampling_bytes(int level, bool cell_average, int channels) {
+  const double c = cells_of(level), ch = channels;
+  const double points = cell_average ? kCubaturePointsPerCell * c : c;
+  // w_i repeated per point, f per channel (and a copy the source may make), the value and the cell masses
+  const double distribution = kDouble * points * (3 + 2 * ch + 1) + 2 * kDouble * c;
+  const double block = static_cast<double>(kSampleDrawBlock) * (kDrawBytes + kDrawBytesPerChannel * ch);
+  return 2 * c * kGridBytesPerCell + distribution + block;
+}
+
+void require_sampling_memory(int level, bool cell_average, int channels, const std::string& what) {
+  const double need = sampling_bytes(level, cell_average, channels);
+  const MemoryAvailable have = available_memory();
+  if (need <= have.bytes) return;
+  int l = level;
+  while (l >= 0 && sampling_bytes(l, cell_average, channels) > have.bytes) --l;
+  require_memory(need, have, what + " at level " + std::to_string(level) + (cell_average ? " (cell averages)" : ""),
+                 l >= 0 ? "level " + std::to_string(l) + " fits; the number of draws does not change the memory" : "");
+}
+
+double grid_bytes(int level) { return 2 * cells_of(level) * kGridBytesPerCell; }
+double basis_bytes(double cells, int order) { return context_bytes(cells, modes_of(order)); }
+double lut_table_bytes(double cells, int channels) { return kDouble * channels * cells * cells; }
+
+double projection_bench_bytes(int level, int order) {
+  const double c = cells_of(level), m = modes_of(order);
+  return 2 * c * kGridBytesPerCell + context_bytes(c, m) + kDouble * (c * c + 2 * c * m + 4 * m * m);
+}
+
+void require_projection_bench_memory(int level, int order) {
+  const double need = projection_bench_bytes(level, order);
+  const MemoryAvailable have = available_memory();
+  if (need <= have.bytes) return;
+  int l = level;
+  while (l >= 0 && projection_bench_bytes(l, order) > have.bytes) --l;
+  const std::string cells = std::to_string(equal_area_cells(level));
+  require_memory(need, have, "bench project at level " + std::to_string(level) + ", order " + std::to_string(order) + " (a " + cells + " x " + cells + " LUT)",
+                 l >= 0 ? "--level " + std::to_string(l) + " fits" : "");
 }
 
 // The largest order <= order_max whose model fit at `level` needs at most `have` bytes (-1: none).
