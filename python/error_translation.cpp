@@ -1,9 +1,10 @@
 // Library errors (icobrdf/core/support/error.hpp) as Python exceptions: ArgumentError -> ValueError,
 // IoError -> OSError, ResourceError -> MemoryError, InputError and UnsupportedError -> RuntimeError; the
-// message is the library's one line.
+// message is the library's one line, its bytes outside well-formed UTF-8 escaped (icobrdf/io/utf8_text.hpp).
 #include <pybind11/pybind11.h>
 
 #include "icobrdf/core/support/error.hpp"
+#include "icobrdf/io/utf8_text.hpp"
 #include "python/bindings.hpp"
 
 namespace icobrdf::python {
@@ -13,15 +14,15 @@ void bind_errors(pybind11::module_&) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const ArgumentError& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
+      PyErr_SetString(PyExc_ValueError, valid_utf8_text(e.what()).c_str());
     } catch (const IoError& e) {
-      PyErr_SetString(PyExc_OSError, e.what());
+      PyErr_SetString(PyExc_OSError, valid_utf8_text(e.what()).c_str());
     } catch (const ResourceError& e) {
-      PyErr_SetString(PyExc_MemoryError, e.what());
+      PyErr_SetString(PyExc_MemoryError, valid_utf8_text(e.what()).c_str());
     } catch (const InputError& e) {
-      PyErr_SetString(PyExc_RuntimeError, e.what());
+      PyErr_SetString(PyExc_RuntimeError, valid_utf8_text(e.what()).c_str());
     } catch (const UnsupportedError& e) {
-      PyErr_SetString(PyExc_RuntimeError, e.what());
+      PyErr_SetString(PyExc_RuntimeError, valid_utf8_text(e.what()).c_str());
     }
   });
 }

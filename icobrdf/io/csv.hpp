@@ -5,7 +5,9 @@
 // first non-blank character is '#' (skipped), surrounding blanks in fields. Refused with an InputError naming
 // file:line and expected vs actual: a missing header, a row whose field count differs from the header's, a
 // field that is not entirely a decimal number (so a decimal comma "0,5" shows up as a field-count or
-// number error), NaN and Inf.
+// number error), NaN and Inf; a file of more than kMaxCsvBytes (a regular file by its size before reading; a
+// device or FIFO once that much is read) or a line of more than kMaxCsvLineBytes (/dev/zero: after 1 MiB).
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -20,6 +22,10 @@ struct CsvTable {
   // The comment lines ('#' first), each as its 1-based line and its text after the '#', trimmed.
   std::vector<std::pair<int, std::string>> comments;
 };
+
+// Bounds of what is read: 1 GiB is ~20 million rows of samples; no line of numbers comes near 1 MiB.
+inline constexpr std::uint64_t kMaxCsvBytes = std::uint64_t(1) << 30;
+inline constexpr std::size_t kMaxCsvLineBytes = std::size_t(1) << 20;
 
 CsvTable read_numeric_csv(const std::string& path);
 
