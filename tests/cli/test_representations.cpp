@@ -44,7 +44,7 @@ constexpr double kScatmechTol = 1e-12;
 constexpr double kAlbedoTol = 2e-3;
 // Draws of `sample`: the mean weight estimates the albedo without bias; 5 standard errors bound the noise.
 constexpr double kSampleSigmas = 5.0;
-constexpr int kDraws = 20000;
+constexpr int kDraws = 5000;
 // A MERL table is constant over each bin (1 degree in theta_d and phi_d, theta_h warped): for materials
 // whose values change by well under 1 % per degree, its cosine-weighted relative L2 is far below this.
 constexpr double kMerlTol = 0.02;
@@ -308,23 +308,26 @@ TEST(Representations, ScatmechExportOfEveryRepresentation) {
   }
 }
 
-// export merl and bank extract: the file read back against eval of the bank.
+// export merl and bank extract: the file read back against eval of the bank. A MERL table costs about 3 s
+// to write and read back, so it is exported for the hybrid alone (modes and lobe together, through the same
+// open_source as the other two); the export of lobes and of modes alone is tests/cli/test_export.cpp's.
 TEST(Representations, MerlExportAndExtractOfEveryRepresentation) {
   const Fixture& f = fixture();
   for (const std::string name : kNames) {
     const std::vector<double> want = eval_values(f.ref(name));
     const std::string merl = f.dir.file(name + ".binary");
-    const CliResult r = run_cli({"export", f.ref(name), "--format", "merl", "-o", merl, "--json"});
-    ASSERT_EQ(r.exit_code, 0) << name << ": " << r.err;
-    const std::vector<double> back = eval_values(merl);
-    ASSERT_EQ(back.size(), want.size());
-    double num = 0, den = 0;
-    for (size_t k = 0; k < back.size(); ++k) {
-      num += (back[k] - want[k]) * (back[k] - want[k]);
-      den += want[k] * want[k];
+    if (name == "hybrid") {
+      const CliResult r = run_cli({"export", f.ref(name), "--format", "merl", "-o", merl, "--json"});
+      ASSERT_EQ(r.exit_code, 0) << name << ": " << r.err;
+      const std::vector<double> back = eval_values(merl);
+      ASSERT_EQ(back.size(), want.size());
+      double num = 0, den = 0;
+      for (size_t k = 0; k < back.size(); ++k) {
+        num += (back[k] - want[k]) * (back[k] - want[k]);
+        den += want[k] * want[k];
+      }
+      EXPECT_LT(std::sqrt(num / den), kMerlTol) << name;
     }
-    EXPECT_LT(std::sqrt(num / den), kMerlTol) << name;
-
     const std::string extracted = f.dir.file("extract-" + name + ".h5");
     const CliResult e = run_cli({"bank", "extract", f.ref(name), "-o", extracted});
     ASSERT_EQ(e.exit_code, 0) << name << ": " << e.err;
