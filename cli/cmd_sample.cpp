@@ -1,10 +1,11 @@
 // icobrdf sample: importance-sampled reflected directions of a SOURCE (icobrdf/io/material_sampler.hpp).
-//   icobrdf sample SOURCE --theta-i DEG [--phi-i DEG] -n N [--seed S] [--level L] [--cell-value centre|average]
+//   icobrdf sample SOURCE --theta-i DEG [--phi-i DEG] -n N [--seed S] [--level L] [--cell-value centre|average] [--strict]
 // Output: CSV with header theta_r,phi_r,pdf,weight (weight_r,weight_g,weight_b ... per channel, named like
 // eval's columns), one line per draw: angles in degrees, pdf in 1/sr (piecewise constant over the equal-area
 // cells of the level), weight = f cos(theta_r) / pdf. The uniform numbers come from a 64-bit Mersenne twister
 // seeded with --seed, so a run is reproducible. Nothing is printed unless every draw succeeded (an all-zero
-// or non-finite row of the SOURCE is refused with exit 4 and one line).
+// or non-finite row of the SOURCE is refused with exit 4 and one line); negative f is reported as
+// non-physical (icobrdf/pipeline/reflectance_check.hpp; error with --strict) and sampled as 0.
 #include <fmt/core.h>
 
 #include <iostream>
@@ -17,6 +18,7 @@
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/material_sampler.hpp"
 #include "icobrdf/io/sample_draws.hpp"
+#include "icobrdf/pipeline/reflectance_check.hpp"
 #include "icobrdf/pipeline/resource_estimate.hpp"
 
 namespace icobrdf::cli {
@@ -34,6 +36,7 @@ struct SampleOptions {
   unsigned long long seed = 1;
   int level = kDefaultSamplingLevel;
   std::string cell_value = "centre";
+  bool strict = false;
 };
 
 void run_sample(const SampleOptions& o) {
@@ -43,6 +46,7 @@ void run_sample(const SampleOptions& o) {
   require_sampling_memory(o.level, *mode == LutSampling::CellAverage, source->channels(), "sampling " + o.source);
   const MaterialSampler sampler(std::move(source), o.level, *mode);
   const Eigen::Vector3d wi = direction_from_angles(o.theta_i * M_PI / 180, o.phi_i * M_PI / 180);
+  check_sampled_reflectance(sampler, wi, {o.strict, &std::cerr});
   write_material_samples_csv(std::cout, sampler, wi, o.n, o.seed);  // a failed stream is reported at the end (main)
 }
 
@@ -56,6 +60,7 @@ void add_sample_command(CLI::App& app) {
   cmd->add_option("--seed", opts->seed, "Seed of the uniform numbers (64-bit Mersenne twister)");
   cmd->add_option("--level", opts->level, "Equal-area grid level of the sampling density (cells of 1.4 deg at 5)")->check(CLI::Range(0, 8));
   cmd->add_option("--cell-value", opts->cell_value, "Cell masses from f at each cell's direction ('centre') or the cell's cubature ('average')");
+  cmd->add_flag("--strict", opts->strict, "Negative f (non-physical) is an error, not a warning");
   cmd->callback([opts] { run_sample(*opts); });
 }
 

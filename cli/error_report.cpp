@@ -10,6 +10,7 @@
 
 #include "cli/exit_codes.hpp"
 #include "icobrdf/core/support/error.hpp"
+#include "icobrdf/io/utf8_text.hpp"
 
 namespace icobrdf::cli {
 namespace {
@@ -41,7 +42,7 @@ void set_out_of_memory_command(const char* command) {
 
 ErrorReport report_of(std::exception_ptr e) {
   const auto error = [](const std::exception& x, int code, const char* kind = "error", const std::string& more = "") {
-    return ErrorReport{std::string("icobrdf: ") + kind + ": " + message_line(x.what()) + more + "\n", code};
+    return ErrorReport{std::string("icobrdf: ") + kind + ": " + valid_utf8_text(message_line(x.what())) + more + "\n", code};
   };
   try {
     std::rethrow_exception(e);

@@ -1,11 +1,13 @@
 // Library errors (icobrdf/core/support/error.hpp) as Python exceptions: ArgumentError -> ValueError,
 // IoError -> OSError, ResourceError -> MemoryError, InputError and UnsupportedError -> RuntimeError; the
-// message is the library's one line. And the memory budget the calls hold themselves to before they allocate
+// message is the library's one line, its bytes outside well-formed UTF-8 escaped (icobrdf/io/utf8_text.hpp).
+// And the memory budget the calls hold themselves to before they allocate
 // (icobrdf/core/support/memory_budget.hpp): set_memory_budget, available_memory.
 #include <pybind11/pybind11.h>
 
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/support/memory_budget.hpp"
+#include "icobrdf/io/utf8_text.hpp"
 #include "python/bindings.hpp"
 
 namespace icobrdf::python {
@@ -34,15 +36,15 @@ float
     try {
       if (p) std::rethrow_exception(p);
     } catch (const ArgumentError& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
+      PyErr_SetString(PyExc_ValueError, valid_utf8_text(e.what()).c_str());
     } catch (const IoError& e) {
-      PyErr_SetString(PyExc_OSError, e.what());
+      PyErr_SetString(PyExc_OSError, valid_utf8_text(e.what()).c_str());
     } catch (const ResourceError& e) {
-      PyErr_SetString(PyExc_MemoryError, e.what());
+      PyErr_SetString(PyExc_MemoryError, valid_utf8_text(e.what()).c_str());
     } catch (const InputError& e) {
-      PyErr_SetString(PyExc_RuntimeError, e.what());
+      PyErr_SetString(PyExc_RuntimeError, valid_utf8_text(e.what()).c_str());
     } catch (const UnsupportedError& e) {
-      PyErr_SetString(PyExc_RuntimeError, e.what());
+      PyErr_SetString(PyExc_RuntimeError, valid_utf8_text(e.what()).c_str());
     }
   });
 }

@@ -33,6 +33,7 @@ std::vector<Eigen::MatrixXd> lut_of(const std::string& model_spec, const Grid& g
 }
 
 Eigen::VectorXd coefficients_at(const Eigen::MatrixXd& c, int order, const DirArray& wi, const DirArray& wr) {
+  require_finite_argument(c, "coefficients");
   const Eigen::MatrixXd f = eval_chunked(wi, wr, 1, [&](const RowMatrix3d& a, const RowMatrix3d& b) {
     return Eigen::MatrixXd(evaluate_coefficients(c, order, a, b));
   });
@@ -201,6 +202,7 @@ RuntimeError
   m.def(
       "project",
       [](const ProjectionOperator& p, const Eigen::MatrixXd& lut) {
+        require_finite_argument(lut, "lut");
         py::gil_scoped_release release;
         return project_lut(p, lut);
       },
@@ -226,6 +228,7 @@ ValueError
   m.def(
       "reconstruct",
       [](const DiscreteBasis& b, const Eigen::MatrixXd& c) {
+        require_finite_argument(c, "coefficients");
         py::gil_scoped_release release;
         return reconstruct_lut(b, c);
       },
@@ -251,6 +254,7 @@ ValueError
   m.def(
       "smooth",
       [](const DiscreteBasis& b, const ProjectionOperator& p, const Eigen::MatrixXd& lut, const std::string& filter) {
+        require_finite_argument(lut, "lut");
         const LowPassFilter f = parse_lowpass_filter(filter);
         py::gil_scoped_release release;
         return smooth_lut(b, p, lut, f);

@@ -527,10 +527,20 @@ void write_spectrum_file(const std::string& path, const Spectrum& spectrum, cons
   write_bank(path, b);
 }
 
-Spectrum read_spectrum_file(const std::string& path, const std::string& name) {
+std::string lobe_representation_phrase(const MaterialRecord& rec) {
+  const std::string r = representation_name(rec);
+  if (r == "half-angle") return "a half-angle lobe (no modes)";
+  if (r == "hybrid") return "a hybrid of modes and a half-angle lobe (its modes alone are not the material)";
+  return "";
+}
+
+Spectrum read_spectrum_file(const std::string& path, const std::string& name, const std::string& consumer) {
   ReadOptions o;
   o.read_luts = false;
-  return read_bank_material(path, name, o).spectrum;
+  MaterialRecord rec = read_bank_material(path, name, o);
+  if (rec.lobe)
+    throw UnsupportedError(path + "#" + quoted_text(rec.name) + " is " + lobe_representation_phrase(rec) + ": " + consumer);
+  return std::move(rec.spectrum);
 }
 
 }  // namespace icobrdf
