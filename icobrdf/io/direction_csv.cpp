@@ -1,10 +1,10 @@
 #include "icobrdf/io/direction_csv.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 #include "icobrdf/core/basis/direction.hpp"
+#include "icobrdf/core/models/brdf_model.hpp"
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/angle_columns.hpp"
 #include "icobrdf/io/csv.hpp"
@@ -26,13 +26,10 @@ Eigen::Vector3d signed_direction(const CsvTable& t, size_t row, size_t col, doub
 // degrees would be evaluated at a meaningless angle: cos and sin of it keep no digit of the intended one).
 double checked_azimuth(const CsvTable& t, size_t row, size_t col, bool radians) {
   const double v = t.rows[row][col], bound = kMaxAzimuthTurns * (radians ? 2 * M_PI : 360.0);
-  if (!(std::abs(v) <= bound)) {
-    char found[32];
-    std::snprintf(found, sizeof found, "%.17g", v);
+  if (!(std::abs(v) <= bound))
     throw InputError(t.path + ":" + std::to_string(t.line_numbers[row]) + ": column '" + quoted_text(t.header[col]) +
                      "' expected an azimuth in [-" + (radians ? std::string("4 pi, 4 pi") : std::string("720, 720")) +
-                     "] (two turns), found " + found);
-  }
+                     "] (two turns), found " + format_parameter(v));
   return radians ? v : v * (M_PI / 180.0);  // the factor the polar angles are read with
 }
 

@@ -13,7 +13,7 @@
 namespace icobrdf {
 namespace {
 
-// The next `n` draws from `rng`, in the order of draw_material_samples.
+// The next `n` draws from `rng`: u1 then u2 of each draw in turn.
 MaterialSamples draw_block(const MaterialSampler& sampler, const IncidentDistribution& dist, long long n, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   Eigen::VectorXd u1(n), u2(n);
@@ -48,15 +48,6 @@ void require_finite_weights(const MaterialSampler& sampler, const MaterialSample
 }
 
 }  // namespace
-
-MaterialSamples draw_material_samples(const MaterialSampler& sampler, const Eigen::Vector3d& wi, long long n, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  return draw_block(sampler, sampler.distribution(wi), n, rng);
-}
-
-std::string material_samples_csv(const MaterialSampler& sampler, const MaterialSamples& s) {
-  return samples_csv_header(sampler) + samples_csv_rows(s);
-}
 
 bool write_material_samples_csv(std::ostream& out, const MaterialSampler& sampler, const Eigen::Vector3d& wi, long long n,
                                 std::uint64_t seed) {

@@ -17,17 +17,13 @@ namespace icobrdf {
 // Draws per block of write_material_samples_csv: about 10 MB of directions, weights and text.
 inline constexpr long long kSampleDrawBlock = 1 << 16;
 
-// `n` draws of `sampler` for the incident direction `wi` (unit, z up): the uniform numbers u1, u2 of draw i are
-// the (2i)-th and (2i+1)-th of std::uniform_real_distribution(0, 1) on std::mt19937_64(seed), so that a seed
-// gives the same draws on every platform of one standard library.
-MaterialSamples draw_material_samples(const MaterialSampler& sampler, const Eigen::Vector3d& wi, long long n, std::uint64_t seed);
-
-// CSV: header theta_r,phi_r,pdf,weight (one weight column per channel, named after the source's channels), then
-// one line per draw: angles in degrees, pdf in 1/sr, weight f cos(theta_r) / pdf; shortest round-trip decimals.
-std::string material_samples_csv(const MaterialSampler& sampler, const MaterialSamples& samples);
-
-// The same CSV for `n` draws (the numbers of draw_material_samples), written to `out` block by block.
-// UnsupportedError (nothing written) when a weight is not finite. Returns false when `out` failed.
+// `n` draws of `sampler` for the incident direction `wi` (unit, z up) as CSV, written to `out` block by block:
+// header theta_r,phi_r,pdf,weight (one weight column per channel, named after the source's channels), then one
+// line per draw: angles in degrees, pdf in 1/sr, weight f cos(theta_r) / pdf; shortest round-trip decimals.
+// The uniform numbers u1, u2 of draw i are the (2i)-th and (2i+1)-th of std::uniform_real_distribution(0, 1)
+// on std::mt19937_64(seed), so that a seed gives the same draws on every platform of one standard library,
+// whatever the blocks. UnsupportedError (nothing written) when a weight is not finite. Returns false when
+// `out` failed.
 bool write_material_samples_csv(std::ostream& out, const MaterialSampler& sampler, const Eigen::Vector3d& wi, long long n,
                                 std::uint64_t seed);
 

@@ -6,10 +6,11 @@
 #include <cstdint>
 #include <limits>
 #include <algorithm>
-#include <cstdio>
 #include <set>
 
+#include "icobrdf/core/models/brdf_model.hpp"
 #include "icobrdf/core/support/error.hpp"
+#include "icobrdf/io/direction_csv.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 
 namespace icobrdf {
@@ -48,8 +49,8 @@ T get_or(const Scene& s, const toml::table& t, const std::string& where, const c
   }
 }
 
-// Largest |phi| of a light or camera [deg]: two turns either way (as the direction CSV readers).
-constexpr double kMaxSceneAzimuthDeg = 720.0;
+// Largest |phi| of a light or camera [deg]: the direction CSV readers' bound (icobrdf/io/direction_csv.hpp).
+constexpr double kMaxSceneAzimuthDeg = kMaxAzimuthTurns * 360.0;
 
 std::vector<std::pair<double, double>> directions(const Scene& s, const toml::table& t, const std::string& where, const char* key) {
   std::vector<std::pair<double, double>> out;
@@ -64,11 +65,9 @@ std::vector<std::pair<double, double>> directions(const Scene& s, const toml::ta
     const double th = *(*pair)[0].value<double>(), ph = *(*pair)[1].value<double>();
     if (!(th >= 0 && th <= 90))
       fail(s, where, std::string("'") + key + "' entry " + std::to_string(k + 1) + ": theta expected in [0, 90], found " + std::to_string(th));
-    if (!(std::abs(ph) <= kMaxSceneAzimuthDeg)) {
-      char found[32];
-      std::snprintf(found, sizeof found, "%.17g", ph);
-      fail(s, where, std::string("'") + key + "' entry " + std::to_string(k + 1) + ": phi expected in [-720, 720] (two turns), found " + found);
-    }
+    if (!(std::abs(ph) <= kMaxSceneAzimuthDeg))
+      fail(s, where, std::string("'") + key + "' entry " + std::to_string(k + 1) + ": phi expected in [-" + format_parameter(kMaxSceneAzimuthDeg) +
+                         ", " + format_parameter(kMaxSceneAzimuthDeg) + "] (two turns), found " + format_parameter(ph));
     out.emplace_back(th, ph);
   }
   return out;

@@ -19,6 +19,14 @@ constexpr double kBlockRows = kStreamingBlockRows;
 
 double context_bytes(double cells, double modes) { return kDouble * (3 * cells * modes + (kGramBlocks + 3) * modes * modes); }
 
+// The largest x in [0, from] whose estimate bytes(x) is within `have` (-1: none): estimates grow with x.
+template <class Bytes>
+int largest_within(int from, double have, Bytes bytes) {
+  int x = from;
+  while (x >= 0 && bytes(x) > have) --x;
+  return x;
+}
+
 double cells_of(int level) { return static_cast<double>(equal_area_cells(level)); }
 double modes_of(int order) { return static_cast<double>(hemisphere_basis_count(order)); }
 
@@ -66,8 +74,7 @@ void require_sampling_memory(int level, bool cell_average, int channels, const s
   const double need = sampling_bytes(level, cell_average, channels);
   const MemoryAvailable have = available_memory();
   if (need <= have.bytes) return;
-  int l = level;
-  while (l >= 0 && sampling_bytes(l, cell_average, channels) > have.bytes) --l;
+  const int l = largest_within(level, have.bytes, [&](int x) { return sampling_bytes(x, cell_average, channels); });
   require_memory(need, have, what + " at level " + std::to_string(level) + (cell_average ? " (cell averages)" : ""),
                  l >= 0 ? "level " + std::to_string(l) + " fits; the number of draws does not change the memory" : "");
 }
@@ -85,8 +92,7 @@ void require_projection_bench_memory(int level, int order) {
   const double need = projection_bench_bytes(level, order);
   const MemoryAvailable have = available_memory();
   if (need <= have.bytes) return;
-  int l = level;
-  while (l >= 0 && projection_bench_bytes(l, order) > have.bytes) --l;
+  const int l = largest_within(level, have.bytes, [&](int x) { return projection_bench_bytes(x, order); });
   const std::string cells = std::to_string(equal_area_cells(level));
   require_memory(need, have, "bench project at level " + std::to_string(level) + ", order " + std::to_string(order) + " (a " + cells + " x " + cells + " LUT)",
                  l >= 0 ? "--level " + std::to_string(l) + " fits" : "");
@@ -95,9 +101,7 @@ void require_projection_bench_memory(int level, int order) {
 // The largest order <= order_max whose model fit at `level` needs at most `have` bytes (-1: none).
 int largest_order_within(int level, int order_max, int channels, double have, int parts = 1) {
   const int t = estimate_threads();
-  int n = order_max;
-  while (n >= 0 && model_fit_bytes(level, n, channels, t, parts) > have) --n;
-  return n;
+  return largest_within(order_max, have, [&](int n) { return model_fit_bytes(level, n, channels, t, parts); });
 }
 
 int largest_order_in_memory(int level, int order_max, int channels) {
@@ -119,8 +123,7 @@ void require_lut_memory(int level, int order, int channels, bool float32, const 
   const double need = lut_bytes(level, order, channels, float32, t);
   const MemoryAvailable have = available_memory();  // read once: it reads /proc and /sys
   if (need <= have.bytes) return;
-  int l = level;
-  while (l >= 0 && lut_bytes(l, order, channels, float32, t) > have.bytes) --l;
+  const int l = largest_within(level, have.bytes, [&](int x) { return lut_bytes(x, order, channels, float32, t); });
   const std::string cells = std::to_string(equal_area_cells(level));
   require_memory(need, have, what + " (a " + cells + " x " + cells + " LUT)",
                  l >= 0 ? "level " + std::to_string(l) + " fits" : "");
