@@ -105,8 +105,8 @@ constexpr double kLadderGain = 0.9;
 // 4 alone is 1.0e7. A material that meets its target or whose grids level off (kFlatGrids) stops well before
 // it: the five RGL materials of benchmarks/RESULTS.md at 0.02 / 64 KiB, felt and matte meeting it on 64x16
 // (at 8e6 they missed: 0.0227, 0.0278), chm_mint levelling off. Searches still gaining run on: RGL
-// cc_ibiza_sunset and cc_iris_purple_gem meet 0.02 on 96x32 at ranks 8-9, about 7e7 node-terms, 1-2 minutes
-// of one core each (measured).
+// cc_ibiza_sunset and cc_iris_purple_gem meet 0.02 on 96x32 at ranks 9 and 8 within it, 185-198 s of material
+// time each on 2 shared vCPUs (measured; at 3e7 they missed with 0.0254 and 0.0224).
 constexpr long long kLobeSearchWork = 100000000;
 // Environment variable that overrides kLobeSearchWork (a positive integer): to measure how far a search gets
 // with more work (docs/measured.md), not needed to build a bank.
