@@ -58,6 +58,7 @@ void report_candidate(const MaterialCandidate& c, MaterialReport& rep) {
   rep.total = c.total;
   rep.bytes = c.bytes;
   rep.target_met = c.target_met;
+  rep.lobe_floor = c.target_met ? std::nan("") : c.lobe_floor;
   explain_miss(c, rep);
 }
 

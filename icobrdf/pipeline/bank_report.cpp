@@ -23,7 +23,8 @@ nlohmann::json material_report_json(const MaterialReport& m) {
             {"grazing_share", m.measured ? nlohmann::json(m.grazing_share) : nlohmann::json()}, {"anisotropy", m.anisotropy},
             {"kept_coefficients", m.kept}, {"total_coefficients", m.total}, {"bytes", m.bytes}, {"seconds", m.seconds},
             {"target_met", m.target_met}, {"max_bytes", m.max_bytes >= 0 ? nlohmann::json(m.max_bytes) : nlohmann::json()},
-            {"below_noise", m.below_noise}, {"note", m.note}});
+            {"below_noise", m.below_noise}, {"lobe_floor", std::isfinite(m.lobe_floor) ? nlohmann::json(m.lobe_floor) : nlohmann::json()},
+            {"note", m.note}});
   return j;
 }
 
@@ -38,7 +39,7 @@ std::string bank_build_table(const BankBuildResult& r, const std::string& output
     }
     const std::string l2 = m.measured ? fmt::format("{:.3g}", m.error_l2) : "n/a", mx = m.measured ? fmt::format("{:.3g}", m.error_max) : "n/a";
     const std::string asym = m.measured && std::isfinite(m.asymmetry) ? fmt::format("{:.3g}", m.asymmetry) : "n/a";
-    const char* met = !m.measured ? "n/a" : m.target_met ? "yes" : m.below_noise ? "noise" : "NO";
+    const char* met = !m.measured ? "n/a" : m.target_met ? "yes" : std::isfinite(m.lobe_floor) ? "floor" : m.below_noise ? "noise" : "NO";
     out += fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9.3g} {:>4} {:>9} {:>9} {:>9} {:>11} {:>8} {:>7.2f}{}\n", m.name, m.representation,
                        m.isotropic ? "yes" : "no", dash(m.level), dash(m.order), m.target, met, l2, mx, asym, fmt::format("{}/{}", m.kept, m.total),
                        m.bytes, m.seconds, m.resumed ? " (resumed)" : "");

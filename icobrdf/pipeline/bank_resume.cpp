@@ -63,6 +63,7 @@ void store_choice(MaterialRecord& rec, const MaterialReport& rep) {
   if (rep.representation != "modes") rec.labels["representation"] = rep.representation;
   if (!rep.note.empty()) rec.labels["note"] = rep.note;
   if (!rep.target_met) rec.labels["below_noise"] = rep.below_noise ? "yes" : "no";
+  if (std::isfinite(rep.lobe_floor)) rec.figures["lobe_floor"] = rep.lobe_floor;
 }
 
 void report_from_record(const MaterialRecord& rec, MaterialReport& rep) {
@@ -88,6 +89,7 @@ void report_from_record(const MaterialRecord& rec, MaterialReport& rep) {
   if (rec.labels.count("metric")) rep.metric = rec.labels.at("metric");
   if (rec.labels.count("note")) rep.note = rec.labels.at("note");
   rep.below_noise = rec.labels.count("below_noise") && rec.labels.at("below_noise") == "yes";
+  rep.lobe_floor = fig("lobe_floor");
   rep.anisotropy = rec.spectrum.anisotropy_fraction;
   rep.measured = !(rec.labels.count("error_measured") && rec.labels.at("error_measured") != "yes");
 }

@@ -3,6 +3,7 @@
 // (MaterialCandidate). The fitters (icobrdf/pipeline/modes_representation.hpp, half_angle_representation.hpp)
 // include this header; the choice between them (icobrdf/pipeline/material_candidate.hpp) includes theirs.
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,9 @@ struct MaterialCandidate {
   double anisotropy = 0.0;     // anisotropic energy fraction of the fit
   int kept = 0, total = 0;     // coefficients kept / in the full vector
   std::string note;            // a missed target: where the search stopped and the figure that stopped it
+  // A missed target whose lobe search visited every grid within the budget (no work cap ended it): its lowest
+  // error, the isotropic half-angle lobe's floor at that size as measured; NaN otherwise.
+  double lobe_floor = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace icobrdf

@@ -2,6 +2,7 @@
 // What a bank build reports of one material: its choice, the figures of that choice, or why it failed. The
 // builder fills it (icobrdf/pipeline/bank_builder.hpp), the resume file keeps it (bank_resume.hpp), and the
 // program prints it (the bank build table and JSON).
+#include <limits>
 #include <string>
 
 namespace icobrdf {
@@ -40,6 +41,9 @@ struct MaterialReport {
   // data's noise estimate (below_noise), and `note` says where the search stopped and which figure stopped it.
   bool below_noise = false;
   std::string note;
+  // The lobe search's floor within the budget (MaterialCandidate::lobe_floor): a missed target it explains by
+  // a measured figure of the representation; NaN when not measured.
+  double lobe_floor = std::numeric_limits<double>::quiet_NaN();
   double seconds = 0.0;
   int rank = -1;               // the MPI rank that fitted it (icobrdf/cluster/distributed_bank.hpp); -1 in one process
 };

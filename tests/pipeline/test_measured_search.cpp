@@ -18,6 +18,7 @@
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/io/material_eval.hpp"
 #include "icobrdf/pipeline/bank_builder.hpp"
+#include "icobrdf/pipeline/bank_report.hpp"
 #include "icobrdf/pipeline/held_out.hpp"
 #include "icobrdf/pipeline/lobe_budget.hpp"
 #include "icobrdf/pipeline/material_candidate.hpp"
@@ -97,6 +98,48 @@ TEST(MeasuredSearch, ATargetBelowTheNoiseKeepsTheBestLobeAndIsExplainedByTheNois
   EXPECT_NE(rep.note.find("noise"), std::string::npos) << rep.note;
   std::cout << "noisy Lambert: asymmetry " << h.asymmetry << ", lobe " << c.error.l2 << " (" << c.bytes << " B), " << seconds
             << " s; " << rep.note << "\n";
+}
+
+// Within 1,000 B the search visits every d grid that holds a lobe (the finer ones hold none) in well under its
+// work cap, so its lowest error is a measured floor of the lobe at that size (MaterialCandidate::lobe_floor).
+// On noisy Lambert that floor is the noise: the asymmetry's e / sqrt(2), as derived above. A cap that ends the
+// search after its first lobe measures no floor.
+constexpr long long kSmallBudget = 1000;
+
+TEST(MeasuredSearch, ASearchOfEveryGridWithinTheBytesMeasuresTheLobesFloor) {
+  const auto src = noisy_lambert();
+  Scene s;
+  s.representations = {"half-angle"};
+  SceneMaterial m;
+  m.name = "noisy";
+  m.source = "model:noisy-lambert";
+  m.target = 0.02;
+  m.isotropic = IsotropicChoice::Always;
+  m.max_bytes = kSmallBudget;
+  m.on_miss = OnMiss::KeepBest;
+  const HeldOutSplit h = held_out_split(s, m, *src);
+  const HeldOutErrors errors(h.pairs, 0, m.metric, true);
+  FitContexts contexts;
+  MaterialProblem p{s, m, *src, &errors, contexts, [](const std::string&) {}};
+  const MaterialCandidate c = choose_representation(p);
+  EXPECT_FALSE(c.target_met);
+  EXPECT_LE(c.bytes, kSmallBudget);
+  ASSERT_TRUE(std::isfinite(c.lobe_floor)) << c.note;
+  EXPECT_EQ(c.lobe_floor, c.error.l2);
+  EXPECT_GT(c.lobe_floor, kE / std::sqrt(2.0) / kEstimatesAgree);
+  EXPECT_LT(c.lobe_floor, kE / std::sqrt(2.0) * kEstimatesAgree);
+  EXPECT_NE(c.note.find("floor at this size"), std::string::npos) << c.note;
+  MaterialReport rep;
+  rep.ok = rep.measured = true;
+  rep.target_met = false;
+  rep.lobe_floor = c.lobe_floor;
+  EXPECT_EQ(material_report_json(rep).at("lobe_floor").get<double>(), c.lobe_floor);
+  p.lobe_work_cap = 256 * 8 * 4;  // the first lobe only
+  const MaterialCandidate capped = choose_representation(p);
+  EXPECT_TRUE(std::isnan(capped.lobe_floor)) << capped.note;
+  EXPECT_NE(capped.note.find("work cap"), std::string::npos) << capped.note;
+  std::cout << "noisy Lambert within " << kSmallBudget << " B: floor " << c.lobe_floor << " (" << c.bytes << " B), asymmetry " << h.asymmetry
+            << "; " << c.note << "\n";
 }
 
 // f = (1 + a cos(k theta_h)) / pi: with the "f" metric the quantity is f itself, a rank-1 lobe whose d factor is
@@ -186,7 +229,7 @@ TEST(MeasuredSearch, AWorkCapEndsTheSearchAndTheNoteSaysSo) {
   r.m.target = 1e-3;  // out of reach of a rank-1 lobe on these grids (the interpolation alone is above it)
   MaterialProblem p{r.s, r.m, *r.src, r.errors.get(), r.contexts, [](const std::string&) {}};
   // Room for the first lobe only: rank 1 on 256 x 8x4 (8,192 node-terms); rank 2 there (n_t 192 within the
-  // budget) would need 12,288 more.
+  // budget, a fit growing ranks 1 and 2) would need 192 x 8x4 x (1 + 2) = 18,432 more.
   p.lobe_work_cap = 256 * 8 * 4;
   const MaterialCandidate c = choose_representation(p);
   ASSERT_TRUE(c.record.lobe);

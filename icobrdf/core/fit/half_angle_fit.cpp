@@ -295,8 +295,10 @@ SampledNodes sample_nodes(const PairSampler& sampler, int channels, const HalfAn
 }
 
 // Rank by rank, every channel that still misses the target gets one more term; returns the rank reached.
+// `after_rank(rank)` is called after every rank (false: stop there).
 int grow_ranks(const SampledNodes& n, const HalfAngleFitOptions& o, const Eigen::VectorXd& a, const Eigen::VectorXd& b,
-               std::vector<ChannelFit>& cf, std::vector<double>& norm2, std::vector<double>& e2, std::vector<int>& sweeps_by_rank) {
+               std::vector<ChannelFit>& cf, std::vector<double>& norm2, std::vector<double>& e2, std::vector<int>& sweeps_by_rank,
+               const std::function<bool(int)>& after_rank) {
   const int channels = static_cast<int>(n.Q.size());
   const Eigen::Index H = n.W.rows(), D = n.W.cols();
   const std::vector<Eigen::MatrixXd>& Q = n.Q;
@@ -341,6 +343,7 @@ int grow_ranks(const SampledNodes& n, const HalfAngleFitOptions& o, const Eigen:
     if (!any) break;
     rank = r;
     sweeps_by_rank.push_back(sweeps);
+    if (after_rank && !after_rank(rank)) break;
   }
 
   return rank;
@@ -411,8 +414,9 @@ void shared_sweep(const SampledNodes& n, const std::vector<Eigen::MatrixXd>& WQ,
 
 // Rank by rank until every channel meets the target (or the fixed rank): each new term starts from the
 // leading singular pair of the weighted residual summed over the channels, its scales by least squares.
+// `after_rank(f)` is called after every rank (false: stop there).
 SharedFit grow_shared(const SampledNodes& n, const HalfAngleFitOptions& o, const Eigen::VectorXd& a, const Eigen::VectorXd& b,
-                      std::vector<double>& norm2, std::vector<double>& e2) {
+                      std::vector<double>& norm2, std::vector<double>& e2, const std::function<bool(const SharedFit&)>& after_rank) {
   const size_t C = n.Q.size();
   const int max_rank = o.fixed_rank > 0 ? o.fixed_rank : o.max_rank;
   const double target2 = o.fixed_rank > 0 ? -1.0 : o.target * o.target;
@@ -471,17 +475,23 @@ SharedFit grow_shared(const SampledNodes& n, const HalfAngleFitOptions& o, const
     }
     f.sweeps_by_rank.push_back(sweep);
     for (size_t c = 0; c < C; ++c) f.error_by_rank[c].push_back(norm2[c] > 0.0 ? std::sqrt(e2[c] / norm2[c]) : 0.0);
+    if (after_rank && !after_rank(f)) break;
   }
   return f;
 }
 
-// The shared fit into fit.factors (one factor set, channel scales) and its report; returns the worst
+// A fit as returned: factors at the options' precision, the time so far.
+void finish_fit(const HalfAngleFitOptions& o, std::chrono::steady_clock::time_point t0, HalfAngleFit& fit) {
+  fit.factors.precision = o.precision;
+  fit.factors.quantize();
+  fit.report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The shared ALS state into fit.factors (one factor set, channel scales) and its report; returns the worst
 // channel's node error.
-double store_shared(const SampledNodes& nodes, const HalfAngleFitOptions& o, const Eigen::VectorXd& a, const Eigen::VectorXd& b,
-                    HalfAngleFit& fit) {
-  std::vector<double> norm2, e2;
-  const SharedFit sf = grow_shared(nodes, o, a, b, norm2, e2);
-  const int rank = static_cast<int>(sf.U.cols()), channels = static_cast<int>(nodes.Q.size());
+double shared_result(const SharedFit& sf, const std::vector<double>& norm2, const std::vector<double>& e2, const Eigen::VectorXd& a,
+                     const Eigen::VectorXd& b, HalfAngleFit& fit) {
+  const int rank = static_cast<int>(sf.U.cols()), channels = static_cast<int>(norm2.size());
   HalfAngleFactors& F = fit.factors;
   F.rank = fit.report.rank = rank;
   fit.report.sweeps_by_rank = sf.sweeps_by_rank;
@@ -503,15 +513,29 @@ double store_shared(const SampledNodes& nodes, const HalfAngleFitOptions& o, con
   return worst;
 }
 
-// The per-channel fit into fit.factors (terms ordered by weighted energy) and its report; returns the worst
+// The shared fit into fit.factors and its report (options.on_rank called with each rank's); returns the worst
 // channel's node error.
-double store_separate(const SampledNodes& nodes, const HalfAngleFitOptions& o, const Eigen::VectorXd& a, const Eigen::VectorXd& b,
-                      HalfAngleFit& fit) {
-  std::vector<ChannelFit> cf;
+double store_shared(const SampledNodes& nodes, const HalfAngleFitOptions& o, const Eigen::VectorXd& a, const Eigen::VectorXd& b,
+                    std::chrono::steady_clock::time_point t0, HalfAngleFit& fit) {
   std::vector<double> norm2, e2;
-  const int rank = grow_ranks(nodes, o, a, b, cf, norm2, e2, fit.report.sweeps_by_rank);
-  const int channels = static_cast<int>(nodes.Q.size());
-  const Eigen::Index H = nodes.W.rows(), D = nodes.W.cols();
+  std::function<bool(const SharedFit&)> after_rank;
+  if (o.on_rank)
+    after_rank = [&](const SharedFit& now) {
+      HalfAngleFit at = fit;  // the grids, factors not yet set
+      shared_result(now, norm2, e2, a, b, at);
+      finish_fit(o, t0, at);
+      return o.on_rank(at);
+    };
+  const SharedFit sf = grow_shared(nodes, o, a, b, norm2, e2, after_rank);
+  return shared_result(sf, norm2, e2, a, b, fit);
+}
+
+// The per-channel ALS state at `rank` into fit.factors (terms ordered by weighted energy) and its report;
+// returns the worst channel's node error.
+double separate_result(const std::vector<ChannelFit>& cf, const std::vector<double>& norm2, const std::vector<double>& e2, int rank,
+                       const Eigen::VectorXd& a, const Eigen::VectorXd& b, HalfAngleFit& fit) {
+  const int channels = static_cast<int>(cf.size());
+  const Eigen::Index H = a.size(), D = b.size();
   HalfAngleFactors& F = fit.factors;
   F.rank = rank;
   fit.report.rank = rank;
@@ -536,6 +560,24 @@ double store_separate(const SampledNodes& nodes, const HalfAngleFitOptions& o, c
   return worst;
 }
 
+// The per-channel fit into fit.factors and its report (options.on_rank called with each rank's); returns the
+// worst channel's node error.
+double store_separate(const SampledNodes& nodes, const HalfAngleFitOptions& o, const Eigen::VectorXd& a, const Eigen::VectorXd& b,
+                      std::chrono::steady_clock::time_point t0, HalfAngleFit& fit) {
+  std::vector<ChannelFit> cf;
+  std::vector<double> norm2, e2;
+  std::function<bool(int)> after_rank;
+  if (o.on_rank)
+    after_rank = [&](int rank) {
+      HalfAngleFit at = fit;  // the grids, factors not yet set
+      separate_result(cf, norm2, e2, rank, a, b, at);
+      finish_fit(o, t0, at);
+      return o.on_rank(at);
+    };
+  const int rank = grow_ranks(nodes, o, a, b, cf, norm2, e2, fit.report.sweeps_by_rank, after_rank);
+  return separate_result(cf, norm2, e2, rank, a, b, fit);
+}
+
 }  // namespace
 
 HalfAngleFit fit_half_angle(const PairSampler& sampler, int channels, const HalfAngleFitOptions& o) {
@@ -557,10 +599,8 @@ HalfAngleFit fit_half_angle(const PairSampler& sampler, int channels, const Half
   const Eigen::VectorXd a = half_angle_h_weights(F), b = half_angle_d_weights(F);
   const SampledNodes nodes = sample_nodes(sampler, channels, o, F, a, b, &fit.report.valid_fraction);
   fit.report.missing_nodes = nodes.missing;
-  const double worst = o.shared_channels ? store_shared(nodes, o, a, b, fit) : store_separate(nodes, o, a, b, fit);
-  F.precision = o.precision;
-  F.quantize();
-  fit.report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double worst = o.shared_channels ? store_shared(nodes, o, a, b, t0, fit) : store_separate(nodes, o, a, b, t0, fit);
+  finish_fit(o, t0, fit);
   if (o.fixed_rank == 0 && worst > o.target) {
     std::ostringstream s;
     s << "half-angle fit: rank " << o.max_rank << " reaches a weighted relative error of " << worst

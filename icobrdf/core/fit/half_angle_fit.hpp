@@ -45,6 +45,8 @@ PairSampler model_pair_sampler(const BrdfModel& model);
 // before w_r), the held-out pairs of the representation's error figures.
 void uniform_pairs(int n, std::uint64_t seed, RowMatrix3d& wi, RowMatrix3d& wr);
 
+struct HalfAngleFit;
+
 struct HalfAngleFitOptions {
   HalfAngleQuantity quantity = HalfAngleQuantity::Cosine;
   HorizonCorners corners = HorizonCorners::Valid;
@@ -75,6 +77,12 @@ struct HalfAngleFitOptions {
   // 0 leaves them missing. Only HorizonCorners::All uses such values (0.05 there; measured best on the
   // glossy lobes); with Valid they would only pull the factors away from the valid nodes.
   double extension_weight = 0.0;
+  // Called after every rank r (1, 2, ..., the rank returned) with the fit as fixed_rank = r would return it
+  // (factors stored at `precision`, report up to r); false stops the growth there, and that fit is returned
+  // (with fixed_rank = 0 it is then checked against the target as usual). The ranks grow one term at a time
+  // from the previous rank's factors, so one fit judges ranks 1..R for the ALS work of rank R alone, where
+  // fitting each rank on its own costs about (R + 1) / 2 times as much.
+  std::function<bool(const HalfAngleFit&)> on_rank;
 };
 
 struct HalfAngleFitReport {

@@ -385,6 +385,51 @@ TEST(HalfAngleFactors, AnisotropicFitIsReciprocalAndBeatsTheIsotropicOne) {
   EXPECT_LT(heldout_cosine_error(*model, aniso.factors, 26), 0.5 * heldout_cosine_error(*model, iso.factors, 26));
 }
 
+TEST(HalfAngleFactors, EachRankOfAGrowingFitIsTheFitOfThatFixedRank) {
+  // Two channels of different shape (GGX alpha 0.1 and 0.3), per-channel and shared factors: the fit of rank 3
+  // passes ranks 1, 2, 3 to on_rank, each the very fit of that fixed rank (the same ALS path), and stopping at
+  // rank 2 returns rank 2.
+  const auto narrow = parse_model("ggx:alpha=0.1,f0=0.04"), wide = parse_model("ggx:alpha=0.3,f0=0.04");
+  const PairSampler a = model_pair_sampler(*narrow), b = model_pair_sampler(*wide);
+  const PairSampler two = [&](const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) {
+    a(wi, wr, out.col(0));
+    b(wi, wr, out.col(1));
+  };
+  for (const bool shared : {false, true}) {
+    HalfAngleFitOptions o;
+    o.n_t = 16, o.n_theta_d = 16, o.n_phi_d = 8;
+    o.shared_channels = shared;
+    o.precision = FactorPrecision::Int16;
+    o.fixed_rank = 3;
+    std::vector<HalfAngleFit> seen;
+    o.on_rank = [&](const HalfAngleFit& f) {
+      seen.push_back(f);
+      return true;
+    };
+    const HalfAngleFit grown = fit_half_angle(two, 2, o);
+    ASSERT_EQ(seen.size(), 3u);
+    o.on_rank = nullptr;
+    for (int r = 1; r <= 3; ++r) {
+      o.fixed_rank = r;
+      const HalfAngleFit alone = fit_half_angle(two, 2, o);
+      const HalfAngleFit& at = seen[static_cast<size_t>(r - 1)];
+      ASSERT_EQ(at.factors.rank, r);
+      EXPECT_EQ(at.factors.precision, FactorPrecision::Int16);
+      ASSERT_EQ(at.factors.u.size(), alone.factors.u.size());
+      for (size_t k = 0; k < alone.factors.u.size(); ++k) {
+        EXPECT_EQ(at.factors.u[k], alone.factors.u[k]) << "shared " << shared << ", rank " << r;
+        EXPECT_EQ(at.factors.v[k], alone.factors.v[k]) << "shared " << shared << ", rank " << r;
+      }
+      EXPECT_EQ(at.factors.channel_scales, alone.factors.channel_scales);
+      EXPECT_EQ(at.report.error, alone.report.error);
+    }
+    EXPECT_EQ(grown.factors.u[0], seen.back().factors.u[0]);
+    o.fixed_rank = 3;
+    o.on_rank = [](const HalfAngleFit& f) { return f.factors.rank < 2; };
+    EXPECT_EQ(fit_half_angle(two, 2, o).factors.rank, 2);
+  }
+}
+
 TEST(HalfAngleFactors, RefusesATargetBeyondMaxRank) {
   const auto ggx = parse_model("ggx:alpha=0.1,f0=0.04");
   HalfAngleFitOptions o;
