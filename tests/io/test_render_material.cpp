@@ -14,6 +14,7 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "icobrdf/core/basis/direction.hpp"
@@ -274,6 +275,37 @@ TEST(RenderMaterial, WeightsOfGgxLobesSpreadLittle) {
         EXPECT_LE(w.sd / w.mean, bound) << spec << " " << name << " at " << theta_deg;
       }
     }
+  }
+}
+
+// Several threads sharing one material get, call for call, the values one thread gets (the material's state
+// is read-only after construction). Built with -fsanitize=thread (docs/reliability.md, "ThreadSanitizer") this
+// test is where a data race in eval / pdf / sample would be reported.
+TEST(RenderMaterial, ThreadsSharingOneMaterialGetTheValuesOfOneThread) {
+  constexpr int kThreads = 4, kCalls = 2000;
+  const RenderMaterial lm = lobe_material("model:ggx:alpha=0.3", coarse());
+  const RenderMaterial mm = RenderMaterial::open("model:0.5*lambert+0.3*ggx:alpha=0.2+0.2*mirror", coarse());
+  const auto pairs = random_pairs(kCalls, 61);
+  for (const RenderMaterial* m : {&lm, &mm}) {
+    // One thread's values: f, pdf, and the draw (w_r.x, weight, pdf) per input; then each thread's.
+    const auto run = [&](std::vector<double>& out) {
+      out.clear();
+      for (int i = 0; i < kCalls; ++i) {
+        const auto& [wi, wr] = pairs[static_cast<size_t>(i)];
+        const MaterialSample<double> s = m->sample(wi, (i + 0.5) / kCalls, wr.z());
+        const MaterialSample<float> sf = m->sample(Eigen::Vector3f(wi.cast<float>()), static_cast<float>((i + 0.5) / kCalls), static_cast<float>(wr.z()));
+        out.insert(out.end(), {m->eval(wi, wr)[0], m->pdf(wi, wr), s.wr.x(), s.weight[0], s.pdf,
+                               static_cast<double>(m->eval(Eigen::Vector3f(wi.cast<float>()), Eigen::Vector3f(wr.cast<float>()))[0]),
+                               static_cast<double>(sf.pdf)});
+      }
+    };
+    std::vector<double> one;
+    run(one);
+    std::vector<std::vector<double>> each(kThreads);
+    std::vector<std::thread> threads;
+    for (int t = 0; t < kThreads; ++t) threads.emplace_back(run, std::ref(each[static_cast<size_t>(t)]));
+    for (std::thread& t : threads) t.join();
+    for (int t = 0; t < kThreads; ++t) EXPECT_EQ(each[static_cast<size_t>(t)], one) << m->spec() << " thread " << t;
   }
 }
 

@@ -22,6 +22,13 @@ inline Eigen::Vector3d polar_vector(double cos_theta, double phi) {
   return {s * std::cos(phi), s * std::sin(phi), cos_theta};
 }
 
+// The x in [0, 1] where the cumulative of the density 1 + a (x - 1/2) (a in [-2, 2]) reaches u in [0, 1]: the
+// root of (a/2) x^2 + (1 - a/2) x = u in the form free of cancellation, 2u / ((1 - a/2) + sqrt((1 - a/2)^2 + 2 a u)).
+inline double linear_density_inverse(double a, double u) {
+  const double p = 1.0 - 0.5 * a, den = p + std::sqrt(std::max(0.0, p * p + 2.0 * a * u));
+  return den > 0.0 ? std::clamp(2.0 * u / den, 0.0, 1.0) : 0.0;
+}
+
 }  // namespace
 
 void HalfVectorTable::check(const HalfVectorTableOptions& o) {
@@ -65,11 +72,24 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
   cos_edge_[static_cast<size_t>(nt)] = 0.0;
   const int n_nodes = nodes();
   const auto total = static_cast<size_t>(n_nodes) * static_cast<size_t>(cells_);
-  mass_.assign(total, 0.0);
-  cdf_.assign(total, 0.0);
-  row_cdf_.assign(static_cast<size_t>(n_nodes) * static_cast<size_t>(nt), 0.0);
+  cells_of_nodes_.assign(total, CellEntry{0.0, 0.0f, 0.0f});
+  alias_.assign(total, AliasEntry{1.0, 0});
   albedo_.assign(static_cast<size_t>(n_nodes), 0.0);
   const double dphi = 2.0 * M_PI / np;
+  phi_edge_cs_.resize(2 * static_cast<size_t>(np));
+  for (int j = 0; j < np; ++j) {
+    phi_edge_cs_[2 * static_cast<size_t>(j)] = std::cos(-M_PI + dphi * j);
+    phi_edge_cs_[2 * static_cast<size_t>(j) + 1] = std::sin(-M_PI + dphi * j);
+  }
+  // Slot i starts at u = i / L, cos theta_h = 1 - u^4 (its largest cos): the first bin whose lower edge is at
+  // or below it; a cos within the slot is in that bin or a later one.
+  t_lookup_.resize(static_cast<size_t>(kHalfVectorTLookup) + 1);
+  for (int i = 0, k = 0; i <= kHalfVectorTLookup; ++i) {
+    const double u = static_cast<double>(i) / kHalfVectorTLookup, cz = 1.0 - u * u * u * u;
+    while (k + 1 < nt && cz < cos_edge_[static_cast<size_t>(k) + 1]) ++k;
+    t_lookup_[static_cast<size_t>(i)] = k;
+  }
+  std::vector<double> node_mass(static_cast<size_t>(cells_));
   // Sub-cell centres: 2 x 2 per cell, equal in solid angle (midpoints in cos theta_h and phi_h).
   RowMatrix3d h(static_cast<Eigen::Index>(cells_) * 4, 3);
   for (int k = 0; k < nt; ++k)
@@ -92,12 +112,13 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
       wr.row(r) = jac[r] > 0.0 ? o.transpose() : Eigen::RowVector3d(0, 0, 1);  // fbar is not asked below the horizon
     }
     const Eigen::VectorXd v = fbar(wi, wr);
-    double* m = mass_.data() + static_cast<size_t>(n) * cells_;
+    double* m = node_mass.data();
+    std::fill(node_mass.begin(), node_mass.end(), 0.0);
     double sum = 0.0;
     int open = 0;  // cells that can hold reflected directions
     std::vector<char> can(static_cast<size_t>(cells_), 0);
     for (int cell = 0; cell < cells_; ++cell) {
-      double s = 0.0;
+      double s = 0.0, sub[4] = {0, 0, 0, 0};
       bool any = false;
       int valid = 0;
       for (int q = 0; q < 4; ++q) {
@@ -112,7 +133,15 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
                         x, w.x(), w.y(), w.z(), wr(r, 0), wr(r, 1), wr(r, 2));
           throw UnsupportedError(buf);
         }
-        s += x * jac[r];
+        s += sub[q] = x * jac[r];
+      }
+      // Slopes of the linear fit through the sub-cell values (xi = 1/4, 3/4 at q / 2 = 0, 1; eta at q % 2):
+      // the difference of the halves' means is mean x slope / 2.
+      CellEntry& e = cells_of_nodes_[static_cast<size_t>(cell) * static_cast<size_t>(n_nodes) + static_cast<size_t>(n)];
+      if (s > 0.0) {
+        const double mean = s / 4;
+        e.a = static_cast<float>(std::clamp((sub[2] + sub[3] - sub[0] - sub[1]) / mean, -2.0, 2.0));
+        e.b = static_cast<float>(std::clamp((sub[1] + sub[3] - sub[0] - sub[2]) / mean, -2.0, 2.0));
       }
       if (!any) {  // the corners: a sliver of the cell may still reflect above the horizon
         const int k = cell / np, j = cell % np;
@@ -136,17 +165,34 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
       if (can[static_cast<size_t>(cell)]) m[cell] = std::max(m[cell], floor);
       acc += m[cell];
     }
-    double run = 0.0;
-    double* cdf = cdf_.data() + static_cast<size_t>(n) * cells_;
     for (int cell = 0; cell < cells_; ++cell) {
       m[cell] /= acc;
-      run += m[cell];
-      cdf[cell] = run;
+      cells_of_nodes_[static_cast<size_t>(cell) * static_cast<size_t>(n_nodes) + static_cast<size_t>(n)].mass = m[cell];
     }
-    cdf[cells_ - 1] = 1.0;
-    double* rows = row_cdf_.data() + static_cast<size_t>(n) * opt_.t_bins;
-    for (int k = 0; k < opt_.t_bins; ++k) rows[k] = cdf[(k + 1) * opt_.phi_bins - 1];
+    build_alias(m, alias_.data() + static_cast<size_t>(n) * static_cast<size_t>(cells_));
   }
+}
+
+void HalfVectorTable::build_alias(const double* p, AliasEntry* out) const {
+  // Vose's method: cells below the mean mass are topped up from one above it (its alias).
+  std::vector<double> scaled(static_cast<size_t>(cells_));
+  std::vector<int> small, large;
+  for (int i = 0; i < cells_; ++i) {
+    scaled[static_cast<size_t>(i)] = p[i] * cells_;
+    (scaled[static_cast<size_t>(i)] < 1.0 ? small : large).push_back(i);
+  }
+  while (!small.empty() && !large.empty()) {
+    const int l = small.back(), g = large.back();
+    small.pop_back();
+    out[l] = AliasEntry{scaled[static_cast<size_t>(l)], g};
+    double& sg = scaled[static_cast<size_t>(g)];
+    sg = (sg + scaled[static_cast<size_t>(l)]) - 1.0;
+    if (sg < 1.0) large.pop_back(), small.push_back(g);
+  }
+  // What is left is 1 to rounding; an empty cell left over keeps nothing (its alias has mass).
+  for (const int g : large) out[g] = AliasEntry{1.0, g};
+  const int best = static_cast<int>(std::max_element(p, p + cells_) - p);
+  for (const int l : small) out[l] = AliasEntry{p[l] > 0.0 ? 1.0 : 0.0, best};
 }
 
 HalfVectorBlend HalfVectorTable::blend(const HalfVectorTableOptions& opt, const Eigen::Vector3d& wi) {
@@ -178,16 +224,19 @@ HalfVectorBlend HalfVectorTable::blend(const HalfVectorTableOptions& opt, const 
   return b;
 }
 
-int HalfVectorTable::cell_of(const Eigen::Vector3d& h) const {
-  const double theta = fast_atan2(std::sqrt(h.x() * h.x() + h.y() * h.y()), h.z());
-  const double x = std::clamp(theta / (0.5 * M_PI), 0.0, 1.0);
-  const double t = opt_.t_warp == 2.0 ? std::sqrt(x) : std::pow(x, 1.0 / opt_.t_warp);
-  int k = std::min(static_cast<int>(t * opt_.t_bins), opt_.t_bins - 1);
-  // Rounding at an edge: the cell whose cos range holds h.z.
-  if (k > 0 && h.z() > cos_edge_[static_cast<size_t>(k)]) --k;
-  if (k + 1 < opt_.t_bins && h.z() < cos_edge_[static_cast<size_t>(k) + 1]) ++k;
+int HalfVectorTable::cell_of(const Eigen::Vector3d& h, double& xi, double& eta) const {
+  const double z = std::clamp(h.z(), 0.0, 1.0);
+  const double u = std::sqrt(std::sqrt(1.0 - z));
+  int k = t_lookup_[static_cast<size_t>(std::min(static_cast<int>(u * kHalfVectorTLookup), kHalfVectorTLookup))];
+  // The cell whose cos range holds h.z (the lookup's start is at or before it, one back for rounding of u).
+  if (k > 0 && z > cos_edge_[static_cast<size_t>(k)]) --k;
+  while (k + 1 < opt_.t_bins && z < cos_edge_[static_cast<size_t>(k) + 1]) ++k;
   const double phi = (h.x() == 0.0 && h.y() == 0.0) ? 0.0 : fast_atan2(h.y(), h.x());
-  const int j = std::clamp(static_cast<int>((phi + M_PI) / (2.0 * M_PI) * opt_.phi_bins), 0, opt_.phi_bins - 1);
+  const double y = (phi + M_PI) / (2.0 * M_PI) * opt_.phi_bins;
+  const int j = std::clamp(static_cast<int>(y), 0, opt_.phi_bins - 1);
+  const double c0 = cos_edge_[static_cast<size_t>(k)], c1 = cos_edge_[static_cast<size_t>(k) + 1];
+  xi = std::clamp((c0 - z) / (c0 - c1), 0.0, 1.0);
+  eta = std::clamp(y - j, 0.0, 1.0);
   return k * opt_.phi_bins + j;
 }
 
@@ -213,31 +262,46 @@ bool HalfVectorTable::sample(const HalfVectorBlend& b, const Eigen::Vector3d& wi
     if (x < acc + b.weight[i]) break;
     acc += b.weight[i];
   }
-  x = (x - node_lo) / node_w;
-  x = std::clamp(x, 0.0, 1.0);
-  const double* cdf = cdf_.data() + static_cast<size_t>(node) * cells_;
-  const double* p = mass_.data() + static_cast<size_t>(node) * cells_;
-  // Two searches in short arrays (the row's cumulative end, then the cells of the row): fewer cache lines than
-  // one search over all cells; the same cell (the first whose cumulative mass exceeds x).
-  const double* rows = row_cdf_.data() + static_cast<size_t>(node) * opt_.t_bins;
-  const int row = std::min(static_cast<int>(std::upper_bound(rows, rows + opt_.t_bins, x) - rows), opt_.t_bins - 1);
-  const double* first = cdf + static_cast<size_t>(row) * opt_.phi_bins;
-  int cell = row * opt_.phi_bins + static_cast<int>(std::upper_bound(first, first + opt_.phi_bins, x) - first);
-  cell = std::min(cell, cells_ - 1);
-  while (p[cell] == 0.0 && cell > 0) --cell;  // x on the upper end of an empty run: the mass before it
-  const double lo = cell > 0 ? cdf[cell - 1] : 0.0;
-  const double f = std::clamp(p[cell] > 0.0 ? (x - lo) / p[cell] : 0.5, 0.0, 1.0);
+  x = std::clamp((x - node_lo) / node_w, 0.0, 1.0);
+  // The cell from the node's alias table, then the fraction left of x for the position within it.
+  const double y = x * cells_;
+  int cell = std::min(static_cast<int>(y), cells_ - 1);
+  double f = y - cell;
+  const AliasEntry& e = alias_[static_cast<size_t>(node) * static_cast<size_t>(cells_) + static_cast<size_t>(cell)];
+  if (f < e.keep || e.keep >= 1.0) {
+    f /= e.keep;
+  } else {
+    f = (f - e.keep) / (1.0 - e.keep);
+    cell = e.alias;
+  }
+  f = std::clamp(f, 0.0, 1.0);
+  const CellEntry& slopes = entry(node, cell);
+  const double xi = linear_density_inverse(slopes.a, f), eta = linear_density_inverse(slopes.b, u2);
   const int k = cell / opt_.phi_bins, j = cell % opt_.phi_bins;
   const double c0 = cos_edge_[static_cast<size_t>(k)], c1 = cos_edge_[static_cast<size_t>(k) + 1];
-  const Eigen::Vector3d hl = polar_vector(c0 + (c1 - c0) * f, -M_PI + 2.0 * M_PI / opt_.phi_bins * (j + u2));
-  const Eigen::Vector3d h(b.c * hl.x() - b.s * hl.y(), b.s * hl.x() + b.c * hl.y(), hl.z());
+  const double cz = c0 + (c1 - c0) * xi, sz = std::sqrt(std::max(0.0, 1.0 - cz * cz));
+  // phi_h = lower edge + angle, angle = eta (2 pi / phi_bins) <= 0.05: its cos and sin by their series to
+  // the 10th and 11th power (the first terms left out are below 0.05^12 / 12! < 1e-24).
+  const double an = 2.0 * M_PI / opt_.phi_bins * eta, a2 = an * an;
+  const double ca = 1.0 - a2 / 2 * (1.0 - a2 / 12 * (1.0 - a2 / 30 * (1.0 - a2 / 56 * (1.0 - a2 / 90))));
+  const double sa = an * (1.0 - a2 / 6 * (1.0 - a2 / 20 * (1.0 - a2 / 42 * (1.0 - a2 / 72 * (1.0 - a2 / 110)))));
+  const double pc = phi_edge_cs_[2 * static_cast<size_t>(j)], ps = phi_edge_cs_[2 * static_cast<size_t>(j) + 1];
+  const double hx = sz * (pc * ca - ps * sa), hy = sz * (ps * ca + pc * sa);
+  const Eigen::Vector3d h(b.c * hx - b.s * hy, b.s * hx + b.c * hy, cz);
   wr = reflect_about(wi, h);
-  const double c = wi.dot(h);
-  if (!(c > 0.0)) return false;
+  if (!(wi.dot(h) > 0.0)) return false;
+  // The density as pdf() finds it from (w_i, w_r) (the same cell and position to rounding, the same value).
+  pdf_out = pdf(b, wi, wr);
+  return pdf_out > 0.0;
+}
+
+double HalfVectorTable::h_density(const HalfVectorBlend& b, double live, int cell, double xi, double eta) const {
   double density = 0.0;
-  for (int i = 0; i < b.count; ++i) density += b.weight[i] * mass_[static_cast<size_t>(b.node[i]) * cells_ + cell];
-  pdf_out = density / live / cell_area(cell) / (4.0 * c);
-  return true;
+  for (int i = 0; i < b.count; ++i) {
+    const CellEntry& e = entry(b.node[i], cell);
+    density += b.weight[i] * e.mass * (1.0 + e.a * (xi - 0.5)) * (1.0 + e.b * (eta - 0.5));
+  }
+  return density / live / cell_area(cell);
 }
 
 double HalfVectorTable::pdf(const HalfVectorBlend& b, const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const {
@@ -249,10 +313,9 @@ double HalfVectorTable::pdf(const HalfVectorBlend& b, const Eigen::Vector3d& wi,
     if (albedo_[static_cast<size_t>(b.node[i])] > 0.0) live += b.weight[i];
   if (!(live > 0.0)) return 0.0;
   const Eigen::Vector3d hl(b.c * h.x() + b.s * h.y(), -b.s * h.x() + b.c * h.y(), h.z());
-  const int cell = cell_of(hl);
-  double density = 0.0;
-  for (int i = 0; i < b.count; ++i) density += b.weight[i] * mass_[static_cast<size_t>(b.node[i]) * cells_ + cell];
-  return density / live / cell_area(cell) / (4.0 * c);
+  double xi, eta;
+  const int cell = cell_of(hl, xi, eta);
+  return h_density(b, live, cell, xi, eta) / (4.0 * c);
 }
 
 }  // namespace icobrdf

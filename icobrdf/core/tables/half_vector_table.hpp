@@ -22,11 +22,21 @@
 // kHalfVectorFloor x (mean mass of such cells): a cell whose four points miss a narrow feature of f is still
 // drawn, so the density is positive wherever f cos can be (the estimator stays unbiased), at a cost of at most
 // that fraction of the draws.
-// Density: within the cell drawn from the node's cumulative masses, h is uniform in solid angle; the blend of
-// the nodes (linear in theta_i, and periodic-linear in phi_i when anisotropic) picks one node per draw with
-// its blend weight, so the density of w_r is
-//   pdf(w_r) = sum_n weight_n P_n(cell of h) / A_cell / (4 w_i . h)   [1/sr].
-// sample() may return a w_r below the horizon (the caller treats it as a failed draw: f is 0 there).
+// Density: within a cell the density in solid angle is linear in each of the cell's coordinates xi (from its
+// upper to its lower cos theta_h edge) and eta (from its lower to its upper phi_h edge), per node:
+//   g(xi, eta) = (1 + a (xi - 1/2)) (1 + b (eta - 1/2)),  mean 1 over the cell, a and b in [-2, 2],
+// with the slopes a, b fitted to the 2 x 2 sub-cell values of q (0 at a sub-cell whose w_r is below the
+// horizon), so that the draws follow f cos within the cell to first order (where the horizon cuts a cell the
+// density falls towards it instead of staying flat). The blend of the nodes (linear in theta_i, and
+// periodic-linear in phi_i when anisotropic) picks one node per draw with its blend weight, so the density
+// of w_r is
+//   pdf(w_r) = sum_n weight_n P_n(cell of h) g_n(xi, eta) / A_cell / (4 w_i . h)   [1/sr].
+// Draws per call cost O(1): the cell from an alias table per node (Walker/Vose: one entry, its threshold in
+// double, so a cell is drawn with its mass to rounding), the position within it from what is left of u1; the
+// masses and slopes are stored cell-major (the nodes of one cell side by side) so that the density at a drawn or given
+// cell reads one or two cache lines; the cell of a half vector is found without atan2 for theta_h (a lookup
+// on (1 - cos theta_h)^(1/4), then the exact cos edges decide) and with one atan2 for phi_h.
+// sample() fails (returns false) for a w_r below the horizon (a zero of the caller's estimator: f is 0 there).
 // Accuracy: the weights f cos / pdf vary within a cell as f does over it, and between nodes as the BRDF does
 // between neighbouring incident angles: refine n_t, n_phi and n_theta for narrow lobes (the defaults resolve a
 // GGX lobe of alpha 0.05 with about 12 bins of t across its width). Where f cos(theta_r) falls to 0 at the
@@ -46,6 +56,9 @@ namespace icobrdf {
 inline constexpr double kHalfVectorFloor = 1e-4;
 // The largest polar angle of an incident node [rad] (89 degrees).
 inline constexpr double kHalfVectorThetaMax = 89.0 * M_PI / 180.0;
+// Slots of the lookup from (1 - cos theta_h)^(1/4) to the t bin (a start for the exact search of the edges:
+// at most a few bins per slot for t_warp in [1, 4] and 128 bins).
+inline constexpr int kHalfVectorTLookup = 1024;
 
 struct HalfVectorTableOptions {
   int theta_nodes = 24;   // incident polar angles (>= 2)
@@ -91,7 +104,7 @@ class HalfVectorTable {
   // (the message names the pair).
   HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTableOptions& options);
   const HalfVectorTableOptions& options() const { return opt_; }
-  bool empty() const { return mass_.empty(); }
+  bool empty() const { return cells_of_nodes_.empty(); }
   int nodes() const { return opt_.theta_nodes * opt_.azimuth_nodes; }
   // The incident direction of node n (n = a * azimuth_nodes + b).
   Eigen::Vector3d node_direction(int n) const { return node_direction(opt_, n); }
@@ -100,8 +113,8 @@ class HalfVectorTable {
   // The same blended to w_i as the densities are.
   double albedo(const Eigen::Vector3d& wi) const { return albedo(blend(opt_, wi)); }
   double albedo(const HalfVectorBlend& b) const;
-  // A draw for w_i (unit, z >= 0) from u1, u2 in [0, 1): w_r and its density; false when no node of the blend
-  // has mass (an all-zero fbar).
+  // A draw for w_i (unit, z >= 0) from u1, u2 in [0, 1): w_r and its density (pdf(w_i, w_r)); false when no
+  // node of the blend has mass (an all-zero fbar) or w_r is below the horizon.
   bool sample(const Eigen::Vector3d& wi, double u1, double u2, Eigen::Vector3d& wr, double& pdf) const {
     return sample(blend(opt_, wi), wi, u1, u2, wr, pdf);
   }
@@ -111,17 +124,34 @@ class HalfVectorTable {
   double pdf(const HalfVectorBlend& b, const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const;
 
  private:
-  int cell_of(const Eigen::Vector3d& h) const;  // h in the nodes' frame
+  struct AliasEntry {
+    double keep;  // draw this cell when the fraction is below keep, else the alias
+    int alias;
+  };
+  // The cell of h (in the nodes' frame) and h's coordinates xi, eta in it.
+  int cell_of(const Eigen::Vector3d& h, double& xi, double& eta) const;
   double cell_area(int cell) const;
   double horizon_share(const Eigen::Vector3d& wi, int cell) const;
+  // The alias table of one node's probabilities p (cells values summing to 1).
+  void build_alias(const double* p, AliasEntry* out) const;
+  struct CellEntry {
+    double mass;   // the node's probability of the cell
+    float a, b;    // the slopes of the density within the cell along xi and eta
+  };
+  const CellEntry& entry(int node, int cell) const {
+    return cells_of_nodes_[static_cast<size_t>(cell) * static_cast<size_t>(nodes()) + static_cast<size_t>(node)];
+  }
+  // The blended density of h at cell (xi, eta) in [0, 1]^2 [1/sr of h], divided by live.
+  double h_density(const HalfVectorBlend& b, double live, int cell, double xi, double eta) const;
 
   HalfVectorTableOptions opt_;
   int cells_ = 0;
-  std::vector<double> cos_edge_;  // t_bins + 1 values of cos(theta_h) at the t edges
-  std::vector<double> mass_;      // nodes x cells, normalized per node (probabilities)
-  std::vector<double> cdf_;       // nodes x cells, cumulative
-  std::vector<double> row_cdf_;   // nodes x t_bins: the cumulative mass at the end of each row of cells
-  std::vector<double> albedo_;    // nodes
+  std::vector<double> cos_edge_;     // t_bins + 1 values of cos(theta_h) at the t edges
+  std::vector<double> phi_edge_cs_;  // phi_bins x (cos, sin) of phi_h at the lower edge of each bin
+  std::vector<int> t_lookup_;        // kHalfVectorTLookup + 1 bins: the t bin at (1 - cos theta_h)^(1/4) = i / size
+  std::vector<CellEntry> cells_of_nodes_;  // cells x nodes (cell-major); masses normalized per node
+  std::vector<AliasEntry> alias_;    // nodes x cells
+  std::vector<double> albedo_;       // nodes
 };
 
 }  // namespace icobrdf
