@@ -72,8 +72,8 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
   cos_edge_[static_cast<size_t>(nt)] = 0.0;
   const int n_nodes = nodes();
   const auto total = static_cast<size_t>(n_nodes) * static_cast<size_t>(cells_);
-  cells_of_nodes_.assign(total, CellEntry{0.0, 0.0f, 0.0f});
-  alias_.assign(total, AliasEntry{1.0, 0});
+  cells_of_nodes_.assign(total, CellEntry{0.0f, 0, 0});
+  alias_.assign(total, AliasEntry{1.0f, 0});
   albedo_.assign(static_cast<size_t>(n_nodes), 0.0);
   const double dphi = 2.0 * M_PI / np;
   phi_edge_cs_.resize(2 * static_cast<size_t>(np));
@@ -140,8 +140,9 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
       CellEntry& e = cells_of_nodes_[static_cast<size_t>(cell) * static_cast<size_t>(n_nodes) + static_cast<size_t>(n)];
       if (s > 0.0) {
         const double mean = s / 4;
-        e.a = static_cast<float>(std::clamp((sub[2] + sub[3] - sub[0] - sub[1]) / mean, -2.0, 2.0));
-        e.b = static_cast<float>(std::clamp((sub[1] + sub[3] - sub[0] - sub[2]) / mean, -2.0, 2.0));
+        const auto slope = [](double x) { return static_cast<std::int16_t>(std::lround(std::clamp(x, -2.0, 2.0) * kHalfVectorSlopeUnit)); };
+        e.a = slope((sub[2] + sub[3] - sub[0] - sub[1]) / mean);
+        e.b = slope((sub[1] + sub[3] - sub[0] - sub[2]) / mean);
       }
       if (!any) {  // the corners: a sliver of the cell may still reflect above the horizon
         const int k = cell / np, j = cell % np;
@@ -165,9 +166,13 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
       if (can[static_cast<size_t>(cell)]) m[cell] = std::max(m[cell], floor);
       acc += m[cell];
     }
+    // The masses as pdf() reads them (float), normalized again, are what the alias table draws.
+    double rounded = 0.0;
+    for (int cell = 0; cell < cells_; ++cell) rounded += static_cast<float>(m[cell] / acc);
     for (int cell = 0; cell < cells_; ++cell) {
-      m[cell] /= acc;
-      cells_of_nodes_[static_cast<size_t>(cell) * static_cast<size_t>(n_nodes) + static_cast<size_t>(n)].mass = m[cell];
+      const float p = static_cast<float>(m[cell] / acc);
+      cells_of_nodes_[static_cast<size_t>(cell) * static_cast<size_t>(n_nodes) + static_cast<size_t>(n)].mass = p;
+      m[cell] = p / rounded;
     }
     build_alias(m, alias_.data() + static_cast<size_t>(n) * static_cast<size_t>(cells_));
   }
@@ -184,15 +189,15 @@ void HalfVectorTable::build_alias(const double* p, AliasEntry* out) const {
   while (!small.empty() && !large.empty()) {
     const int l = small.back(), g = large.back();
     small.pop_back();
-    out[l] = AliasEntry{scaled[static_cast<size_t>(l)], g};
+    out[l] = AliasEntry{static_cast<float>(scaled[static_cast<size_t>(l)]), g};
     double& sg = scaled[static_cast<size_t>(g)];
     sg = (sg + scaled[static_cast<size_t>(l)]) - 1.0;
     if (sg < 1.0) large.pop_back(), small.push_back(g);
   }
   // What is left is 1 to rounding; an empty cell left over keeps nothing (its alias has mass).
-  for (const int g : large) out[g] = AliasEntry{1.0, g};
+  for (const int g : large) out[g] = AliasEntry{1.0f, g};
   const int best = static_cast<int>(std::max_element(p, p + cells_) - p);
-  for (const int l : small) out[l] = AliasEntry{p[l] > 0.0 ? 1.0 : 0.0, best};
+  for (const int l : small) out[l] = AliasEntry{p[l] > 0.0 ? 1.0f : 0.0f, best};
 }
 
 HalfVectorBlend HalfVectorTable::blend(const HalfVectorTableOptions& opt, const Eigen::Vector3d& wi) {
@@ -268,15 +273,17 @@ bool HalfVectorTable::sample(const HalfVectorBlend& b, const Eigen::Vector3d& wi
   int cell = std::min(static_cast<int>(y), cells_ - 1);
   double f = y - cell;
   const AliasEntry& e = alias_[static_cast<size_t>(node) * static_cast<size_t>(cells_) + static_cast<size_t>(cell)];
-  if (f < e.keep || e.keep >= 1.0) {
-    f /= e.keep;
+  const double keep = e.keep;
+  if (f < keep || keep >= 1.0) {
+    f /= keep;
   } else {
-    f = (f - e.keep) / (1.0 - e.keep);
+    f = (f - keep) / (1.0 - keep);
     cell = e.alias;
   }
   f = std::clamp(f, 0.0, 1.0);
   const CellEntry& slopes = entry(node, cell);
-  const double xi = linear_density_inverse(slopes.a, f), eta = linear_density_inverse(slopes.b, u2);
+  const double xi = linear_density_inverse(slopes.a / kHalfVectorSlopeUnit, f);
+  const double eta = linear_density_inverse(slopes.b / kHalfVectorSlopeUnit, u2);
   const int k = cell / opt_.phi_bins, j = cell % opt_.phi_bins;
   const double c0 = cos_edge_[static_cast<size_t>(k)], c1 = cos_edge_[static_cast<size_t>(k) + 1];
   const double cz = c0 + (c1 - c0) * xi, sz = std::sqrt(std::max(0.0, 1.0 - cz * cz));
@@ -299,7 +306,7 @@ double HalfVectorTable::h_density(const HalfVectorBlend& b, double live, int cel
   double density = 0.0;
   for (int i = 0; i < b.count; ++i) {
     const CellEntry& e = entry(b.node[i], cell);
-    density += b.weight[i] * e.mass * (1.0 + e.a * (xi - 0.5)) * (1.0 + e.b * (eta - 0.5));
+    density += b.weight[i] * e.mass * (1.0 + e.a / kHalfVectorSlopeUnit * (xi - 0.5)) * (1.0 + e.b / kHalfVectorSlopeUnit * (eta - 0.5));
   }
   return density / live / cell_area(cell);
 }

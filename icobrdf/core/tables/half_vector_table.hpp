@@ -31,8 +31,9 @@
 // periodic-linear in phi_i when anisotropic) picks one node per draw with its blend weight, so the density
 // of w_r is
 //   pdf(w_r) = sum_n weight_n P_n(cell of h) g_n(xi, eta) / A_cell / (4 w_i . h)   [1/sr].
-// Draws per call cost O(1): the cell from an alias table per node (Walker/Vose: one entry, its threshold in
-// double, so a cell is drawn with its mass to rounding), the position within it from what is left of u1; the
+// Draws per call cost O(1): the cell from an alias table per node (Walker/Vose: one entry of 8 bytes, its
+// threshold in float, so a cell is drawn with its mass to about 1e-7 relative, the float rounding of the
+// masses that pdf() reads), the position within it from what is left of u1; the
 // masses and slopes are stored cell-major (the nodes of one cell side by side) so that the density at a drawn or given
 // cell reads one or two cache lines; the cell of a half vector is found without atan2 for theta_h (a lookup
 // on (1 - cos theta_h)^(1/4), then the exact cos edges decide) and with one atan2 for phi_h.
@@ -45,6 +46,7 @@
 // Thread safety: const methods may be called from several threads at once; no allocation in them.
 #include <Eigen/Core>
 
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -56,12 +58,14 @@ namespace icobrdf {
 inline constexpr double kHalfVectorFloor = 1e-4;
 // The largest polar angle of an incident node [rad] (89 degrees).
 inline constexpr double kHalfVectorThetaMax = 89.0 * M_PI / 180.0;
+// Slopes within a cell are stored as integers in units of 1 / kHalfVectorSlopeUnit (|slope| <= 2).
+inline constexpr double kHalfVectorSlopeUnit = 16000.0;
 // Slots of the lookup from (1 - cos theta_h)^(1/4) to the t bin (a start for the exact search of the edges:
 // at most a few bins per slot for t_warp in [1, 4] and 128 bins).
 inline constexpr int kHalfVectorTLookup = 1024;
 
 struct HalfVectorTableOptions {
-  int theta_nodes = 24;   // incident polar angles (>= 2)
+  int theta_nodes = 48;   // incident polar angles (>= 2)
   int azimuth_nodes = 1;  // incident azimuths (1: isotropic; else >= 4)
   int t_bins = 128;       // bins of t (>= 4)
   int phi_bins = 128;     // bins of phi_h (>= 4)
@@ -125,7 +129,7 @@ class HalfVectorTable {
 
  private:
   struct AliasEntry {
-    double keep;  // draw this cell when the fraction is below keep, else the alias
+    float keep;  // draw this cell when the fraction is below keep, else the alias
     int alias;
   };
   // The cell of h (in the nodes' frame) and h's coordinates xi, eta in it.
@@ -135,8 +139,8 @@ class HalfVectorTable {
   // The alias table of one node's probabilities p (cells values summing to 1).
   void build_alias(const double* p, AliasEntry* out) const;
   struct CellEntry {
-    double mass;   // the node's probability of the cell
-    float a, b;    // the slopes of the density within the cell along xi and eta
+    float mass;           // the node's probability of the cell
+    std::int16_t a, b;    // the slopes of the density within the cell along xi and eta, x kHalfVectorSlopeUnit
   };
   const CellEntry& entry(int node, int cell) const {
     return cells_of_nodes_[static_cast<size_t>(cell) * static_cast<size_t>(nodes()) + static_cast<size_t>(node)];
