@@ -38,11 +38,12 @@
 // cell reads one or two cache lines; the cell of a half vector is found without atan2 for theta_h (a lookup
 // on (1 - cos theta_h)^(1/4), then the exact cos edges decide) and with one atan2 for phi_h.
 // sample() fails (returns false) for a w_r below the horizon (a zero of the caller's estimator: f is 0 there).
-// Accuracy: the weights f cos / pdf vary within a cell as f does over it, and between nodes as the BRDF does
-// between neighbouring incident angles: refine n_t, n_phi and n_theta for narrow lobes (the defaults resolve a
-// GGX lobe of alpha 0.05 with about 12 bins of t across its width). Where f cos(theta_r) falls to 0 at the
-// horizon of w_r across a cell, the weights in it spread as a ramp's do (a relative standard deviation of 0.58
-// within the cell): for a GGX lobe of alpha 0.3 at theta_i = 75 degrees that makes about 0.08 over all draws.
+// Accuracy: the weights f cos / pdf vary within a cell as f departs from the linear density over it, and
+// between nodes as the BRDF does between neighbouring incident angles (the horizon of w_r moves under the
+// h cells with theta_i): refine n_t, n_phi and n_theta for narrow lobes (the defaults resolve a GGX lobe of
+// alpha 0.05 with about 12 bins of t across its width). Measured relative standard deviations of the weights,
+// GGX alpha 0.3 at theta_i = 0 / 45 / 75 degrees: 0.010 / 0.011 / 0.037 with 48 nodes (0.010 / 0.025 / 0.069
+// with 24; 0.035 / 0.044 / 0.079 with 24 and a constant density per cell).
 // Thread safety: const methods may be called from several threads at once; no allocation in them.
 #include <Eigen/Core>
 
