@@ -66,7 +66,7 @@ void run_export(const ExportArgs& a) {
     return;
   }
   const MaterialRef ref = split_material_ref(a.input);
-  const Spectrum s = read_spectrum_file(ref.path, ref.name);
+  const Spectrum s = read_spectrum_file(ref.path, ref.name, kScatmechModesOnly);
   if (a.wavelength_degree >= 0) return run_polynomial_export(a, s);
   if (!a.wavelengths.empty()) throw ArgumentError("export: --wavelengths needs --wavelength-degree");
   int channel = a.channel;

@@ -96,7 +96,7 @@ void add_plot_spectrum_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& 
     const MaterialRef ref = split_material_ref(a->source);
     if (ref.path.size() < 4 || ref.path.compare(ref.path.size() - 3, 3, ".h5") != 0)
       throw ArgumentError("plot spectrum '" + quoted_text(a->source) + "': expected SPECTRUM.h5[#material]");
-    const Spectrum s = read_spectrum_file(ref.path, ref.name);
+    const Spectrum s = read_spectrum_file(ref.path, ref.name, "plot spectrum draws Zernike modes only; draw it with plot slice or plot sphere");
     check_output_path(a->output, {a->source});
     const auto f = plot::plot_spectrum(s, a->source, a->output, a->log);
     report(*a, {{"output", a->output}, {"width", f.width}, {"height", f.height}, {"order", s.order}, {"matrix", f.matrix_drawn}});

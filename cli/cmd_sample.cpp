@@ -1,10 +1,11 @@
 // icobrdf sample: importance-sampled reflected directions of a SOURCE (icobrdf/io/material_sampler.hpp).
-//   icobrdf sample SOURCE --theta-i DEG [--phi-i DEG] -n N [--seed S] [--level L] [--cell-value centre|average]
+//   icobrdf sample SOURCE --theta-i DEG [--phi-i DEG] -n N [--seed S] [--level L] [--cell-value centre|average] [--strict]
 // Output: CSV with header theta_r,phi_r,pdf,weight (weight_r,weight_g,weight_b ... per channel, named like
 // eval's columns), one line per draw: angles in degrees, pdf in 1/sr (piecewise constant over the equal-area
 // cells of the level), weight = f cos(theta_r) / pdf. The uniform numbers come from a 64-bit Mersenne twister
 // seeded with --seed, so a run is reproducible. Nothing is printed unless every draw succeeded (an all-zero
-// or non-finite row of the SOURCE is refused with exit 4 and one line).
+// or non-finite row of the SOURCE is refused with exit 4 and one line); negative f is reported as
+// non-physical (icobrdf/pipeline/reflectance_check.hpp; error with --strict) and sampled as 0.
 #include <fmt/core.h>
 
 #include <iostream>
@@ -17,12 +18,15 @@
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/material_sampler.hpp"
 #include "icobrdf/io/sample_draws.hpp"
+#include "icobrdf/pipeline/reflectance_check.hpp"
+#include "icobrdf/pipeline/resource_estimate.hpp"
 
 namespace icobrdf::cli {
 
 namespace {
 
-// More draws than this in one run print gigabytes of CSV; a renderer calls the library instead.
+// More draws than this in one run print gigabytes of CSV (memory stays bounded: sample_draws.hpp); a
+// renderer calls the library instead.
 constexpr long long kMaxDraws = 100'000'000;
 
 struct SampleOptions {
@@ -32,14 +36,18 @@ struct SampleOptions {
   unsigned long long seed = 1;
   int level = kDefaultSamplingLevel;
   std::string cell_value = "centre";
+  bool strict = false;
 };
 
 void run_sample(const SampleOptions& o) {
   const auto mode = lut_sampling_named(o.cell_value);
   if (!mode) throw ArgumentError("--cell-value: expected 'centre' or 'average', found '" + quoted_text(o.cell_value) + "'");
-  const MaterialSampler sampler(open_source(o.source), o.level, *mode);
+  std::shared_ptr<const BrdfSource> source = open_source(o.source);
+  require_sampling_memory(o.level, *mode == LutSampling::CellAverage, source->channels(), "sampling " + o.source);
+  const MaterialSampler sampler(std::move(source), o.level, *mode);
   const Eigen::Vector3d wi = direction_from_angles(o.theta_i * M_PI / 180, o.phi_i * M_PI / 180);
-  std::cout << material_samples_csv(sampler, draw_material_samples(sampler, wi, o.n, o.seed));
+  check_sampled_reflectance(sampler, wi, {o.strict, &std::cerr});
+  write_material_samples_csv(std::cout, sampler, wi, o.n, o.seed);  // a failed stream is reported at the end (main)
 }
 
 void add_sample_command(CLI::App& app) {
@@ -52,6 +60,7 @@ void add_sample_command(CLI::App& app) {
   cmd->add_option("--seed", opts->seed, "Seed of the uniform numbers (64-bit Mersenne twister)");
   cmd->add_option("--level", opts->level, "Equal-area grid level of the sampling density (cells of 1.4 deg at 5)")->check(CLI::Range(0, 8));
   cmd->add_option("--cell-value", opts->cell_value, "Cell masses from f at each cell's direction ('centre') or the cell's cubature ('average')");
+  cmd->add_flag("--strict", opts->strict, "Negative f (non-physical) is an error, not a warning");
   cmd->callback([opts] { run_sample(*opts); });
 }
 

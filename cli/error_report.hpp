@@ -10,8 +10,12 @@
 
 namespace icobrdf::cli {
 
-// The line of an allocation failure; main() writes it without allocating (cli/main.cpp).
-inline constexpr char kOutOfMemoryLine[] = "icobrdf: error: out of memory: an allocation failed; a lower level or order needs less\n";
+// The line of an allocation failure, naming what to reduce in the command that ran ("a lower level or order
+// needs less" for lut, fit, bank; "a lower --level" for sample; a smaller input for the readers); main() and
+// the terminate handler write it without allocating (cli/main.cpp).
+const char* out_of_memory_line();
+// Chooses out_of_memory_line()'s advice for the subcommand `command` (set when the parser meets it).
+void set_out_of_memory_command(const char* command);
 
 struct ErrorReport {
   std::string line;  // "icobrdf: error: ...\n" (or "icobrdf: internal error: ...\n"), one line

@@ -44,8 +44,6 @@ void tune_allocator() {
 [[noreturn]] void on_terminate() {
   using namespace icobrdf::cli;
   // Nothing here may allocate before the kind is known: memory may be exhausted.
-  static const char kOutOfMemory[] =
-      "icobrdf: error: out of memory: an allocation failed while the work ran; a lower level or order needs less\n";
   static const char kUnknown[] = "icobrdf: internal error: the program stopped without an error message\n";
   int code = kExitInternal;
   const char* fixed = kUnknown;
@@ -55,7 +53,7 @@ void tune_allocator() {
       std::rethrow_exception(e);
     } catch (const std::bad_alloc&) {
       code = kExitResources;
-      fixed = kOutOfMemory;
+      fixed = out_of_memory_line();
     } catch (const std::exception& x) {
       try {
         line = "icobrdf: internal error: " + icobrdf::message_line(x.what()) + "\n";
@@ -95,6 +93,7 @@ int main(int argc, char** argv) {
   // ICOBRDF_PROGRESS_DELAY: seconds before the first progress line (0: at once), for scripts and tests.
   if (const char* d = std::getenv("ICOBRDF_PROGRESS_DELAY")) icobrdf::set_progress_delay(std::atof(d));
   for (auto& [name, adder] : command_registry()) adder(app);
+  for (CLI::App* sub : app.get_subcommands({})) sub->preparse_callback([sub](std::size_t) { set_out_of_memory_command(sub->get_name().c_str()); });
   app.failure_message([](const CLI::App*, const CLI::Error& e) { return icobrdf::message_line(e.what()) + "\n"; });
   try {
     app.parse(argc, argv);
@@ -110,7 +109,7 @@ int main(int argc, char** argv) {
   } catch (const std::bad_alloc&) {
     // Exit at once: after an allocation failed, libraries' exit handlers (OpenBLAS joining its threads) can hang.
     std::cout.flush();
-    (void)!::write(STDERR_FILENO, kOutOfMemoryLine, sizeof kOutOfMemoryLine - 1);
+    (void)!::write(STDERR_FILENO, out_of_memory_line(), std::strlen(out_of_memory_line()));
     std::_Exit(kExitResources);
   } catch (...) {
     const ErrorReport r = report_of(std::current_exception());  // one short line (cli/error_report.hpp)

@@ -1,8 +1,19 @@
 #include "python/array_arguments.hpp"
 
+#include <cmath>
+
 #include "icobrdf/io/unit_directions.hpp"
 
 namespace icobrdf::python {
+
+void require_finite_argument(const Eigen::Ref<const Eigen::MatrixXd>& a, const char* what) {
+  if (a.allFinite()) return;
+  for (Eigen::Index c = 0; c < a.cols(); ++c)
+    for (Eigen::Index r = 0; r < a.rows(); ++r)
+      if (!std::isfinite(a(r, c)))
+        throw ArgumentError(std::string(what) + ": expected finite values, found " + std::to_string(a(r, c)) + " at row " +
+                            std::to_string(r) + ", column " + std::to_string(c));
+}
 
 Eigen::Map<const RowMatrix3d> direction_rows(const DirArray& a, const char* what) {
   const bool one = a.ndim() == 1 && a.shape(0) == 3;

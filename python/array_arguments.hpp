@@ -32,6 +32,11 @@ Eigen::Map<const RowMatrix3d> direction_rows(const DirArray& a, const char* what
 // The same, copied into the library's row-major type.
 RowMatrix3d directions(const DirArray& a, const char* what);
 
+// ArgumentError (ValueError) naming `what`, the row and the column of the first value that is NaN or infinite:
+// the array arguments of numbers (LUTs, coefficient matrices) are checked before any work, as the CLI's readers
+// check files.
+void require_finite_argument(const Eigen::Ref<const Eigen::MatrixXd>& a, const char* what);
+
 // The incident direction wi of 3 values.
 Eigen::Vector3d incident_direction(const Eigen::Ref<const Eigen::VectorXd>& wi);
 

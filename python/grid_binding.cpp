@@ -5,7 +5,9 @@
 #include <string>
 
 #include "icobrdf/core/grid/grid.hpp"
+#include "icobrdf/core/support/memory_budget.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
+#include "icobrdf/pipeline/resource_estimate.hpp"
 #include "python/bindings.hpp"
 
 namespace icobrdf::python {
@@ -29,7 +31,11 @@ directions : ndarray, shape (cells, 3)
 solid_angles : ndarray, shape (cells,)
     Solid angle of each cell in sr; they sum to 2 pi.
 )doc")
-      .def_static("equal_area", [](int level) { return build_equal_area_grid(level); }, py::arg("level"),
+      .def_static("equal_area", [](int level) {
+                    if (level >= 0 && level <= kMaxTessellationLevel)  // other levels are refused by the builder
+                      require_memory(grid_bytes(level), "Grid.equal_area(" + std::to_string(level) + ")", "a lower level needs 4x less per level");
+                    return build_equal_area_grid(level);
+                  }, py::arg("level"),
                   R"doc(The equal-area grid of a level.
 
 Parameters

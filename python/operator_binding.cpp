@@ -14,6 +14,8 @@
 #include "icobrdf/core/projection/lut.hpp"
 #include "icobrdf/core/projection/projection.hpp"
 #include "icobrdf/core/spectrum/spectrum_ops.hpp"
+#include "icobrdf/core/support/memory_budget.hpp"
+#include "icobrdf/pipeline/resource_estimate.hpp"
 #include "python/array_arguments.hpp"
 #include "python/bindings.hpp"
 
@@ -24,11 +26,14 @@ std::vector<Eigen::MatrixXd> lut_of(const std::string& model_spec, const Grid& g
   const auto model = parse_model_source(model_spec);
   const auto s = lut_sampling_named(sampling);
   if (!s) throw ArgumentError("sampling: expected 'average' or 'centre', found '" + quoted_text(sampling) + "'");
+  require_memory(lut_table_bytes(grid.cells(), model->channels()), "lut(" + model_spec + ") on a grid of " + std::to_string(grid.cells()) + " cells",
+                 "a grid of a lower level needs 16x less per level");
   py::gil_scoped_release release;
   return build_lut(*model, grid, cosine || !model->delta_parts().empty(), *s).channels;
 }
 
 Eigen::VectorXd coefficients_at(const Eigen::MatrixXd& c, int order, const DirArray& wi, const DirArray& wr) {
+  require_finite_argument(c, "coefficients");
   const Eigen::MatrixXd f = eval_chunked(wi, wr, 1, [&](const RowMatrix3d& a, const RowMatrix3d& b) {
     return Eigen::MatrixXd(evaluate_coefficients(c, order, a, b));
   });
@@ -160,6 +165,9 @@ void bind_operators(py::module_& m) {
   m.def("lut", &lut_of, py::arg("model"), py::arg("grid"), py::arg("cosine") = false, py::arg("sampling") = "average", kLutDoc);
   py::class_<DiscreteBasis>(m, "DiscreteBasis", kDiscreteBasisDoc)
       .def(py::init([](const Grid& g, int order) {
+             if (order >= 0)  // build_discrete_basis refuses a negative order itself
+               require_memory(basis_bytes(g.cells(), order), "DiscreteBasis of order " + std::to_string(order) + " on " + std::to_string(g.cells()) + " cells",
+                              "a lower order or level needs less");
              py::gil_scoped_release release;
              return build_discrete_basis(g, order);
            }),
@@ -194,6 +202,7 @@ RuntimeError
   m.def(
       "project",
       [](const ProjectionOperator& p, const Eigen::MatrixXd& lut) {
+        require_finite_argument(lut, "lut");
         py::gil_scoped_release release;
         return project_lut(p, lut);
       },
@@ -219,6 +228,7 @@ ValueError
   m.def(
       "reconstruct",
       [](const DiscreteBasis& b, const Eigen::MatrixXd& c) {
+        require_finite_argument(c, "coefficients");
         py::gil_scoped_release release;
         return reconstruct_lut(b, c);
       },
@@ -244,6 +254,7 @@ ValueError
   m.def(
       "smooth",
       [](const DiscreteBasis& b, const ProjectionOperator& p, const Eigen::MatrixXd& lut, const std::string& filter) {
+        require_finite_argument(lut, "lut");
         const LowPassFilter f = parse_lowpass_filter(filter);
         py::gil_scoped_release release;
         return smooth_lut(b, p, lut, f);

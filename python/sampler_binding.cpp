@@ -6,6 +6,8 @@
 
 #include "icobrdf/core/projection/lut.hpp"
 #include "icobrdf/core/support/error.hpp"
+#include "icobrdf/mesh/tessellation.hpp"
+#include "icobrdf/pipeline/resource_estimate.hpp"
 #include "python/bindings.hpp"
 #include "python/py_source.hpp"
 
@@ -15,6 +17,8 @@ namespace {
 PySampler make_sampler(const PySource& src, int level, const std::string& cell_value) {
   const auto s = lut_sampling_named(cell_value);
   if (!s) throw ArgumentError("cell_value: expected 'centre' or 'average', found '" + quoted_text(cell_value) + "'");
+  if (level >= 0 && level <= kMaxTessellationLevel)  // the sampler refuses other levels itself
+    require_sampling_memory(level, *s == LutSampling::CellAverage, src.source->channels(), "Sampler(" + src.source->spec() + ")");
   py::gil_scoped_release release;
   return PySampler{MaterialSampler(src.source, level, *s)};
 }

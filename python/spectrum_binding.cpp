@@ -238,7 +238,11 @@ ValueError
   m.def("fit", &fit, py::arg("source"), py::arg("level") = 4, py::arg("order") = py::none(), py::arg("isotropic") = false,
         py::arg("cosine") = false, py::arg("filter") = "none", py::arg("sampling") = "average",
         py::arg("gram_tolerance") = kDefaultGramTolerance, kFitDoc);
-  m.def("read_spectrum", [](const std::string& path, const std::string& name) { return read_spectrum_file(path, name); },
+  m.def(
+      "read_spectrum",
+      [](const std::string& path, const std::string& name) {
+        return read_spectrum_file(path, name, "icobrdf.Spectrum holds Zernike modes only; evaluate it with icobrdf.Source('FILE.h5#MATERIAL')");
+      },
         py::arg("path"), py::arg("material") = "", kReadSpectrumDoc);
   m.def(
       "write_spectrum",

@@ -2,11 +2,14 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <optional>
+#include <vector>
 
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/models/function_model.hpp"
 #include "icobrdf/core/basis/hemisphere_basis.hpp"
+#include "icobrdf/core/basis/horizon.hpp"
 #include "icobrdf/core/models/model_registry.hpp"
 #include "icobrdf/core/spectrum/spectrum_ops.hpp"
 #include "icobrdf/io/measured_sources.hpp"
@@ -56,8 +59,31 @@ class SpectrumSource final : public BrdfSource {
   std::string spec() const override { return text_; }
   int channels() const override { return s_.channel_count(); }
   std::vector<std::string> channel_names() const override { return s_.channel_names; }
+  // The horizon convention of every other source (icobrdf/core/models/brdf_model.hpp): f = 0 where a direction
+  // lies below the horizon (z < -kHorizonSlack), a z in [-kHorizonSlack, 0) taken as 0 (the modes are defined
+  // on the closed hemisphere only); so consumers that tabulate over every direction pair (a MERL table's bins)
+  // take a stored material as they take a model. Non-finite directions still fail in the evaluation.
   Eigen::MatrixXd eval(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
-    return evaluate_material(s_, lobe_, wi, wr);
+    const Eigen::Index n = wi.rows();
+    bool above = true;
+    for (Eigen::Index r = 0; r < n && above; ++r) above = wi(r, 2) >= 0 && wr(r, 2) >= 0;
+    if (above) return evaluate_material(s_, lobe_, wi, wr);
+    std::vector<Eigen::Index> keep;
+    for (Eigen::Index r = 0; r < n; ++r)
+      if (!(wi(r, 2) < -kHorizonSlack || wr(r, 2) < -kHorizonSlack)) keep.push_back(r);
+    Eigen::MatrixXd out = Eigen::MatrixXd::Zero(n, channels());
+    if (keep.empty()) return out;
+    const auto m = static_cast<Eigen::Index>(keep.size());
+    RowMatrix3d a(m, 3), b(m, 3);
+    for (Eigen::Index k = 0; k < m; ++k) {
+      a.row(k) = wi.row(keep[static_cast<size_t>(k)]);
+      b.row(k) = wr.row(keep[static_cast<size_t>(k)]);
+      a(k, 2) = std::max(a(k, 2), 0.0);  // NaN stays NaN
+      b(k, 2) = std::max(b(k, 2), 0.0);
+    }
+    const Eigen::MatrixXd v = evaluate_material(s_, lobe_, a, b);
+    for (Eigen::Index k = 0; k < m; ++k) out.row(keep[static_cast<size_t>(k)]) = v.row(k);
+    return out;
   }
   // Re-expansion of stored modes at another order is exact in the continuous basis: truncation to a lower
   // order, zero padding to a higher one (no grid is involved). A lobe is projected on the context's grid

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "icobrdf/core/basis/direction.hpp"
+#include "icobrdf/core/models/brdf_model.hpp"
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/io/angle_columns.hpp"
 #include "icobrdf/io/csv.hpp"
@@ -21,9 +22,20 @@ Eigen::Vector3d signed_direction(const CsvTable& t, size_t row, size_t col, doub
   return theta < 0 ? direction_from_angles(-theta, phi + M_PI) : direction_from_angles(theta, phi);
 }
 
+// Azimuth-like column `col` of `row` in radians: InputError beyond kMaxAzimuthTurns turns either way (1e308
+// degrees would be evaluated at a meaningless angle: cos and sin of it keep no digit of the intended one).
+double checked_azimuth(const CsvTable& t, size_t row, size_t col, bool radians) {
+  const double v = t.rows[row][col], bound = kMaxAzimuthTurns * (radians ? 2 * M_PI : 360.0);
+  if (!(std::abs(v) <= bound))
+    throw InputError(t.path + ":" + std::to_string(t.line_numbers[row]) + ": column '" + quoted_text(t.header[col]) +
+                     "' expected an azimuth in [-" + (radians ? std::string("4 pi, 4 pi") : std::string("720, 720")) +
+                     "] (two turns), found " + format_parameter(v));
+  return radians ? v : v * (M_PI / 180.0);  // the factor the polar angles are read with
+}
+
 Eigen::Vector3d to_direction(const CsvTable& t, size_t row, size_t col, bool radians) {
   const double unit = radians ? 1.0 : M_PI / 180.0;
-  return signed_direction(t, row, col, t.rows[row][col] * unit, t.rows[row][col + 1] * unit, radians);
+  return signed_direction(t, row, col, t.rows[row][col] * unit, checked_azimuth(t, row, col + 1, radians), radians);
 }
 
 bool header_is(const CsvTable& t, const std::vector<std::string>& names) {
@@ -60,9 +72,9 @@ DirectionPairs read_direction_pairs_csv(const std::string& path, bool radians) {
     if (scatmech) {
       // SCATMECH's frame: the source at azimuth pi, phis = 0 the forward half of the plane of incidence; the
       // sample turned by `rotation` about its normal, so its azimuths are the frame's minus rotation.
-      const double rot = rotation ? t.rows[r][3] * unit : 0.0;
+      const double rot = rotation ? checked_azimuth(t, r, 3, radians) : 0.0;
       p.wi.row(at) = signed_direction(t, r, 0, t.rows[r][0] * unit, M_PI - rot, radians).transpose();
-      p.wr.row(at) = signed_direction(t, r, 1, t.rows[r][1] * unit, t.rows[r][2] * unit - rot, radians).transpose();
+      p.wr.row(at) = signed_direction(t, r, 1, t.rows[r][1] * unit, checked_azimuth(t, r, 2, radians) - rot, radians).transpose();
     } else {
       p.wi.row(at) = to_direction(t, r, 0, radians).transpose();
       p.wr.row(at) = to_direction(t, r, 2, radians).transpose();

@@ -6,7 +6,9 @@
 //                sun's side; further columns are ignored)
 //   pairs in SCATMECH's geometry: thetai,thetas,phis[,rotation]
 // theta lies in [-90, 90] degrees (pi/2 in radians); a negative theta is the direction (|theta|, phi + 180 deg),
-// the other half of its plane (the goniometer's signed angle). phi and rotation are any finite angles.
+// the other half of its plane (the goniometer's signed angle). phi, phis, raa and rotation lie within
+// kMaxAzimuthTurns turns either way ([-720, 720] degrees, [-4 pi, 4 pi] radians: room for every convention's
+// offsets; 1e308 degrees is refused, not evaluated at a meaningless angle).
 // SCATMECH geometry (its BRDF_Model angles): w_i, the direction to the source, is (thetai, 180 deg) and
 // w_r = (thetas, phis) in the frame where phis = 0 is the forward half of the plane of incidence; a sample
 // turned by `rotation` (counterclockwise seen from above) has azimuths phi - rotation in its own frame:
@@ -18,6 +20,8 @@
 #include "icobrdf/core/grid/grid.hpp"
 
 namespace icobrdf {
+
+inline constexpr double kMaxAzimuthTurns = 2.0;
 
 struct DirectionPairs {
   RowMatrix3d wi;          // rows x 3 incident unit vectors

@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/memory_budget.hpp"
 
 namespace icobrdf::h5 {
 
@@ -540,6 +541,30 @@ Shape Group::dataset_shape(const std::string& name, const ReadLimits& limits) co
   return shape;
 }
 
+namespace {
+
+// The running sum of a ReadScope on this thread (icobrdf/io/h5_file.hpp).
+struct ScopeBytes {
+  bool active = false;
+  std::uint64_t bytes = 0;
+};
+thread_local ScopeBytes t_scope;
+
+// Adds a read of `bytes` (in memory) to this thread's scope and refuses it when the sum exceeds the budget.
+void hold_to_budget(const std::string& file, const std::string& object, const Shape& shape, std::uint64_t bytes) {
+  const std::uint64_t sum = t_scope.active ? t_scope.bytes + bytes : bytes;
+  if (t_scope.active) t_scope.bytes = sum;
+  if (sum < kBudgetCheckBytes) return;
+  require_memory(static_cast<double>(sum), printable_text(file + ": " + object) + " (declared shape " + shape_text(shape) + ")" +
+                                              (sum > bytes ? " with the datasets of its object read before it" : ""),
+                 "the file declares more than this machine holds");
+}
+
+}  // namespace
+
+ReadScope::ReadScope() : outer_active_(t_scope.active), outer_bytes_(t_scope.bytes) { t_scope = ScopeBytes{true, 0}; }
+ReadScope::~ReadScope() { t_scope = ScopeBytes{outer_active_, outer_bytes_}; }
+
 void Group::read_raw(const std::string& name, Type type, bool allow_float32, const ShapePattern& pattern,
                      const ReadLimits& limits, Shape* shape, void* (*alloc)(void*, std::uint64_t), void* vec) const {
   // `type` is the memory type; the stored type must equal it, except that with allow_float32 a float32
@@ -562,6 +587,7 @@ void Group::read_raw(const std::string& name, Type type, bool allow_float32, con
     fail(object, "needs " + std::to_string(mem_bytes) + " bytes in memory, expected at most the limit of " +
                      std::to_string(limits.max_dataset_bytes));
   const std::uint64_t n = element_count(*shape);
+  hold_to_budget(file_, object, *shape, mem_bytes + (type == Type::float64 ? 0 : n * sizeof(double)));
   void* buf = alloc(vec, n);
   if (n == 0) return;
   Handle dxpl(H5Pcreate(H5P_DATASET_XFER), H5Pclose);

@@ -93,6 +93,25 @@ struct ReadLimits {
   std::uint64_t max_dataset_bytes = kDefaultMaxDatasetBytes;
 };
 
+// Reads of one object (a stored material) are held to the memory budget (icobrdf/core/support/
+// memory_budget.hpp) before they allocate: while a ReadScope lives on this thread, every dataset read adds
+// the bytes it takes in memory (and, for a stored type other than float64, the float64 copy its reader
+// makes), and a read that takes the sum beyond available_memory() is refused with a ResourceError naming the
+// dataset and its declared shape. A 1 MB file can declare gigabytes of compressed zeros. Outside a scope a
+// single dataset is held to the budget alone. Sums below kBudgetCheckBytes are not checked (no /proc read).
+inline constexpr std::uint64_t kBudgetCheckBytes = std::uint64_t{64} << 20;
+class ReadScope {
+ public:
+  ReadScope();
+  ~ReadScope();
+  ReadScope(const ReadScope&) = delete;
+  ReadScope& operator=(const ReadScope&) = delete;
+
+ private:
+  bool outer_active_;
+  std::uint64_t outer_bytes_;
+};
+
 // A shape pattern for reads: -1 matches any extent.
 using ShapePattern = std::vector<std::int64_t>;
 

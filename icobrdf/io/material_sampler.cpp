@@ -75,7 +75,7 @@ IncidentDistribution MaterialSampler::distribution(const Eigen::Vector3d& wi) co
   double total = 0;  // a plain loop: Eigen's AVX-512 sum trips gcc 12's -Wmaybe-uninitialized here
   for (int k = 0; k < n; ++k) total += mass[k];
   if (!(total > 0))
-    throw UnsupportedError(where + " cos(theta_r) is 0 at every one of the " + std::to_string(points) + " " +
+    throw UnsupportedError("max(" + where + ", 0) cos(theta_r) is 0 at every one of the " + std::to_string(points) + " " +
                            (centre ? "cell centres" : "cubature points") + " of level " + std::to_string(level()) +
                            (source_->has_delta() ? " (its delta part cannot be sampled)" : "") + ": nothing to sample");
   return IncidentDistribution{wi, CellDistribution(mass, where), total};

@@ -337,7 +337,10 @@ ScatmechExport format_scatmech_coefficients(const Spectrum& s, int channel, bool
   const Eigen::MatrixXd& c = s.channels[static_cast<size_t>(channel)];
   ScatmechExport out;
   out.anisotropic_fraction = anisotropic_energy_fraction(c);
-  if (out.anisotropic_fraction > kScatmechIsotropyTolerance && !project_isotropic)
+  // A spectrum stored isotropic (fitted with --isotropic) is invariant under turns about the normal by
+  // construction; what lies outside the span of the isotropic modes I_nm^l is then its part antisymmetric in
+  // (w_i, w_r) (isotropic_part does not symmetrize), which the flag asks to drop like any anisotropy.
+  if (out.anisotropic_fraction > kScatmechIsotropyTolerance && !project_isotropic && !s.isotropic)
     throw UnsupportedError("SCATMECH export: anisotropic energy fraction " + g17(out.anisotropic_fraction) +
                            " exceeds " + g17(kScatmechIsotropyTolerance) +
                            " (SCATMECH's unpolarized element is isotropic); use --isotropic to export the isotropic projection");
@@ -348,7 +351,8 @@ ScatmechExport format_scatmech_coefficients(const Spectrum& s, int channel, bool
   os << "; SCATMECH ZernikeExpansion_BRDF_Model coefficients written by icobrdf\n"
      << "; source: " << s.source << ", channel " << channel << ", order " << s.order << ", f in 1/sr (no wavelength terms)\n";
   if (out.anisotropic_fraction > kScatmechIsotropyTolerance)
-    os << "; isotropic projection: anisotropic energy fraction " << g17(out.anisotropic_fraction) << " dropped\n";
+    os << "; isotropic projection" << (s.isotropic ? " of a spectrum stored isotropic" : "") << ": energy fraction "
+       << g17(out.anisotropic_fraction) << " outside the isotropic modes dropped\n";
   os << "; columns: i,j,n,m,k,l,p,a (unpolarized element i = j = 1; n >= m, k = l)\n";
   for (size_t k = 0; k < modes.size(); ++k) {
     const auto& md = modes[k];

@@ -72,6 +72,10 @@ struct ScatmechImportOptions {
 // The coefficients of each power, exact (the rows of power p summed as scatmech_to_spectrum sums them), so that
 // a file's polynomial can be evaluated at any wavelength, refitted, and written back.
 inline constexpr int kMaxScatmechPower = 4;  // SCATMECH's own range check on p
+// What `export --format scatmech` says of a material with a half-angle lobe (icobrdf/io/spectrum_file.hpp
+// read_spectrum_file): the format holds modes alone, so the material is refused rather than cut to its modes.
+inline constexpr const char* kScatmechModesOnly =
+    "the SCATMECH format stores Zernike modes only; export it with --format rgl or merl, or refit it with representations = [\"modes\"]";
 struct ScatmechWavelengthPolynomial {
   int order = 0;                       // total order N of the isotropic modes
   std::vector<Eigen::VectorXd> ibsss;  // ibsss[p]: IBSSS coefficients (Table 2 order) of lambda^p [1/sr um^-p]
@@ -111,8 +115,9 @@ struct ScatmechExport {
 // Rows "1,1,N,M,L,L,0,a" (N >= M >= L, one per isotropic mode, Table 2 order) preceded by ';' comment lines,
 // numbers with 17 significant digits, LF line ends: readable by SCATMECH as is. `channel` selects the channel
 // of a 3-channel spectrum. UnsupportedError for a spectrum of g = f cos(theta_i) (SCATMECH expands f) and,
-// unless `project_isotropic`, for a spectrum whose anisotropic energy fraction exceeds
-// kScatmechIsotropyTolerance (SCATMECH's unpolarized element is isotropic by construction).
+// unless `project_isotropic` or the spectrum is stored isotropic (its `isotropic` flag: fitted so), for a
+// spectrum whose anisotropic energy fraction exceeds kScatmechIsotropyTolerance (SCATMECH's unpolarized
+// element is isotropic by construction); the projection is written and the dropped fraction reported.
 ScatmechExport format_scatmech_coefficients(const Spectrum& spectrum, int channel, bool project_isotropic);
 // Relative anisotropic energy treated as rounding: C built from isotropic modes has ~1e-32.
 inline constexpr double kScatmechIsotropyTolerance = 1e-20;

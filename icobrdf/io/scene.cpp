@@ -8,7 +8,9 @@
 #include <algorithm>
 #include <set>
 
+#include "icobrdf/core/models/brdf_model.hpp"
 #include "icobrdf/core/support/error.hpp"
+#include "icobrdf/io/direction_csv.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 
 namespace icobrdf {
@@ -47,6 +49,9 @@ T get_or(const Scene& s, const toml::table& t, const std::string& where, const c
   }
 }
 
+// Largest |phi| of a light or camera [deg]: the direction CSV readers' bound (icobrdf/io/direction_csv.hpp).
+constexpr double kMaxSceneAzimuthDeg = kMaxAzimuthTurns * 360.0;
+
 std::vector<std::pair<double, double>> directions(const Scene& s, const toml::table& t, const std::string& where, const char* key) {
   std::vector<std::pair<double, double>> out;
   const toml::node* n = t.get(key);
@@ -60,8 +65,9 @@ std::vector<std::pair<double, double>> directions(const Scene& s, const toml::ta
     const double th = *(*pair)[0].value<double>(), ph = *(*pair)[1].value<double>();
     if (!(th >= 0 && th <= 90))
       fail(s, where, std::string("'") + key + "' entry " + std::to_string(k + 1) + ": theta expected in [0, 90], found " + std::to_string(th));
-    if (!std::isfinite(ph))
-      fail(s, where, std::string("'") + key + "' entry " + std::to_string(k + 1) + ": phi expected a finite angle, found " + std::to_string(ph));
+    if (!(std::abs(ph) <= kMaxSceneAzimuthDeg))
+      fail(s, where, std::string("'") + key + "' entry " + std::to_string(k + 1) + ": phi expected in [-" + format_parameter(kMaxSceneAzimuthDeg) +
+                         ", " + format_parameter(kMaxSceneAzimuthDeg) + "] (two turns), found " + format_parameter(ph));
     out.emplace_back(th, ph);
   }
   return out;
@@ -217,6 +223,15 @@ SceneMaterial read_material_table(const Scene& s, const toml::table* t, std::str
   m.lights = directions(s, *t, w, "lights");
   m.cameras = directions(s, *t, w, "cameras");
   if (m.lights.empty() != m.cameras.empty()) fail(s, w, "'lights' and 'cameras' go together: give both or neither");
+  // The cosine metric weighs a pair by cos(theta_i) cos(theta_r): with every light (or camera) on the horizon
+  // every weight is 0 (to rounding) and no error can be measured; refused here, before any fit.
+  const auto on_horizon = [](const std::vector<std::pair<double, double>>& d) {
+    return !d.empty() && std::all_of(d.begin(), d.end(), [](const auto& x) { return x.first == 90.0; });
+  };
+  for (const char* key : {"lights", "cameras"})
+    if (m.metric == ErrorMetric::Cosine && on_horizon(std::string(key) == "lights" ? m.lights : m.cameras))
+      fail(s, w, std::string("every one of '") + key + "' lies on the horizon (theta = 90), where the cosine metric weighs every pair "
+                 "by 0: the error cannot be measured; use theta < 90 or metric = \"f\"");
   if (static_cast<double>(m.lights.size()) * static_cast<double>(m.cameras.size()) > static_cast<double>(kMaxErrorPairs))
     fail(s, w, "'lights' x 'cameras' expected at most " + std::to_string(kMaxErrorPairs) + " pairs, found " + std::to_string(m.lights.size()) +
                    " x " + std::to_string(m.cameras.size()));

@@ -25,7 +25,8 @@
 //   level = 4                           fix the fitting level instead of searching
 //   incidence = [0, 75]                 incidence range the scene uses [deg]; errors measured there only
 //   lights = [[30, 0], [60, 90]]        (theta, phi) [deg] of the scene's lights: errors over lights x cameras
-//   cameras = [[0, 0], [45, 180]]
+//   cameras = [[0, 0], [45, 180]]       theta in [0, 90], |phi| <= 720; under the cosine metric not every
+//                                       light (nor every camera) at theta = 90, where every weight is 0
 //   prune = true                        drop negligible coefficients while the target holds
 //   max_bytes = 4096                    largest size of the material's representation [bytes] (default: none)
 //   on_miss = "fail"                    a target not met within max_bytes: "fail" (no bank is written) or

@@ -443,6 +443,7 @@ MaterialRecord read_material(const h5::Group& materials, const std::string& name
   if (!problem.empty()) materials.fail(materials.child_path(name), "invalid material name: " + problem);
   const h5::Group g = materials.open_group(name);
   g.check_links();
+  const h5::ReadScope budget;  // the material's datasets together are held to the memory budget
   MaterialRecord rec;
   rec.name = name;
   Spectrum& s = rec.spectrum;
@@ -526,10 +527,20 @@ void write_spectrum_file(const std::string& path, const Spectrum& spectrum, cons
   write_bank(path, b);
 }
 
-Spectrum read_spectrum_file(const std::string& path, const std::string& name) {
+std::string lobe_representation_phrase(const MaterialRecord& rec) {
+  const std::string r = representation_name(rec);
+  if (r == "half-angle") return "a half-angle lobe (no modes)";
+  if (r == "hybrid") return "a hybrid of modes and a half-angle lobe (its modes alone are not the material)";
+  return "";
+}
+
+Spectrum read_spectrum_file(const std::string& path, const std::string& name, const std::string& consumer) {
   ReadOptions o;
   o.read_luts = false;
-  return read_bank_material(path, name, o).spectrum;
+  MaterialRecord rec = read_bank_material(path, name, o);
+  if (rec.lobe)
+    throw UnsupportedError(path + "#" + quoted_text(rec.name) + " is " + lobe_representation_phrase(rec) + ": " + consumer);
+  return std::move(rec.spectrum);
 }
 
 }  // namespace icobrdf

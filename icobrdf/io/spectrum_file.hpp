@@ -99,7 +99,15 @@ MaterialRecord read_material(const h5::Group& materials, const std::string& name
 // Convenience wrappers over icobrdf/io/bank_file.hpp: a bank with one material (and optionally its grid).
 void write_spectrum_file(const std::string& path, const Spectrum& spectrum, const Grid* grid = nullptr,
                          const std::string& name = "spectrum");
-// Reads material `name`, or the first in name order when `name` is empty.
-Spectrum read_spectrum_file(const std::string& path, const std::string& name = "");
+// The consumers that take a material's Zernike modes alone (a Spectrum: SCATMECH export, the coefficient
+// plot, Python's read_spectrum) read it here. Material `name`, or the first in name order when `name` is
+// empty. A material with a half-angle lobe ("half-angle" or "hybrid") is refused with UnsupportedError in one
+// line naming FILE#MATERIAL, its representation and `consumer` (what the consumer takes and what to use
+// instead): its modes alone are not the material (none at all for "half-angle").
+Spectrum read_spectrum_file(const std::string& path, const std::string& name = "",
+                            const std::string& consumer = "a spectrum holds Zernike modes only; open FILE.h5#MATERIAL as a "
+                                                          "SOURCE (eval, lut, albedo, sample, plot slice) to use every part");
+// "a half-angle lobe (no modes)" or "a hybrid of modes and a half-angle lobe"; "" for modes alone.
+std::string lobe_representation_phrase(const MaterialRecord& rec);
 
 }  // namespace icobrdf

@@ -127,7 +127,7 @@ std::vector<BudgetPoint> small_lobes(const BrdfSource& source, const TestPairs& 
               auto f = fitted.find(fkey);
               if (f == fitted.end()) {
                 HalfAngleFitOptions fo;
-                fo.quantity = HalfAngleQuantity::MeanCosine;
+                fo.quantity = kMeasuredLobeQuantity;  // as the bank builder's measured lobes
                 fo.isotropic = true;
                 fo.n_t = n_t;
                 fo.n_theta_d = d[0];

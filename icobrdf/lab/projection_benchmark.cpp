@@ -15,6 +15,7 @@
 #include "icobrdf/core/projection/projection.hpp"
 #include "icobrdf/lab/timing.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
+#include "icobrdf/pipeline/resource_estimate.hpp"
 
 namespace icobrdf::lab {
 
@@ -69,6 +70,7 @@ struct Problem {
 };
 
 Problem problem_at(int level, int order, int threads, bool symmetric) {
+  require_projection_bench_memory(level, order);  // before the grid: the LUT alone is 13.8 GB at level 6
   omp_set_num_threads(threads);
   Eigen::setNbThreads(threads);
   set_blas_threads(threads);

@@ -162,7 +162,7 @@ void CellLocator::locate_block(const double* p, int count, int* out) const {
 void CellLocator::check(const double* p, Eigen::Index k) {
   const double nn = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
   if (!(std::abs(nn - 1.0) <= kUnitTol) || !(p[2] >= -kHorizonSlack))
-    throw ArgumentError("CellLocator::locate: direction " + std::to_string(k) + " (" + std::to_string(p[0]) + ", " +
+    throw ArgumentError("cell lookup: direction " + std::to_string(k) + " (" + std::to_string(p[0]) + ", " +
                         std::to_string(p[1]) + ", " + std::to_string(p[2]) +
                         ") is not a unit vector with z >= 0 (norm^2 = " + std::to_string(nn) + ")");
 }

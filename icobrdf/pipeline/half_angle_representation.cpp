@@ -55,6 +55,9 @@ constexpr int kHybridOrders[] = {2, 4};
 // alternation stops at the first round without progress, or once the error is within kHybridSettled of the
 // target (a few rounds more would buy a digit the choice does not need).
 constexpr int kHybridRounds = 8;
+// Measured data: rounds after the second moved RGL acrylic_felt_green's hybrid by 0.4 % (0.01589 -> 0.01582 over
+// six rounds of per-channel rank-6 lobes on 256 x 64x16 nodes), at 10-20 s of CPU each (measured).
+constexpr int kMeasuredHybridRounds = 2;
 constexpr double kHybridSettled = 0.5;
 // Pairs of the body's least-squares fit: 14 unknowns at most per channel (order 4), so 20,000 pairs uniform in
 // solid angle leave a sampling error of ~1% of the body's own error.
@@ -106,9 +109,11 @@ constexpr FactorPrecision kSearchPrecision = FactorPrecision::Int16;
 // metric does, so their ratio is the material's (RGL acrylic_felt_green: held-out 0.031 where the node error
 // is 0.065), and it varies between grids and ranks by less than this margin (measured, RGL files).
 constexpr double kNodeScreen = 0.8;
-// Largest rank of the isotropic measured search: `bench measured`'s error curves on the RGL files level off at
-// rank 4 (larger ranks fit the noise at the nodes); the bank met 0.02 on ilm_l3_37_metallic at rank 5.
-constexpr int kMaxMeasuredRank = 6;
+// Largest rank of the isotropic measured search. Its lobes share one set of factors between the channels, so a
+// colour that varies across the lobe takes terms of its own: RGL acrylic_felt_green's shared lobe on 256 x
+// 32x16 nodes fell 0.033 -> 0.028 -> 0.024 from rank 4 to 6 (still 13 % a rank) where per-channel factors of
+// rank 4 (12 terms) reach 0.016 (measured); 12 shared terms cost the bytes of rank 4 per channel.
+constexpr int kMaxMeasuredRank = 12;
 // A source whose data sit on a half-angle table of its own (BrdfSource::own_half_angle_nodes, e.g. a MERL table)
 // is fitted on those nodes alone: the fit samples its values as they are, with no resampling, and missing
 // samples are left out.
@@ -310,7 +315,10 @@ std::optional<LobeFit> fit_lobe_at(const MaterialProblem& p, const BrdfSource& r
   // Cosine metric: p = f (cos_i + cos_r) / 2, weighted so that the node error is the metric's (see
   // icobrdf/core/models/half_angle_factors.hpp): smooth across the horizon and at grazing specular, where q = f cos_i cos_r
   // (the metric's own quantity) drops to 0 within a node or two and the grazing Fresnel peak sits.
-  o.quantity = p.material.metric == ErrorMetric::Cosine ? HalfAngleQuantity::MeanCosine : HalfAngleQuantity::F;
+  // Isotropic lobes of measured data: the metric's own quantity (kMeasuredLobeQuantity).
+  o.quantity = p.material.metric != ErrorMetric::Cosine    ? HalfAngleQuantity::F
+               : measured_data(p) && isotropic && !p.source.own_half_angle_nodes() ? kMeasuredLobeQuantity
+                                                                                    : HalfAngleQuantity::MeanCosine;
   o.isotropic = isotropic;
   o.target = kNodeShare * p.material.target;
   o.max_rank = kMaxRank;
@@ -456,9 +464,14 @@ std::optional<LobeFit> measured_search(const MaterialProblem& p, const BrdfSourc
     work += static_cast<long long>(n_t) * d[0] * d[1] * rank;
     return fit_lobe_at(p, residual, body, true, LadderStep{n_t, 1, d[0], d[1]}, rank, budget, shared, screen);
   };
+  // Ranks on a d grid start one below the rank of the previous d grid's best lobe: a finer d grid needs as many
+  // terms (RGL files: ranks 1-3 of a grid after one whose best was rank 5 were all screened out), and the work
+  // they would take goes to higher ranks instead.
+  int first_rank = 1;
   for (const auto& d : kLobeBudgetD) {
     double grid_best = INFINITY, previous_node = INFINITY;
-    for (int rank = 1; rank <= kMaxMeasuredRank; ++rank) {
+    int grid_best_rank = first_rank;
+    for (int rank = first_rank; rank <= kMaxMeasuredRank; ++rank) {
       const int n_t = largest_n_t(budget < 0 ? -1 : budget - 1, channels, rank, d[0], d[1], shared, kSearchPrecision);
       if (n_t == 0) break;
       if (work + static_cast<long long>(n_t) * d[0] * d[1] * rank > cap) {
@@ -496,9 +509,10 @@ std::optional<LobeFit> measured_search(const MaterialProblem& p, const BrdfSourc
       }
       if (fit->error.l2 < miss->best) miss->best = fit->error.l2, miss->fit = *fit;
       const bool flat = fit->error.l2 > kStallRatio * grid_best;
-      grid_best = std::min(grid_best, fit->error.l2);
+      if (fit->error.l2 < grid_best) grid_best = fit->error.l2, grid_best_rank = rank;
       if (flat) break;
     }
+    if (std::isfinite(grid_best)) first_rank = std::max(1, grid_best_rank - 1);
   }
   if (miss->fit) miss->floor = floor_text(curve, *miss->fit);
   return std::nullopt;
@@ -743,7 +757,8 @@ MaterialCandidate fit_hybrid_candidate(const MaterialProblem& p) {
       Spectrum body = fit_body(p, pairs, nullptr, order);
       std::optional<LobeFit> lobe;  // the best pair over the rounds
       Spectrum kept_body;
-      for (int round = 0; round < kHybridRounds; ++round) {
+      const int rounds = measured_data(p) ? kMeasuredHybridRounds : kHybridRounds;
+      for (int round = 0; round < rounds; ++round) {
         const Spectrum s = body;
         const auto body_values = [s](const RowMatrix3d& wi, const RowMatrix3d& wr) { return evaluate_material(s, std::nullopt, wi, wr); };
         auto next = fit_lobe_at(p, ResidualSource(p.source, body_values), p.errors->modes_values(s.channels, s.order),

@@ -54,4 +54,12 @@ void check_lut(const std::vector<Eigen::MatrixXd>& lut, bool cosine, const Grid&
   }
 }
 
+void check_sampled_reflectance(const MaterialSampler& sampler, const Eigen::Vector3d& wi, const ReflectanceCheck& check) {
+  const RowMatrix3d& wr = sampler.directions().grid().directions;
+  RowMatrix3d wis(wr.rows(), 3);
+  wis.rowwise() = wi.transpose();
+  check_reflectance(sampler.source().eval(wis, wr), "sample " + quoted_text(sampler.source().spec()),
+                    fmt::format("f(w_i, .) at the {} cell centres of level {}", wr.rows(), sampler.level()), "f", check);
+}
+
 }  // namespace icobrdf

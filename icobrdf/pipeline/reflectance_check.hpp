@@ -15,6 +15,7 @@
 
 #include "icobrdf/core/grid/grid.hpp"
 #include "icobrdf/core/spectrum/spectrum.hpp"
+#include "icobrdf/io/material_sampler.hpp"
 
 namespace icobrdf {
 
@@ -41,5 +42,9 @@ void check_fitted_albedo(const Spectrum& spectrum, const Grid& grid, const std::
 // (icobrdf/core/projection/reflection.hpp), checked as above.
 void check_lut(const std::vector<Eigen::MatrixXd>& lut, bool cosine, const Grid& grid, const std::string& where,
                const ReflectanceCheck& check);
+
+// f(w_i, .) at the cell centres of the sampler's level (`sample`: the values its distribution is built from;
+// it samples max(f, 0)), checked as above before any draw.
+void check_sampled_reflectance(const MaterialSampler& sampler, const Eigen::Vector3d& wi, const ReflectanceCheck& check);
 
 }  // namespace icobrdf

@@ -6,6 +6,7 @@
 #include "icobrdf/core/basis/hemisphere_basis.hpp"
 #include "icobrdf/core/support/memory_budget.hpp"
 #include "icobrdf/core/projection/streaming_projection.hpp"
+#include "icobrdf/io/sample_draws.hpp"
 #include "icobrdf/io/spectrum_file.hpp"
 
 namespace icobrdf {
@@ -17,6 +18,14 @@ constexpr double kGramBlocks = kGramPartialSums;
 constexpr double kBlockRows = kStreamingBlockRows;
 
 double context_bytes(double cells, double modes) { return kDouble * (3 * cells * modes + (kGramBlocks + 3) * modes * modes); }
+
+// The largest x in [0, from] whose estimate bytes(x) is within `have` (-1: none): estimates grow with x.
+template <class Bytes>
+int largest_within(int from, double have, Bytes bytes) {
+  int x = from;
+  while (x >= 0 && bytes(x) > have) --x;
+  return x;
+}
 
 double cells_of(int level) { return static_cast<double>(equal_area_cells(level)); }
 double modes_of(int order) { return static_cast<double>(hemisphere_basis_count(order)); }
@@ -46,12 +55,53 @@ double lut_bytes(int level, int order, int channels, bool float32, int threads) 
   return 2 * c * kGridBytesPerCell + lut * (float32 ? 1.5 : 2.0) + fit;
 }
 
+// Cubature points per cell of the degree-9 rule a grid carries (the average of its 36-38).
+constexpr double kCubaturePointsPerCell = 37.0;
+// Doubles per draw of one block: u1, u2, the direction, pdf, cell, weights, and about 80 bytes of CSV text.
+constexpr double kDrawBytesPerChannel = 2 * kDouble;
+constexpr double kDrawBytes = 7 * kDouble + 80.0;
+
+double sampling_bytes(int level, bool cell_average, int channels) {
+  const double c = cells_of(level), ch = channels;
+  const double points = cell_average ? kCubaturePointsPerCell * c : c;
+  // w_i repeated per point, f per channel (and a copy the source may make), the value and the cell masses
+  const double distribution = kDouble * points * (3 + 2 * ch + 1) + 2 * kDouble * c;
+  const double block = static_cast<double>(kSampleDrawBlock) * (kDrawBytes + kDrawBytesPerChannel * ch);
+  return 2 * c * kGridBytesPerCell + distribution + block;
+}
+
+void require_sampling_memory(int level, bool cell_average, int channels, const std::string& what) {
+  const double need = sampling_bytes(level, cell_average, channels);
+  const MemoryAvailable have = available_memory();
+  if (need <= have.bytes) return;
+  const int l = largest_within(level, have.bytes, [&](int x) { return sampling_bytes(x, cell_average, channels); });
+  require_memory(need, have, what + " at level " + std::to_string(level) + (cell_average ? " (cell averages)" : ""),
+                 l >= 0 ? "level " + std::to_string(l) + " fits; the number of draws does not change the memory" : "");
+}
+
+double grid_bytes(int level) { return 2 * cells_of(level) * kGridBytesPerCell; }
+double basis_bytes(double cells, int order) { return context_bytes(cells, modes_of(order)); }
+double lut_table_bytes(double cells, int channels) { return kDouble * channels * cells * cells; }
+
+double projection_bench_bytes(int level, int order) {
+  const double c = cells_of(level), m = modes_of(order);
+  return 2 * c * kGridBytesPerCell + context_bytes(c, m) + kDouble * (c * c + 2 * c * m + 4 * m * m);
+}
+
+void require_projection_bench_memory(int level, int order) {
+  const double need = projection_bench_bytes(level, order);
+  const MemoryAvailable have = available_memory();
+  if (need <= have.bytes) return;
+  const int l = largest_within(level, have.bytes, [&](int x) { return projection_bench_bytes(x, order); });
+  const std::string cells = std::to_string(equal_area_cells(level));
+  require_memory(need, have, "bench project at level " + std::to_string(level) + ", order " + std::to_string(order) + " (a " + cells + " x " + cells + " LUT)",
+                 l >= 0 ? "--level " + std::to_string(l) + " fits" : "");
+}
+
 // The largest order <= order_max whose model fit at `level` needs at most `have` bytes (-1: none).
 int largest_order_within(int level, int order_max, int channels, double have, int parts = 1) {
   const int t = estimate_threads();
-  int n = order_max;
-  while (n >= 0 && model_fit_bytes(level, n, channels, t, parts) > have) --n;
-  return n;
+  return largest_within(order_max, have, [&](int n) { return model_fit_bytes(level, n, channels, t, parts); });
 }
 
 int largest_order_in_memory(int level, int order_max, int channels) {
@@ -73,8 +123,7 @@ void require_lut_memory(int level, int order, int channels, bool float32, const 
   const double need = lut_bytes(level, order, channels, float32, t);
   const MemoryAvailable have = available_memory();  // read once: it reads /proc and /sys
   if (need <= have.bytes) return;
-  int l = level;
-  while (l >= 0 && lut_bytes(l, order, channels, float32, t) > have.bytes) --l;
+  const int l = largest_within(level, have.bytes, [&](int x) { return lut_bytes(x, order, channels, float32, t); });
   const std::string cells = std::to_string(equal_area_cells(level));
   require_memory(need, have, what + " (a " + cells + " x " + cells + " LUT)",
                  l >= 0 ? "level " + std::to_string(l) + " fits" : "");

@@ -32,6 +32,25 @@ double model_fit_bytes(int level, int order, int channels, int threads, int part
 // smoothing or fitting a stored one: the LUT and its copy for writing dominate from level 4 on.
 double lut_bytes(int level, int order, int channels, bool float32, int threads);
 
+// Peak bytes of `icobrdf sample` at `level`: the grid, the incident distribution (cell centres, or with
+// cell_average the degree-9 cubature points: ~37 per cell, each with its direction, w_i and f per channel)
+// and one block of draws (icobrdf/io/sample_draws.hpp); the number of draws does not enter.
+double sampling_bytes(int level, bool cell_average, int channels);
+// ResourceError when sampling_bytes exceeds available_memory(), naming the largest level that fits.
+void require_sampling_memory(int level, bool cell_average, int channels, const std::string& what);
+
+// Peak bytes of `icobrdf bench project` at (level, order): one dense C x C LUT of random values, the grid, the
+// projection's context and the C x M products of the OpenBLAS paths it is timed against.
+double projection_bench_bytes(int level, int order);
+// ResourceError when projection_bench_bytes exceeds available_memory(), naming the largest level that fits.
+void require_projection_bench_memory(int level, int order);
+
+// The pieces, for entry points that make one at a time (the Python module): the grid of a level while it is
+// built, a discrete basis of `order` on `cells` cells (B, P and the weighted basis), and a float64 LUT.
+double grid_bytes(int level);
+double basis_bytes(double cells, int order);
+double lut_table_bytes(double cells, int channels);
+
 // The threads OpenMP will use (omp_get_max_threads), for the per-thread terms.
 int estimate_threads();
 

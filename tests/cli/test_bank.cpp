@@ -257,7 +257,12 @@ TEST(CliBank, SceneErrorsNameFileMaterialAndKey) {
       {"[bank]\nlevel = 4294967300\n[[material]]\nname = \"a\"\nsource = \"model:lambert\"\n", "'level' expected an integer of a few digits"},
       {"[bank]\nlevels = [3, 4294967300]\n[[material]]\nname = \"a\"\nsource = \"model:lambert\"\n", "'levels' expected an integer of a few digits"},
       {"[[material]]\nname = \"a\"\nsource = \"model:lambert\"\ntarget = inf\n", "'target' expected a finite number"},
-      {"[[material]]\nname = \"a\"\nsource = \"model:lambert\"\nlights = [[30, nan]]\ncameras = [[0, 0]]\n", "phi expected a finite angle"},
+      {"[[material]]\nname = \"a\"\nsource = \"model:lambert\"\nlights = [[30, nan]]\ncameras = [[0, 0]]\n", "phi expected in [-720, 720]"},
+      {"[[material]]\nname = \"a\"\nsource = \"model:lambert\"\nlights = [[30, 1e308]]\ncameras = [[0, 0]]\n", "phi expected in [-720, 720]"},
+      // Under the cosine metric (the default) every pair with a light or a camera on the horizon weighs 0.
+      {"[[material]]\nname = \"a\"\nsource = \"model:lambert\"\nlights = [[90, 0], [90, 45]]\ncameras = [[0, 0], [30, 0]]\n",
+       "every one of 'lights' lies on the horizon"},
+      {"[[material]]\nname = \"a\"\nsource = \"model:lambert\"\nlights = [[30, 0]]\ncameras = [[90, 0]]\n", "every one of 'cameras' lies on the horizon"},
       {"[bank\n", "s.toml:1"},
       {"", "expected at least one [[material]]"},
   };

@@ -68,6 +68,8 @@ void write_fixtures(const std::string& d) {
   write(d + "/bad-angle-pairs.csv", "theta_i,phi_i,theta_r,phi_r\n10,0,95,180\n");
   write(d + "/field.csv", "theta_i,phi_i,theta_r,phi_r\n10,0," + std::string(1000001, '7') + ",180\n");
   write(d + "/neg.txt", "1,1,0,0,0,0,0,-1\n");
+  write(d + "/mixed.txt", "1,1,0,0,0,0,0,1\n1,1,2,0,0,0,0,3\n");  // f changes sign across the hemisphere
+  write(d + "/absurd-azimuth-pairs.csv", "theta_i,phi_i,theta_r,phi_r\n10,0,20,1e308\n");
   {
     std::ofstream o(d + "/nan.csv");
     o << "theta_i,phi_i,theta_r,phi_r,value\n";
@@ -113,7 +115,8 @@ TEST(HostileInputs, EveryRowGivesItsExitCodeAndMessage) {
   write_fixtures(d.string());
   if (HasFatalFailure()) return;
   const std::string spec = spec_with_typo();
-  const std::regex function_name("[a-z0-9]+_[a-z0-9_]+: ");  // a snake_case identifier followed by ':'
+  // A snake_case identifier or a Class::member followed by ':'.
+  const std::regex function_name("([a-z0-9]+_[a-z0-9_]+|[A-Za-z0-9]+::[A-Za-z0-9_]+): ");
   for (const Row& row : rows) {
     ++per_class[std::stoi(row.cls)];
     std::string args = replace_all(row.args, "{d}", d.string());

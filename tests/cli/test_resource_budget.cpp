@@ -7,6 +7,7 @@
 // refused before sampling, and scenes whose error pairs or stored LUTs would not fit before any fitting.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -118,6 +119,7 @@ TEST(ResourceBudget, FailedAllocationsEndCleanlyInAnyThread) {
       EXPECT_EQ(r.exit_code, kExitResources) << r.err;
       expect_one_line(r.err);
       EXPECT_NE(r.err.find("out of memory"), std::string::npos) << r.err;
+      EXPECT_NE(r.err.find("in " + args[0] + "; a lower level or order"), std::string::npos) << r.err;  // what to reduce
       EXPECT_TRUE(s.entries().empty()) << "left: " << s.entries().front();
     }
 }
@@ -147,6 +149,72 @@ TEST(ResourceBudget, SceneWithTooManyErrorPairsIsRefusedBeforeFitting) {
   expect_one_line(r.err);
   EXPECT_NE(r.err.find("at most 1000000 pairs, found 1001 x 1000"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(s.path("bank.h5")));
+}
+
+// The class: every command and reader holds what it takes to the budget before the work. Each case requests
+// or declares a size beyond the budget and must end with exit 6 (3 for input that is no CSV text) and one
+// line naming what to reduce, before it reads the rest or allocates. (Bank datasets declaring more than the
+// budget: tests/io/test_bank_corrupt.cpp, DeclaredSizeBeyondTheMemoryBudgetRefusedBeforeAllocating.)
+TEST(ResourceBudget, EveryCommandAndReaderRefusesASizeBeyondTheBudget) {
+  Scratch s;
+  // 100,000 rows of about 24 (samples) and 12 bytes (directions): 2.4 and 1.2 MB of text, tables of about 8x
+  // that, beyond budgets of 10 and 5 MB.
+  std::string samples = "theta_i,phi_i,theta_r,phi_r,f\n", directions = "theta_i,phi_i,theta_r,phi_r\n";
+  for (int k = 0; k < 100000; ++k) {
+    const std::string row = std::to_string(k % 80) + ",0," + std::to_string(k % 70) + ",180";
+    samples += row + ",0.3\n";
+    directions += row + "\n";
+  }
+  write_text(s.path("samples.csv"), samples);
+  write_text(s.path("directions.csv"), directions);
+  struct Case {
+    std::vector<std::string> args;
+    int exit_code;
+    std::vector<std::string> says;  // what the line must name
+  };
+  const std::vector<Case> cases{
+      {{"--memory-budget", "10MB", "fit", s.path("samples.csv"), "-o", s.path("fit.h5")}, kExitResources, {"samples.csv", "of CSV text", "a smaller file"}},
+      {{"--memory-budget", "5MB", "eval", "model:lambert", "--at", s.path("directions.csv")}, kExitResources, {"directions.csv", "a smaller file"}},
+      // level 6: 41,088 cells of grid and distribution (~130 MB); the draws add one block whatever -n is
+      {{"--memory-budget", "50MB", "sample", "model:lambert", "--theta-i", "30", "-n", "100000000", "--level", "6"}, kExitResources,
+       {"sampling model:lambert at level 6", "level 5 fits; the number of draws does not change the memory"}},
+      // level 6: a 41,088 x 41,088 LUT of 13.8 GB
+      {{"--memory-budget", "1G", "bench", "project", "--level", "6", "--order", "8"}, kExitResources, {"bench project at level 6", "--level 5 fits"}},
+      // general modes of order 16: 11,781 unknowns, five fold Grams of 1.1 GB each (14.4 GB measured before)
+      {{"--memory-budget", "1G", "fit", std::string(ICOBRDF_SOURCE_DIR) + "/tests/data/measured/ptfe532.csv", "--order", "16", "--level", "6", "-o",
+        s.path("ptfe.h5")},
+       kExitResources,
+       {"general modes of order 16 (11781 unknowns, 5 folds)", "or --isotropic"}},
+      // a device of zeros is no CSV text: refused at its first megabyte, not after reading gigabytes
+      {{"eval", "model:lambert", "--at", "/dev/zero"}, kExitInput, {"/dev/zero:1", "line longer than"}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.args[c.args[0] == "--memory-budget" ? 2 : 0]);
+    const auto r = run_measured(c.args);
+    EXPECT_EQ(r.exit_code, c.exit_code) << r.err;
+    expect_one_line(r.err);
+    for (const std::string& part : c.says) EXPECT_NE(r.err.find(part), std::string::npos) << "missing '" << part << "' in " << r.err;
+    EXPECT_TRUE(s.entries().size() == 2) << "an output was left";
+  }
+}
+
+// `sample` draws and writes in blocks (icobrdf/io/sample_draws.hpp): ten times the draws, the same peak memory
+// (the whole run in memory took 10.9 GB at 1e8 draws); and the draws in blocks are the draws of one array.
+TEST(ResourceBudget, SampleMemoryDoesNotGrowWithTheNumberOfDraws) {
+  if (kSanitizedBuild) GTEST_SKIP() << "peak resident memory is not comparable under AddressSanitizer";
+  // 270,000 more draws held at once would take about 35 MB (56 B of arrays and 75 B of text each).
+  constexpr double kGrowthBound = 16e6;
+  const auto draws = [](const std::string& n) {
+    return std::vector<std::string>{"sample", "model:lambert", "--theta-i", "30", "-n", n, "--level", "2", "--seed", "5"};
+  };
+  const auto few = run_measured(draws("30000")), many = run_measured(draws("300000"));
+  ASSERT_EQ(few.exit_code, 0) << few.err;
+  ASSERT_EQ(many.exit_code, 0) << many.err;
+  EXPECT_LT(many.peak_bytes - few.peak_bytes, kGrowthBound) << few.peak_bytes << " -> " << many.peak_bytes;
+  const auto head = run_cli(draws("1000")), blocks = run_cli(draws("70000"));  // 70,000 > one block of 65,536
+  ASSERT_EQ(blocks.exit_code, 0) << blocks.err;
+  EXPECT_EQ(blocks.out.substr(0, head.out.size()), head.out);
+  EXPECT_EQ(std::count(blocks.out.begin(), blocks.out.end(), '\n'), 70001);
 }
 
 TEST(ResourceBudget, LongWorkShowsProgressWithWhatIsLeft) {

@@ -181,7 +181,7 @@ struct ChildResult {
   bool timed_out = false;
   bool signaled = false;    // the child died from a signal (e.g. an abort inside HDF5)
   int exit_code = -1;
-  std::string kind;         // "ok", "InputError", "IoError", "ArgumentError", "UnsupportedError", "other"
+  std::string kind;         // "ok", "InputError", "IoError", "ArgumentError", "UnsupportedError", "ResourceError", "other"
   std::string message;      // what() of the exception
   std::string err;          // everything the child wrote to stderr
 };
@@ -207,6 +207,8 @@ inline ChildResult run_in_child(const std::function<void()>& f, double timeout_s
       kind = "ArgumentError", msg = e.what();
     } catch (const UnsupportedError& e) {
       kind = "UnsupportedError", msg = e.what();
+    } catch (const ResourceError& e) {
+      kind = "ResourceError", msg = e.what();
     } catch (const std::exception& e) {
       kind = "other", msg = e.what();
     }

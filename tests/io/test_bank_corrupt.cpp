@@ -9,6 +9,7 @@
 #include <functional>
 
 #include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/memory_budget.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "io_test_support.hpp"
 #include "tests/support/unity_id.hpp"
@@ -242,6 +243,33 @@ TEST_F(CorruptBank, AbsurdDeclaredSizeRefusedBeforeAllocating) {
     H5Pclose(dcpl);
   });
   expect_refused(read_in_child(path_), path_, {"/materials/m/lut", "960000000000 bytes", "limit of 4294967296 bytes"});
+}
+
+// A file of a few kB can declare hundreds of MB of compressed (here unwritten) chunks: the read is held to the
+// memory budget before it allocates, and the line names the dataset and its declared shape.
+TEST_F(CorruptBank, DeclaredSizeBeyondTheMemoryBudgetRefusedBeforeAllocating) {
+  constexpr double kBudgetBytes = 150e6;  // between the two declared LUTs below (128 MB and 200 MB)
+  const auto declare_lut = [&](hsize_t cells) {
+    mutate(path_, [&](hid_t f) {
+      const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+      const hsize_t chunk[3] = {1, 100, 100};
+      H5Pset_chunk(dcpl, 3, chunk);
+      replace_dataset(f, "/materials/big/lut", H5T_IEEE_F64LE, {1, cells, cells}, nullptr, dcpl);
+      H5Pclose(dcpl);
+    });
+  };
+  const auto read_with_budget = [&] {
+    return icobrdf::test::run_in_child([&] {
+      icobrdf::set_memory_budget(kBudgetBytes);
+      icobrdf::read_bank(path_);
+    }, kChildTimeoutSeconds);
+  };
+  declare_lut(5000);  // 200 MB
+  expect_refused(read_with_budget(), path_, {"/materials/big/lut", "declared shape 1 x 5000 x 5000", "150 MB is available (memory budget)"},
+                 "ResourceError");
+  rewrite();
+  declare_lut(4000);  // 128 MB: within the budget, read (its unwritten chunks are zeros)
+  EXPECT_EQ(read_with_budget().kind, "ok");
 }
 
 TEST_F(CorruptBank, ReadLimitIsConfigurable) {

@@ -25,16 +25,16 @@ const std::array<double, kMaxZernikeOrder + 1> kNorm = [] {
   return t;
 }();
 
-void check_basis_order(int order, const char* where) {
+void check_basis_order(int order) {
   if (order < 0 || order > kMaxZernikeOrder)
-    throw ArgumentError(std::string(where) + ": order must be in [0, " + std::to_string(kMaxZernikeOrder) +
-                        "], got " + std::to_string(order));
+    throw ArgumentError("expansion order " + std::to_string(order) + " out of range: expected 0 <= order <= " +
+                        std::to_string(kMaxZernikeOrder));
 }
 
 }  // namespace
 
 int hemisphere_basis_count(int order) {
-  check_basis_order(order, "hemisphere_basis_count");
+  check_basis_order(order);
   return (order + 1) * (order + 2) / 2;
 }
 
@@ -98,7 +98,7 @@ void eval_unchecked(int order, const Eigen::Vector3d& unit_dir, double* out) {
 }  // namespace
 
 int hemisphere_basis_lanes_scratch(int order) {
-  check_basis_order(order, "hemisphere_basis_lanes_scratch");
+  check_basis_order(order);
   return (radial_start(order + 1) + 2 * order + 1) * kBasisLanes;
 }
 
@@ -176,7 +176,7 @@ void hemisphere_basis_eval_lanes(int order, const double* x, const double* y, co
 }
 
 void hemisphere_basis_eval(int order, const Eigen::Vector3d& unit_dir, double* out) {
-  check_basis_order(order, "hemisphere_basis_eval");
+  check_basis_order(order);
   eval_unchecked(order, unit_dir, out);
 }
 

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/memory_budget.hpp"
 #include "icobrdf/core/basis/helmholtz_modes.hpp"
 #include "icobrdf/core/basis/hemisphere_basis.hpp"
 #include "icobrdf/core/basis/isotropic_modes.hpp"
@@ -469,6 +470,25 @@ Eigen::MatrixXd sample_fit_modes(int order, bool isotropic, const RowMatrix3d& w
 
 int sample_fit_unknowns(int order, bool isotropic) { return unknown_count(order, isotropic); }
 
+double sample_fit_bytes(int unknowns, int folds) {
+  const double k = unknowns;
+  return 8.0 * k * k * (folds + kSampleFitSquares) + kSampleFitPanelBytes;
+}
+
+void require_sample_fit_memory(int order, bool isotropic, int folds) {
+  const int k = unknown_count(order, isotropic);
+  const double need = sample_fit_bytes(k, folds);
+  const MemoryAvailable have = available_memory();
+  if (need <= have.bytes) return;
+  int fits = order;
+  while (fits >= 0 && sample_fit_bytes(unknown_count(fits, isotropic), folds) > have.bytes) --fits;
+  const char* modes = isotropic ? "isotropic" : "general";
+  require_memory(need, have,
+                 "a sample fit of the " + std::string(modes) + " modes of order " + std::to_string(order) + " (" + std::to_string(k) +
+                     " unknowns" + (folds > 0 ? ", " + std::to_string(folds) + " folds" : "") + ")",
+                 fits >= 0 ? "order " + std::to_string(fits) + " fits" + (isotropic ? "" : ", or --isotropic") : "");
+}
+
 HeldOutPass held_out_pass(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
                           const Eigen::VectorXd& weights, const std::vector<int>& fold, const std::vector<Eigen::MatrixXd>& x) {
   const int k = unknown_count(order, isotropic);
@@ -780,6 +800,7 @@ SampleFitResult fit_samples(const RowMatrix3d& wi, const RowMatrix3d& wr, const 
   if (all.empty()) throw ArgumentError("sample fit: no sample with positive weight");
   const std::vector<Eigen::Index> idx = part_of_rows(all, options);  // this process's rows (SampleFitSplit)
   const int k = unknown_count(options.order, options.isotropic);
+  if (!assembled) require_sample_fit_memory(options.order, options.isotropic, 0);
   const auto assemble = [&](bool single) {
     std::vector<NormalEquations> ne{assemble_rows(options.order, options.isotropic, wi, wr, values, w, idx, options.progress, options.kernels, single)};
     sum_normal_equations(options.split, ne);

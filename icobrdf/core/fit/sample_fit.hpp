@@ -242,6 +242,17 @@ NormalEquationsProbe probe_normal_equations(const NormalEquations& ne, double ra
 // Number of unknowns of the modes of total order N (general: M(M+1)/2, isotropic: isotropic_mode_count).
 int sample_fit_unknowns(int order, bool isotropic);
 
+// Peak bytes of a sample fit of `unknowns` modes whose normal equations are assembled per fold (folds = 0:
+// one fit): (folds + kSampleFitSquares) unknowns x unknowns float64 matrices (the fold Grams, their sum, its
+// factorizations and probes) and the design panels. Measured: 13-14 k^2 doubles of peak resident memory with
+// 5 folds at k = 4,186 and 11,781 (general modes of order 12 and 16, 1,824 samples, 2026-11-29).
+inline constexpr double kSampleFitSquares = 11.0;
+inline constexpr double kSampleFitPanelBytes = 64e6;  // the design panels, about 4 million doubles twice
+double sample_fit_bytes(int unknowns, int folds);
+// ResourceError (before any allocation) when sample_fit_bytes exceeds the memory budget
+// (icobrdf/core/support/memory_budget.hpp), naming the largest order of this class that fits.
+void require_sample_fit_memory(int order, bool isotropic, int folds);
+
 // The modes of a sample fit at the pairs (wi[s], wr[s]): samples x sample_fit_unknowns(order, isotropic), the
 // isotropic modes (isotropic_modes_eval) or the general ones (helmholtz_modes_eval).
 Eigen::MatrixXd sample_fit_modes(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr);

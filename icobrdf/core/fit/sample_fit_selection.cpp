@@ -56,6 +56,7 @@ struct Folds {
 Folds assemble_folds(int order, bool isotropic, const RowMatrix3d& wi, const RowMatrix3d& wr, const Eigen::MatrixXd& values,
                      const Eigen::VectorXd& weights, int folds, const FitProgress& progress, const DenseKernels* kernels,
                      bool single_products = false, const std::shared_ptr<const SampleFitSplit>& split = nullptr) {
+  require_sample_fit_memory(order, isotropic, folds);  // before the folds' Grams (5 of them at k^2 doubles each)
   std::vector<std::vector<Eigen::Index>> rows(static_cast<size_t>(folds));
   Folds f;
   f.split = split;
