@@ -11,8 +11,15 @@
 namespace icobrdf {
 namespace {
 
-// Points per side of a cell for the share of it whose reflection is above the horizon.
+// Points per side of a cell the horizon of w_r cuts, where its mass and slopes are taken.
 constexpr int kHorizonShareSide = 8;
+
+// A point of a cell the horizon cuts whose w_r is above it: w_r, cos(theta_r) 4 (w_i . h), the cell
+// coordinates xi, eta of h.
+struct HorizonPoint {
+  Eigen::Vector3d wr;
+  double jac, xi, eta;
+};
 
 // w_r = 2 (w_i . h) h - w_i.
 inline Eigen::Vector3d reflect_about(const Eigen::Vector3d& wi, const Eigen::Vector3d& h) { return 2.0 * wi.dot(h) * h - wi; }
@@ -27,6 +34,16 @@ inline Eigen::Vector3d polar_vector(double cos_theta, double phi) {
 inline double linear_density_inverse(double a, double u) {
   const double p = 1.0 - 0.5 * a, den = p + std::sqrt(std::max(0.0, p * p + 2.0 * a * u));
   return den > 0.0 ? std::clamp(2.0 * u / den, 0.0, 1.0) : 0.0;
+}
+
+// A slope within a cell, clamped to [-2, 2] (the density stays >= 0), in units of 1 / kHalfVectorSlopeUnit.
+inline std::int16_t slope_units(double x) { return static_cast<std::int16_t>(std::lround(std::clamp(x, -2.0, 2.0) * kHalfVectorSlopeUnit)); }
+
+[[noreturn]] void refuse_value(double x, const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "half-vector table: fbar = %.6g at w_i = (%.6g, %.6g, %.6g), w_r = (%.6g, %.6g, %.6g); expected a finite value >= 0",
+                x, wi.x(), wi.y(), wi.z(), wr.x(), wr.y(), wr.z());
+  throw UnsupportedError(buf);
 }
 
 }  // namespace
@@ -44,18 +61,6 @@ Eigen::Vector3d HalfVectorTable::node_direction(const HalfVectorTableOptions& op
   const int a = n / opt.azimuth_nodes, b = n % opt.azimuth_nodes;
   const double theta = kHalfVectorThetaMax * a / (opt.theta_nodes - 1), phi = 2.0 * M_PI * b / opt.azimuth_nodes;
   return polar_vector(std::cos(theta), phi);
-}
-
-double HalfVectorTable::horizon_share(const Eigen::Vector3d& wi, int cell) const {
-  const int k = cell / opt_.phi_bins, j = cell % opt_.phi_bins;
-  const double c0 = cos_edge_[static_cast<size_t>(k)], c1 = cos_edge_[static_cast<size_t>(k) + 1], dphi = 2.0 * M_PI / opt_.phi_bins;
-  int above = 0;
-  for (int a = 0; a < kHorizonShareSide; ++a)
-    for (int b = 0; b < kHorizonShareSide; ++b) {
-      const Eigen::Vector3d h = polar_vector(c0 + (c1 - c0) * (a + 0.5) / kHorizonShareSide, -M_PI + dphi * (j + (b + 0.5) / kHorizonShareSide));
-      above += wi.dot(h) > 0.0 && reflect_about(wi, h).z() >= 0.0;
-    }
-  return static_cast<double>(above) / (kHorizonShareSide * kHorizonShareSide);
 }
 
 double HalfVectorTable::cell_area(int cell) const {
@@ -117,6 +122,7 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
     double sum = 0.0;
     int open = 0;  // cells that can hold reflected directions
     std::vector<char> can(static_cast<size_t>(cells_), 0);
+    std::vector<int> cut;  // cells the horizon of w_r cuts
     for (int cell = 0; cell < cells_; ++cell) {
       double s = 0.0, sub[4] = {0, 0, 0, 0};
       bool any = false;
@@ -127,12 +133,7 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
         any = true;
         ++valid;
         const double x = v[r];
-        if (!(x >= 0.0) || !std::isfinite(x)) {
-          char buf[200];
-          std::snprintf(buf, sizeof buf, "half-vector table: fbar = %.6g at w_i = (%.6g, %.6g, %.6g), w_r = (%.6g, %.6g, %.6g); expected a finite value >= 0",
-                        x, w.x(), w.y(), w.z(), wr(r, 0), wr(r, 1), wr(r, 2));
-          throw UnsupportedError(buf);
-        }
+        if (!(x >= 0.0) || !std::isfinite(x)) refuse_value(x, w, wr.row(r).transpose());
         s += sub[q] = x * jac[r];
       }
       // Slopes of the linear fit through the sub-cell values (xi = 1/4, 3/4 at q / 2 = 0, 1; eta at q % 2):
@@ -140,9 +141,8 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
       CellEntry& e = cells_of_nodes_[static_cast<size_t>(cell) * static_cast<size_t>(n_nodes) + static_cast<size_t>(n)];
       if (s > 0.0) {
         const double mean = s / 4;
-        const auto slope = [](double x) { return static_cast<std::int16_t>(std::lround(std::clamp(x, -2.0, 2.0) * kHalfVectorSlopeUnit)); };
-        e.a = slope((sub[2] + sub[3] - sub[0] - sub[1]) / mean);
-        e.b = slope((sub[1] + sub[3] - sub[0] - sub[2]) / mean);
+        e.a = slope_units((sub[2] + sub[3] - sub[0] - sub[1]) / mean);
+        e.b = slope_units((sub[1] + sub[3] - sub[0] - sub[2]) / mean);
       }
       if (!any) {  // the corners: a sliver of the cell may still reflect above the horizon
         const int k = cell / np, j = cell % np;
@@ -151,13 +151,14 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
           any = w.dot(hc) > 0.0 && reflect_about(w, hc).z() >= 0.0;
         }
       }
-      // A cell the horizon cuts: the mean over its valid points times the share of it that reflects above the
-      // horizon (kHorizonShareSide^2 points; geometry only), not a quarter per valid point.
-      const double share = valid == 4 ? 1.0 : valid == 0 ? 0.0 : horizon_share(w, cell);
-      m[cell] = valid > 0 ? s / valid * share * cell_area(cell) : 0.0;
-      sum += m[cell];
+      m[cell] = valid == 4 ? s / 4 * cell_area(cell) : 0.0;
+      // A cell the horizon cuts: its mass and slopes from the kHorizonShareSide^2 points below (its sub-cell
+      // centres can all lie beyond the horizon while a sliver of it holds a share of the albedo).
+      if (valid < 4 && any) cut.push_back(cell);
       if (any) can[static_cast<size_t>(cell)] = 1, ++open;
     }
+    cut_cells(w, cut, fbar, m, n);
+    for (int cell = 0; cell < cells_; ++cell) sum += m[cell];
     albedo_[static_cast<size_t>(n)] = sum;
     if (!(sum > 0.0)) continue;  // an all-zero node: never drawn (its blend weight goes to no draw)
     const double floor = kHalfVectorFloor * sum / open;
@@ -175,6 +176,49 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
       m[cell] = p / rounded;
     }
     build_alias(m, alias_.data() + static_cast<size_t>(n) * static_cast<size_t>(cells_));
+  }
+}
+
+void HalfVectorTable::cut_cells(const Eigen::Vector3d& wi, const std::vector<int>& cut, const NonNegativeBrdf& fbar, double* m,
+                                int node) {
+  constexpr int side = kHorizonShareSide;
+  const double dphi = 2.0 * M_PI / opt_.phi_bins;
+  std::vector<HorizonPoint> points;
+  std::vector<int> first(cut.size() + 1, 0);  // the points of cut[i]: [first[i], first[i + 1])
+  for (size_t i = 0; i < cut.size(); ++i) {
+    const int k = cut[i] / opt_.phi_bins, j = cut[i] % opt_.phi_bins;
+    const double c0 = cos_edge_[static_cast<size_t>(k)], c1 = cos_edge_[static_cast<size_t>(k) + 1];
+    for (int a = 0; a < side; ++a)
+      for (int b = 0; b < side; ++b) {
+        const double xi = (a + 0.5) / side, eta = (b + 0.5) / side;
+        const Eigen::Vector3d h = polar_vector(c0 + (c1 - c0) * xi, -M_PI + dphi * (j + eta));
+        const double c = wi.dot(h);
+        const Eigen::Vector3d o = reflect_about(wi, h);
+        if (c > 0.0 && o.z() >= 0.0) points.push_back({o, o.z() * 4.0 * c, xi, eta});
+      }
+    first[i + 1] = static_cast<int>(points.size());
+  }
+  if (points.empty()) return;
+  RowMatrix3d wi_rows(static_cast<Eigen::Index>(points.size()), 3), wr_rows(static_cast<Eigen::Index>(points.size()), 3);
+  for (size_t p = 0; p < points.size(); ++p) {
+    wi_rows.row(static_cast<Eigen::Index>(p)) = wi.transpose();
+    wr_rows.row(static_cast<Eigen::Index>(p)) = points[p].wr.transpose();
+  }
+  const Eigen::VectorXd v = fbar(wi_rows, wr_rows);
+  for (size_t i = 0; i < cut.size(); ++i) {
+    // The mass by the midpoint rule of the cell's side x side points (0 beyond the horizon); the slopes by
+    // the first moments of q: the density 1 + a (xi - 1/2) has the mean xi 1/2 + a / 12.
+    double s = 0.0, sx = 0.0, se = 0.0;
+    for (int p = first[i]; p < first[i + 1]; ++p) {
+      const HorizonPoint& q = points[static_cast<size_t>(p)];
+      const double x = v[p];
+      if (!(x >= 0.0) || !std::isfinite(x)) refuse_value(x, wi, q.wr);
+      s += x * q.jac, sx += x * q.jac * q.xi, se += x * q.jac * q.eta;
+    }
+    m[cut[i]] = s / (side * side) * cell_area(cut[i]);
+    CellEntry& e = cells_of_nodes_[static_cast<size_t>(cut[i]) * static_cast<size_t>(nodes()) + static_cast<size_t>(node)];
+    e.a = e.b = 0;
+    if (s > 0.0) e.a = slope_units(12.0 * (sx / s - 0.5)), e.b = slope_units(12.0 * (se / s - 0.5));
   }
 }
 
@@ -295,10 +339,12 @@ bool HalfVectorTable::sample(const HalfVectorBlend& b, const Eigen::Vector3d& wi
   const double pc = phi_edge_cs_[2 * static_cast<size_t>(j)], ps = phi_edge_cs_[2 * static_cast<size_t>(j) + 1];
   const double hx = sz * (pc * ca - ps * sa), hy = sz * (ps * ca + pc * sa);
   const Eigen::Vector3d h(b.c * hx - b.s * hy, b.s * hx + b.c * hy, cz);
-  wr = reflect_about(wi, h);
-  if (!(wi.dot(h) > 0.0)) return false;
-  // The density as pdf() finds it from (w_i, w_r) (the same cell and position to rounding, the same value).
-  pdf_out = pdf(b, wi, wr);
+  const double c = wi.dot(h);
+  if (!(c > 0.0)) return false;
+  wr = 2.0 * c * h - wi;
+  if (!(wr.z() >= 0.0)) return false;
+  // The density of the draw at its own cell and position (pdf() finds the same from (w_i, w_r) to rounding).
+  pdf_out = h_density(b, live, cell, xi, eta) / (4.0 * c);
   return pdf_out > 0.0;
 }
 

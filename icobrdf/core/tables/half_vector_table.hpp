@@ -16,8 +16,10 @@
 // fbar >= 0 the caller's value (a material's mean over channels of max(f, 0)), 0 where w_r is below the horizon
 // or w_i . h <= 0; 4 (w_i . h) is the Jacobian dw_r / dw_h, so the masses sum to the directional albedo of fbar
 // (the estimate albedo() returns). m is estimated by the midpoint rule of 2 x 2 sub-cells equal in solid angle;
-// in a cell the horizon of w_r cuts, by the mean over its sub-cell centres above it times the share of the cell
-// above it (8 x 8 points).
+// in a cell the horizon of w_r cuts, by the midpoint rule of 8 x 8 points (q = 0 beyond the horizon): at normal
+// incidence the horizon lies at theta_h = 45 degrees, and a cell whose four sub-cell centres all reflect below
+// it can still hold a sliver of w_r up to 1 degree above it (3e-4 of a Lambertian albedo with 64 t bins),
+// which the floor alone would draw so rarely that the estimator's typical value misses it.
 // A cell with a sub-cell centre or a corner whose w_r is above the horizon gets at least
 // kHalfVectorFloor x (mean mass of such cells): a cell whose four points miss a narrow feature of f is still
 // drawn, so the density is positive wherever f cos can be (the estimator stays unbiased), at a cost of at most
@@ -25,9 +27,10 @@
 // Density: within a cell the density in solid angle is linear in each of the cell's coordinates xi (from its
 // upper to its lower cos theta_h edge) and eta (from its lower to its upper phi_h edge), per node:
 //   g(xi, eta) = (1 + a (xi - 1/2)) (1 + b (eta - 1/2)),  mean 1 over the cell, a and b in [-2, 2],
-// with the slopes a, b fitted to the 2 x 2 sub-cell values of q (0 at a sub-cell whose w_r is below the
-// horizon), so that the draws follow f cos within the cell to first order (where the horizon cuts a cell the
-// density falls towards it instead of staying flat). The blend of the nodes (linear in theta_i, and
+// with the slopes a, b fitted to the 2 x 2 sub-cell values of q (in a cell the horizon cuts, to the first
+// moments of q over its 8 x 8 points: the density's mean xi is 1/2 + a / 12), so that the draws follow f cos
+// within the cell to first order (where the horizon cuts a cell the density falls towards it instead of
+// staying flat). The blend of the nodes (linear in theta_i, and
 // periodic-linear in phi_i when anisotropic) picks one node per draw with its blend weight, so the density
 // of w_r is
 //   pdf(w_r) = sum_n weight_n P_n(cell of h) g_n(xi, eta) / A_cell / (4 w_i . h)   [1/sr].
@@ -136,7 +139,8 @@ class HalfVectorTable {
   // The cell of h (in the nodes' frame) and h's coordinates xi, eta in it.
   int cell_of(const Eigen::Vector3d& h, double& xi, double& eta) const;
   double cell_area(int cell) const;
-  double horizon_share(const Eigen::Vector3d& wi, int cell) const;
+  // The masses m[cell] and node's slopes of the cells the horizon of w_r cuts (w_i: node's direction).
+  void cut_cells(const Eigen::Vector3d& wi, const std::vector<int>& cut, const NonNegativeBrdf& fbar, double* m, int node);
   // The alias table of one node's probabilities p (cells values summing to 1).
   void build_alias(const double* p, AliasEntry* out) const;
   struct CellEntry {
