@@ -36,8 +36,10 @@ inline double linear_density_inverse(double a, double u) {
   return den > 0.0 ? std::clamp(2.0 * u / den, 0.0, 1.0) : 0.0;
 }
 
-// A slope within a cell, clamped to [-2, 2] (the density stays >= 0), in units of 1 / kHalfVectorSlopeUnit.
-inline std::int16_t slope_units(double x) { return static_cast<std::int16_t>(std::lround(std::clamp(x, -2.0, 2.0) * kHalfVectorSlopeUnit)); }
+// A slope within a cell, clamped to +-kHalfVectorMaxSlope, in units of 1 / kHalfVectorSlopeUnit.
+inline std::int16_t slope_units(double x) {
+  return static_cast<std::int16_t>(std::lround(std::clamp(x, -kHalfVectorMaxSlope, kHalfVectorMaxSlope) * kHalfVectorSlopeUnit));
+}
 
 [[noreturn]] void refuse_value(double x, const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) {
   char buf[200];

@@ -26,7 +26,7 @@
 // that fraction of the draws.
 // Density: within a cell the density in solid angle is linear in each of the cell's coordinates xi (from its
 // upper to its lower cos theta_h edge) and eta (from its lower to its upper phi_h edge), per node:
-//   g(xi, eta) = (1 + a (xi - 1/2)) (1 + b (eta - 1/2)),  mean 1 over the cell, a and b in [-2, 2],
+//   g(xi, eta) = (1 + a (xi - 1/2)) (1 + b (eta - 1/2)),  mean 1 over the cell, |a|, |b| <= kHalfVectorMaxSlope,
 // with the slopes a, b fitted to the 2 x 2 sub-cell values of q (in a cell the horizon cuts, to the first
 // moments of q over its 8 x 8 points: the density's mean xi is 1/2 + a / 12), so that the draws follow f cos
 // within the cell to first order (where the horizon cuts a cell the density falls towards it instead of
@@ -62,6 +62,10 @@ namespace icobrdf {
 inline constexpr double kHalfVectorFloor = 1e-4;
 // The largest polar angle of an incident node [rad] (89 degrees).
 inline constexpr double kHalfVectorThetaMax = 89.0 * M_PI / 180.0;
+// The largest |slope| of the density within a cell: the density stays >= 0.1 of the cell's mean everywhere in
+// it. With slopes up to 2 it reached 0 at a cell's edge, and near the horizon (theta_i 45 and 75 deg) weights
+// f cos / pdf grew without bound towards such an edge (measured 3e6 x the albedo at theta_r 89.99 deg).
+inline constexpr double kHalfVectorMaxSlope = 1.8;
 // Slopes within a cell are stored as integers in units of 1 / kHalfVectorSlopeUnit (|slope| <= 2).
 inline constexpr double kHalfVectorSlopeUnit = 16000.0;
 // Slots of the lookup from (1 - cos theta_h)^(1/4) to the t bin (a start for the exact search of the edges:
