@@ -192,7 +192,8 @@ void RenderMaterial::Impl::finish(const RenderMaterialOptions& options, const No
     throw ArgumentError(spec + ": " + std::to_string(ggx.size()) + " GGX terms, expected at most " +
                         std::to_string(kMaxParts - 1 - static_cast<int>(deltas.size())));
   nodes = options.table;
-  if (!isotropic && nodes.azimuth_nodes == 1) nodes.azimuth_nodes = options.anisotropic_azimuth_nodes;
+  if (!isotropic && nodes.azimuth_nodes == 1)
+    nodes.azimuth_nodes = options.anisotropic_azimuth_nodes, nodes.theta_nodes = options.anisotropic_theta_nodes;
   nodes.t_warp = std::clamp(t_warp, 1.0, 4.0);
   HalfVectorTable::check(nodes);
   if (rest) table = HalfVectorTable(rest, nodes);

@@ -79,8 +79,11 @@ struct MaterialSample {
 };
 
 struct RenderMaterialOptions {
-  HalfVectorTableOptions table;  // azimuth_nodes is set to 16 for an anisotropic material when left at 1
+  // For an anisotropic material whose table options leave azimuth_nodes at 1, azimuth_nodes and theta_nodes
+  // are set to the anisotropic values below (48 x 16 nodes would take 200 MB).
+  HalfVectorTableOptions table;
   int anisotropic_azimuth_nodes = 16;
+  int anisotropic_theta_nodes = 24;
   // GGX terms of models: drawn from their visible normals (true) or, like the rest, from the half-vector
   // tables (false), which hold every factor of f cos (Fresnel, masking, the horizon) and measured a smaller
   // spread of the weights (benchmarks/RESULTS.md).

@@ -14,6 +14,7 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "icobrdf/core/basis/direction.hpp"
@@ -45,13 +46,13 @@ constexpr double kFloatRelTol = 1e-5;
 // Issue's targets for the relative standard deviation of the weights f cos / pdf.
 constexpr double kRsdNarrow = 0.15;  // GGX alpha 0.05
 constexpr double kRsdWide = 0.05;    // GGX alpha 0.3
-// Not yet met at oblique incidence for alpha 0.3 (measured 0.04-0.06 at 45 deg and 0.08-0.09 at 75 deg: a
-// piecewise-constant cell density cannot follow f cos(theta_r), which falls linearly to 0 across the cells at
-// the horizon of w_r); this bound keeps what is reached.
-constexpr double kRsdWideOblique = 0.1;
 // 128 x 256 Gauss-Legendre nodes in (cos theta, phi) integrate the albedo of the test materials to better
 // than 1e-4 relative (the narrowest, alpha 0.05, is checked here at a wider tolerance of the MC error only).
 constexpr int kQuadCos = 128, kQuadPhi = 256;
+// sample() reports the density at the cell and position it drew; pdf() finds them again from (w_i, w_r): the
+// rounding of h (1e-16) over the pole cell's cos range (1.2e-6 with 32 t bins) moves the position by 1e-10,
+// the linear density by twice that.
+constexpr double kPdfRoundTripRelTol = 1e-8;
 // Chi-squared tests of this file share the significance 1e-3 (Sidak correction over them).
 constexpr int kChiSquareCases = 30;
 const double kSignificance = 1.0 - std::pow(1.0 - 1e-3, 1.0 / kChiSquareCases);
@@ -88,14 +89,16 @@ Spectrum zero_spectrum() {
   return s;
 }
 
-// Coarse tables for the tests that check consistency and unbiasedness, not the spread of the weights.
-RenderMaterialOptions coarse() {
+RenderMaterialOptions tables(int theta_nodes, int bins) {
   RenderMaterialOptions o;
-  o.table.theta_nodes = 8;
-  o.table.t_bins = 32;
-  o.table.phi_bins = 32;
+  o.table.theta_nodes = theta_nodes;
+  o.table.t_bins = bins;
+  o.table.phi_bins = bins;
   return o;
 }
+
+// Coarse tables for the tests that check consistency and unbiasedness, not the spread of the weights.
+RenderMaterialOptions coarse() { return tables(8, 32); }
 
 RenderMaterial lobe_material(const std::string& spec, const RenderMaterialOptions& o = {}) {
   return RenderMaterial(zero_spectrum(), fitted_lobe(spec), o);
@@ -220,7 +223,7 @@ TEST(RenderMaterial, DrawsFollowThePdfForEveryRepresentation) {
         const MaterialSample<double> s = m->sample(wi, u(rng), u(rng));
         if (!s.valid()) continue;
         draws.push_back(s.wr);
-        EXPECT_NEAR(s.pdf, m->pdf(wi, s.wr), 1e-12 * s.pdf) << name;
+        EXPECT_NEAR(s.pdf, m->pdf(wi, s.wr), kPdfRoundTripRelTol * s.pdf) << name;
       }
       // C++17 lambdas cannot capture a structured binding (clang refuses): the material through a plain pointer.
       const auto* material = &*m;
@@ -256,6 +259,52 @@ TEST(RenderMaterial, MeanWeightIsTheDirectionalAlbedo) {
     }
 }
 
+// The example's tables (12 incident nodes, 64 x 64 half-vector cells) at normal incidence, where the horizon
+// of w_r lies at theta_h = 45 degrees: the sub-cell centres of the ring of cells across it all reflect below
+// the horizon, while w_r from 89 to 90 degrees above it holds 3e-4 of a Lambertian albedo (sin^2 of 1 degree).
+RenderMaterialOptions example_tables() { return tables(12, 64); }
+
+// Near the horizon the weight f cos / pdf stays within a small factor of the albedo: a cell drawn by the
+// tables' floor alone (kHalfVectorFloor of the mean mass) gives weights over 100 x the albedo, which a
+// white furnace of 1e5-1e6 draws then misses in its typical value (the estimate came out 2e-4 low).
+TEST(RenderMaterial, WeightsNearTheHorizonStayBounded) {
+  // Measured at most 12 (theta_i 30 deg, between nodes; 4 at normal incidence); a cell held only by the
+  // floor gives a factor of 100 or more, a density reaching 0 at a cell's edge 1e3 to 1e6.
+  constexpr double kMaxWeightOverAlbedo = 20.0;
+  for (const std::string spec : {"model:lambert", "model:0.4*lambert+0.6*ggx:alpha=0.2"}) {
+    const RenderMaterial m = RenderMaterial::open(spec, example_tables());
+    for (const double theta_i_deg : {0.0, 30.0, 45.0, 60.0, 75.0}) {
+      const Eigen::Vector3d wi = direction_from_angles(theta_i_deg * M_PI / 180, 0.0);
+      const double albedo = albedo_by_quadrature(m, wi);
+      double worst = 0.0, worst_theta = 0.0;
+      for (int a = 0; a < 200; ++a)
+        for (int b = 0; b < 90; ++b) {
+          const double theta_r = (80.0 + 9.99 * (a + 0.5) / 200) * M_PI / 180, phi_r = 2 * M_PI * (b + 0.5) / 90;
+          const Eigen::Vector3d wr = direction_from_angles(theta_r, phi_r);
+          const double p = m.pdf(wi, wr), fc = m.eval(wi, wr)[0] * wr.z();
+          ASSERT_GT(p, 0.0) << spec << " at theta_i " << theta_i_deg << ", theta_r " << theta_r * 180 / M_PI;
+          if (fc / p > worst) worst = fc / p, worst_theta = theta_r * 180 / M_PI;
+        }
+      EXPECT_LE(worst / albedo, kMaxWeightOverAlbedo) << spec << " at theta_i " << theta_i_deg << ": worst at theta_r " << worst_theta;
+    }
+  }
+}
+
+// The white furnace at normal incidence to 1e-4 relative: the mean weight of 400,000 draws against the albedo
+// by quadrature (the example's check, with draws enough to resolve the 3e-4 a sliver at the horizon holds).
+TEST(RenderMaterial, FurnaceAtNormalIncidenceResolvesTheHorizon) {
+  // 4 standard errors: a false failure has probability 6e-5 for a normal mean.
+  constexpr double kFurnaceStandardErrors = 4.0;
+  constexpr int kDraws = 400000;
+  const RenderMaterial m = RenderMaterial::open("model:lambert", example_tables());
+  const Eigen::Vector3d wi(0, 0, 1);
+  const double a = albedo_by_quadrature(m, wi);
+  const WeightStats w = weight_stats(m, wi, kDraws, 71);
+  const double se = w.sd / std::sqrt(static_cast<double>(kDraws));
+  EXPECT_LT(se, 1e-4 * a);  // the check resolves 1e-4 relative
+  EXPECT_NEAR(w.mean, a, kFurnaceStandardErrors * se) << "standard error " << se;
+}
+
 // The targets: relative standard deviation of f cos / pdf for GGX lobes, models and bank lobes alike.
 TEST(RenderMaterial, WeightsOfGgxLobesSpreadLittle) {
   for (const double alpha : {0.05, 0.3}) {
@@ -270,10 +319,41 @@ TEST(RenderMaterial, WeightsOfGgxLobesSpreadLittle) {
         const char* name = m == &mm ? "model" : m == &lm ? "lobe" : "visible normals";
         std::printf("alpha %.2f theta %2.0f %-16s rsd %.4f (valid %.4f)\n", alpha, theta_deg, name, w.sd / w.mean, w.valid / 10000.0);
         if (m == &vm) continue;  // reported only: its draws below the horizon (8 % at alpha 0.3) are zeros
-        const double bound = alpha < 0.1 ? kRsdNarrow : theta_deg == 0.0 ? kRsdWide : kRsdWideOblique;
+        const double bound = alpha < 0.1 ? kRsdNarrow : kRsdWide;
         EXPECT_LE(w.sd / w.mean, bound) << spec << " " << name << " at " << theta_deg;
       }
     }
+  }
+}
+
+// Several threads sharing one material get, call for call, the values one thread gets (the material's state
+// is read-only after construction). Built with -fsanitize=thread (docs/reliability.md, "ThreadSanitizer") this
+// test is where a data race in eval / pdf / sample would be reported.
+TEST(RenderMaterial, ThreadsSharingOneMaterialGetTheValuesOfOneThread) {
+  constexpr int kThreads = 4, kCalls = 2000;
+  const RenderMaterial lm = lobe_material("model:ggx:alpha=0.3", coarse());
+  const RenderMaterial mm = RenderMaterial::open("model:0.5*lambert+0.3*ggx:alpha=0.2+0.2*mirror", coarse());
+  const auto pairs = random_pairs(kCalls, 61);
+  for (const RenderMaterial* m : {&lm, &mm}) {
+    // One thread's values: f, pdf, and the draw (w_r.x, weight, pdf) per input; then each thread's.
+    const auto run = [&](std::vector<double>& out) {
+      out.clear();
+      for (int i = 0; i < kCalls; ++i) {
+        const auto& [wi, wr] = pairs[static_cast<size_t>(i)];
+        const MaterialSample<double> s = m->sample(wi, (i + 0.5) / kCalls, wr.z());
+        const MaterialSample<float> sf = m->sample(Eigen::Vector3f(wi.cast<float>()), static_cast<float>((i + 0.5) / kCalls), static_cast<float>(wr.z()));
+        out.insert(out.end(), {m->eval(wi, wr)[0], m->pdf(wi, wr), s.wr.x(), s.weight[0], s.pdf,
+                               static_cast<double>(m->eval(Eigen::Vector3f(wi.cast<float>()), Eigen::Vector3f(wr.cast<float>()))[0]),
+                               static_cast<double>(sf.pdf)});
+      }
+    };
+    std::vector<double> one;
+    run(one);
+    std::vector<std::vector<double>> each(kThreads);
+    std::vector<std::thread> threads;
+    for (int t = 0; t < kThreads; ++t) threads.emplace_back(run, std::ref(each[static_cast<size_t>(t)]));
+    for (std::thread& t : threads) t.join();
+    for (int t = 0; t < kThreads; ++t) EXPECT_EQ(each[static_cast<size_t>(t)], one) << m->spec() << " thread " << t;
   }
 }
 

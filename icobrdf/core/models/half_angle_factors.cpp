@@ -123,10 +123,15 @@ double HalfAngleFactors::theta_h_of_t(double t) const {
   return 0.5 * M_PI * p;
 }
 
-double HalfAngleFactors::t_of_theta_h(double theta_h) const {
+namespace {
+// t of theta_h on a grid of warp w (theta_h = (pi/2) t^w), inline in the per-pair code.
+inline double warped_t_of_theta_h(double w, double theta_h) {
   const double x = std::clamp(theta_h / (0.5 * M_PI), 0.0, 1.0);
-  return h_warp == 2.0 ? std::sqrt(x) : h_warp == 1.0 ? x : std::pow(x, 1.0 / h_warp);
+  return w == 2.0 ? std::sqrt(x) : w == 1.0 ? x : std::pow(x, 1.0 / w);
 }
+}  // namespace
+
+double HalfAngleFactors::t_of_theta_h(double theta_h) const { return warped_t_of_theta_h(h_warp, theta_h); }
 
 const char* horizon_corners_name(HorizonCorners c) { return c == HorizonCorners::All ? "all" : "valid"; }
 
@@ -222,7 +227,7 @@ inline bool pair_corners(const HalfAngleFactors& F, const HalfAngleStretch& stre
   int k, a, b0, b1;
   double ft, fa, fb;
   const double off = F.centred ? 0.5 : 0.0;  // node k sits at (k + off) bin widths
-  clamped_cell(F.t_of_theta_h(theta_g) * (F.n_t - 1 + 2 * off) - off, F.n_t, k, ft);
+  clamped_cell(warped_t_of_theta_h(F.h_warp, theta_g) * (F.n_t - 1 + 2 * off) - off, F.n_t, k, ft);
   clamped_cell(theta_d * ((F.n_theta_d - 1 + 2 * off) / (0.5 * M_PI)) - off, F.n_theta_d, a, fa);
   periodic_cell(phi_d * (F.n_phi_d / M_PI) - off, F.n_phi_d, b0, b1, fb);
   c.d[0] = a * F.n_phi_d + b0, c.d[1] = a * F.n_phi_d + b1;

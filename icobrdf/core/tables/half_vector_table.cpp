@@ -11,8 +11,15 @@
 namespace icobrdf {
 namespace {
 
-// Points per side of a cell for the share of it whose reflection is above the horizon.
+// Points per side of a cell the horizon of w_r cuts, where its mass and slopes are taken.
 constexpr int kHorizonShareSide = 8;
+
+// A point of a cell the horizon cuts whose w_r is above it: w_r, cos(theta_r) 4 (w_i . h), the cell
+// coordinates xi, eta of h.
+struct HorizonPoint {
+  Eigen::Vector3d wr;
+  double jac, xi, eta;
+};
 
 // w_r = 2 (w_i . h) h - w_i.
 inline Eigen::Vector3d reflect_about(const Eigen::Vector3d& wi, const Eigen::Vector3d& h) { return 2.0 * wi.dot(h) * h - wi; }
@@ -20,6 +27,25 @@ inline Eigen::Vector3d reflect_about(const Eigen::Vector3d& wi, const Eigen::Vec
 inline Eigen::Vector3d polar_vector(double cos_theta, double phi) {
   const double s = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
   return {s * std::cos(phi), s * std::sin(phi), cos_theta};
+}
+
+// The x in [0, 1] where the cumulative of the density 1 + a (x - 1/2) (a in [-2, 2]) reaches u in [0, 1]: the
+// root of (a/2) x^2 + (1 - a/2) x = u in the form free of cancellation, 2u / ((1 - a/2) + sqrt((1 - a/2)^2 + 2 a u)).
+inline double linear_density_inverse(double a, double u) {
+  const double p = 1.0 - 0.5 * a, den = p + std::sqrt(std::max(0.0, p * p + 2.0 * a * u));
+  return den > 0.0 ? std::clamp(2.0 * u / den, 0.0, 1.0) : 0.0;
+}
+
+// A slope within a cell, clamped to +-kHalfVectorMaxSlope, in units of 1 / kHalfVectorSlopeUnit.
+inline std::int16_t slope_units(double x) {
+  return static_cast<std::int16_t>(std::lround(std::clamp(x, -kHalfVectorMaxSlope, kHalfVectorMaxSlope) * kHalfVectorSlopeUnit));
+}
+
+[[noreturn]] void refuse_value(double x, const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "half-vector table: fbar = %.6g at w_i = (%.6g, %.6g, %.6g), w_r = (%.6g, %.6g, %.6g); expected a finite value >= 0",
+                x, wi.x(), wi.y(), wi.z(), wr.x(), wr.y(), wr.z());
+  throw UnsupportedError(buf);
 }
 
 }  // namespace
@@ -39,18 +65,6 @@ Eigen::Vector3d HalfVectorTable::node_direction(const HalfVectorTableOptions& op
   return polar_vector(std::cos(theta), phi);
 }
 
-double HalfVectorTable::horizon_share(const Eigen::Vector3d& wi, int cell) const {
-  const int k = cell / opt_.phi_bins, j = cell % opt_.phi_bins;
-  const double c0 = cos_edge_[static_cast<size_t>(k)], c1 = cos_edge_[static_cast<size_t>(k) + 1], dphi = 2.0 * M_PI / opt_.phi_bins;
-  int above = 0;
-  for (int a = 0; a < kHorizonShareSide; ++a)
-    for (int b = 0; b < kHorizonShareSide; ++b) {
-      const Eigen::Vector3d h = polar_vector(c0 + (c1 - c0) * (a + 0.5) / kHorizonShareSide, -M_PI + dphi * (j + (b + 0.5) / kHorizonShareSide));
-      above += wi.dot(h) > 0.0 && reflect_about(wi, h).z() >= 0.0;
-    }
-  return static_cast<double>(above) / (kHorizonShareSide * kHorizonShareSide);
-}
-
 double HalfVectorTable::cell_area(int cell) const {
   const int k = cell / opt_.phi_bins;
   return (cos_edge_[static_cast<size_t>(k)] - cos_edge_[static_cast<size_t>(k) + 1]) * (2.0 * M_PI / opt_.phi_bins);
@@ -65,11 +79,24 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
   cos_edge_[static_cast<size_t>(nt)] = 0.0;
   const int n_nodes = nodes();
   const auto total = static_cast<size_t>(n_nodes) * static_cast<size_t>(cells_);
-  mass_.assign(total, 0.0);
-  cdf_.assign(total, 0.0);
-  row_cdf_.assign(static_cast<size_t>(n_nodes) * static_cast<size_t>(nt), 0.0);
+  cells_of_nodes_.assign(total, CellEntry{0.0f, 0, 0});
+  alias_.assign(total, AliasEntry{1.0f, 0});
   albedo_.assign(static_cast<size_t>(n_nodes), 0.0);
   const double dphi = 2.0 * M_PI / np;
+  phi_edge_cs_.resize(2 * static_cast<size_t>(np));
+  for (int j = 0; j < np; ++j) {
+    phi_edge_cs_[2 * static_cast<size_t>(j)] = std::cos(-M_PI + dphi * j);
+    phi_edge_cs_[2 * static_cast<size_t>(j) + 1] = std::sin(-M_PI + dphi * j);
+  }
+  // Slot i starts at u = i / L, cos theta_h = 1 - u^4 (its largest cos): the first bin whose lower edge is at
+  // or below it; a cos within the slot is in that bin or a later one.
+  t_lookup_.resize(static_cast<size_t>(kHalfVectorTLookup) + 1);
+  for (int i = 0, k = 0; i <= kHalfVectorTLookup; ++i) {
+    const double u = static_cast<double>(i) / kHalfVectorTLookup, cz = 1.0 - u * u * u * u;
+    while (k + 1 < nt && cz < cos_edge_[static_cast<size_t>(k) + 1]) ++k;
+    t_lookup_[static_cast<size_t>(i)] = k;
+  }
+  std::vector<double> node_mass(static_cast<size_t>(cells_));
   // Sub-cell centres: 2 x 2 per cell, equal in solid angle (midpoints in cos theta_h and phi_h).
   RowMatrix3d h(static_cast<Eigen::Index>(cells_) * 4, 3);
   for (int k = 0; k < nt; ++k)
@@ -92,12 +119,14 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
       wr.row(r) = jac[r] > 0.0 ? o.transpose() : Eigen::RowVector3d(0, 0, 1);  // fbar is not asked below the horizon
     }
     const Eigen::VectorXd v = fbar(wi, wr);
-    double* m = mass_.data() + static_cast<size_t>(n) * cells_;
+    double* m = node_mass.data();
+    std::fill(node_mass.begin(), node_mass.end(), 0.0);
     double sum = 0.0;
     int open = 0;  // cells that can hold reflected directions
     std::vector<char> can(static_cast<size_t>(cells_), 0);
+    std::vector<int> cut;  // cells the horizon of w_r cuts
     for (int cell = 0; cell < cells_; ++cell) {
-      double s = 0.0;
+      double s = 0.0, sub[4] = {0, 0, 0, 0};
       bool any = false;
       int valid = 0;
       for (int q = 0; q < 4; ++q) {
@@ -106,13 +135,16 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
         any = true;
         ++valid;
         const double x = v[r];
-        if (!(x >= 0.0) || !std::isfinite(x)) {
-          char buf[200];
-          std::snprintf(buf, sizeof buf, "half-vector table: fbar = %.6g at w_i = (%.6g, %.6g, %.6g), w_r = (%.6g, %.6g, %.6g); expected a finite value >= 0",
-                        x, w.x(), w.y(), w.z(), wr(r, 0), wr(r, 1), wr(r, 2));
-          throw UnsupportedError(buf);
-        }
-        s += x * jac[r];
+        if (!(x >= 0.0) || !std::isfinite(x)) refuse_value(x, w, wr.row(r).transpose());
+        s += sub[q] = x * jac[r];
+      }
+      // Slopes of the linear fit through the sub-cell values (xi = 1/4, 3/4 at q / 2 = 0, 1; eta at q % 2):
+      // the difference of the halves' means is mean x slope / 2.
+      CellEntry& e = cells_of_nodes_[static_cast<size_t>(cell) * static_cast<size_t>(n_nodes) + static_cast<size_t>(n)];
+      if (s > 0.0) {
+        const double mean = s / 4;
+        e.a = slope_units((sub[2] + sub[3] - sub[0] - sub[1]) / mean);
+        e.b = slope_units((sub[1] + sub[3] - sub[0] - sub[2]) / mean);
       }
       if (!any) {  // the corners: a sliver of the cell may still reflect above the horizon
         const int k = cell / np, j = cell % np;
@@ -121,13 +153,14 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
           any = w.dot(hc) > 0.0 && reflect_about(w, hc).z() >= 0.0;
         }
       }
-      // A cell the horizon cuts: the mean over its valid points times the share of it that reflects above the
-      // horizon (kHorizonShareSide^2 points; geometry only), not a quarter per valid point.
-      const double share = valid == 4 ? 1.0 : valid == 0 ? 0.0 : horizon_share(w, cell);
-      m[cell] = valid > 0 ? s / valid * share * cell_area(cell) : 0.0;
-      sum += m[cell];
+      m[cell] = valid == 4 ? s / 4 * cell_area(cell) : 0.0;
+      // A cell the horizon cuts: its mass and slopes from the kHorizonShareSide^2 points below (its sub-cell
+      // centres can all lie beyond the horizon while a sliver of it holds a share of the albedo).
+      if (valid < 4 && any) cut.push_back(cell);
       if (any) can[static_cast<size_t>(cell)] = 1, ++open;
     }
+    cut_cells(w, cut, fbar, m, n);
+    for (int cell = 0; cell < cells_; ++cell) sum += m[cell];
     albedo_[static_cast<size_t>(n)] = sum;
     if (!(sum > 0.0)) continue;  // an all-zero node: never drawn (its blend weight goes to no draw)
     const double floor = kHalfVectorFloor * sum / open;
@@ -136,17 +169,81 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
       if (can[static_cast<size_t>(cell)]) m[cell] = std::max(m[cell], floor);
       acc += m[cell];
     }
-    double run = 0.0;
-    double* cdf = cdf_.data() + static_cast<size_t>(n) * cells_;
+    // The masses as pdf() reads them (float), normalized again, are what the alias table draws.
+    double rounded = 0.0;
+    for (int cell = 0; cell < cells_; ++cell) rounded += static_cast<float>(m[cell] / acc);
     for (int cell = 0; cell < cells_; ++cell) {
-      m[cell] /= acc;
-      run += m[cell];
-      cdf[cell] = run;
+      const float p = static_cast<float>(m[cell] / acc);
+      cells_of_nodes_[static_cast<size_t>(cell) * static_cast<size_t>(n_nodes) + static_cast<size_t>(n)].mass = p;
+      m[cell] = p / rounded;
     }
-    cdf[cells_ - 1] = 1.0;
-    double* rows = row_cdf_.data() + static_cast<size_t>(n) * opt_.t_bins;
-    for (int k = 0; k < opt_.t_bins; ++k) rows[k] = cdf[(k + 1) * opt_.phi_bins - 1];
+    build_alias(m, alias_.data() + static_cast<size_t>(n) * static_cast<size_t>(cells_));
   }
+}
+
+void HalfVectorTable::cut_cells(const Eigen::Vector3d& wi, const std::vector<int>& cut, const NonNegativeBrdf& fbar, double* m,
+                                int node) {
+  constexpr int side = kHorizonShareSide;
+  const double dphi = 2.0 * M_PI / opt_.phi_bins;
+  std::vector<HorizonPoint> points;
+  std::vector<int> first(cut.size() + 1, 0);  // the points of cut[i]: [first[i], first[i + 1])
+  for (size_t i = 0; i < cut.size(); ++i) {
+    const int k = cut[i] / opt_.phi_bins, j = cut[i] % opt_.phi_bins;
+    const double c0 = cos_edge_[static_cast<size_t>(k)], c1 = cos_edge_[static_cast<size_t>(k) + 1];
+    for (int a = 0; a < side; ++a)
+      for (int b = 0; b < side; ++b) {
+        const double xi = (a + 0.5) / side, eta = (b + 0.5) / side;
+        const Eigen::Vector3d h = polar_vector(c0 + (c1 - c0) * xi, -M_PI + dphi * (j + eta));
+        const double c = wi.dot(h);
+        const Eigen::Vector3d o = reflect_about(wi, h);
+        if (c > 0.0 && o.z() >= 0.0) points.push_back({o, o.z() * 4.0 * c, xi, eta});
+      }
+    first[i + 1] = static_cast<int>(points.size());
+  }
+  if (points.empty()) return;
+  RowMatrix3d wi_rows(static_cast<Eigen::Index>(points.size()), 3), wr_rows(static_cast<Eigen::Index>(points.size()), 3);
+  for (size_t p = 0; p < points.size(); ++p) {
+    wi_rows.row(static_cast<Eigen::Index>(p)) = wi.transpose();
+    wr_rows.row(static_cast<Eigen::Index>(p)) = points[p].wr.transpose();
+  }
+  const Eigen::VectorXd v = fbar(wi_rows, wr_rows);
+  for (size_t i = 0; i < cut.size(); ++i) {
+    // The mass by the midpoint rule of the cell's side x side points (0 beyond the horizon); the slopes by
+    // the first moments of q: the density 1 + a (xi - 1/2) has the mean xi 1/2 + a / 12.
+    double s = 0.0, sx = 0.0, se = 0.0;
+    for (int p = first[i]; p < first[i + 1]; ++p) {
+      const HorizonPoint& q = points[static_cast<size_t>(p)];
+      const double x = v[p];
+      if (!(x >= 0.0) || !std::isfinite(x)) refuse_value(x, wi, q.wr);
+      s += x * q.jac, sx += x * q.jac * q.xi, se += x * q.jac * q.eta;
+    }
+    m[cut[i]] = s / (side * side) * cell_area(cut[i]);
+    CellEntry& e = cells_of_nodes_[static_cast<size_t>(cut[i]) * static_cast<size_t>(nodes()) + static_cast<size_t>(node)];
+    e.a = e.b = 0;
+    if (s > 0.0) e.a = slope_units(12.0 * (sx / s - 0.5)), e.b = slope_units(12.0 * (se / s - 0.5));
+  }
+}
+
+void HalfVectorTable::build_alias(const double* p, AliasEntry* out) const {
+  // Vose's method: cells below the mean mass are topped up from one above it (its alias).
+  std::vector<double> scaled(static_cast<size_t>(cells_));
+  std::vector<int> small, large;
+  for (int i = 0; i < cells_; ++i) {
+    scaled[static_cast<size_t>(i)] = p[i] * cells_;
+    (scaled[static_cast<size_t>(i)] < 1.0 ? small : large).push_back(i);
+  }
+  while (!small.empty() && !large.empty()) {
+    const int l = small.back(), g = large.back();
+    small.pop_back();
+    out[l] = AliasEntry{static_cast<float>(scaled[static_cast<size_t>(l)]), g};
+    double& sg = scaled[static_cast<size_t>(g)];
+    sg = (sg + scaled[static_cast<size_t>(l)]) - 1.0;
+    if (sg < 1.0) large.pop_back(), small.push_back(g);
+  }
+  // What is left is 1 to rounding; an empty cell left over keeps nothing (its alias has mass).
+  for (const int g : large) out[g] = AliasEntry{1.0f, g};
+  const int best = static_cast<int>(std::max_element(p, p + cells_) - p);
+  for (const int l : small) out[l] = AliasEntry{p[l] > 0.0 ? 1.0f : 0.0f, best};
 }
 
 HalfVectorBlend HalfVectorTable::blend(const HalfVectorTableOptions& opt, const Eigen::Vector3d& wi) {
@@ -178,16 +275,19 @@ HalfVectorBlend HalfVectorTable::blend(const HalfVectorTableOptions& opt, const 
   return b;
 }
 
-int HalfVectorTable::cell_of(const Eigen::Vector3d& h) const {
-  const double theta = fast_atan2(std::sqrt(h.x() * h.x() + h.y() * h.y()), h.z());
-  const double x = std::clamp(theta / (0.5 * M_PI), 0.0, 1.0);
-  const double t = opt_.t_warp == 2.0 ? std::sqrt(x) : std::pow(x, 1.0 / opt_.t_warp);
-  int k = std::min(static_cast<int>(t * opt_.t_bins), opt_.t_bins - 1);
-  // Rounding at an edge: the cell whose cos range holds h.z.
-  if (k > 0 && h.z() > cos_edge_[static_cast<size_t>(k)]) --k;
-  if (k + 1 < opt_.t_bins && h.z() < cos_edge_[static_cast<size_t>(k) + 1]) ++k;
+int HalfVectorTable::cell_of(const Eigen::Vector3d& h, double& xi, double& eta) const {
+  const double z = std::clamp(h.z(), 0.0, 1.0);
+  const double u = std::sqrt(std::sqrt(1.0 - z));
+  int k = t_lookup_[static_cast<size_t>(std::min(static_cast<int>(u * kHalfVectorTLookup), kHalfVectorTLookup))];
+  // The cell whose cos range holds h.z (the lookup's start is at or before it, one back for rounding of u).
+  if (k > 0 && z > cos_edge_[static_cast<size_t>(k)]) --k;
+  while (k + 1 < opt_.t_bins && z < cos_edge_[static_cast<size_t>(k) + 1]) ++k;
   const double phi = (h.x() == 0.0 && h.y() == 0.0) ? 0.0 : fast_atan2(h.y(), h.x());
-  const int j = std::clamp(static_cast<int>((phi + M_PI) / (2.0 * M_PI) * opt_.phi_bins), 0, opt_.phi_bins - 1);
+  const double y = (phi + M_PI) / (2.0 * M_PI) * opt_.phi_bins;
+  const int j = std::clamp(static_cast<int>(y), 0, opt_.phi_bins - 1);
+  const double c0 = cos_edge_[static_cast<size_t>(k)], c1 = cos_edge_[static_cast<size_t>(k) + 1];
+  xi = std::clamp((c0 - z) / (c0 - c1), 0.0, 1.0);
+  eta = std::clamp(y - j, 0.0, 1.0);
   return k * opt_.phi_bins + j;
 }
 
@@ -213,31 +313,50 @@ bool HalfVectorTable::sample(const HalfVectorBlend& b, const Eigen::Vector3d& wi
     if (x < acc + b.weight[i]) break;
     acc += b.weight[i];
   }
-  x = (x - node_lo) / node_w;
-  x = std::clamp(x, 0.0, 1.0);
-  const double* cdf = cdf_.data() + static_cast<size_t>(node) * cells_;
-  const double* p = mass_.data() + static_cast<size_t>(node) * cells_;
-  // Two searches in short arrays (the row's cumulative end, then the cells of the row): fewer cache lines than
-  // one search over all cells; the same cell (the first whose cumulative mass exceeds x).
-  const double* rows = row_cdf_.data() + static_cast<size_t>(node) * opt_.t_bins;
-  const int row = std::min(static_cast<int>(std::upper_bound(rows, rows + opt_.t_bins, x) - rows), opt_.t_bins - 1);
-  const double* first = cdf + static_cast<size_t>(row) * opt_.phi_bins;
-  int cell = row * opt_.phi_bins + static_cast<int>(std::upper_bound(first, first + opt_.phi_bins, x) - first);
-  cell = std::min(cell, cells_ - 1);
-  while (p[cell] == 0.0 && cell > 0) --cell;  // x on the upper end of an empty run: the mass before it
-  const double lo = cell > 0 ? cdf[cell - 1] : 0.0;
-  const double f = std::clamp(p[cell] > 0.0 ? (x - lo) / p[cell] : 0.5, 0.0, 1.0);
+  x = std::clamp((x - node_lo) / node_w, 0.0, 1.0);
+  // The cell from the node's alias table, then the fraction left of x for the position within it.
+  const double y = x * cells_;
+  int cell = std::min(static_cast<int>(y), cells_ - 1);
+  double f = y - cell;
+  const AliasEntry& e = alias_[static_cast<size_t>(node) * static_cast<size_t>(cells_) + static_cast<size_t>(cell)];
+  const double keep = e.keep;
+  if (f < keep || keep >= 1.0) {
+    f /= keep;
+  } else {
+    f = (f - keep) / (1.0 - keep);
+    cell = e.alias;
+  }
+  f = std::clamp(f, 0.0, 1.0);
+  const CellEntry& slopes = entry(node, cell);
+  const double xi = linear_density_inverse(slopes.a / kHalfVectorSlopeUnit, f);
+  const double eta = linear_density_inverse(slopes.b / kHalfVectorSlopeUnit, u2);
   const int k = cell / opt_.phi_bins, j = cell % opt_.phi_bins;
   const double c0 = cos_edge_[static_cast<size_t>(k)], c1 = cos_edge_[static_cast<size_t>(k) + 1];
-  const Eigen::Vector3d hl = polar_vector(c0 + (c1 - c0) * f, -M_PI + 2.0 * M_PI / opt_.phi_bins * (j + u2));
-  const Eigen::Vector3d h(b.c * hl.x() - b.s * hl.y(), b.s * hl.x() + b.c * hl.y(), hl.z());
-  wr = reflect_about(wi, h);
+  const double cz = c0 + (c1 - c0) * xi, sz = std::sqrt(std::max(0.0, 1.0 - cz * cz));
+  // phi_h = lower edge + angle, angle = eta (2 pi / phi_bins) <= 0.05: its cos and sin by their series to
+  // the 10th and 11th power (the first terms left out are below 0.05^12 / 12! < 1e-24).
+  const double an = 2.0 * M_PI / opt_.phi_bins * eta, a2 = an * an;
+  const double ca = 1.0 - a2 / 2 * (1.0 - a2 / 12 * (1.0 - a2 / 30 * (1.0 - a2 / 56 * (1.0 - a2 / 90))));
+  const double sa = an * (1.0 - a2 / 6 * (1.0 - a2 / 20 * (1.0 - a2 / 42 * (1.0 - a2 / 72 * (1.0 - a2 / 110)))));
+  const double pc = phi_edge_cs_[2 * static_cast<size_t>(j)], ps = phi_edge_cs_[2 * static_cast<size_t>(j) + 1];
+  const double hx = sz * (pc * ca - ps * sa), hy = sz * (ps * ca + pc * sa);
+  const Eigen::Vector3d h(b.c * hx - b.s * hy, b.s * hx + b.c * hy, cz);
   const double c = wi.dot(h);
   if (!(c > 0.0)) return false;
+  wr = 2.0 * c * h - wi;
+  if (!(wr.z() >= 0.0)) return false;
+  // The density of the draw at its own cell and position (pdf() finds the same from (w_i, w_r) to rounding).
+  pdf_out = h_density(b, live, cell, xi, eta) / (4.0 * c);
+  return pdf_out > 0.0;
+}
+
+double HalfVectorTable::h_density(const HalfVectorBlend& b, double live, int cell, double xi, double eta) const {
   double density = 0.0;
-  for (int i = 0; i < b.count; ++i) density += b.weight[i] * mass_[static_cast<size_t>(b.node[i]) * cells_ + cell];
-  pdf_out = density / live / cell_area(cell) / (4.0 * c);
-  return true;
+  for (int i = 0; i < b.count; ++i) {
+    const CellEntry& e = entry(b.node[i], cell);
+    density += b.weight[i] * e.mass * (1.0 + e.a / kHalfVectorSlopeUnit * (xi - 0.5)) * (1.0 + e.b / kHalfVectorSlopeUnit * (eta - 0.5));
+  }
+  return density / live / cell_area(cell);
 }
 
 double HalfVectorTable::pdf(const HalfVectorBlend& b, const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const {
@@ -249,10 +368,9 @@ double HalfVectorTable::pdf(const HalfVectorBlend& b, const Eigen::Vector3d& wi,
     if (albedo_[static_cast<size_t>(b.node[i])] > 0.0) live += b.weight[i];
   if (!(live > 0.0)) return 0.0;
   const Eigen::Vector3d hl(b.c * h.x() + b.s * h.y(), -b.s * h.x() + b.c * h.y(), h.z());
-  const int cell = cell_of(hl);
-  double density = 0.0;
-  for (int i = 0; i < b.count; ++i) density += b.weight[i] * mass_[static_cast<size_t>(b.node[i]) * cells_ + cell];
-  return density / live / cell_area(cell) / (4.0 * c);
+  double xi, eta;
+  const int cell = cell_of(hl, xi, eta);
+  return h_density(b, live, cell, xi, eta) / (4.0 * c);
 }
 
 }  // namespace icobrdf
