@@ -81,7 +81,7 @@ IncidentDistribution MaterialSampler::distribution(const Eigen::Vector3d& wi) co
   return IncidentDistribution{wi, CellDistribution(mass, where), total};
 }
 
-MaterialSamples MaterialSampler::sample(const IncidentDistribution& dist, const Eigen::VectorXd& u1, const Eigen::VectorXd& u2) const {
+MaterialSamples MaterialSampler::draw(const IncidentDistribution& dist, const Eigen::VectorXd& u1, const Eigen::VectorXd& u2) const {
   if (u1.size() != u2.size())
     throw ArgumentError("sample: u1 has " + std::to_string(u1.size()) + " values, u2 " + std::to_string(u2.size()));
   const Eigen::Index n = u1.size();
@@ -99,10 +99,21 @@ MaterialSamples MaterialSampler::sample(const IncidentDistribution& dist, const 
     out.pdf[i] = s.pdf;
     out.cells[i] = s.cell;
   }
+  out.weight.resize(n, 0);
+  return out;
+}
+
+void MaterialSampler::weigh(const IncidentDistribution& dist, MaterialSamples& drawn) const {
+  const Eigen::Index n = drawn.directions.rows();
   RowMatrix3d wis(n, 3);
   wis.rowwise() = dist.wi.transpose();
-  out.weight = source_->eval(wis, out.directions);
-  for (Eigen::Index i = 0; i < n; ++i) out.weight.row(i) *= out.directions(i, 2) / out.pdf[i];
+  drawn.weight = source_->eval(wis, drawn.directions);
+  for (Eigen::Index i = 0; i < n; ++i) drawn.weight.row(i) *= drawn.directions(i, 2) / drawn.pdf[i];
+}
+
+MaterialSamples MaterialSampler::sample(const IncidentDistribution& dist, const Eigen::VectorXd& u1, const Eigen::VectorXd& u2) const {
+  MaterialSamples out = draw(dist, u1, u2);
+  weigh(dist, out);
   return out;
 }
 

@@ -89,6 +89,10 @@ class MaterialSampler {
   MaterialSamples sample(const Eigen::Vector3d& wi, const Eigen::VectorXd& u1, const Eigen::VectorXd& u2) const {
     return sample(distribution(wi), u1, u2);
   }
+  // sample() in two halves: draw() gives directions, pdf and cells (no f evaluated; weight n x 0), weigh()
+  // fills the weights of drawn samples (one f evaluation per draw). draw() then weigh() is sample().
+  MaterialSamples draw(const IncidentDistribution& dist, const Eigen::VectorXd& u1, const Eigen::VectorXd& u2) const;
+  void weigh(const IncidentDistribution& dist, MaterialSamples& drawn) const;
   // pdf at each row of wr (n x 3 unit vectors) [1/sr].
   Eigen::VectorXd pdf(const IncidentDistribution& dist, const RowMatrix3d& wr) const;
   Eigen::VectorXd pdf(const Eigen::Vector3d& wi, const RowMatrix3d& wr) const { return pdf(distribution(wi), wr); }

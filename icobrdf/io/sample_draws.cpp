@@ -2,24 +2,77 @@
 
 #include <fmt/core.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <ostream>
 #include <random>
 
 #include "icobrdf/core/basis/direction.hpp"
 #include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/progress.hpp"
 
 namespace icobrdf {
 namespace {
 
-// The next `n` draws from `rng`: u1 then u2 of each draw in turn.
-MaterialSamples draw_block(const MaterialSampler& sampler, const IncidentDistribution& dist, long long n, std::mt19937_64& rng) {
+// The next `n` draws from `rng`: u1 then u2 of each draw in turn; weighed (f evaluated) or not.
+MaterialSamples draw_block(const MaterialSampler& sampler, const IncidentDistribution& dist, long long n, std::mt19937_64& rng,
+                           bool weighed = true) {
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   Eigen::VectorXd u1(n), u2(n);
   for (long long i = 0; i < n; ++i) u1[i] = uniform(rng), u2[i] = uniform(rng);
-  return sampler.sample(dist, u1, u2);
+  return weighed ? sampler.sample(dist, u1, u2) : sampler.draw(dist, u1, u2);
 }
+
+// The checked weights of every block, kept between the two passes in an unnamed temporary file of $TMPDIR
+// (or /tmp): 8 bytes per draw and channel, removed by the system when closed, whatever ends the process.
+class WeightSpool {
+ public:
+  explicit WeightSpool(std::string what) : what_(std::move(what)) {
+    const char* dir = std::getenv("TMPDIR");
+    dir_ = dir && *dir ? dir : "/tmp";
+    std::string name = dir_ + "/icobrdf-sample-XXXXXX";
+    const int fd = ::mkstemp(name.data());
+    if (fd < 0) fail("cannot be created");
+    ::unlink(name.c_str());
+    file_ = ::fdopen(fd, "w+b");
+    if (!file_) {
+      ::close(fd);
+      fail("cannot be opened");
+    }
+  }
+  WeightSpool(const WeightSpool&) = delete;
+  WeightSpool& operator=(const WeightSpool&) = delete;
+  ~WeightSpool() {
+    if (file_) std::fclose(file_);
+  }
+  void put(const Eigen::MatrixXd& w) {
+    const auto count = static_cast<std::size_t>(w.size());
+    if (count > 0 && std::fwrite(w.data(), sizeof(double), count, file_) != count) fail("cannot be written");
+  }
+  void rewind() {
+    if (std::fflush(file_) != 0 || std::fseek(file_, 0, SEEK_SET) != 0) fail("cannot be written");
+  }
+  void get(Eigen::MatrixXd& w) {
+    const auto count = static_cast<std::size_t>(w.size());
+    if (count > 0 && std::fread(w.data(), sizeof(double), count, file_) != count) fail("cannot be read back");
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what_failed) const {
+    const int e = errno;
+    throw IoError(fmt::format("{}: the temporary file that keeps the checked weights between the two passes, in {}, {} ({}); "
+                              "nothing was written; set TMPDIR to a folder with 8 bytes per draw and channel free",
+                              what_, dir_, what_failed, e ? std::strerror(e) : "end of file"));
+  }
+  std::string what_, dir_;
+  std::FILE* file_ = nullptr;
+};
 
 std::string samples_csv_header(const MaterialSampler& sampler) {
   std::string text = "theta_r,phi_r,pdf";
@@ -59,13 +112,31 @@ bool write_material_samples_csv(std::ostream& out, const MaterialSampler& sample
     out << samples_csv_header(sampler) << samples_csv_rows(s);
     return static_cast<bool>(out);
   }
-  std::mt19937_64 check(seed);
-  for (long long first = 0; first < n; first += kSampleDrawBlock)
-    require_finite_weights(sampler, draw_block(sampler, dist, std::min(kSampleDrawBlock, n - first), check), first);
+  // Several blocks: each is drawn and weighed once, its weights checked and kept in the spool; then the
+  // directions are drawn again from the same seed (no f evaluated) and written with the kept weights.
+  const long long blocks = (n + kSampleDrawBlock - 1) / kSampleDrawBlock;
+  WeightSpool spool(sampler.source().spec());
+  {
+    ProgressMeter progress("drawing", blocks);
+    std::mt19937_64 rng(seed);
+    for (long long first = 0; first < n; first += kSampleDrawBlock) {
+      const MaterialSamples s = draw_block(sampler, dist, std::min(kSampleDrawBlock, n - first), rng);
+      require_finite_weights(sampler, s, first);
+      spool.put(s.weight);
+      progress.step();
+    }
+  }
+  spool.rewind();
+  ProgressMeter progress("writing", blocks);
   std::mt19937_64 rng(seed);
   out << samples_csv_header(sampler);
-  for (long long first = 0; first < n && out; first += kSampleDrawBlock)
-    out << samples_csv_rows(draw_block(sampler, dist, std::min(kSampleDrawBlock, n - first), rng));
+  for (long long first = 0; first < n && out; first += kSampleDrawBlock) {
+    MaterialSamples s = draw_block(sampler, dist, std::min(kSampleDrawBlock, n - first), rng, false);
+    s.weight.resize(s.directions.rows(), sampler.source().channels());
+    spool.get(s.weight);
+    out << samples_csv_rows(s);
+    progress.step();
+  }
   return static_cast<bool>(out);
 }
 

@@ -4,8 +4,11 @@
 //
 // Memory: the draws are made and written in blocks of kSampleDrawBlock, so that `n` costs time, not memory
 // (1e8 draws once took 10.9 GB as one array and one string). A run writes nothing unless every draw
-// succeeded: when n exceeds one block, every block is drawn and checked first, then drawn again from the same
-// seed (the same numbers, bit for bit) and written.
+// succeeded: when n exceeds one block, every block is drawn, weighed (f evaluated once per draw) and
+// checked first, its weights kept in an unnamed temporary file of $TMPDIR (8 bytes per draw and channel:
+// 2.4 GB for 1e8 draws of 3 channels); then the directions are drawn again from the same seed (the same
+// numbers, bit for bit; no f evaluated) and written with the kept weights. Before, f was evaluated twice
+// per draw. Progress lines "drawing" and "writing" (icobrdf/core/support/progress.hpp) for long runs.
 #include <cstdint>
 #include <iosfwd>
 #include <string>
@@ -22,8 +25,8 @@ inline constexpr long long kSampleDrawBlock = 1 << 16;
 // line per draw: angles in degrees, pdf in 1/sr, weight f cos(theta_r) / pdf; shortest round-trip decimals.
 // The uniform numbers u1, u2 of draw i are the (2i)-th and (2i+1)-th of std::uniform_real_distribution(0, 1)
 // on std::mt19937_64(seed), so that a seed gives the same draws on every platform of one standard library,
-// whatever the blocks. UnsupportedError (nothing written) when a weight is not finite. Returns false when
-// `out` failed.
+// whatever the blocks. UnsupportedError (nothing written) when a weight is not finite; IoError (nothing
+// written) when the temporary file of the weights cannot be written. Returns false when `out` failed.
 bool write_material_samples_csv(std::ostream& out, const MaterialSampler& sampler, const Eigen::Vector3d& wi, long long n,
                                 std::uint64_t seed);
 

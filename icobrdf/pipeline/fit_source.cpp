@@ -1,6 +1,8 @@
 #include "icobrdf/pipeline/fit_source.hpp"
 #include "icobrdf/pipeline/fit_order.hpp"
 
+#include <algorithm>
+
 #include "icobrdf/io/measured_sources.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 #include "icobrdf/pipeline/resource_estimate.hpp"
@@ -31,7 +33,9 @@ std::shared_ptr<const ProjectionContext> FitContexts::context(const FitRequest& 
   auto& c = contexts_[{grid_key(request), request.order, request.gram_tolerance}];
   RowSplitExchange* rows = request.share ? request.share->rows.get() : nullptr;
   // One channel: the channel terms are small beside the C x M matrices that decide whether it fits.
-  if (!c) require_model_fit_memory(request.level, request.order, 1, "a fit", rows ? rows->parts() : 1);
+  const auto checked = memory_checked_.find(grid_key(request));
+  const bool held = !rows && checked != memory_checked_.end() && request.order <= checked->second;
+  if (!c && !held) require_model_fit_memory(request.level, request.order, 1, "a fit", rows ? rows->parts() : 1);
   if (!c && rows)
     c = std::make_shared<const ProjectionContext>(make_split_projection_context(grid_locked(request), request.order, request.gram_tolerance, *rows));
   if (!c) c = std::make_shared<const ProjectionContext>(make_projection_context(grid_locked(request), request.order, request.gram_tolerance));
@@ -47,6 +51,8 @@ int FitContexts::supported_order(const FitRequest& request) {
   // order it may never reach, and orders beyond that one are never tried.
   const int in_memory = largest_order_in_memory(request.level, request.order, 1);
   if (in_memory < 0) require_model_fit_memory(request.level, 0, 1, "a fit");
+  int& checked = memory_checked_[grid_key(request)];
+  checked = std::max(checked, in_memory);
   return supported_[key] = largest_supported_order(build_discrete_basis(*grid_locked(request), in_memory), request.gram_tolerance);
 }
 

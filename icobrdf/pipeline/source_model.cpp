@@ -18,13 +18,21 @@ std::shared_ptr<const BrdfModel> values_model(std::shared_ptr<const BrdfSource> 
       spec, false, false);
 }
 
+// A SOURCE named by its kind's prefix (icobrdf/io/measured_sources.hpp): a file, though the text does not
+// name one ("curet:abrdf.dat#sample=1" was parsed as a model and refused as "unknown model 'curet'").
+bool has_measured_source_prefix(const std::string& text) {
+  for (const char* p : {"merl:", "rgl:", "scatmech:", "samples:", "curet:"})
+    if (text.rfind(p, 0) == 0) return true;
+  return false;
+}
+
 }  // namespace
 
 std::shared_ptr<const BrdfModel> model_of_source(const std::string& text, std::string* label, std::vector<std::string>* channel_names) {
   if (channel_names) channel_names->clear();
   struct stat st{};
   const std::string path = split_material_ref(text).path;
-  if (!is_model_source(text) && ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode)) {
+  if (!is_model_source(text) && (has_measured_source_prefix(text) || (::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode)))) {
     std::shared_ptr<const BrdfSource> src = open_source(text);
     *label = src->spec();
     if (channel_names) *channel_names = src->channel_names();

@@ -16,6 +16,10 @@ constexpr double kTitleSize = 15.0, kLabelSize = 13.0, kTickSize = 11.5, kLegend
 constexpr double kMarkerRadius = 3.6;
 // Relative slack when listing ticks, so that an end of the range equal to a tick up to rounding keeps it.
 constexpr double kTickSlack = 1e-9;
+// Values closer than this (relative) are one value: sums of a few hundred rounded terms differ by ~1e-14.
+constexpr double kFlatSpread = 1e-9;
+// Tick indices are counted in doubles, exact only below 2^53; a chart has a few dozen ticks at most.
+constexpr double kMaxTickIndex = 1e6;
 
 const Rgb kAxisColour{0.15, 0.15, 0.15};
 const Rgb kGridColour{0.88, 0.88, 0.88};
@@ -64,7 +68,13 @@ void axis_range(const std::vector<double>& values, bool log, bool integers, doub
     hi = std::pow(10.0, std::ceil(std::log10(mx) - kTickSlack));
     if (!(hi > lo)) lo /= 10.0, hi *= 10.0;
   } else {
-    if (!(mx > mn)) mn -= 1.0, mx += 1.0;
+    // A spread within rounding of the values is no spread: ticks 1e-18 apart on values near 0.16 (the
+    // in-plane curve of a Lambertian spectrum at normal incidence, equal to 1 ulp) counted k += 1 beyond 2^53,
+    // where k + 1 == k, and filled memory. Such data are drawn as flat, around their value.
+    if (!(mx - mn > kFlatSpread * std::max(std::fabs(mn), std::fabs(mx)))) {
+      const double c = (mn + mx) / 2, half = c != 0.0 ? std::fabs(c) : 1.0;
+      mn = c - half, mx = c + half;
+    }
     const double step = linear_step(mn, mx, 6, integers);
     lo = std::floor(mn / step + kTickSlack) * step;
     hi = std::ceil(mx / step - kTickSlack) * step;
@@ -283,6 +293,8 @@ std::vector<double> axis_ticks(double lo, double hi, bool log, int target, bool 
   }
   const double step = linear_step(lo, hi, target, integers);
   const double first = std::ceil(lo / step - kTickSlack);
+  // A range too narrow for its values' precision has no ticks (k + 1 == k beyond 2^53 never ends).
+  if (!(std::fabs(first) < kMaxTickIndex) || !((hi - lo) / step < kMaxTickIndex)) return t;
   for (double k = first; k * step <= hi + step * kTickSlack; k += 1.0) t.push_back(k * step);
   return t;
 }

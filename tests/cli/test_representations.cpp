@@ -1,7 +1,7 @@
 // Every stored representation through every consumer of a stored material: a bank of three materials, one
 // per representation (modes; a half-angle lobe alone; the hybrid of the two), written here in a few
-// milliseconds, and each consumer (eval, lut, albedo, sample, plot slice / sphere / spectrum, export scatmech
-// and merl, bank extract) either agrees with `eval` of the bank within a named tolerance or refuses with a
+// milliseconds, and each consumer (eval, lut, albedo, sample, plot slice / sphere / halfdiff / curves /
+// albedo / spectrum, export scatmech, rgl and merl, bank extract) either agrees with `eval` of the bank within a named tolerance or refuses with a
 // non-zero exit and one line naming the representation. The Python objects are enumerated in
 // tests/python/module/test_representations.py.
 #include <gtest/gtest.h>
@@ -48,6 +48,9 @@ constexpr int kDraws = 5000;
 // A MERL table is constant over each bin (1 degree in theta_d and phi_d, theta_h warped): for materials
 // whose values change by well under 1 % per degree, its cosine-weighted relative L2 is far below this.
 constexpr double kMerlTol = 0.02;
+// The RGL export's own acceptance figure (cosine-weighted relative L2 of the file read back, as
+// tests/cli/test_export.cpp), and the same bound on eval of the written file at the fixture's pairs.
+constexpr double kRglTol = 0.03;
 
 const char* const kNames[] = {"modes", "lobe", "hybrid"};
 
@@ -263,12 +266,12 @@ TEST(Representations, AlbedoAndSampleOfEveryRepresentation) {
   }
 }
 
-// Pictures: slice and sphere draw every representation from its values; the coefficient plot takes modes
-// alone and refuses a material with a lobe.
+// Pictures: slice, sphere, halfdiff, curves and albedo draw every representation from its values; the
+// coefficient plot takes modes alone and refuses a material with a lobe.
 TEST(Representations, PlotsOfEveryRepresentation) {
   const Fixture& f = fixture();
   for (const std::string name : kNames) {
-    for (const std::string kind : {"slice", "sphere"}) {
+    for (const std::string kind : {"slice", "sphere", "halfdiff", "curves", "albedo"}) {
       const std::string out = f.dir.file(kind + "-" + name + ".png");
       const CliResult r = run_cli({"plot", kind, f.ref(name), "-o", out});
       EXPECT_EQ(r.exit_code, 0) << kind << " " << name << ": " << r.err;
@@ -334,6 +337,29 @@ TEST(Representations, MerlExportAndExtractOfEveryRepresentation) {
     const std::vector<double> again = eval_values(extracted + "#" + name);
     ASSERT_EQ(again.size(), want.size());
     for (size_t k = 0; k < want.size(); ++k) EXPECT_EQ(again[k], want[k]) << name << " " << k;
+  }
+}
+
+// export rgl: every representation written as an RGL .bsdf (through open_source, like merl), the file read
+// back by the RGL reader and evaluated at the fixture's pairs against eval of the bank (cosine weighted, as
+// the export's own figure, which is checked too).
+TEST(Representations, RglExportOfEveryRepresentation) {
+  const Fixture& f = fixture();
+  for (const std::string name : kNames) {
+    const std::string out = f.dir.file(name + ".bsdf");
+    const CliResult r = run_cli({"export", f.ref(name), "--format", "rgl", "-o", out, "--json"});
+    ASSERT_EQ(r.exit_code, 0) << name << ": " << r.err;
+    EXPECT_LE(nlohmann::json::parse(r.out)["cosine_rel_l2"].get<double>(), kRglTol) << name;
+    const std::vector<double> back = eval_values(out), want = eval_values(f.ref(name));
+    ASSERT_EQ(back.size(), want.size()) << name;
+    double num = 0, den = 0;
+    for (size_t k = 0; k < back.size(); ++k) {
+      const auto row = static_cast<Eigen::Index>(k);
+      const double c = f.pairs.wi(row, 2) * f.pairs.wr(row, 2);  // cos(theta_i) cos(theta_r)
+      num += c * c * (back[k] - want[k]) * (back[k] - want[k]);
+      den += c * c * want[k] * want[k];
+    }
+    EXPECT_LT(std::sqrt(num / den), kRglTol) << name;
   }
 }
 

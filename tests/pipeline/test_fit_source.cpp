@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/memory_budget.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
 #include "icobrdf/pipeline/fit_source.hpp"
+#include "icobrdf/pipeline/resource_estimate.hpp"
 #include "tests/support/unity_id.hpp"
 
 namespace icobrdf {
@@ -75,6 +77,32 @@ TEST(FitSource, SupportedOrderIsCappedAndRefusalsNameTheLimit) {
   EXPECT_EQ(contexts.supported_order(r), 0);
   r.order = 30;
   EXPECT_THROW(fit_source(*open_source("model:lambert"), r), UnsupportedError);
+}
+
+TEST(FitSource, AnOrderTheMemoryCheckAllowedIsNotRefusedOnceTheGridIsHeld) {
+  // The search asks supported_order (memory checked before the grid exists: the estimate includes the
+  // grid), builds the grid, then asks for the context at that order. With the memory now smaller by the
+  // grid it holds, a second check would refuse the order it was given ("order 29 needs 19.6 GB; order 28
+  // fits" at level 8): the context is made. An order beyond the one checked is still checked.
+  struct BudgetGuard {
+    ~BudgetGuard() { set_memory_budget(0); }
+  } guard;
+  FitRequest r;
+  r.level = 3;
+  r.order = 6;
+  const double need = model_fit_bytes(3, 6, 1, estimate_threads());
+  set_memory_budget(need);
+  FitContexts contexts;
+  const int top = contexts.supported_order(r);
+  ASSERT_EQ(top, 6) << "level 3 resolves order 6 (Gram error within 0.1)";
+  set_memory_budget(need - grid_bytes(3));  // what is left once this process holds the grid
+  r.order = top;
+  EXPECT_NO_THROW(contexts.context(r));
+  r.order = top + 1;
+  EXPECT_THROW(contexts.context(r), ResourceError);
+  FitContexts fresh;  // without the earlier check, the same order is checked and refused
+  r.order = top;
+  EXPECT_THROW(fresh.context(r), ResourceError);
 }
 
 }  // namespace

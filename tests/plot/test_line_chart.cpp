@@ -136,6 +136,20 @@ TEST(LineChart, TicksFollowTheOneTwoFiveAndDecadeRules) {
   EXPECT_EQ(axis_ticks(2, 9, true, 6, false), (std::vector<double>{2, 5}));
 }
 
+TEST(LineChart, ValuesEqualToRoundingAreDrawnFlat) {
+  // A Lambertian spectrum's in-plane curve at normal incidence: 0.5 / pi, and the same plus 1 ulp. Before,
+  // the axis took the 1-ulp spread for its range, ticks 5e-18 apart were counted beyond 2^53 (k + 1 == k)
+  // and the program filled 16 GB. Now: drawn flat around the value, [0, 2 v], with a handful of ticks.
+  const double v = 0.5 / M_PI, w = std::nextafter(v, 1.0);
+  Figure fig(400, 300);
+  const ChartFrame f = draw_line_chart(fig, ChartBox{0, 0, 400, 300}, {Series{"a", {0, 1, 2}, {v, w, v}}}, ChartOptions{});
+  EXPECT_LE(f.y0, 0.0 + 1e-12);
+  EXPECT_GE(f.y1, 2 * v - 1e-12);
+  EXPECT_LT(f.y1, 2 * v + 0.2);  // the next nice tick above 2 v
+  // A range too narrow for its values' precision gives no ticks (and returns).
+  EXPECT_TRUE(axis_ticks(v, w, false, 6, false).empty());
+}
+
 TEST(LineChart, MismatchedSeriesAndDegenerateRangesAreRefused) {
   Figure fig(400, 300);
   EXPECT_THROW(draw_line_chart(fig, ChartBox{0, 0, 400, 300}, {Series{"bad", {1, 2}, {1}}}, ChartOptions{}), ArgumentError);

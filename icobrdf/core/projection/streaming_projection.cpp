@@ -94,7 +94,17 @@ std::vector<Eigen::MatrixXd> reciprocal_projection(const BrdfModel& model, const
   const int parts = cosine ? 2 : 1;
   std::vector<Eigen::MatrixXd> sums(static_cast<size_t>(ch * parts), Eigen::MatrixXd::Zero(modes, modes));
   const int mine = blocks_of_share(blocks, share);
-  ProgressMeter progress("projecting", mine);
+  // The progress counts sampled entries: a block samples the prefix of columns its last row needs, so later
+  // blocks cost more, and counting blocks made the time left grow as the work went on.
+  std::vector<double> block_work(static_cast<size_t>(mine));
+  for (int k_block = 0; k_block < mine; ++k_block) {
+    const int b = block_of_share(k_block, share);
+    const int r0 = b * kStreamingBlockRows, r1 = std::min(rows_total, r0 + kStreamingBlockRows);
+    int col_end = 0;
+    for (int k = r0; k < r1; ++k) col_end = std::max(col_end, orbit_end[static_cast<size_t>(row_cells[static_cast<size_t>(k)])]);
+    block_work[static_cast<size_t>(k_block)] = static_cast<double>(r1 - r0) * col_end;
+  }
+  ProgressMeter progress("projecting", std::move(block_work));
   InOrderSums in_order(sums, kStreamingBlocksAhead, &progress);
 #pragma omp parallel
   {

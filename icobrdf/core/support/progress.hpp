@@ -3,15 +3,27 @@
 // nowhere by default, so library users see nothing unless they ask).
 //
 //   ProgressMeter m("projecting", total_steps);   // silent until kProgressDelaySeconds have passed
-//   m.step();                                     // thread-safe; at most one line per kProgressIntervalSeconds
+//   m.step();                                     // thread-safe
 //
-// A line reads "projecting: 35% after 12 s, about 22 s left". The estimate of the time left assumes the
-// remaining steps cost what the finished ones did on average; steps of very unequal cost make it rough.
+// A line reads "projecting: 35% after 12 s, about 22 s left", or "projecting: 35% after 12 s" while the
+// time left is not known well enough (icobrdf/core/support/progress_estimate.hpp: the rate of the recent
+// half of the elapsed time, shown once three samples agree within 15 %). Steps of unequal cost are given
+// their work (the second constructor), so the fraction and the rate count work, not steps; those steps
+// must then be taken in order (the first n steps done are steps 0..n-1, as InOrderSums takes them).
+// While work goes on a line comes every kProgressIntervalSeconds even when no step finishes (a heartbeat
+// thread, started only when a stream is set), so a long step is never silence.
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
+#include <functional>
 #include <mutex>
+#include <optional>
 #include <ostream>
 #include <string>
+#include <thread>
+#include <vector>
+
+#include "icobrdf/core/support/progress_estimate.hpp"
 
 namespace icobrdf {
 
@@ -19,6 +31,8 @@ namespace icobrdf {
 inline constexpr double kProgressDelaySeconds = 2.0;
 // Seconds between two lines: often enough to show movement, rare enough to keep logs short.
 inline constexpr double kProgressIntervalSeconds = 5.0;
+// Seconds between two samples of the estimate (the heartbeat's period): three samples settle it in 2 s.
+inline constexpr double kProgressSampleSeconds = 1.0;
 
 // Where progress lines go (nullptr: nowhere, the default). Not synchronized with running meters: set it
 // before the work starts.
@@ -29,24 +43,44 @@ std::ostream* progress_stream();
 void set_progress_delay(double seconds);
 double progress_delay();
 
+// Seconds since the meter started; a test passes a fake one (no heartbeat thread then: it calls tick()).
+using ProgressClock = std::function<double()>;
+
 class ProgressMeter {
  public:
+  // total_steps steps of equal cost.
   ProgressMeter(std::string label, long long total_steps);
+  // One step per entry of step_work (its cost in any unit, >= 0), taken in order.
+  ProgressMeter(std::string label, std::vector<double> step_work);
+  // Either, with a given clock and no heartbeat thread.
+  ProgressMeter(std::string label, std::vector<double> step_work, ProgressClock clock);
   ProgressMeter(const ProgressMeter&) = delete;
   ProgressMeter& operator=(const ProgressMeter&) = delete;
   ~ProgressMeter();  // a final "done" line when anything was printed
 
   void step(long long n = 1);
+  // Samples the estimate and prints a line when one is due (the heartbeat calls it every
+  // kProgressSampleSeconds; step() calls it when a line may be due).
+  void tick();
 
  private:
-  using Clock = std::chrono::steady_clock;
+  void start_heartbeat();
+  double work_of(long long steps) const;  // the work of the first `steps` steps
+
   std::string label_;
   long long total_;
+  std::vector<double> cumulative_;  // work of the first k + 1 steps (empty: equal steps)
+  ProgressClock clock_;
   std::atomic<long long> done_{0};
-  Clock::time_point start_;
-  std::atomic<double> next_print_;  // seconds since start_ of the next line; written under mutex_
+  std::atomic<double> next_print_;  // seconds since the start of the next line; written under mutex_
+  double next_sample_ = 0;          // under mutex_
   bool printed_ = false;
+  ProgressEstimate estimate_;
   std::mutex mutex_;
+  std::mutex stop_mutex_;
+  std::condition_variable stop_wait_;
+  bool stopping_ = false;
+  std::thread heartbeat_;
 };
 
 }  // namespace icobrdf
