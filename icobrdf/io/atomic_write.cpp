@@ -163,13 +163,27 @@ void atomic_write(const std::string& path, const std::function<void(const std::s
   file.commit();
 }
 
-void atomic_write_text(const std::string& path, const std::string& text) {
+void atomic_write_bytes(const std::string& path, const void* data, std::size_t size) {
   atomic_write(path, [&](const std::string& temp) {
-    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    out.flush();
-    if (!out) throw IoError(path + ": cannot write: write to the temporary " + temp + " failed");
+    const int fd = ::open(temp.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
+    if (fd < 0) fail(path, "open its temporary", errno);
+    const char* at = static_cast<const char*>(data);
+    std::size_t left = size;
+    while (left > 0) {
+      const ssize_t n = ::write(fd, at, left);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        const int err = n < 0 ? errno : EIO;
+        ::close(fd);
+        fail(path, "write to its temporary", err);
+      }
+      at += n;
+      left -= static_cast<std::size_t>(n);
+    }
+    if (::close(fd) != 0) fail(path, "close its temporary", errno);
   });
 }
+
+void atomic_write_text(const std::string& path, const std::string& text) { atomic_write_bytes(path, text.data(), text.size()); }
 
 }  // namespace icobrdf

@@ -13,6 +13,7 @@
 // existing file at `path` untouched; file-system failures throw IoError naming `path`, exceptions from
 // produce propagate unchanged. `path` itself is never opened, let alone truncated: only rename() touches it.
 // A crash (power loss, SIGKILL) can leave a stale ".<name>.tmp-*" beside `path`, never a partial `path`.
+#include <cstddef>
 #include <functional>
 #include <string>
 
@@ -47,7 +48,9 @@ void remove_unfinished_temporaries();
 // left as it is, since the program ends next (icobrdf/io/program_end.hpp).
 int remove_unfinished_temporaries_in_signal_handler();  // how many were removed
 
-// atomic_write of a text (or any bytes) as the whole file.
+// atomic_write of `size` bytes (or a text) as the whole file. A failed write (full disk, file-size limit)
+// throws IoError "PATH: cannot write: write to its temporary: <the system's reason>".
+void atomic_write_bytes(const std::string& path, const void* data, std::size_t size);
 void atomic_write_text(const std::string& path, const std::string& text);
 
 // The folder holding `path` ("." for a bare name), and the name in it (after the last '/').

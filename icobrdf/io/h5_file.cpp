@@ -186,6 +186,8 @@ herr_t walk_error(unsigned, const H5E_error2_t* err, void* data) {
 
 }  // namespace
 
+void leave_library_at_exit() { H5dont_atexit(); }
+
 void init() {
   static const bool once = [] {
     H5open();

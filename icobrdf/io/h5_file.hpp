@@ -35,6 +35,14 @@ namespace icobrdf::h5 {
 // loading of filter plugins named by a file. Idempotent; called by every entry point below.
 void init();
 
+// For programs, before any other HDF5 call: HDF5 registers no exit handler (H5dont_atexit). A file whose
+// close failed (a write refused on a full disk or over the file-size limit) stays in HDF5's table, and
+// HDF5 1.10's exit handler then crashes closing it again (SIGSEGV in H5F__close_cb, exit 139 after the
+// program's own error line). The program closes every file it opens, so at exit the handler has nothing
+// left to flush; unwritten temporaries are removed by their owners (atomic_write). Not for the Python
+// module: other users of the same HDF5 in that process (h5py) may rely on the handler.
+void leave_library_at_exit();
+
 // The innermost message on HDF5's current error stack ("" when empty), then clears the stack.
 std::string take_error_detail();
 

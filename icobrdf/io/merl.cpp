@@ -242,12 +242,7 @@ void write_merl(const std::string& path, const BrdfModel& model, const std::func
       }
     }
   }
-  atomic_write(path, [&](const std::string& tmp) {
-    std::ofstream o(tmp, std::ios::binary | std::ios::trunc);
-    o.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    o.flush();
-    if (!o) throw IoError(tmp + ": write failed (MERL file for " + path + ")");
-  });
+  atomic_write_bytes(path, bytes.data(), bytes.size());
 }
 
 void MerlModel::eval(const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const {

@@ -10,6 +10,7 @@
 #include <iostream>
 
 #include "icobrdf/io/atomic_write.hpp"
+#include "icobrdf/io/h5_file.hpp"
 
 namespace icobrdf {
 namespace {
@@ -56,6 +57,10 @@ void install_stop_signals() {
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
+  // Over the file-size limit (ulimit -f) a write fails with EFBIG, reported as any full disk is, instead of
+  // SIGXFSZ ending the process with no line and its temporaries left behind.
+  std::signal(SIGXFSZ, SIG_IGN);
+  h5::leave_library_at_exit();
 }
 
 int finish_standard_output(int code, int io_code) {

@@ -10,7 +10,9 @@
 //   (icobrdf/io/atomic_write.hpp), write one line when they removed any, and end the process with 128 + the
 //   signal (130, 143).
 //   Files already renamed into place stay. A command that stops cleanly on its own (bank build keeps its
-//   finished materials) installs its own handler over this one.
+//   finished materials) installs its own handler over this one. SIGXFSZ is ignored (a write over the
+//   file-size limit fails as on a full disk), and HDF5's exit handler is not registered
+//   (h5::leave_library_at_exit).
 // - finish_standard_output(code, io_code): flushes the standard output; when a write to it failed (full disk,
 //   /dev/full, closed), writes one line to the standard error and returns io_code if `code` was 0 (else
 //   `code`, whose error was reported already).

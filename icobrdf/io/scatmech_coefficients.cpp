@@ -315,19 +315,6 @@ std::string format_scatmech_polynomial(const ScatmechWavelengthPolynomial& poly,
   return os.str();
 }
 
-namespace {
-
-void write_coefficient_file(const std::string& path, const std::string& text) {
-  atomic_write(path, [&](const std::string& tmp) {
-    std::ofstream o(tmp, std::ios::binary | std::ios::trunc);
-    o << text;
-    o.flush();
-    if (!o) throw IoError(tmp + ": write failed (coefficient file for " + path + ")");
-  });
-}
-
-}  // namespace
-
 ScatmechExport format_scatmech_coefficients(const Spectrum& s, int channel, bool project_isotropic) {
   if (s.cosine)
     throw UnsupportedError("SCATMECH export: the spectrum holds g = f cos(theta_i), SCATMECH expands f; refit without --cosine");
@@ -369,7 +356,7 @@ ScatmechExport write_scatmech_coefficients(const std::string& path, const Spectr
   const std::string where = path + ": SCATMECH export of material '" + material + "' channel " + std::to_string(channel);
   require_finite(e.anisotropic_fraction, where, "the anisotropic energy fraction of C");
   require_finite(e.coefficients, where, "the conversion of C to SCATMECH coefficients a");
-  write_coefficient_file(path, e.text);
+  atomic_write_text(path, e.text);
   return e;
 }
 
@@ -410,7 +397,7 @@ ScatmechPolynomialExport write_scatmech_polynomial(const std::string& path, cons
   if (scale > 0) out.misfit /= scale;
   const std::string text = format_scatmech_polynomial(out.polynomial, s.source.empty() ? material : s.source);
   out.rows = static_cast<long long>(out.polynomial.ibsss.size()) * isotropic_mode_count(s.order);
-  write_coefficient_file(path, text);
+  atomic_write_text(path, text);
   return out;
 }
 

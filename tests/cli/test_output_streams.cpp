@@ -1,8 +1,10 @@
 // Every command that prints to the standard output, with that output on /dev/full or closed: one line on the
-// standard error and exit 5, never exit 0 with the output lost. And the commands that write files, stopped by
-// SIGINT or SIGTERM while writing: exit 130 / 143, one line, no temporary left (icobrdf/io/program_end.hpp).
+// standard error and exit 5, never exit 0 with the output lost. The commands that write files, stopped by
+// SIGINT or SIGTERM while writing: exit 130 / 143, one line, no temporary left; and under a file-size limit
+// (a disk that fills during the write): exit 5, one line, no file, no crash (icobrdf/io/program_end.hpp).
 #include <dirent.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -12,6 +14,7 @@
 #include <fstream>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "tests/cli/cli_runner.hpp"
@@ -26,6 +29,9 @@ namespace ICOBRDF_UNITY_ID {
 
 // The exit code of a file system error (cli/exit_codes.hpp, kExitIo).
 constexpr int kExitIo = 5;
+// The file-size limit of the full-disk test: each command's output is larger (the smallest, the bank of one
+// Lambert material at order 4, is about 20 kB), so every one fails part way through its write.
+constexpr rlim_t kFileSizeLimitBytes = 4096;
 // How often the signal test looks for the output's temporary (the LUT's write takes tens of milliseconds
 // or more, so it is seen many times over).
 constexpr auto kPollInterval = std::chrono::microseconds(500);
@@ -139,6 +145,53 @@ TEST(OutputStreams, LutStoppedWhileWritingExitsWithTheSignalsCodeAndLeavesNoTemp
     EXPECT_NE(s.err.find(sig == SIGINT ? "icobrdf: interrupted (SIGINT)" : "icobrdf: terminated (SIGTERM)"), std::string::npos) << s.err;
     EXPECT_TRUE(temporaries_in(out.path).empty());
     EXPECT_FALSE(std::ifstream(lut).good()) << "no partial LUT";
+  }
+}
+
+// `icobrdf args...` with the file-size limit `bytes` (RLIMIT_FSIZE: writes beyond it fail, or SIGXFSZ ends
+// a process that does not ignore it); the raw wait status.
+Stopped run_with_file_size_limit(const std::vector<std::string>& args, rlim_t bytes, const TempDir& d) {
+  const std::string err = d.file("stderr.txt");
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const rlimit limit{bytes, bytes};
+    if (setrlimit(RLIMIT_FSIZE, &limit) != 0) _exit(125);
+    if (!freopen("/dev/null", "w", stdout) || !freopen(err.c_str(), "w", stderr)) _exit(126);
+    std::vector<char*> argv{const_cast<char*>(ICOBRDF_CLI_PATH)};
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(ICOBRDF_CLI_PATH, argv.data());
+    _exit(127);
+  }
+  Stopped s;
+  waitpid(pid, &s.status, 0);
+  s.err = slurp(err);
+  return s;
+}
+
+TEST(OutputStreams, AFileSizeLimitReachedWhileWritingGivesOneLineAndNoFile) {
+  TempDir d, out;
+  std::ofstream(d.file("scene.toml")) << "[bank]\nlevel = 2\nlevels = [2]\norder_max = 4\ntarget = 0.5\n\n"
+                                         "[[material]]\nname = \"m\"\nsource = \"model:lambert\"\n";
+  const std::vector<std::pair<std::string, std::vector<std::string>>> writers = {
+      {"lut.h5", {"lut", "model:lambert", "--level", "3", "--order", "4"}},
+      {"spec.h5", {"fit", "model:lambert", "--order", "4"}},
+      {"bank.h5", {"bank", "build", d.file("scene.toml"), "--quiet"}},
+      {"lambert.binary", {"export", "model:lambert", "--format", "merl"}}};
+  for (const auto& [name, command] : writers) {
+    auto args = command;
+    args.insert(args.end(), {"-o", out.file(name)});
+    SCOPED_TRACE(joined(args));
+    const Stopped s = run_with_file_size_limit(args, kFileSizeLimitBytes, d);
+    // Before: SIGXFSZ ended the process with no line (and left the temporary); with the signal ignored,
+    // HDF5's exit handler crashed closing the file whose close had failed (exit 139).
+    ASSERT_TRUE(WIFEXITED(s.status)) << "ended by signal " << (WIFSIGNALED(s.status) ? WTERMSIG(s.status) : 0) << ": " << s.err;
+    EXPECT_EQ(WEXITSTATUS(s.status), kExitIo) << s.err;
+    EXPECT_NE(s.err.find("File too large"), std::string::npos) << "the system's reason: " << s.err;
+    EXPECT_EQ(s.err.find('\n'), s.err.size() - 1) << "one line: " << s.err;
+    EXPECT_TRUE(temporaries_in(out.path).empty());
+    EXPECT_FALSE(std::ifstream(out.file(name)).good()) << "no partial file";
+    EXPECT_FALSE(std::ifstream(out.file(name + ".partial")).good()) << "no partial bank";
   }
 }
 
