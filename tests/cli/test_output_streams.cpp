@@ -107,11 +107,13 @@ struct Stopped {
   std::string err;
 };
 
-// Starts `icobrdf args...`, sends `sig` as soon as a temporary appears in `folder`, and waits.
-Stopped stop_while_writing(const std::vector<std::string>& args, const std::string& folder, int sig, const TempDir& d) {
-  const std::string err = d.file("stderr.txt");
+// Starts `icobrdf args...` with its standard output on /dev/null, its standard error into `err` and the
+// file-size limit `file_size_limit` (RLIMIT_FSIZE); its process id.
+pid_t start_program(const std::vector<std::string>& args, const std::string& err, rlim_t file_size_limit = RLIM_INFINITY) {
   const pid_t pid = fork();
   if (pid == 0) {
+    const rlimit limit{file_size_limit, file_size_limit};
+    if (setrlimit(RLIMIT_FSIZE, &limit) != 0) _exit(125);
     if (!freopen("/dev/null", "w", stdout) || !freopen(err.c_str(), "w", stderr)) _exit(126);
     std::vector<char*> argv{const_cast<char*>(ICOBRDF_CLI_PATH)};
     for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
@@ -119,6 +121,13 @@ Stopped stop_while_writing(const std::vector<std::string>& args, const std::stri
     execv(ICOBRDF_CLI_PATH, argv.data());
     _exit(127);
   }
+  return pid;
+}
+
+// Starts `icobrdf args...`, sends `sig` as soon as a temporary appears in `folder`, and waits.
+Stopped stop_while_writing(const std::vector<std::string>& args, const std::string& folder, int sig, const TempDir& d) {
+  const std::string err = d.file("stderr.txt");
+  const pid_t pid = start_program(args, err);
   Stopped s;
   while (waitpid(pid, &s.status, WNOHANG) == 0) {
     if (!temporaries_in(folder).empty()) {
@@ -152,17 +161,7 @@ TEST(OutputStreams, LutStoppedWhileWritingExitsWithTheSignalsCodeAndLeavesNoTemp
 // a process that does not ignore it); the raw wait status.
 Stopped run_with_file_size_limit(const std::vector<std::string>& args, rlim_t bytes, const TempDir& d) {
   const std::string err = d.file("stderr.txt");
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const rlimit limit{bytes, bytes};
-    if (setrlimit(RLIMIT_FSIZE, &limit) != 0) _exit(125);
-    if (!freopen("/dev/null", "w", stdout) || !freopen(err.c_str(), "w", stderr)) _exit(126);
-    std::vector<char*> argv{const_cast<char*>(ICOBRDF_CLI_PATH)};
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    execv(ICOBRDF_CLI_PATH, argv.data());
-    _exit(127);
-  }
+  const pid_t pid = start_program(args, err, bytes);
   Stopped s;
   waitpid(pid, &s.status, 0);
   s.err = slurp(err);
