@@ -7,6 +7,7 @@
 
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/support/fast_atan2.hpp"
+#include "icobrdf/core/support/huge_pages.hpp"
 
 namespace icobrdf {
 namespace {
@@ -79,6 +80,10 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
   cos_edge_[static_cast<size_t>(nt)] = 0.0;
   const int n_nodes = nodes();
   const auto total = static_cast<size_t>(n_nodes) * static_cast<size_t>(cells_);
+  // Read at random cells per draw: huge pages (advised before the first write) spare the TLB misses' page walks.
+  cells_of_nodes_.reserve(total), alias_.reserve(total);
+  advise_huge_pages(cells_of_nodes_.data(), total * sizeof(CellEntry));
+  advise_huge_pages(alias_.data(), total * sizeof(AliasEntry));
   cells_of_nodes_.assign(total, CellEntry{0.0f, 0, 0});
   alias_.assign(total, AliasEntry{1.0f, 0, 0, 0});
   albedo_.assign(static_cast<size_t>(n_nodes), 0.0);
