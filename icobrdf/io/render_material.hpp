@@ -80,7 +80,7 @@ struct MaterialSample {
 
 struct RenderMaterialOptions {
   // For an anisotropic material whose table options leave azimuth_nodes at 1, azimuth_nodes and theta_nodes
-  // are set to the anisotropic values below (48 x 16 nodes would take 200 MB).
+  // are set to the anisotropic values below (48 x 16 nodes would take 250 MB).
   HalfVectorTableOptions table;
   int anisotropic_azimuth_nodes = 16;
   int anisotropic_theta_nodes = 24;

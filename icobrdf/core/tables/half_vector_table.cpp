@@ -7,6 +7,7 @@
 
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/support/fast_atan2.hpp"
+#include "icobrdf/core/support/huge_pages.hpp"
 
 namespace icobrdf {
 namespace {
@@ -79,8 +80,12 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
   cos_edge_[static_cast<size_t>(nt)] = 0.0;
   const int n_nodes = nodes();
   const auto total = static_cast<size_t>(n_nodes) * static_cast<size_t>(cells_);
+  // Read at random cells per draw: huge pages (advised before the first write) spare the TLB misses' page walks.
+  cells_of_nodes_.reserve(total), alias_.reserve(total);
+  advise_huge_pages(cells_of_nodes_.data(), total * sizeof(CellEntry));
+  advise_huge_pages(alias_.data(), total * sizeof(AliasEntry));
   cells_of_nodes_.assign(total, CellEntry{0.0f, 0, 0});
-  alias_.assign(total, AliasEntry{1.0f, 0});
+  alias_.assign(total, AliasEntry{1.0f, 0, 0, 0});
   albedo_.assign(static_cast<size_t>(n_nodes), 0.0);
   const double dphi = 2.0 * M_PI / np;
   phi_edge_cs_.resize(2 * static_cast<size_t>(np));
@@ -177,7 +182,12 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
       cells_of_nodes_[static_cast<size_t>(cell) * static_cast<size_t>(n_nodes) + static_cast<size_t>(n)].mass = p;
       m[cell] = p / rounded;
     }
-    build_alias(m, alias_.data() + static_cast<size_t>(n) * static_cast<size_t>(cells_));
+    AliasEntry* alias = alias_.data() + static_cast<size_t>(n) * static_cast<size_t>(cells_);
+    build_alias(m, alias);
+    for (int cell = 0; cell < cells_; ++cell) {  // the alias cell's slopes beside its index (see sample())
+      const CellEntry& e = entry(n, alias[cell].alias);
+      alias[cell].a = e.a, alias[cell].b = e.b;
+    }
   }
 }
 
@@ -235,15 +245,15 @@ void HalfVectorTable::build_alias(const double* p, AliasEntry* out) const {
   while (!small.empty() && !large.empty()) {
     const int l = small.back(), g = large.back();
     small.pop_back();
-    out[l] = AliasEntry{static_cast<float>(scaled[static_cast<size_t>(l)]), g};
+    out[l] = AliasEntry{static_cast<float>(scaled[static_cast<size_t>(l)]), g, 0, 0};
     double& sg = scaled[static_cast<size_t>(g)];
     sg = (sg + scaled[static_cast<size_t>(l)]) - 1.0;
     if (sg < 1.0) large.pop_back(), small.push_back(g);
   }
   // What is left is 1 to rounding; an empty cell left over keeps nothing (its alias has mass).
-  for (const int g : large) out[g] = AliasEntry{1.0f, g};
+  for (const int g : large) out[g] = AliasEntry{1.0f, g, 0, 0};
   const int best = static_cast<int>(std::max_element(p, p + cells_) - p);
-  for (const int l : small) out[l] = AliasEntry{p[l] > 0.0 ? 1.0f : 0.0f, best};
+  for (const int l : small) out[l] = AliasEntry{p[l] > 0.0 ? 1.0f : 0.0f, best, 0, 0};
 }
 
 HalfVectorBlend HalfVectorTable::blend(const HalfVectorTableOptions& opt, const Eigen::Vector3d& wi) {
@@ -314,22 +324,23 @@ bool HalfVectorTable::sample(const HalfVectorBlend& b, const Eigen::Vector3d& wi
     acc += b.weight[i];
   }
   x = std::clamp((x - node_lo) / node_w, 0.0, 1.0);
-  // The cell from the node's alias table, then the fraction left of x for the position within it.
+  // The cell from the node's alias table, then the fraction left of x for the position within it. The alias
+  // entry and the cell's own entry are read at once (both addresses follow from x; the alias entry carries
+  // its alias cell's slopes), so the draw waits for one memory access, not two in turn; the entries of the
+  // drawn cell, which the density reads, are fetched meanwhile.
   const double y = x * cells_;
-  int cell = std::min(static_cast<int>(y), cells_ - 1);
-  double f = y - cell;
-  const AliasEntry& e = alias_[static_cast<size_t>(node) * static_cast<size_t>(cells_) + static_cast<size_t>(cell)];
+  const int cell0 = std::min(static_cast<int>(y), cells_ - 1);
+  double f = y - cell0;
+  const AliasEntry& e = alias_[static_cast<size_t>(node) * static_cast<size_t>(cells_) + static_cast<size_t>(cell0)];
+  const CellEntry& own = entry(node, cell0);
   const double keep = e.keep;
-  if (f < keep || keep >= 1.0) {
-    f /= keep;
-  } else {
-    f = (f - keep) / (1.0 - keep);
-    cell = e.alias;
-  }
+  const bool kept = f < keep || keep >= 1.0;
+  const int cell = kept ? cell0 : e.alias;
+  f = kept ? f / keep : (f - keep) / (1.0 - keep);
+  __builtin_prefetch(&entry(0, cell));
   f = std::clamp(f, 0.0, 1.0);
-  const CellEntry& slopes = entry(node, cell);
-  const double xi = linear_density_inverse(slopes.a / kHalfVectorSlopeUnit, f);
-  const double eta = linear_density_inverse(slopes.b / kHalfVectorSlopeUnit, u2);
+  const double xi = linear_density_inverse((kept ? own.a : e.a) / kHalfVectorSlopeUnit, f);
+  const double eta = linear_density_inverse((kept ? own.b : e.b) / kHalfVectorSlopeUnit, u2);
   const int k = cell / opt_.phi_bins, j = cell % opt_.phi_bins;
   const double c0 = cos_edge_[static_cast<size_t>(k)], c1 = cos_edge_[static_cast<size_t>(k) + 1];
   const double cz = c0 + (c1 - c0) * xi, sz = std::sqrt(std::max(0.0, 1.0 - cz * cz));

@@ -34,10 +34,11 @@
 // periodic-linear in phi_i when anisotropic) picks one node per draw with its blend weight, so the density
 // of w_r is
 //   pdf(w_r) = sum_n weight_n P_n(cell of h) g_n(xi, eta) / A_cell / (4 w_i . h)   [1/sr].
-// Draws per call cost O(1): the cell from an alias table per node (Walker/Vose: one entry of 8 bytes, its
+// Draws per call cost O(1): the cell from an alias table per node (Walker/Vose: one entry of 12 bytes, its
 // threshold in float, so a cell is drawn with its mass to about 1e-7 relative, the float rounding of the
-// masses that pdf() reads), the position within it from what is left of u1; the
-// masses and slopes are stored cell-major (the nodes of one cell side by side) so that the density at a drawn or given
+// masses that pdf() reads; beside it the alias cell's slopes, so that a draw reads the entry and its own cell
+// at once instead of one after the other), the position within it from what is left of u1; the masses and
+// slopes are stored cell-major (the nodes of one cell side by side) so that the density at a drawn or given
 // cell reads one or two cache lines; the cell of a half vector is found without atan2 for theta_h (a lookup
 // on (1 - cos theta_h)^(1/4), then the exact cos edges decide) and with one atan2 for phi_h.
 // sample() fails (returns false) for a w_r below the horizon (a zero of the caller's estimator: f is 0 there).
@@ -139,6 +140,7 @@ class HalfVectorTable {
   struct AliasEntry {
     float keep;  // draw this cell when the fraction is below keep, else the alias
     int alias;
+    std::int16_t a, b;  // the alias cell's slopes for this node (CellEntry::a, b), read with the entry
   };
   // The cell of h (in the nodes' frame) and h's coordinates xi, eta in it.
   int cell_of(const Eigen::Vector3d& h, double& xi, double& eta) const;
