@@ -73,8 +73,11 @@ def run(program, case, folder):
         out_target = None
     if case.feed:  # a writer for a FIFO: opens it (waiting for the reader), writes, closes
         def feed():
-            with open(os.path.join(folder, case.feed[0]), "wb") as f:
-                f.write(case.feed[1])
+            try:
+                with open(os.path.join(folder, case.feed[0]), "wb") as f:
+                    f.write(case.feed[1])
+            except BrokenPipeError:  # the program refused the input and closed the FIFO before the end
+                pass
         threading.Thread(target=feed, daemon=True).start()
     start = time.monotonic()
     p = subprocess.Popen([program] + case.args, cwd=folder, env=env, stdin=subprocess.DEVNULL, stdout=out_target,
