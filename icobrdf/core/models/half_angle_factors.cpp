@@ -126,7 +126,7 @@ double HalfAngleFactors::theta_h_of_t(double t) const {
 namespace {
 // t of theta_h on a grid of warp w (theta_h = (pi/2) t^w), inline in the per-pair code.
 inline double warped_t_of_theta_h(double w, double theta_h) {
-  const double x = std::clamp(theta_h / (0.5 * M_PI), 0.0, 1.0);
+  const double x = std::clamp(theta_h * (2.0 / M_PI), 0.0, 1.0);
   return w == 2.0 ? std::sqrt(x) : w == 1.0 ? x : std::pow(x, 1.0 / w);
 }
 }  // namespace
@@ -163,9 +163,13 @@ struct HalfAnglePairContext {
   double floor;
   bool drop;
   HalfAngleNodeTrig ht, dt;
+  // Grid positions per radian (node k at position k + off): theta_d, phi_d, phi of the h grid; t per unit t.
+  double off, t_scale, theta_d_scale, phi_d_scale, phi_h_scale;
   HalfAnglePairContext(const HalfAngleFactors& F, bool to_f)
       : stretch(F), divide(to_f ? F.quantity : HalfAngleQuantity::F), floor(F.cosine_floor()),
-        drop(F.corners == HorizonCorners::Valid) {
+        drop(F.corners == HorizonCorners::Valid), off(F.centred ? 0.5 : 0.0), t_scale(F.n_t - 1 + 2 * off),
+        theta_d_scale((F.n_theta_d - 1 + 2 * off) / (0.5 * M_PI)), phi_d_scale(F.n_phi_d / M_PI),
+        phi_h_scale(F.n_phi_h / (2.0 * M_PI)) {
     if (drop) ht = half_angle_h_trig(F), dt = half_angle_d_trig(F);
   }
 };
@@ -198,45 +202,62 @@ struct Corners {
   double wd[4];
 };
 
+// The grid angles of one pair without the frame's divisions. With s = w_i + w_r, m = w_i - w_r, rho = |s_xy|:
+// theta_h = atan2(rho, s_z); theta_d = atan2(|m|, |s|) (w_i in the frame of h is (s' + m') / 2 with s' = (0, 0,
+// |s|) and m' _|_ h for unit vectors, so |d_xy| = |m| / 2, d_z = |s| / 2); and phi_d from (X, Y) = 2 rho |s|
+// (d_x, d_y), the rotation Ry(-theta_h) Rz(-phi_h) of m written out and multiplied by rho |s| > 0, which
+// leaves the angle as it is:
+//   X = s_z (s_x m_x + s_y m_y) - rho^2 m_z,   Y = |s| (s_x m_y - s_y m_x).
+// The swap of w_i and w_r negates m, hence X and Y, exactly (each product and sum rounds symmetrically), so
+// the canonical one of (X, Y) and (-X, -Y) keeps the evaluation bitwise reciprocal. At h = n (rho^2 below
+// kTinyRho2, where the products would underflow) the frame is the identity, (X, Y) = (m_x, m_y). The three
+// or four angles are independent chains of one square root and one fast_atan2 each.
+constexpr double kTinyRho2 = 1e-280;
+
 template <bool Aniso>
-inline bool pair_corners(const HalfAngleFactors& F, const HalfAngleStretch& stretch, const double* wi, const double* wr, Corners& c) {
+inline bool pair_corners(const HalfAngleFactors& F, const HalfAnglePairContext& X_, const double* wi, const double* wr, Corners& c) {
+  const HalfAngleStretch& stretch = X_.stretch;
   if (wi[2] < -kHorizonSlack || wr[2] < -kHorizonSlack) return false;
   const double sx = wi[0] + wr[0], sy = wi[1] + wr[1], sz = wi[2] + wr[2];
   const double mx = wi[0] - wr[0], my = wi[1] - wr[1], mz = wi[2] - wr[2];
-  const HalfAngleFrame fr = half_angle_frame(sx, sy, sz);
-  const double xp = fr.c * mx + fr.sn * my, yp = -fr.sn * mx + fr.c * my;
-  double dx = fr.ct * xp - fr.st * mz, dy = yp;
-  if (Aniso) {  // the minimal-rotation frame: phi_d measured from the world's x axis (phi_d + phi_h)
-    const double rx = fr.c * dx - fr.sn * dy, ry = fr.sn * dx + fr.c * dy;
-    dx = rx, dy = ry;
+  const double rho2 = sx * sx + sy * sy, len = std::sqrt(rho2 + sz * sz);
+  double X = mx, Y = my;
+  if (rho2 >= kTinyRho2) {
+    X = sz * (sx * mx + sy * my) - rho2 * mz, Y = len * (sx * my - sy * mx);
+    if (Aniso) {  // the minimal-rotation frame: phi_d measured from the world's x axis (phi_d + phi_h)
+      const double rx = sx * X - sy * Y, ry = sy * X + sx * Y;
+      X = rx, Y = ry;
+    }
   }
-  // The swap negates (dx, dy) exactly: use the canonical one of the two (phi_d in [0, pi]).
-  if (dy < 0.0 || (dy == 0.0 && dx < 0.0)) dx = -dx, dy = -dy;
-  const double theta_d = fast_atan2(std::sqrt(dx * dx + dy * dy), fr.len);  // len = 2 d_z, (dx, dy) = 2 d_xy
-  const double phi_d = (dx == 0.0 && dy == 0.0) ? 0.0 : fast_atan2(dy, dx);
-  // The angles the h grid is laid out in: those of h, or of the stretched h' (s = w_i + w_r is a multiple of h).
+  // The canonical one of (X, Y) and (-X, -Y): phi_d in [0, pi] (without a branch: a coin toss per pair).
+  const bool flip = Y < 0.0 || (Y == 0.0 && X < 0.0);
+  X = select_without_branch(flip, -X, X), Y = select_without_branch(flip, -Y, Y);
+  const double theta_d = fast_atan2(std::sqrt(mx * mx + my * my + mz * mz), len);
+  const double phi_d = (X == 0.0 && Y == 0.0) ? 0.0 : fast_atan2(Y, X);
+  // The angles the h grid is laid out in: those of h, or of the stretched h' (s is a multiple of h).
   double theta_g, phi_g = 0.0;
   if (Aniso && stretch.on) {
     const double a1 = (stretch.c * sx + stretch.s * sy) * stretch.inv1, a2 = (stretch.c * sy - stretch.s * sx) * stretch.inv2;
     theta_g = fast_atan2(std::sqrt(a1 * a1 + a2 * a2), sz);
     phi_g = (a1 == 0.0 && a2 == 0.0) ? 0.0 : fast_atan2(a2, a1);
   } else {
-    theta_g = fast_atan2(fr.st, fr.ct);
-    if (Aniso && fr.st > 0.0) phi_g = fast_atan2(fr.sn, fr.c);
+    theta_g = fast_atan2(std::sqrt(rho2), sz);
+    if (Aniso && rho2 > 0.0) phi_g = fast_atan2(sy, sx);
   }
+  if (!(theta_d == theta_d && phi_d == phi_d && theta_g == theta_g && phi_g == phi_g)) return false;  // a non-finite direction
   int k, a, b0, b1;
   double ft, fa, fb;
-  const double off = F.centred ? 0.5 : 0.0;  // node k sits at (k + off) bin widths
-  clamped_cell(warped_t_of_theta_h(F.h_warp, theta_g) * (F.n_t - 1 + 2 * off) - off, F.n_t, k, ft);
-  clamped_cell(theta_d * ((F.n_theta_d - 1 + 2 * off) / (0.5 * M_PI)) - off, F.n_theta_d, a, fa);
-  periodic_cell(phi_d * (F.n_phi_d / M_PI) - off, F.n_phi_d, b0, b1, fb);
+  const double off = X_.off;  // node k sits at (k + off) bin widths
+  clamped_cell(warped_t_of_theta_h(F.h_warp, theta_g) * X_.t_scale - off, F.n_t, k, ft);
+  clamped_cell(theta_d * X_.theta_d_scale - off, F.n_theta_d, a, fa);
+  periodic_cell(phi_d * X_.phi_d_scale - off, F.n_phi_d, b0, b1, fb);
   c.d[0] = a * F.n_phi_d + b0, c.d[1] = a * F.n_phi_d + b1;
   c.d[2] = c.d[0] + F.n_phi_d, c.d[3] = c.d[1] + F.n_phi_d;
   c.wd[0] = (1 - fa) * (1 - fb), c.wd[1] = (1 - fa) * fb, c.wd[2] = fa * (1 - fb), c.wd[3] = fa * fb;
   if (Aniso) {
     int j0, j1;
     double fj;
-    periodic_cell(phi_g * (F.n_phi_h / (2.0 * M_PI)), F.n_phi_h, j0, j1, fj);
+    periodic_cell(phi_g * X_.phi_h_scale, F.n_phi_h, j0, j1, fj);
     c.h[0] = k * F.n_phi_h + j0, c.h[1] = k * F.n_phi_h + j1;
     c.h[2] = c.h[0] + F.n_phi_h, c.h[3] = c.h[1] + F.n_phi_h;
     c.wh[0] = (1 - ft) * (1 - fj), c.wh[1] = (1 - ft) * fj, c.wh[2] = ft * (1 - fj), c.wh[3] = ft * fj;
@@ -249,11 +270,15 @@ inline bool pair_corners(const HalfAngleFactors& F, const HalfAngleStretch& stre
 
 // q at one pair from the corners that are node pairs on or above the horizon, their weights renormalized
 // (HorizonCorners::Valid, for a pair whose cell straddles the horizon); 0 when no corner is valid.
-// Sufficient for every corner pair of a cell to be valid: the largest theta_h of its h corners plus the
-// largest theta_d of its d corners (rows a + 1) is at most pi/2, i.e. cos of the sum >= -slack (validity
-// needs cos_h cos_d - sin_h sin_d |cos(dphi)| >= -slack, and |cos(dphi)| <= 1).
+// Whether every corner pair of a cell is valid. Isotropic grids (phi_h = 0): validity, cos_h cos_d - sin_h
+// sin_d |cos(phi_d)| >= -slack, falls with theta_h, theta_d in [0, pi/2] and with |cos(phi_d)|, and every
+// rounded operation of node_pair_valid is monotone, so the corner of the larger theta_h (h[1]), the larger
+// theta_d (row a + 1: d[2], d[3]) and the larger |cos(phi_d)| decides it exactly: the same answer as testing
+// all 8 corners. Anisotropic grids (phi_h varies): sufficient only, the largest theta_h of its h corners plus
+// the largest theta_d of its d corners is at most pi/2 (|cos(dphi)| <= 1).
 template <bool Aniso>
 inline bool all_corners_valid(const HalfAngleNodeTrig& ht, const HalfAngleNodeTrig& dt, const Corners& c) {
+  if (!Aniso) return node_pair_valid(ht, c.h[1], dt, std::abs(dt.cp(c.d[2])) >= std::abs(dt.cp(c.d[3])) ? c.d[2] : c.d[3]);
   int hmax = c.h[Aniso ? 2 : 1];
   if (Aniso)
     for (int x : {0, 1, 3})
@@ -265,25 +290,28 @@ inline bool all_corners_valid(const HalfAngleNodeTrig& ht, const HalfAngleNodeTr
 template <bool Aniso>
 void valid_corner_sum(const HalfAngleFactors& F, const Corners& c, const bool (&ok)[4][4], double scale, double* out,
                       Eigen::Index stride) {
-  const int R = F.rank, nh = Aniso ? 4 : 2;
-  double wsum = 0.0;
+  constexpr int nh = Aniso ? 4 : 2;
+  const int R = F.rank;
+  // Without branches on the corners (which corners are valid varies from pair to pair): the weights of the
+  // invalid ones are 0; every corner's rows exist (cells are clamped inside the grid) and hold finite values.
+  double w[nh][4], wsum = 0.0;
   for (int x = 0; x < nh; ++x)
-    for (int y = 0; y < 4; ++y)
-      if (ok[x][y]) wsum += c.wh[x] * c.wd[y];
+    for (int y = 0; y < 4; ++y) wsum += w[x][y] = ok[x][y] ? c.wh[x] * c.wd[y] : 0.0;
+  const double norm = wsum > 0.0 ? scale / wsum : 0.0;
   const bool shared = F.shared();
   for (int ch = 0; ch < F.channels(); ++ch) {
     const double* U = F.u[shared ? 0 : ch].data();
     const double* V = F.v[shared ? 0 : ch].data();
     const double* S = shared ? F.channel_scales.data() + static_cast<Eigen::Index>(ch) * R : nullptr;
     double q = 0.0;
-    for (int x = 0; x < nh; ++x)
-      for (int y = 0; y < 4; ++y) {
-        if (!ok[x][y] || c.wh[x] * c.wd[y] == 0.0) continue;
-        double uv = 0.0;
-        for (int r = 0; r < R; ++r) uv += U[c.h[x] * R + r] * V[c.d[y] * R + r] * (S ? S[r] : 1.0);
-        q += c.wh[x] * c.wd[y] * uv;
-      }
-    out[ch * stride] = wsum > 0.0 ? q / wsum * scale : 0.0;
+    for (int r = 0; r < R; ++r) {
+      const double vd[4] = {V[c.d[0] * R + r], V[c.d[1] * R + r], V[c.d[2] * R + r], V[c.d[3] * R + r]};
+      double t = 0.0;
+      for (int x = 0; x < nh; ++x)
+        t += U[c.h[x] * R + r] * (w[x][0] * vd[0] + w[x][1] * vd[1] + w[x][2] * vd[2] + w[x][3] * vd[3]);
+      q += S ? S[r] * t : t;
+    }
+    out[ch * stride] = q * norm;
   }
 }
 
@@ -293,7 +321,7 @@ void eval_pair(const HalfAngleFactors& F, const HalfAnglePairContext& X, const d
                Eigen::Index stride) {
   const int R = F.rank, channels = F.channels();
   Corners c;
-  if (!pair_corners<Aniso>(F, X.stretch, wi, wr, c)) {
+  if (!pair_corners<Aniso>(F, X, wi, wr, c)) {
     for (int ch = 0; ch < channels; ++ch) out[ch * stride] = 0.0;
     return;
   }

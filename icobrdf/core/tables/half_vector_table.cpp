@@ -67,17 +67,25 @@ Eigen::Vector3d HalfVectorTable::node_direction(const HalfVectorTableOptions& op
 }
 
 double HalfVectorTable::cell_area(int cell) const {
-  const int k = cell / opt_.phi_bins;
+  const int k = cell / phi_cells_;
   return (cos_edge_[static_cast<size_t>(k)] - cos_edge_[static_cast<size_t>(k) + 1]) * (2.0 * M_PI / opt_.phi_bins);
 }
 
 HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTableOptions& options) : opt_(options) {
   check(opt_);
-  const int nt = opt_.t_bins, np = opt_.phi_bins;
+  // Mirrored (isotropic, an even number of phi bins): the nodes' w_i lie in the xz plane, so q(h) is even in
+  // phi_h and only the bins of phi_h in [0, pi) are stored.
+  mirrored_ = opt_.azimuth_nodes == 1 && opt_.phi_bins % 2 == 0 && opt_.mirror;
+  phi_cells_ = mirrored_ ? opt_.phi_bins / 2 : opt_.phi_bins;
+  phi_lo_ = mirrored_ ? 0.0 : -M_PI;
+  const int nt = opt_.t_bins, np = phi_cells_;
   cells_ = nt * np;
   cos_edge_.resize(static_cast<size_t>(nt) + 1);
   for (int k = 0; k <= nt; ++k) cos_edge_[static_cast<size_t>(k)] = std::cos(0.5 * M_PI * std::pow(static_cast<double>(k) / nt, opt_.t_warp));
   cos_edge_[static_cast<size_t>(nt)] = 0.0;
+  density_scale_.resize(static_cast<size_t>(nt));
+  for (int k = 0; k < nt; ++k)  // mirrored: a cell and its image share the cell's mass
+    density_scale_[static_cast<size_t>(k)] = (mirrored_ ? 0.5 : 1.0) / cell_area(k * phi_cells_);
   const int n_nodes = nodes();
   const auto total = static_cast<size_t>(n_nodes) * static_cast<size_t>(cells_);
   // Read at random cells per draw: huge pages (advised before the first write) spare the TLB misses' page walks.
@@ -87,11 +95,11 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
   cells_of_nodes_.assign(total, CellEntry{0.0f, 0, 0});
   alias_.assign(total, AliasEntry{1.0f, 0, 0, 0});
   albedo_.assign(static_cast<size_t>(n_nodes), 0.0);
-  const double dphi = 2.0 * M_PI / np;
+  const double dphi = 2.0 * M_PI / opt_.phi_bins;
   phi_edge_cs_.resize(2 * static_cast<size_t>(np));
   for (int j = 0; j < np; ++j) {
-    phi_edge_cs_[2 * static_cast<size_t>(j)] = std::cos(-M_PI + dphi * j);
-    phi_edge_cs_[2 * static_cast<size_t>(j) + 1] = std::sin(-M_PI + dphi * j);
+    phi_edge_cs_[2 * static_cast<size_t>(j)] = std::cos(phi_lo_ + dphi * j);
+    phi_edge_cs_[2 * static_cast<size_t>(j) + 1] = std::sin(phi_lo_ + dphi * j);
   }
   // Slot i starts at u = i / L, cos theta_h = 1 - u^4 (its largest cos): the first bin whose lower edge is at
   // or below it; a cos within the slot is in that bin or a later one.
@@ -108,7 +116,7 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
     for (int j = 0; j < np; ++j)
       for (int q = 0; q < 4; ++q) {
         const double c0 = cos_edge_[static_cast<size_t>(k)], c1 = cos_edge_[static_cast<size_t>(k) + 1];
-        const double c = c0 + (c1 - c0) * (0.25 + 0.5 * (q / 2)), phi = -M_PI + dphi * (j + 0.25 + 0.5 * (q % 2));
+        const double c = c0 + (c1 - c0) * (0.25 + 0.5 * (q / 2)), phi = phi_lo_ + dphi * (j + 0.25 + 0.5 * (q % 2));
         h.row((static_cast<Eigen::Index>(k) * np + j) * 4 + q) = polar_vector(c, phi).transpose();
       }
   RowMatrix3d wi(h.rows(), 3), wr(h.rows(), 3);
@@ -154,7 +162,7 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
       if (!any) {  // the corners: a sliver of the cell may still reflect above the horizon
         const int k = cell / np, j = cell % np;
         for (int q = 0; q < 4 && !any; ++q) {
-          const Eigen::Vector3d hc = polar_vector(cos_edge_[static_cast<size_t>(k + q / 2)], -M_PI + dphi * (j + q % 2));
+          const Eigen::Vector3d hc = polar_vector(cos_edge_[static_cast<size_t>(k + q / 2)], phi_lo_ + dphi * (j + q % 2));
           any = w.dot(hc) > 0.0 && reflect_about(w, hc).z() >= 0.0;
         }
       }
@@ -166,7 +174,7 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
     }
     cut_cells(w, cut, fbar, m, n);
     for (int cell = 0; cell < cells_; ++cell) sum += m[cell];
-    albedo_[static_cast<size_t>(n)] = sum;
+    albedo_[static_cast<size_t>(n)] = mirrored_ ? 2.0 * sum : sum;  // the mirror image holds the other half
     if (!(sum > 0.0)) continue;  // an all-zero node: never drawn (its blend weight goes to no draw)
     const double floor = kHalfVectorFloor * sum / open;
     double acc = 0.0;
@@ -198,12 +206,12 @@ void HalfVectorTable::cut_cells(const Eigen::Vector3d& wi, const std::vector<int
   std::vector<HorizonPoint> points;
   std::vector<int> first(cut.size() + 1, 0);  // the points of cut[i]: [first[i], first[i + 1])
   for (size_t i = 0; i < cut.size(); ++i) {
-    const int k = cut[i] / opt_.phi_bins, j = cut[i] % opt_.phi_bins;
+    const int k = cut[i] / phi_cells_, j = cut[i] % phi_cells_;
     const double c0 = cos_edge_[static_cast<size_t>(k)], c1 = cos_edge_[static_cast<size_t>(k) + 1];
     for (int a = 0; a < side; ++a)
       for (int b = 0; b < side; ++b) {
         const double xi = (a + 0.5) / side, eta = (b + 0.5) / side;
-        const Eigen::Vector3d h = polar_vector(c0 + (c1 - c0) * xi, -M_PI + dphi * (j + eta));
+        const Eigen::Vector3d h = polar_vector(c0 + (c1 - c0) * xi, phi_lo_ + dphi * (j + eta));
         const double c = wi.dot(h);
         const Eigen::Vector3d o = reflect_about(wi, h);
         if (c > 0.0 && o.z() >= 0.0) points.push_back({o, o.z() * 4.0 * c, xi, eta});
@@ -292,13 +300,14 @@ int HalfVectorTable::cell_of(const Eigen::Vector3d& h, double& xi, double& eta) 
   // The cell whose cos range holds h.z (the lookup's start is at or before it, one back for rounding of u).
   if (k > 0 && z > cos_edge_[static_cast<size_t>(k)]) --k;
   while (k + 1 < opt_.t_bins && z < cos_edge_[static_cast<size_t>(k) + 1]) ++k;
-  const double phi = (h.x() == 0.0 && h.y() == 0.0) ? 0.0 : fast_atan2(h.y(), h.x());
-  const double y = (phi + M_PI) / (2.0 * M_PI) * opt_.phi_bins;
-  const int j = std::clamp(static_cast<int>(y), 0, opt_.phi_bins - 1);
+  const double hy = mirrored_ ? std::abs(h.y()) : h.y();  // mirrored: the image in phi_h >= 0
+  const double phi = (h.x() == 0.0 && hy == 0.0) ? 0.0 : fast_atan2(hy, h.x());
+  const double y = (phi - phi_lo_) / (2.0 * M_PI) * opt_.phi_bins;
+  const int j = std::clamp(static_cast<int>(y), 0, phi_cells_ - 1);
   const double c0 = cos_edge_[static_cast<size_t>(k)], c1 = cos_edge_[static_cast<size_t>(k) + 1];
   xi = std::clamp((c0 - z) / (c0 - c1), 0.0, 1.0);
   eta = std::clamp(y - j, 0.0, 1.0);
-  return k * opt_.phi_bins + j;
+  return k * phi_cells_ + j;
 }
 
 double HalfVectorTable::albedo(const HalfVectorBlend& b) const {
@@ -340,8 +349,11 @@ bool HalfVectorTable::sample(const HalfVectorBlend& b, const Eigen::Vector3d& wi
   __builtin_prefetch(&entry(0, cell));
   f = std::clamp(f, 0.0, 1.0);
   const double xi = linear_density_inverse((kept ? own.a : e.a) / kHalfVectorSlopeUnit, f);
+  // Mirrored: u2's upper half draws the image (phi_h -> -phi_h) and is rescaled to [0, 1).
+  const bool image = mirrored_ && u2 >= 0.5;
+  if (mirrored_) u2 = std::min(image ? 2.0 * u2 - 1.0 : 2.0 * u2, 1.0);
   const double eta = linear_density_inverse((kept ? own.b : e.b) / kHalfVectorSlopeUnit, u2);
-  const int k = cell / opt_.phi_bins, j = cell % opt_.phi_bins;
+  const int k = cell / phi_cells_, j = cell % phi_cells_;
   const double c0 = cos_edge_[static_cast<size_t>(k)], c1 = cos_edge_[static_cast<size_t>(k) + 1];
   const double cz = c0 + (c1 - c0) * xi, sz = std::sqrt(std::max(0.0, 1.0 - cz * cz));
   // phi_h = lower edge + angle, angle = eta (2 pi / phi_bins) <= 0.05: its cos and sin by their series to
@@ -350,24 +362,24 @@ bool HalfVectorTable::sample(const HalfVectorBlend& b, const Eigen::Vector3d& wi
   const double ca = 1.0 - a2 / 2 * (1.0 - a2 / 12 * (1.0 - a2 / 30 * (1.0 - a2 / 56 * (1.0 - a2 / 90))));
   const double sa = an * (1.0 - a2 / 6 * (1.0 - a2 / 20 * (1.0 - a2 / 42 * (1.0 - a2 / 72 * (1.0 - a2 / 110)))));
   const double pc = phi_edge_cs_[2 * static_cast<size_t>(j)], ps = phi_edge_cs_[2 * static_cast<size_t>(j) + 1];
-  const double hx = sz * (pc * ca - ps * sa), hy = sz * (ps * ca + pc * sa);
+  const double hx = sz * (pc * ca - ps * sa), hy = (image ? -sz : sz) * (ps * ca + pc * sa);
   const Eigen::Vector3d h(b.c * hx - b.s * hy, b.s * hx + b.c * hy, cz);
   const double c = wi.dot(h);
   if (!(c > 0.0)) return false;
   wr = 2.0 * c * h - wi;
   if (!(wr.z() >= 0.0)) return false;
   // The density of the draw at its own cell and position (pdf() finds the same from (w_i, w_r) to rounding).
-  pdf_out = h_density(b, live, cell, xi, eta) / (4.0 * c);
+  pdf_out = h_density(b, live, cell, k, xi, eta) / (4.0 * c);
   return pdf_out > 0.0;
 }
 
-double HalfVectorTable::h_density(const HalfVectorBlend& b, double live, int cell, double xi, double eta) const {
+double HalfVectorTable::h_density(const HalfVectorBlend& b, double live, int cell, int k, double xi, double eta) const {
   double density = 0.0;
   for (int i = 0; i < b.count; ++i) {
     const CellEntry& e = entry(b.node[i], cell);
     density += b.weight[i] * e.mass * (1.0 + e.a / kHalfVectorSlopeUnit * (xi - 0.5)) * (1.0 + e.b / kHalfVectorSlopeUnit * (eta - 0.5));
   }
-  return density / live / cell_area(cell);
+  return density / live * density_scale_[static_cast<size_t>(k)];
 }
 
 double HalfVectorTable::pdf(const HalfVectorBlend& b, const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const {
@@ -381,7 +393,7 @@ double HalfVectorTable::pdf(const HalfVectorBlend& b, const Eigen::Vector3d& wi,
   const Eigen::Vector3d hl(b.c * h.x() + b.s * h.y(), -b.s * h.x() + b.c * h.y(), h.z());
   double xi, eta;
   const int cell = cell_of(hl, xi, eta);
-  return h_density(b, live, cell, xi, eta) / (4.0 * c);
+  return h_density(b, live, cell, cell / phi_cells_, xi, eta) / (4.0 * c);
 }
 
 }  // namespace icobrdf
