@@ -4,7 +4,9 @@
 //   BM_Sample<Real>/M   sample(w_i, u1, u2) at 4096 random incident directions and numbers in turn
 //   BM_Build/M          building the material (tables over the incident direction)
 // Materials M: 0 a half-angle lobe (rank <= 4, fitted to GGX alpha 0.3: a bank's half-angle representation),
-// 1 the GGX alpha 0.3 model, 2 model 0.5*lambert+0.5*mirror (a delta part). ->Threads(2) shares one material.
+// 1 the GGX alpha 0.3 model, 2 model 0.5*lambert+0.5*mirror (a delta part), 3 the lobe of 0 with tables that
+// store every phi_h bin (HalfVectorTableOptions::mirror = false: twice the memory of 0's). ->Threads(2) shares
+// one material.
 #include <benchmark/benchmark.h>
 
 #include <memory>
@@ -43,13 +45,18 @@ const HalfAngleFactors& lobe() {
 
 RenderMaterial make(int which) {
   if (which == 0) return RenderMaterial(no_modes(), lobe());
+  if (which == 3) {
+    RenderMaterialOptions full;
+    full.table.mirror = false;
+    return RenderMaterial(no_modes(), lobe(), full);
+  }
   return RenderMaterial::open(which == 1 ? "model:ggx:alpha=0.3" : "model:0.5*lambert+0.5*mirror");
 }
 
 const RenderMaterial& material(int which) {
   static const std::vector<std::shared_ptr<RenderMaterial>> all = [] {
     std::vector<std::shared_ptr<RenderMaterial>> v;
-    for (int i = 0; i < 3; ++i) v.push_back(std::make_shared<RenderMaterial>(make(i)));
+    for (int i = 0; i < 4; ++i) v.push_back(std::make_shared<RenderMaterial>(make(i)));
     return v;
   }();
   return *all[static_cast<size_t>(which)];
@@ -123,10 +130,10 @@ BENCHMARK_TEMPLATE(BM_Eval, double)->DenseRange(0, 2);
 BENCHMARK_TEMPLATE(BM_Eval, float)->DenseRange(0, 2);
 BENCHMARK_TEMPLATE(BM_Pdf, double)->DenseRange(0, 2);
 BENCHMARK_TEMPLATE(BM_Pdf, float)->DenseRange(0, 2);
-BENCHMARK_TEMPLATE(BM_Sample, double)->DenseRange(0, 2);
-BENCHMARK_TEMPLATE(BM_Sample, float)->DenseRange(0, 2);
+BENCHMARK_TEMPLATE(BM_Sample, double)->DenseRange(0, 3);
+BENCHMARK_TEMPLATE(BM_Sample, float)->DenseRange(0, 3);
 BENCHMARK_TEMPLATE(BM_Sample, double)->Arg(0)->Threads(2);
-BENCHMARK(BM_Build)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Build)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
