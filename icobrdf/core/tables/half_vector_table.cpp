@@ -346,7 +346,7 @@ bool HalfVectorTable::sample(const HalfVectorBlend& b, const Eigen::Vector3d& wi
   const bool kept = f < keep || keep >= 1.0;
   const int cell = kept ? cell0 : e.alias;
   f = kept ? f / keep : (f - keep) / (1.0 - keep);
-  __builtin_prefetch(&entry(0, cell));
+  for (int i = 0; i < b.count; ++i) __builtin_prefetch(&entry(b.node[i], cell));  // what h_density reads
   f = std::clamp(f, 0.0, 1.0);
   const double xi = linear_density_inverse((kept ? own.a : e.a) / kHalfVectorSlopeUnit, f);
   // Mirrored: u2's upper half draws the image (phi_h -> -phi_h) and is rescaled to [0, 1).
