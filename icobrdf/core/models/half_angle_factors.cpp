@@ -268,8 +268,6 @@ inline bool pair_corners(const HalfAngleFactors& F, const HalfAnglePairContext& 
   return true;
 }
 
-// q at one pair from the corners that are node pairs on or above the horizon, their weights renormalized
-// (HorizonCorners::Valid, for a pair whose cell straddles the horizon); 0 when no corner is valid.
 // Whether every corner pair of a cell is valid. Isotropic grids (phi_h = 0): validity, cos_h cos_d - sin_h
 // sin_d |cos(phi_d)| >= -slack, falls with theta_h, theta_d in [0, pi/2] and with |cos(phi_d)|, and every
 // rounded operation of node_pair_valid is monotone, so the corner of the larger theta_h (h[1]), the larger
@@ -287,6 +285,8 @@ inline bool all_corners_valid(const HalfAngleNodeTrig& ht, const HalfAngleNodeTr
   return ht.c(hmax) * dt.c(dmax) - ht.s(hmax) * dt.s(dmax) >= -kHorizonSlack;
 }
 
+// q at one pair from the corners that are node pairs on or above the horizon, their weights renormalized
+// (HorizonCorners::Valid, for a pair whose cell straddles the horizon); 0 when no corner is valid.
 template <bool Aniso>
 void valid_corner_sum(const HalfAngleFactors& F, const Corners& c, const bool (&ok)[4][4], double scale, double* out,
                       Eigen::Index stride) {
