@@ -25,6 +25,7 @@
 #include "icobrdf/core/spectrum/spectrum_ops.hpp"
 #include "icobrdf/io/curet.hpp"
 #include "icobrdf/io/merl.hpp"
+#include "icobrdf/core/tables/grid_noise.hpp"
 #include "icobrdf/io/rgl_bsdf.hpp"
 #include "icobrdf/io/sample_arrays.hpp"
 #include "icobrdf/io/sample_csv.hpp"
@@ -283,6 +284,23 @@ class MerlSource final : public BrdfSource, public SampleFitHolder {
     return s;
   }
   const MerlTable& table() const { return model_.table(); }
+  // Per theta_h bin and channel, the noise of its theta_d x phi_d table (missing samples left out).
+  std::optional<Eigen::MatrixXd> noise_sigma_at(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
+    Eigen::MatrixXd slab(kMerlThetaHalfRes, 3);
+    const std::int64_t per_slab = static_cast<std::int64_t>(kMerlThetaDiffRes) * kMerlPhiDiffRes;
+    for (int c = 0; c < 3; ++c)
+      for (int h = 0; h < kMerlThetaHalfRes; ++h)
+        slab(h, c) = table_noise_sigma(table().f.data() + c * kMerlSamplesPerChannel + h * per_slab, kMerlThetaDiffRes, kMerlPhiDiffRes);
+    Eigen::MatrixXd out(wi.rows(), 3);
+    for (Eigen::Index k = 0; k < wi.rows(); ++k) {
+      if (!(wi(k, 2) > 0 && wr(k, 2) > 0)) {
+        out.row(k).setZero();
+        continue;
+      }
+      out.row(k) = slab.row(merl_bin(wi.row(k).transpose(), wr.row(k).transpose()).theta_h);
+    }
+    return out;
+  }
 
   bool may_miss_values() const override { return true; }
   bool isotropic_by_construction() const override { return true; }
@@ -473,6 +491,11 @@ class RglSource final : public BrdfSource {
     return s;
   }
   bool slow_to_evaluate() const override { return true; }  // an inverse warp of the vndf per pair
+  std::optional<Eigen::MatrixXd> noise_sigma_at(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
+    Eigen::MatrixXd out(wi.rows(), model_.channels());
+    model_.noise_sigma(wi, wr, out);
+    return out;
+  }
 
  private:
   RglModel model_;
