@@ -130,6 +130,7 @@ bool is_regular_file(const std::string& path) {
 int BrdfSource::largest_sample_order(bool) const { return -1; }
 std::optional<HalfAngleNodes> BrdfSource::own_half_angle_nodes() const { return std::nullopt; }
 std::optional<OwnHeldOut> BrdfSource::own_held_out(const HeldOutRequest&) const { return std::nullopt; }
+std::optional<Eigen::MatrixXd> BrdfSource::noise_sigma_at(const RowMatrix3d&, const RowMatrix3d&) const { return std::nullopt; }
 
 std::vector<std::string> channel_column_names(int channels) {
   if (channels == 1) return {"f"};

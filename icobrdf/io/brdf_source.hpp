@@ -106,6 +106,11 @@ class BrdfSource {
   // evaluate the source there. ArgumentError / InputError when the request cannot be met (messages name the
   // material).
   virtual std::optional<OwnHeldOut> own_held_out(const HeldOutRequest& request) const;
+  // The standard deviation [1/sr] of independent noise on the data's values at the pairs (rows x channels),
+  // estimated from the data's own grid (icobrdf/core/tables/grid_noise.hpp: an RGL material's value tables, a
+  // MERL table's theta_h slabs); nullopt when the source has no grid to estimate it on (analytic models,
+  // spectra, scattered samples: CSV, CURET, SCATMECH coefficients).
+  virtual std::optional<Eigen::MatrixXd> noise_sigma_at(const RowMatrix3d& wi, const RowMatrix3d& wr) const;
 };
 
 // ArgumentError for an unknown kind or a malformed model spec; InputError / IoError for unreadable files.

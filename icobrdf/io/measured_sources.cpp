@@ -25,6 +25,7 @@
 #include "icobrdf/core/spectrum/spectrum_ops.hpp"
 #include "icobrdf/io/curet.hpp"
 #include "icobrdf/io/merl.hpp"
+#include "icobrdf/core/tables/grid_noise.hpp"
 #include "icobrdf/io/rgl_bsdf.hpp"
 #include "icobrdf/io/sample_arrays.hpp"
 #include "icobrdf/io/sample_csv.hpp"
@@ -283,6 +284,36 @@ class MerlSource final : public BrdfSource, public SampleFitHolder {
     return s;
   }
   const MerlTable& table() const { return model_.table(); }
+  // Per theta_h bin and channel, the noise of its theta_d x phi_d table; missing samples and nodes with a
+  // direction below the horizon (no measurement: 0 or an extrapolation) are left out.
+  std::optional<Eigen::MatrixXd> noise_sigma_at(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
+    Eigen::MatrixXd slab(kMerlThetaHalfRes, 3);
+    const std::int64_t per_slab = static_cast<std::int64_t>(kMerlThetaDiffRes) * kMerlPhiDiffRes;
+    std::vector<double> v(static_cast<size_t>(per_slab));
+    for (int h = 0; h < kMerlThetaHalfRes; ++h) {
+      std::vector<bool> above(static_cast<size_t>(per_slab));
+      for (int d = 0; d < kMerlThetaDiffRes; ++d)
+        for (int p = 0; p < kMerlPhiDiffRes; ++p) {
+          Eigen::Vector3d a, b;
+          directions_from_half_diff(merl_node(MerlBin{h, d, p}), a, b);
+          above[static_cast<size_t>(d * kMerlPhiDiffRes + p)] = a.z() > 0 && b.z() > 0;
+        }
+      for (int c = 0; c < 3; ++c) {
+        const double* f = table().f.data() + c * kMerlSamplesPerChannel + h * per_slab;
+        for (std::int64_t k = 0; k < per_slab; ++k) v[static_cast<size_t>(k)] = above[static_cast<size_t>(k)] ? f[k] : std::nan("");
+        slab(h, c) = table_noise_sigma(v.data(), kMerlThetaDiffRes, kMerlPhiDiffRes);
+      }
+    }
+    Eigen::MatrixXd out(wi.rows(), 3);
+    for (Eigen::Index k = 0; k < wi.rows(); ++k) {
+      if (!(wi(k, 2) > 0 && wr(k, 2) > 0)) {
+        out.row(k).setZero();
+        continue;
+      }
+      out.row(k) = slab.row(merl_bin(wi.row(k).transpose(), wr.row(k).transpose()).theta_h);
+    }
+    return out;
+  }
 
   bool may_miss_values() const override { return true; }
   bool isotropic_by_construction() const override { return true; }
@@ -473,6 +504,11 @@ class RglSource final : public BrdfSource {
     return s;
   }
   bool slow_to_evaluate() const override { return true; }  // an inverse warp of the vndf per pair
+  std::optional<Eigen::MatrixXd> noise_sigma_at(const RowMatrix3d& wi, const RowMatrix3d& wr) const override {
+    Eigen::MatrixXd out(wi.rows(), model_.channels());
+    model_.noise_sigma(wi, wr, out);
+    return out;
+  }
 
  private:
   RglModel model_;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/tables/grid_noise.hpp"
 #include "icobrdf/io/tensor_file.hpp"
 
 namespace icobrdf {
@@ -116,9 +117,13 @@ RglBsdf read_rgl_bsdf(const std::string& path) {
   } catch (const ArgumentError& e) {
     r.fail("vndf", e.what());
   }
-  b.values = BilinearSlices(r.finite_values(val, false), h(val, 4), h(val, 3), ParameterGrid({b.phi_i, b.theta_i, lambda_axis}));
   b.sample_width = h(val, 4);
   b.sample_height = h(val, 3);
+  std::vector<double> values = r.finite_values(val, false);
+  const std::size_t table = static_cast<std::size_t>(b.sample_width) * static_cast<std::size_t>(b.sample_height);
+  for (std::size_t at = 0; at + table <= values.size(); at += table)
+    b.noise_sigma.push_back(table_noise_sigma(values.data() + at, b.sample_height, b.sample_width));
+  b.values = BilinearSlices(std::move(values), b.sample_width, b.sample_height, ParameterGrid({b.phi_i, b.theta_i, lambda_axis}));
   return b;
 }
 
@@ -127,38 +132,63 @@ RglModel::RglModel(std::shared_ptr<const RglBsdf> bsdf, std::vector<double> lamb
   if (lambdas_.empty()) throw ArgumentError("RGL material: no channel selected");
 }
 
-void RglModel::eval(const RowMatrix3d& wi_all, const RowMatrix3d& wr_all, Eigen::Ref<Eigen::MatrixXd> out) const {
+RglModel::Lookup RglModel::lookup(Eigen::Vector3d wi, Eigen::Vector3d wr) const {
+  const RglBsdf& b = *bsdf_;
+  Lookup l;
+  if (!(wi.z() > 0 && wr.z() > 0)) return l;
+  if (b.reduction >= 2) {
+    const double sy = wi.y(), sx = b.reduction == 4 ? wi.x() : sy;
+    const double fx = sx >= 0 ? -1.0 : 1.0, fy = sy >= 0 ? -1.0 : 1.0;
+    wi.x() *= fx;
+    wr.x() *= fx;
+    wi.y() *= fy;
+    wr.y() *= fy;
+  }
+  const Eigen::Vector3d m = (wi + wr).normalized();
+  const double theta_i = elevation(wi.x(), wi.y(), wi.z()), phi_i = std::atan2(wi.y(), wi.x());
+  const double theta_m = elevation(m.x(), m.y(), m.z()), phi_m = std::atan2(m.y(), m.x());
+  const double um_x = theta_to_u(theta_m);
+  double um_y = phi_to_u(b.isotropic() ? phi_m - phi_i : phi_m);
+  um_y -= std::floor(um_y);
+  const double params[3] = {phi_i, theta_i, 0.0};
+  l.above = true;
+  l.phi_i = phi_i;
+  l.theta_i = theta_i;
+  l.sample = b.vndf.invert(um_x, um_y, b.vndf.grid().blend(params));
+  l.scale = 1.0 / std::max(wr.z(), kGrazingCosFloor);
+  if (b.jacobian) l.scale *= b.ndf.eval(um_x, um_y, nullptr) / (4.0 * b.sigma.eval(theta_to_u(theta_i), phi_to_u(phi_i), nullptr));
+  return l;
+}
+
+void RglModel::eval(const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const { fill(wi, wr, out, false); }
+
+void RglModel::noise_sigma(const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const { fill(wi, wr, out, true); }
+
+double RglModel::node_noise(const double* params) const {
+  const RglBsdf& b = *bsdf_;
+  const SliceBlend blend = b.values.grid().blend(params);
+  double variance = 0.0;
+  for (int k = 0; k < blend.count; ++k) {
+    const double s = b.noise_sigma[static_cast<size_t>(blend.slice[static_cast<size_t>(k)])];
+    variance += blend.weight[static_cast<size_t>(k)] * s * s;
+  }
+  return std::sqrt(variance);
+}
+
+void RglModel::fill(const RowMatrix3d& wi_all, const RowMatrix3d& wr_all, Eigen::Ref<Eigen::MatrixXd> out, bool noise) const {
   check_pair_shapes(wi_all, wr_all, out, channels());
   const RglBsdf& b = *bsdf_;
   const int nc = channels();
 #pragma omp parallel for schedule(static) if (wi_all.rows() > 256)
   for (Eigen::Index row = 0; row < wi_all.rows(); ++row) {
-    Eigen::Vector3d wi = wi_all.row(row).transpose(), wr = wr_all.row(row).transpose();
-    if (!(wi.z() > 0 && wr.z() > 0)) {
+    const Lookup l = lookup(wi_all.row(row).transpose(), wr_all.row(row).transpose());
+    if (!l.above) {
       out.row(row).setZero();
       continue;
     }
-    if (b.reduction >= 2) {
-      const double sy = wi.y(), sx = b.reduction == 4 ? wi.x() : sy;
-      const double fx = sx >= 0 ? -1.0 : 1.0, fy = sy >= 0 ? -1.0 : 1.0;
-      wi.x() *= fx;
-      wr.x() *= fx;
-      wi.y() *= fy;
-      wr.y() *= fy;
-    }
-    const Eigen::Vector3d m = (wi + wr).normalized();
-    const double theta_i = elevation(wi.x(), wi.y(), wi.z()), phi_i = std::atan2(wi.y(), wi.x());
-    const double theta_m = elevation(m.x(), m.y(), m.z()), phi_m = std::atan2(m.y(), m.x());
-    const double um_x = theta_to_u(theta_m);
-    double um_y = phi_to_u(b.isotropic() ? phi_m - phi_i : phi_m);
-    um_y -= std::floor(um_y);
-    const double params[3] = {phi_i, theta_i, 0.0};
-    const Eigen::Vector2d s = b.vndf.invert(um_x, um_y, b.vndf.grid().blend(params));
-    double scale = 1.0 / std::max(wr.z(), kGrazingCosFloor);
-    if (b.jacobian) scale *= b.ndf.eval(um_x, um_y, nullptr) / (4.0 * b.sigma.eval(theta_to_u(theta_i), phi_to_u(phi_i), nullptr));
     for (int c = 0; c < nc; ++c) {
-      const double p[3] = {phi_i, theta_i, lambdas_[static_cast<size_t>(c)]};
-      out(row, c) = b.values.eval(s.x(), s.y(), p) * scale;
+      const double p[3] = {l.phi_i, l.theta_i, lambdas_[static_cast<size_t>(c)]};
+      out(row, c) = (noise ? node_noise(p) : b.values.eval(l.sample.x(), l.sample.y(), p)) * l.scale;
     }
   }
 }

@@ -61,6 +61,10 @@ struct RglBsdf {
   MarginalWarp2D vndf;
   BilinearSlices ndf, sigma, values;
   int sample_width = 0, sample_height = 0;  // W, H of the value tables
+  // Per slice of `values` (slice order of its ParameterGrid): the standard deviation of independent noise on that
+  // H x W table, estimated from its second differences along u and v (icobrdf/core/tables/grid_noise.hpp); NaN
+  // when the table is too small for an estimate.
+  std::vector<double> noise_sigma;
   bool isotropic() const { return phi_i.size() <= 2; }
 };
 
@@ -78,8 +82,25 @@ class RglModel final : public BrdfModel {
   bool is_reciprocal() const override { return false; }
   std::string spec() const override { return spec_; }  // a SOURCE text, not a parse_model spec
   const RglBsdf& bsdf() const { return *bsdf_; }
+  // The standard deviation [1/sr] of the noise on the values eval() looks up at the pairs (rows x channels): the
+  // noise of the tables' nodes (RglBsdf::noise_sigma; the variance of the slices blended with the blend's
+  // weights, not reduced by the interpolation), times the factor eval applies to the table's value (steps 5-6);
+  // 0 below the horizon, NaN where a table has no estimate.
+  void noise_sigma(const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out) const;
 
  private:
+  // Steps 1-3 and the factor of steps 5-6 at one pair.
+  struct Lookup {
+    bool above = false;  // both directions above the horizon
+    double phi_i = 0.0, theta_i = 0.0;
+    Eigen::Vector2d sample = Eigen::Vector2d::Zero();
+    double scale = 0.0;
+  };
+  Lookup lookup(Eigen::Vector3d wi, Eigen::Vector3d wr) const;
+  // The blend's variance of the slices' noise (RglBsdf::noise_sigma) at parameters (phi_i, theta_i, lambda), as a sigma.
+  double node_noise(const double* params) const;
+  // eval (noise false) or noise_sigma (noise true).
+  void fill(const RowMatrix3d& wi, const RowMatrix3d& wr, Eigen::Ref<Eigen::MatrixXd> out, bool noise) const;
   std::shared_ptr<const RglBsdf> bsdf_;
   std::vector<double> lambdas_;
   std::string spec_;

@@ -24,6 +24,7 @@
 #include "icobrdf/lab/nbrdf_network.hpp"
 #include "icobrdf/pipeline/bank_builder.hpp"
 #include "icobrdf/pipeline/bank_resume.hpp"
+#include "icobrdf/pipeline/held_out.hpp"
 #include "icobrdf/pipeline/lobe_budget.hpp"
 #include "icobrdf/pipeline/memo_source.hpp"
 #include "icobrdf/plot/line_chart.hpp"
@@ -229,6 +230,7 @@ MeasuredBench run_measured_bench(const MeasuredBenchOptions& o) {
     const auto source = open_source(o.files[k]);
     const TestPairs test = test_pairs(*source, o.pairs, "measured|" + row.name);
     row.asymmetry = relative_l2(test.w, test.reciprocal, test.f);
+    row.noise = noise_figure(*source, PairValues{test.wi, test.wr, test.f}, test.w);
     for (const auto& rep : built.materials)
       if (rep.name == row.name) {
         row.representation = rep.ok ? rep.representation : "failed: " + rep.error;
@@ -268,15 +270,16 @@ std::string measured_bench_markdown(const MeasuredBench& b) {
   s << fmt::format("Bank of {} material(s), target {} (cosine metric), built in {:.1f} s on {} thread(s).\n\n", b.rows.size(), b.target,
                    b.bank_seconds, b.threads);
   s << "Errors: cosine-weighted relative L2 on test pairs no fit saw, against the data f and against its reciprocal part "
-       "(f(a,b) + f(b,a))/2; asymmetry = |w (f - f_rec)| / |w f|.\n\n";
-  s << "| material | asymmetry | bank: representation | bytes | error | vs reciprocal | NBRDF 2,700 B: error | vs reciprocal | "
-       "lobe <= 2,700 B: grid | bytes | error | vs reciprocal |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+       "(f(a,b) + f(b,a))/2; asymmetry = |w (f - f_rec)| / |w f|; noise = |w sigma| / |w f|, sigma the noise along the "
+       "file's own tables (docs/measured.md).\n\n";
+  s << "| material | asymmetry | noise | bank: representation | bytes | error | vs reciprocal | NBRDF 2,700 B: error | vs reciprocal | "
+       "lobe <= 2,700 B: grid | bytes | error | vs reciprocal |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   const auto num = [](double x) { return std::isfinite(x) ? fmt::format("{:.4f}", x) : std::string("-"); };
   for (const auto& r : b.rows) {
     const BudgetPoint* p = nullptr;
     for (const auto& q : r.budgets)
       if (q.budget == 2700) p = &q;
-    s << fmt::format("| {} | {} | {}{} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r.name, num(r.asymmetry), r.representation,
+    s << fmt::format("| {} | {} | {} | {}{} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r.name, num(r.asymmetry), num(r.noise), r.representation,
                      r.met ? "" : " (target missed)", r.bytes, num(r.error), num(r.error_reciprocal),
                      r.has_nbrdf ? num(r.nbrdf_error) : "-", r.has_nbrdf ? num(r.nbrdf_error_reciprocal) : "-", p ? p->grid : "-",
                      p ? std::to_string(p->bytes) : "-", p ? num(p->error) : "-", p ? num(p->error_reciprocal) : "-");

@@ -53,6 +53,7 @@ struct MeasuredRow {
   bool met = false;            // it met the target (on the builder's own held-out pairs)
   long long bytes = 0;
   double error = 0, error_reciprocal = 0, asymmetry = 0;
+  double noise = 0;            // the data's noise figure on the test pairs (icobrdf/pipeline/held_out.hpp noise_figure)
   bool has_nbrdf = false;
   double nbrdf_error = 0, nbrdf_error_reciprocal = 0;
   std::vector<BudgetPoint> budgets;  // ascending budgets

@@ -78,6 +78,8 @@ MaterialRecord fit_material(const Scene& scene, const SceneMaterial& m, FitConte
     errors.emplace(held->pairs, m.order >= 0 ? m.order : scene.order_max, m.metric, held->reciprocal_reference);
     rep.grazing_share = errors->grazing_share();
     rep.asymmetry = held->asymmetry;
+    rep.noise = held->noise;
+    if (std::isfinite(held->noise)) say(m.name + ": the data's noise " + three_digits(held->noise) + " (from differences along its own grid)");
     rep.reciprocal_reference = held->reciprocal_reference;
     if (held->asymmetry > 0)
       say(m.name + ": the data's own asymmetry " + three_digits(held->asymmetry) + "; errors against " +
@@ -129,15 +131,22 @@ MaterialRecord fit_material(const Scene& scene, const SceneMaterial& m, FitConte
 void explain_miss(const MaterialCandidate& c, MaterialReport& rep) {
   if (rep.target_met || !rep.measured) return;
   std::string note = c.note;
-  const double noise = rep.asymmetry;
-  if (std::isfinite(noise) && noise > 0) {
-    rep.below_noise = rep.error_l2 <= kNoiseMargin * noise;
-    note += std::string(note.empty() ? "" : "; ") + "the data's asymmetry " + three_digits(noise) +
-            (rep.below_noise ? ": the error is within it" : ": the error is above it, the representation's own floor");
+  const double asym = rep.asymmetry;
+  if (std::isfinite(asym) && asym > 0) {
+    const bool within = rep.error_l2 <= kNoiseMargin * asym;
+    rep.below_noise = within;
+    note += std::string(note.empty() ? "" : "; ") + "the data's asymmetry " + three_digits(asym) +
+            (within ? ": the error is within it" : ": the error is above it, the representation's own floor");
     // Against the raw data no reciprocal representation comes below the asymmetry. Against the reciprocal part
     // it is only a noise estimate, not a floor: lobes fitted to that part reach below it (benchmarks/RESULTS.md).
-    if (rep.below_noise)
-      note += rep.reciprocal_reference ? " (a noise estimate, not a floor)" : ", which no reciprocal representation comes below";
+    if (within) note += rep.reciprocal_reference ? " (a noise estimate, not a floor)" : ", which no reciprocal representation comes below";
+  }
+  // The noise along the data's own grid (icobrdf/pipeline/held_out.hpp): an error within it is the data's noise.
+  if (std::isfinite(rep.noise) && rep.noise > 0) {
+    const bool within = rep.error_l2 <= kNoiseMargin * rep.noise;
+    rep.below_noise = rep.below_noise || within;
+    note += std::string(note.empty() ? "" : "; ") + "the data's noise " + three_digits(rep.noise) +
+            (within ? ": the error is within it" : ": the error is above it");
   }
   rep.note = note;
 }

@@ -70,8 +70,9 @@ struct BankBuildResult {
 BankBuildResult build_bank(const Scene& scene, const BankBuildOptions& options);
 
 // A measured material that missed its target (report.target_met false): report.note = the candidate's note (where
-// its search stopped) and the data's noise estimate, its asymmetry; report.below_noise when the error is within
-// kNoiseMargin of it (icobrdf/pipeline/material_report.hpp). Reads error_l2, asymmetry, reciprocal_reference.
+// its search stopped) and the data's noise estimates, its asymmetry and its noise figure; report.below_noise when
+// the error is within kNoiseMargin of either (icobrdf/pipeline/material_report.hpp). Reads error_l2, asymmetry,
+// noise, reciprocal_reference.
 void explain_miss(const MaterialCandidate& candidate, MaterialReport& report);
 
 // Fitting several materials at once. A small fit's parallel regions are short, and two threads gained only

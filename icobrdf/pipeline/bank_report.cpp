@@ -19,6 +19,7 @@ nlohmann::json material_report_json(const MaterialReport& m) {
             {"error_measured", m.measured}, {"error_l2", m.measured ? nlohmann::json(m.error_l2) : nlohmann::json()},
             {"error_max", m.measured ? nlohmann::json(m.error_max) : nlohmann::json()}, {"metric", m.metric},
             {"asymmetry", m.measured && std::isfinite(m.asymmetry) ? nlohmann::json(m.asymmetry) : nlohmann::json()},
+            {"noise", m.measured && std::isfinite(m.noise) ? nlohmann::json(m.noise) : nlohmann::json()},
             {"judged_against", m.reciprocal_reference ? "reciprocal part" : "data"},
             {"grazing_share", m.measured ? nlohmann::json(m.grazing_share) : nlohmann::json()}, {"anisotropy", m.anisotropy},
             {"kept_coefficients", m.kept}, {"total_coefficients", m.total}, {"bytes", m.bytes}, {"seconds", m.seconds},
@@ -29,8 +30,8 @@ nlohmann::json material_report_json(const MaterialReport& m) {
 }
 
 std::string bank_build_table(const BankBuildResult& r, const std::string& output) {
-  std::string out = fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9} {:>4} {:>9} {:>9} {:>9} {:>11} {:>8} {:>7}\n", "material", "repr", "iso",
-                                "level", "order", "target", "met", "rel L2", "rel max", "asym", "kept/total", "bytes", "seconds");
+  std::string out = fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9} {:>4} {:>9} {:>9} {:>9} {:>9} {:>11} {:>8} {:>7}\n", "material", "repr",
+                                "iso", "level", "order", "target", "met", "rel L2", "rel max", "asym", "noise", "kept/total", "bytes", "seconds");
   const auto dash = [](int v) { return v < 0 ? std::string("-") : std::to_string(v); };  // no modes: a lobe alone
   for (const auto& m : r.materials) {
     if (!m.ok) {
@@ -39,10 +40,11 @@ std::string bank_build_table(const BankBuildResult& r, const std::string& output
     }
     const std::string l2 = m.measured ? fmt::format("{:.3g}", m.error_l2) : "n/a", mx = m.measured ? fmt::format("{:.3g}", m.error_max) : "n/a";
     const std::string asym = m.measured && std::isfinite(m.asymmetry) ? fmt::format("{:.3g}", m.asymmetry) : "n/a";
+    const std::string noise = m.measured && std::isfinite(m.noise) ? fmt::format("{:.3g}", m.noise) : "n/a";
     const char* met = !m.measured ? "n/a" : m.target_met ? "yes" : std::isfinite(m.lobe_floor) ? "floor" : m.below_noise ? "noise" : "NO";
-    out += fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9.3g} {:>4} {:>9} {:>9} {:>9} {:>11} {:>8} {:>7.2f}{}\n", m.name, m.representation,
-                       m.isotropic ? "yes" : "no", dash(m.level), dash(m.order), m.target, met, l2, mx, asym, fmt::format("{}/{}", m.kept, m.total),
-                       m.bytes, m.seconds, m.resumed ? " (resumed)" : "");
+    out += fmt::format("{:<18} {:<10} {:>4} {:>5} {:>5} {:>9.3g} {:>4} {:>9} {:>9} {:>9} {:>9} {:>11} {:>8} {:>7.2f}{}\n", m.name, m.representation,
+                       m.isotropic ? "yes" : "no", dash(m.level), dash(m.order), m.target, met, l2, mx, asym, noise,
+                       fmt::format("{}/{}", m.kept, m.total), m.bytes, m.seconds, m.resumed ? " (resumed)" : "");
   }
   for (const auto& m : r.materials)
     if (m.ok && m.measured && m.reciprocal_reference && m.target < m.asymmetry)

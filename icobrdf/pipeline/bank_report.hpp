@@ -13,12 +13,13 @@ namespace icobrdf {
 // One material's choices and figures: name, source, ok, resumed, rank (under mpirun: the rank that fitted
 // it), and either error (failed) or representation, isotropic, level, order, target, error_measured, error_l2
 // and error_max (null when not measured: delta BRDFs), anisotropy, kept_coefficients, total_coefficients,
-// bytes, seconds, metric, asymmetry (the data's own non-reciprocal fraction; null when not measured),
+// bytes, seconds, metric, asymmetry (the data's own non-reciprocal fraction; null when not measured), noise (the
+// data's noise figure from its own grid, icobrdf/pipeline/held_out.hpp; null when the source has none),
 // judged_against ("reciprocal part" or "data"), grazing_share, target_met and max_bytes (null when none).
 nlohmann::json material_report_json(const MaterialReport& m);
 
 // The table of the build's materials, one line each: name, representation, isotropic, level, order, target,
-// met, relative L2 and max errors ("n/a" when not measured), the data's asymmetry, kept/total coefficients, bytes,
+// met, relative L2 and max errors ("n/a" when not measured), the data's asymmetry and noise, kept/total coefficients, bytes,
 // seconds, then a note per material whose target lies below its data's asymmetry or whose metric "f" is dominated
 // by grazing pairs; a failed
 // material's line gives its error (and its rank under mpirun); "wrote OUTPUT" last when the bank was written.

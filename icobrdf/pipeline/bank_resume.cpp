@@ -64,6 +64,7 @@ void store_choice(MaterialRecord& rec, const MaterialReport& rep) {
   if (!rep.note.empty()) rec.labels["note"] = rep.note;
   if (!rep.target_met) rec.labels["below_noise"] = rep.below_noise ? "yes" : "no";
   if (std::isfinite(rep.lobe_floor)) rec.figures["lobe_floor"] = rep.lobe_floor;
+  if (std::isfinite(rep.noise)) rec.figures["noise"] = rep.noise;  // optional: absent when the source has no grid
 }
 
 void report_from_record(const MaterialRecord& rec, MaterialReport& rep) {
@@ -83,6 +84,7 @@ void report_from_record(const MaterialRecord& rec, MaterialReport& rep) {
   rep.seconds = fig("seconds");
   rep.grazing_share = fig("grazing_share");
   rep.asymmetry = fig("asymmetry");
+  rep.noise = fig("noise");
   rep.max_bytes = rec.figures.count("max_bytes") ? static_cast<long long>(fig("max_bytes")) : -1;
   rep.target_met = !(rec.labels.count("target_met") && rec.labels.at("target_met") == "no");
   rep.reciprocal_reference = rec.labels.count("judged_against") && rec.labels.at("judged_against") == "reciprocal part";

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <random>
 #include <string>
 
@@ -96,6 +97,13 @@ std::vector<Eigen::Index> exchanged_samples(const HeldOutPairs& h, Eigen::Matrix
 
 }  // namespace
 
+double noise_figure(const BrdfSource& src, const PairValues& h, const Eigen::VectorXd& w) {
+  const std::optional<Eigen::MatrixXd> sigma = src.noise_sigma_at(h.wi, h.wr);
+  const double ref = (w.asDiagonal() * h.f).norm();
+  if (!sigma || h.f.size() == 0 || !(ref > 0)) return std::nan("");
+  return (w.asDiagonal() * *sigma).norm() / ref;
+}
+
 HeldOutPairs held_out_pairs(const Scene& s, const SceneMaterial& m, const BrdfSource& src) {
   return held_out_split(s, m, src).pairs;
 }
@@ -108,9 +116,10 @@ HeldOutSplit held_out_split(const Scene& s, const SceneMaterial& m, const BrdfSo
   HeldOutSplit out;
   out.pairs = std::move(d.pairs);
   out.training = std::move(d.training);
-  if (src.reciprocal_by_construction()) return out;
   HeldOutPairs& h = out.pairs;
   const Eigen::VectorXd w = metric_weights(h, m.metric);
+  out.noise = noise_figure(src, h, w);
+  if (src.reciprocal_by_construction()) return out;
   if (!src.judged_at_own_samples()) {
     const Eigen::MatrixXd ft = src.eval(h.wr, h.wi);
     for (Eigen::Index k = 0; k < ft.size(); ++k)

@@ -27,6 +27,15 @@
 //     sample keeps its raw value (nothing better is known there).
 // A source reciprocal by construction (models that say so, MERL tables, spectra) has asymmetry 0.
 //
+// Noise: for a source with values on a grid of its own (BrdfSource::noise_sigma_at: RGL value tables, MERL
+// tables) the data's noise figure is, over the held-out pairs and channels,
+//   noise = |w sigma| / |w f|,   sigma the standard deviation of independent noise at each pair
+// (icobrdf/core/tables/grid_noise.hpp), f the source's own values: the relative L2 of the noise on the data's
+// values in the error's metric, i.e. the error the noise-free BRDF itself would have against the raw values at the
+// data's nodes. The held-out reference has less: it interpolates between nodes (a bilinear blend keeps 1/4 to 1
+// of a node's variance) and, judged against the reciprocal part, averages two values (1/2), so its own noise is
+// about 0.35-0.7 of the figure. NaN when the source has no grid (analytic models, scattered samples).
+//
 // Errors are measured on w f with w = 1 (metric "f") or w = cos(theta_i) cos(theta_r) (metric "cosine": the
 // projected solid angle, i.e. the reflected radiance per unit irradiance as a renderer integrates it, which
 // does not let the grazing growth of microfacet BRDFs dominate):
@@ -34,6 +43,7 @@
 //   relative max = max |w (f_fit - f)| / max |w f|
 #include <Eigen/Core>
 
+#include <limits>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -55,12 +65,17 @@ struct HeldOutSplit {
   HeldOutPairs pairs;
   std::unique_ptr<BrdfSource> training;  // the source without the held-out samples; nullptr: the source itself
   double asymmetry = 0.0;           // the data's own, as above (NaN: not measurable)
+  double noise = std::numeric_limits<double>::quiet_NaN();  // the data's noise figure, as above (NaN: not available)
   bool reciprocal_reference = false;  // pairs.f is the reciprocal part of the source's values
 };
 
 // InputError when the source gives a non-finite value at a pair, or has too few samples to split (fewer
 // than kHeldOutShare, or none in the incidence range).
 HeldOutSplit held_out_split(const Scene& scene, const SceneMaterial& material, const BrdfSource& source);
+// The noise figure above at any pairs: |w sigma| / |w f| over rows and channels, sigma = source.noise_sigma_at(pairs),
+// f the source's values there (pairs.f), w the metric's weights per pair; NaN when the source has no grid or
+// |w f| = 0.
+double noise_figure(const BrdfSource& source, const PairValues& pairs, const Eigen::VectorXd& w);
 // The pairs alone.
 HeldOutPairs held_out_pairs(const Scene& scene, const SceneMaterial& material, const BrdfSource& source);
 

@@ -7,11 +7,13 @@
 
 namespace icobrdf {
 
-// The data's noise estimate is its asymmetry: when f(a, b) and f(b, a) are measured with independent errors of
-// one size, the reciprocal part (f + f^T)/2 keeps noise of exactly the size of the antisymmetric part
+// The data's noise has two estimates. Its asymmetry: when f(a, b) and f(b, a) are measured with independent
+// errors of one size, the reciprocal part (f + f^T)/2 keeps noise of exactly the size of the antisymmetric part
 // (f - f^T)/2, so a representation that holds the BRDF but not the noise has an error of about the asymmetry
-// against the reciprocal part. A missed target is explained by the noise when the error is within this
-// factor of it: both are estimates on the held-out pairs, and the equality holds in expectation only.
+// against the reciprocal part (an upper figure: a systematic non-reciprocity counts too). Its noise figure, from
+// the differences along the data's own grid (icobrdf/pipeline/held_out.hpp `noise`). A missed target is
+// explained by the noise when the error is within this factor of either: both are estimates on the held-out
+// pairs, and the equalities hold in expectation only.
 inline constexpr double kNoiseMargin = 1.25;
 
 struct MaterialReport {
@@ -31,6 +33,8 @@ struct MaterialReport {
   // The data's own asymmetry over the held-out pairs (icobrdf/pipeline/held_out.hpp; 0 for sources reciprocal by
   // construction, NaN when not measurable), and whether the errors are against the data's reciprocal part.
   double asymmetry = 0.0;
+  // The data's noise figure over the held-out pairs (HeldOutSplit::noise; NaN when the source has no grid).
+  double noise = std::numeric_limits<double>::quiet_NaN();
   bool reciprocal_reference = false;  // share of the reference norm from grazing pairs (HeldOutErrors::grazing_share)
   double anisotropy = 0.0;     // anisotropic energy fraction of the first fit
   int kept = 0, total = 0;     // coefficients kept after pruning / in the full (B|IB)SSS vector
