@@ -4,6 +4,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <cstdio>
+#include <memory>
 #include <numeric>
 #include <thread>
 
@@ -105,6 +106,19 @@ std::ostream* progress_stream() { return stream_slot(); }
 void set_progress_delay(double seconds) { delay_slot() = seconds >= 0 ? seconds : kProgressDelaySeconds; }
 double progress_delay() { return delay_slot(); }
 long long progress_heartbeat_threads_started() { return Heartbeat::instance().started(); }
+
+std::function<void(const char* stage, double fraction)> stage_progress_lines(const std::string& label) {
+  auto last = std::make_shared<double>(-1.0);
+  return [label, last, clock = steady_seconds()](const char* stage, double fraction) {
+    std::ostream* out = progress_stream();
+    const double t = clock();
+    if (!out || t < progress_delay() || (*last >= 0.0 && t - *last < kProgressIntervalSeconds)) return;
+    *last = t;
+    char figures[64];
+    std::snprintf(figures, sizeof figures, "%.0f%% after %.0f s", 100.0 * std::clamp(fraction, 0.0, 1.0), t);
+    *out << label << ": " << stage << " " << figures << std::endl;
+  };
+}
 
 ProgressMeter::ProgressMeter(std::string label, long long total_steps)
     : label_(std::move(label)),

@@ -49,6 +49,12 @@ long long progress_heartbeat_threads_started();
 // Seconds since the meter started; a test passes a fake one (no heartbeat thread then: it calls tick()).
 using ProgressClock = std::function<double()>;
 
+// Lines of work that knows its stage and the fraction of it done, not its steps (a sample fit's stages,
+// icobrdf/core/fit/fit_progress.hpp): "<label>: <stage> 35% after 12 s", on progress_stream(), once
+// progress_delay() has passed since this call and then at most every kProgressIntervalSeconds (whole
+// seconds, however long); no estimate of the time left. Call it from one thread.
+std::function<void(const char* stage, double fraction)> stage_progress_lines(const std::string& label);
+
 class ProgressMeter {
  public:
   // total_steps steps of equal cost.

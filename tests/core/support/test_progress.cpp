@@ -257,5 +257,20 @@ TEST(Progress, TheSharedHeartbeatGivesLinesToEveryMeterDuringALongStep) {
   std::remove(path.c_str());
 }
 
+TEST(Progress, StageLinesWaitForTheDelayThenComeAtMostEveryInterval) {
+  // Stage lines (a sample fit's stages): none before the delay; with delay 0 the first call prints, the next
+  // within kProgressIntervalSeconds does not (both calls are microseconds apart).
+  std::ostringstream out;
+  StreamGuard guard(&out);
+  const auto waiting = stage_progress_lines("fit");  // default delay: 2 s from now
+  waiting("solving", 0.5);
+  EXPECT_EQ(out.str(), "");
+  set_progress_delay(0);
+  const auto lines = stage_progress_lines("fit");
+  lines("solving", 0.5);
+  lines("solving", 1.7);
+  EXPECT_EQ(out.str(), "fit: solving 50% after 0 s\n");
+}
+
 }  // namespace
 }  // namespace icobrdf
