@@ -109,7 +109,7 @@ TEST(FitSource, AnOrderTheMemoryCheckAllowedIsNotRefusedOnceTheGridIsHeld) {
 TEST(FitReportOf, AModelKeepsNoSampleFitAndRanksSayWhatTheySplit) {
   const auto source = open_source("model:lambert:albedo=0.5");
   FitRequest r;
-  r.level = 1;
+  r.level = 2;
   r.order = 2;
   const FitResult fit = fit_source(*source, r);
   const FitReport report = fit_report_of(fit, *source);
