@@ -70,26 +70,11 @@ void run_sweep(const SweepArgs& a) {
   r.created = lab::now_iso8601();
   r.command_line = lab::command_line();
   r.machine = lab::describe_machine(cfg.threads);
-  const auto progress = [&a](const std::string& line) {
-    if (!a.quiet) std::cerr << line << std::endl;
-  };
+  const auto progress = [&a](const std::string& line) { if (!a.quiet) std::cerr << line << std::endl; };
   const std::vector<std::string> figures = run_and_write_sweep(r, a.output, a.report, "--report", progress);
 
   const std::string report_md = (std::filesystem::path(a.report).lexically_normal() / "report.md").string();
-  if (a.json) {
-    nlohmann::json j = to_json(r);
-    j["output"] = a.output;
-    j["report"] = report_md;
-    j["figures"] = figures;
-    std::cout << j.dump(2) << "\n";
-    return;
-  }
-  std::cout << fmt::format("bench sweep: {} (level, order) pairs x {} models in {:.1f} s, report sections in {:.1f} s\n", r.rows.size(),
-                           cfg.models.size(), r.table_seconds, r.sections_seconds);
-  for (const auto& s : r.support)
-    std::cout << fmt::format("  level {} ({} cells): supports order {}\n", s.level, s.cells,
-                             s.largest_order >= kSupportSearchOrder ? ">= " + std::to_string(kSupportSearchOrder) : std::to_string(s.largest_order));
-  std::cout << fmt::format("wrote {} and {} ({} sweep figures, {} sections)\n", a.output, report_md, figures.size(), r.sections.size());
+  std::cout << (a.json ? sweep_summary_json(r, a.output, report_md, figures).dump(2) + "\n" : sweep_summary_text(r, a.output, report_md, figures));
 }
 
 void add_sweep(CLI::App& bench) {

@@ -3,7 +3,6 @@
 // icobrdf bank extract BANK.h5#MATERIAL -o SPECTRUM.h5
 #include <fmt/core.h>
 
-#include <atomic>
 #include <csignal>
 #include <iostream>
 #include <memory>
@@ -17,6 +16,7 @@
 #include "icobrdf/core/support/progress.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/bank_summary.hpp"
+#include "icobrdf/io/program_end.hpp"
 #include "icobrdf/io/scene.hpp"
 #include "icobrdf/pipeline/bank_builder.hpp"
 #include "icobrdf/pipeline/bank_report.hpp"
@@ -31,9 +31,6 @@ class Cluster;  // the ranks of an mpirun job: only in a build with MPI
 
 namespace icobrdf::cli {
 namespace {
-
-std::atomic<int> g_stop_signal{0};
-extern "C" void on_stop_signal(int sig) { g_stop_signal.store(sig); }
 
 struct BuildArgs {
   std::string scene, output;
@@ -55,15 +52,11 @@ int build_and_report(const BuildArgs& a, [[maybe_unused]] Cluster* cluster) {
                                        launcher_world_size()));
   const Scene scene = read_scene(a.scene);
 #endif
-  struct sigaction sa {};
-  sa.sa_handler = on_stop_signal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  std::atomic<int>& stop_signal = record_stop_signals();
   BankBuildOptions o;
   o.output = a.output;
   o.resume = a.resume;
-  o.stop = &g_stop_signal;
+  o.stop = &stop_signal;
   o.strict = a.strict;
   o.materials_at_once = a.materials_at_once;
   o.warnings = &std::cerr;
@@ -91,7 +84,7 @@ int build_and_report(const BuildArgs& a, [[maybe_unused]] Cluster* cluster) {
   }
   if (r.interrupted) {
     std::cerr << fmt::format("icobrdf: interrupted; {}\n", kept_for_resume(r));
-    return g_stop_signal.load() == SIGTERM ? kExitTerminated : kExitInterrupted;
+    return stop_signal.load() == SIGTERM ? kExitTerminated : kExitInterrupted;
   }
   if (!r.written) throw UnsupportedError(bank_not_written_message(r));
   if (const std::size_t missed = targets_missed(r); missed > 0) {
@@ -120,11 +113,7 @@ int run_build(const BuildArgs& a) {
 
 void run_info(const std::string& path, bool json) {
   const BankContents b = read_bank(path, ReadOptions{.read_luts = false});
-  if (json) {
-    std::cout << bank_summary_json(b, path).dump(2) << "\n";
-    return;
-  }
-  std::cout << bank_summary_text(b, path);
+  std::cout << (json ? bank_summary_json(b, path).dump(2) + "\n" : bank_summary_text(b, path));
 }
 
 void add_bank_command(CLI::App& app) {

@@ -14,7 +14,6 @@
 //              (icobrdf/pipeline/renderer_export.hpp): RGL tensor file (Mitsuba 3, pbrt-v4), MERL table.
 // The output is written atomically (nothing is written on error). Figures: rows written, order, channel,
 // anisotropic energy fraction; --json prints them as JSON.
-#include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
 #include <iostream>
@@ -47,14 +46,7 @@ void run_polynomial_export(const ExportArgs& a, const Spectrum& s) {
   const ScatmechPolynomialExport e = write_scatmech_polynomial(a.output, s, lambdas, a.wavelength_degree, a.isotropic, a.input);
   nlohmann::json j = scatmech_polynomial_export_json(e, s.order, lambdas, a.wavelength_degree);
   j.update({{"input", a.input}, {"output", a.output}, {"format", a.format}});
-  if (a.json) {
-    std::cout << j.dump(2) << "\n";
-    return;
-  }
-  std::cout << fmt::format("{} -> {} (SCATMECH coefficients, polynomial in wavelength)\n", a.input, a.output)
-            << fmt::format("  order {}, {} wavelength(s), degree {}, {} rows, relative misfit {:.3g}, anisotropic energy fraction {:.3g}{}\n",
-                           s.order, lambdas.size(), a.wavelength_degree, e.rows, e.misfit, e.anisotropic_fraction,
-                           j["projected"].get<bool>() ? " (dropped: isotropic projection)" : "");
+  std::cout << (a.json ? j.dump(2) + "\n" : scatmech_polynomial_export_text(e, s.order, lambdas.size(), a.wavelength_degree, a.input, a.output));
 }
 
 void run_export(const ExportArgs& a) {
@@ -69,24 +61,11 @@ void run_export(const ExportArgs& a) {
   const Spectrum s = read_spectrum_file(ref.path, ref.name, kScatmechModesOnly);
   if (a.wavelength_degree >= 0) return run_polynomial_export(a, s);
   if (!a.wavelengths.empty()) throw ArgumentError("export: --wavelengths needs --wavelength-degree");
-  int channel = a.channel;
-  if (channel < 0) {
-    if (s.channel_count() != 1)
-      throw ArgumentError(fmt::format("export: {} has {} channels; choose one with --channel (0..{})", a.input,
-                                      s.channel_count(), s.channel_count() - 1));
-    channel = 0;
-  }
+  const int channel = scatmech_export_channel(s, a.channel, a.input);
   const ScatmechExport e = write_scatmech_coefficients(a.output, s, channel, a.isotropic, a.input);
   nlohmann::json j = scatmech_export_json(e, s.order, channel);
   j.update({{"input", a.input}, {"output", a.output}, {"format", a.format}});
-  if (a.json) {
-    std::cout << j.dump(2) << "\n";
-    return;
-  }
-  std::cout << fmt::format("{} -> {} (SCATMECH coefficients)\n", a.input, a.output)
-            << fmt::format("  order {}, channel {}, {} rows, anisotropic energy fraction {:.3g}{}\n", s.order, channel, e.rows,
-                           e.anisotropic_fraction,
-                           j["projected"].get<bool>() ? " (dropped: isotropic projection)" : "");
+  std::cout << (a.json ? j.dump(2) + "\n" : scatmech_export_text(e, s.order, channel, a.input, a.output));
 }
 
 void add_export_command(CLI::App& app) {

@@ -4,10 +4,8 @@
 // stages on stderr. Under `mpirun -np R` the streaming projection of a model (or an RGL material, or a
 // half-angle lobe) is spread over the R ranks (icobrdf/cluster/distributed_run.hpp), and so are the passes of a
 // least-squares fit over its samples (MERL tables, CSV samples); rank 0 writes and prints.
-#include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
 #include <chrono>
 #include <iostream>
 #include <memory>
@@ -40,19 +38,6 @@ struct FitArgs {
   double gram_tol = kDefaultGramTolerance;
 };
 
-// Stage and percentage on the progress stream (icobrdf/core/support/progress.hpp: its delay and interval), from the
-// start of the command.
-FitProgress progress_printer(std::chrono::steady_clock::time_point start) {
-  auto last = std::make_shared<double>(-1.0);
-  return [start, last](const char* stage, double fraction) {
-    std::ostream* out = progress_stream();
-    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (!out || t < progress_delay() || (*last >= 0.0 && t - *last < kProgressIntervalSeconds)) return;
-    *last = t;
-    *out << fmt::format("fit: {} {:.0f}% after {:.0f} s", stage, 100.0 * std::clamp(fraction, 0.0, 1.0), t) << std::endl;
-  };
-}
-
 GridKind fitting_grid_kind(const std::string& text) {
   if (text == to_string(GridKind::EqualArea)) return GridKind::EqualArea;
   if (text == to_string(GridKind::Geodesic)) return GridKind::Geodesic;
@@ -66,7 +51,7 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
   r.level = a.level;
   r.order = a.order;
   if (a.quiet) set_progress_stream(nullptr);  // the projection's lines too
-  if (run.writes()) r.progress = progress_printer(t0);
+  if (run.writes()) r.progress = stage_progress_lines("fit");
   r.isotropic = a.isotropic;
   r.reciprocal = !a.non_reciprocal;
   r.cosine = a.cosine;
@@ -89,18 +74,13 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
   const std::vector<double> rss = run.ranks > 1 ? run.gather(lab::peak_resident_bytes()) : std::vector<double>{};  // collective
   if (!run.writes()) return;  // rank 0 checks, writes and reports
   const Spectrum& s = fit.spectrum;
-  const ProjectionContext& ctx = *fit.context;
   if (run.ranks > 1 && run.exchanges() == 0 && run.sample_sums() == 0)
     std::cerr << "icobrdf: note: " << s.source << " is not fitted by streaming projection; each of the " << run.ranks
               << " ranks fitted it whole\n";
-  check_fitted_albedo(s, *ctx.grid, "fit " + quoted_text(s.source), {a.strict, &std::cerr});
+  check_fitted_albedo(s, *fit.context->grid, "fit " + quoted_text(s.source), {a.strict, &std::cerr});
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   write_spectrum_file(a.output, s, nullptr, a.name.empty() ? "material" : a.name);
-  FitReport report;
-  report.fit = &fit;
-  report.checked = last_checked_sample_fit(*source);
-  report.kernels = last_kernel_fit(*source);
-  report.missing_samples = merl_missing_samples(*source);
+  FitReport report = fit_report_of(fit, *source);
   report.samples = samples_of(*source);
   report.output = a.output;
   report.level_asked = a.level;
@@ -116,12 +96,7 @@ void run_fit(const FitArgs& a, const DistributedRun& run) {
     return;
   }
   nlohmann::json j = fit_report_json(report);
-  if (run.ranks > 1) {
-    j["ranks"] = run.ranks;
-    // What the ranks split: the projection's operators, the passes over the samples, or nothing.
-    j["split"] = run.exchanges() > 0 ? "operators by rows" : run.sample_sums() > 0 ? "samples" : "none";
-    j["peak_rss_bytes_per_rank"] = rss;  // the operators are split by rows: O(cells x modes / ranks) each
-  }
+  if (run.ranks > 1) add_rank_split_json(j, run.ranks, run.exchanges(), run.sample_sums(), rss);
   std::cout << j.dump(2) << "\n";
 }
 

@@ -5,7 +5,6 @@
 //   icobrdf albedo LUT.h5[#MATERIAL] [--json] [--strict]                                (white furnace)
 // lut and albedo refuse Inf / NaN and report negative f or albedo (icobrdf/pipeline/reflectance_check.hpp).
 // LUT files: icobrdf/io/lut_file.hpp.
-#include <fmt/core.h>
 #include <nlohmann/json.hpp>
 
 #include <iostream>
@@ -22,35 +21,24 @@ namespace icobrdf::cli {
 namespace {
 
 struct LutArgs {
-  std::string source, input, output, filter = "none", sampling = "average", name = "lut";
-  int level = 4, order = 8;
-  bool cosine = false, float32 = false, strict = false;
+  LutRequest lut;  // lut's options
+  std::string input, output, filter = "none", sampling = "average";  // smooth's, and lut's sampling name
+  int order = 8;
+  bool float32 = false;
 };
 
-void run_lut(const LutArgs& a) {
-  check_output_path(a.output, {a.source});
-  require_storable_source(a.source);
-  const auto named = lut_sampling_named(a.sampling);
-  if (!named) throw ArgumentError("--sampling: expected 'average' or 'centre', found '" + quoted_text(a.sampling) + "'");
-  LutRequest q;
-  q.source = a.source;
-  q.output = a.output;
-  q.name = a.name;
-  q.level = a.level;
-  q.order = a.order;
-  q.cosine = a.cosine;
-  q.float32 = a.float32;
-  q.strict = a.strict;
+void run_lut(LutRequest q, const std::string& sampling) {
+  check_output_path(q.output, {q.source});
+  require_storable_source(q.source);
+  const auto named = lut_sampling_named(sampling);
+  if (!named) throw ArgumentError("--sampling: expected 'average' or 'centre', found '" + quoted_text(sampling) + "'");
   q.sampling = *named;
-  const LutWritten w = write_source_lut(q, &std::cerr);
-  std::cout << fmt::format("{}: {} x {} LUT of {} ({}), max directional albedo {:.6g}\n", a.output, w.cells, w.cells, w.label,
-                           w.cosine ? "g = f cos(theta_i)" : "f", w.max_albedo);
+  std::cout << lut_written_text(write_source_lut(q, &std::cerr), q.output);
 }
 
 void run_smooth(const LutArgs& a) {
   check_output_path(a.output, {a.input});
-  const SmoothedLut s = write_smoothed_lut(a.input, a.output, a.order, a.filter, a.float32);
-  std::cout << fmt::format("{}: LUT '{}' smoothed to order {} with filter {}\n", a.output, s.name, a.order, s.filter);
+  std::cout << smoothed_lut_text(write_smoothed_lut(a.input, a.output, a.order, a.filter, a.float32), a.output, a.order);
 }
 
 void run_albedo(const AlbedoRequest& q, bool json) {
@@ -61,16 +49,16 @@ void run_albedo(const AlbedoRequest& q, bool json) {
 void add_lut_commands(CLI::App& app) {
   auto a = std::make_shared<LutArgs>();
   auto* lut = app.add_subcommand("lut", "Sample a model into a cells x cells LUT on the equal-area grid (HDF5)");
-  lut->add_option("source", a->source, "SOURCE: model:NAME[:key=value,...], or a bank material FILE.h5#NAME of any representation, or measured data")->required();
-  lut->add_option("--level,-l", a->level, "Tessellation level")->capture_default_str()->check(CLI::Range(0, 6));
-  lut->add_option("--order,-n", a->order, "Order of the spectrum stored with the LUT")->capture_default_str()->check(CLI::Range(0, 128));
-  lut->add_flag("--cosine", a->cosine, "Tabulate g = f cos(theta_i) (always for delta models)");
+  lut->add_option("source", a->lut.source, "SOURCE: model:NAME[:key=value,...], or a bank material FILE.h5#NAME of any representation, or measured data")->required();
+  lut->add_option("--level,-l", a->lut.level, "Tessellation level")->capture_default_str()->check(CLI::Range(0, 6));
+  lut->add_option("--order,-n", a->lut.order, "Order of the spectrum stored with the LUT")->capture_default_str()->check(CLI::Range(0, 128));
+  lut->add_flag("--cosine", a->lut.cosine, "Tabulate g = f cos(theta_i) (always for delta models)");
   lut->add_option("--sampling", a->sampling, "average (cell cubature) or centre")->capture_default_str();
-  lut->add_flag("--float32", a->float32, "Store the LUT as float32 (the rounding error is recorded)");
-  lut->add_option("--name", a->name, "Material name in the file")->capture_default_str();
-  lut->add_option("-o,--output", a->output, "Output file (.h5)")->required();
-  lut->add_flag("--strict", a->strict, "Negative f or albedo (non-physical) is an error, not a warning");
-  lut->callback([a] { run_lut(*a); });
+  lut->add_flag("--float32", a->lut.float32, "Store the LUT as float32 (the rounding error is recorded)");
+  lut->add_option("--name", a->lut.name, "Material name in the file")->capture_default_str();
+  lut->add_option("-o,--output", a->lut.output, "Output file (.h5)")->required();
+  lut->add_flag("--strict", a->lut.strict, "Negative f or albedo (non-physical) is an error, not a warning");
+  lut->callback([a] { run_lut(a->lut, a->sampling); });
 
   auto s = std::make_shared<LutArgs>();
   auto* smooth = app.add_subcommand("smooth", "Smooth a LUT: S F S^T with truncation or a low-pass filter");

@@ -9,11 +9,8 @@
 
 #include "cli/commands.hpp"
 #include "cli/option_checks.hpp"
-#include "icobrdf/core/support/error.hpp"
-#include "icobrdf/core/basis/lowpass_filter.hpp"
 #include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/output_path.hpp"
-#include "icobrdf/io/spectrum_file.hpp"
 #include "icobrdf/plot/bytes_plot.hpp"
 #include "icobrdf/plot/curve_plots.hpp"
 #include "icobrdf/plot/half_diff_plot.hpp"
@@ -71,13 +68,7 @@ void add_slice_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   slice->add_flag("--no-exact", a->no_exact, "Do not add the model itself as a last column");
   slice->add_option("-o,--output", a->output, "Output PNG")->required();
   slice->callback([a, slice] {
-    plot::SliceRequest q;
-    q.theta_i = a->theta_i * kRadPerDeg;
-    q.phi_i = a->phi_i * kRadPerDeg;
-    q.filter = parse_lowpass_filter(a->filter);
-    q.panel = a->panel;
-    q.exact = !a->no_exact;
-    q.log = a->log;
+    plot::SliceRequest q = plot::slice_request(a->theta_i, a->phi_i, a->filter, a->panel, !a->no_exact, a->log);
     check_output_path(a->output, {a->source});
     const plot::SliceSource src = plot::load_slice_source(a->source, a->orders, slice->count("--order") > 0, a->level);
     q.orders = a->orders;
@@ -93,10 +84,7 @@ void add_plot_spectrum_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& 
   spec->add_option("-o,--output", a->output, "Output PNG")->required();
   spec->add_flag("--log", a->log, "Signed logarithmic colour scale");
   spec->callback([a] {
-    const MaterialRef ref = split_material_ref(a->source);
-    if (ref.path.size() < 4 || ref.path.compare(ref.path.size() - 3, 3, ".h5") != 0)
-      throw ArgumentError("plot spectrum '" + quoted_text(a->source) + "': expected SPECTRUM.h5[#material]");
-    const Spectrum s = read_spectrum_file(ref.path, ref.name, "plot spectrum draws Zernike modes only; draw it with plot slice or plot sphere");
+    const Spectrum s = plot::load_spectrum_picture(a->source);
     check_output_path(a->output, {a->source});
     const auto f = plot::plot_spectrum(s, a->source, a->output, a->log);
     report(*a, {{"output", a->output}, {"width", f.width}, {"height", f.height}, {"order", s.order}, {"matrix", f.matrix_drawn}});
@@ -118,17 +106,10 @@ void add_sphere_command(CLI::App* plot, const std::shared_ptr<PlotArgs>& a) {
   sphere->add_option("-o,--output", a->output, "Output PNG")->required();
   sphere->add_flag("--strict", a->strict, "Negative reflectance of a material is an error (default: a warning)");
   sphere->callback([a, sphere] {
-    plot::SphereRequest q;
-    const auto [t, p] = plot::parse_light(a->light);
-    q.light_theta = t * kRadPerDeg;
-    q.light_phi = p * kRadPerDeg;
-    q.sky = a->sky ? a->sky_radiance : 0.0;
-    q.exposure = a->exposure;
-    q.size = a->size;
+    const plot::SphereRequest q = plot::sphere_request(a->light, a->sky ? a->sky_radiance : 0.0, a->exposure, a->size, a->shading);
     constexpr int kDefaultSphereOrder = 8;
     const int order = sphere->count("--order") ? a->orders.front() : kDefaultSphereOrder;
     check_output_path(a->output, {a->source});
-    q.shading = plot::parse_shading(a->shading);
     const auto materials = plot::load_sphere_materials(a->source, q.shading, order, a->level, "--shading model");
     plot::check_sphere_albedo(materials, a->strict);
     const auto f = plot::plot_sphere(a->source, materials, q, a->output);

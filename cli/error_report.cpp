@@ -58,8 +58,9 @@ ErrorReport report_of(std::exception_ptr e) {
     return error(x, kExitUnsupported);
   } catch (const IoError& x) {
     return error(x, kExitIo);
-  } catch (const ResourceError& x) {
-    return error(x, kExitResources, "error", "; --memory-budget overrides the limit");
+  } catch (const ResourceError& x) {  // a memory limit can be set by hand, free disk space cannot
+    const bool memory = std::strstr(x.what(), " of memory") != nullptr;
+    return error(x, kExitResources, "error", memory ? "; --memory-budget overrides the limit" : "");
   } catch (const std::bad_alloc&) {
     return ErrorReport{out_of_memory_line(), kExitResources};
   } catch (const std::exception& x) {

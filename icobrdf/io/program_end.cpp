@@ -16,6 +16,9 @@ namespace icobrdf {
 namespace {
 
 bool g_stdout_was_closed = false;
+std::atomic<int> g_stop_signal_seen{0};
+
+extern "C" void icobrdf_record_stop_signal(int sig) { g_stop_signal_seen.store(sig); }
 
 bool descriptor_closed(int fd) { return ::fcntl(fd, F_GETFD) == -1 && errno == EBADF; }
 
@@ -61,6 +64,15 @@ void install_stop_signals() {
   // SIGXFSZ ending the process with no line and its temporaries left behind.
   std::signal(SIGXFSZ, SIG_IGN);
   h5::leave_library_at_exit();
+}
+
+std::atomic<int>& record_stop_signals() {
+  struct sigaction sa {};
+  sa.sa_handler = icobrdf_record_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  return g_stop_signal_seen;
 }
 
 int finish_standard_output(int code, int io_code) {

@@ -13,15 +13,19 @@
 //   finished materials) installs its own handler over this one. SIGXFSZ is ignored (a write over the
 //   file-size limit fails as on a full disk), and HDF5's exit handler is not registered
 //   (h5::leave_library_at_exit).
+// - record_stop_signals(): for a command that stops cleanly on its own: SIGINT and SIGTERM from then on only
+//   store the signal's number in the returned flag (0 until one came), which the work polls.
 // - finish_standard_output(code, io_code): flushes the standard output; when a write to it failed (full disk,
 //   /dev/full, closed), writes one line to the standard error and returns io_code if `code` was 0 (else
 //   `code`, whose error was reported already).
+#include <atomic>
 #include <string>
 
 namespace icobrdf {
 
 void guard_standard_streams();
 void install_stop_signals();
+std::atomic<int>& record_stop_signals();
 int finish_standard_output(int code, int io_code);
 
 }  // namespace icobrdf

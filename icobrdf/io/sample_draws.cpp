@@ -16,6 +16,7 @@
 #include "icobrdf/core/basis/direction.hpp"
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/support/progress.hpp"
+#include "icobrdf/io/disk_space.hpp"
 
 namespace icobrdf {
 namespace {
@@ -31,11 +32,15 @@ MaterialSamples draw_block(const MaterialSampler& sampler, const IncidentDistrib
 
 // The checked weights of every block, kept between the two passes in an unnamed temporary file of $TMPDIR
 // (or /tmp): 8 bytes per draw and channel, removed by the system when closed, whatever ends the process.
+// The folder's free space is checked against all of them first (ResourceError, before any draw).
 class WeightSpool {
  public:
-  explicit WeightSpool(std::string what) : what_(std::move(what)) {
+  WeightSpool(std::string what, long long draws, int channels) : what_(std::move(what)) {
     const char* dir = std::getenv("TMPDIR");
     dir_ = dir && *dir ? dir : "/tmp";
+    require_disk_space(static_cast<double>(sizeof(double)) * static_cast<double>(draws) * channels, dir_,
+                       fmt::format("{}: the temporary file of the checked weights ({} draws x {} channel(s))", what_, draws, channels),
+                       "nothing was written; set TMPDIR to a folder with 8 bytes per draw and channel free");
     std::string name = dir_ + "/icobrdf-sample-XXXXXX";
     const int fd = ::mkstemp(name.data());
     if (fd < 0) fail("cannot be created");
@@ -115,7 +120,7 @@ bool write_material_samples_csv(std::ostream& out, const MaterialSampler& sample
   // Several blocks: each is drawn and weighed once, its weights checked and kept in the spool; then the
   // directions are drawn again from the same seed (no f evaluated) and written with the kept weights.
   const long long blocks = (n + kSampleDrawBlock - 1) / kSampleDrawBlock;
-  WeightSpool spool(sampler.source().spec());
+  WeightSpool spool(sampler.source().spec(), n, sampler.source().channels());
   {
     ProgressMeter progress("drawing", blocks);
     std::mt19937_64 rng(seed);

@@ -25,8 +25,10 @@ inline constexpr long long kSampleDrawBlock = 1 << 16;
 // line per draw: angles in degrees, pdf in 1/sr, weight f cos(theta_r) / pdf; shortest round-trip decimals.
 // The uniform numbers u1, u2 of draw i are the (2i)-th and (2i+1)-th of std::uniform_real_distribution(0, 1)
 // on std::mt19937_64(seed), so that a seed gives the same draws on every platform of one standard library,
-// whatever the blocks. UnsupportedError (nothing written) when a weight is not finite; IoError (nothing
-// written) when the temporary file of the weights cannot be written. Returns false when `out` failed.
+// whatever the blocks. UnsupportedError (nothing written) when a weight is not finite; ResourceError (before
+// any draw, nothing written) when the temporary folder has less free space than the weights need
+// (icobrdf/io/disk_space.hpp); IoError (nothing written) when their temporary file cannot be written.
+// Returns false when `out` failed.
 bool write_material_samples_csv(std::ostream& out, const MaterialSampler& sampler, const Eigen::Vector3d& wi, long long n,
                                 std::uint64_t seed);
 

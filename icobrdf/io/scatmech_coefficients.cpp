@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include <Eigen/QR>
+#include <fmt/core.h>
 
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/support/finite_values.hpp"
@@ -418,6 +419,28 @@ nlohmann::json scatmech_polynomial_export_json(const ScatmechPolynomialExport& e
           {"misfit", e.misfit},
           {"anisotropic_fraction", e.anisotropic_fraction},
           {"projected", e.anisotropic_fraction > kScatmechIsotropyTolerance}};
+}
+
+std::string scatmech_export_text(const ScatmechExport& e, int order, int channel, const std::string& input, const std::string& output) {
+  return fmt::format("{} -> {} (SCATMECH coefficients)\n", input, output) +
+         fmt::format("  order {}, channel {}, {} rows, anisotropic energy fraction {:.3g}{}\n", order, channel, e.rows, e.anisotropic_fraction,
+                     e.anisotropic_fraction > kScatmechIsotropyTolerance ? " (dropped: isotropic projection)" : "");
+}
+
+std::string scatmech_polynomial_export_text(const ScatmechPolynomialExport& e, int order, std::size_t wavelengths, int degree,
+                                            const std::string& input, const std::string& output) {
+  return fmt::format("{} -> {} (SCATMECH coefficients, polynomial in wavelength)\n", input, output) +
+         fmt::format("  order {}, {} wavelength(s), degree {}, {} rows, relative misfit {:.3g}, anisotropic energy fraction {:.3g}{}\n", order,
+                     wavelengths, degree, e.rows, e.misfit, e.anisotropic_fraction,
+                     e.anisotropic_fraction > kScatmechIsotropyTolerance ? " (dropped: isotropic projection)" : "");
+}
+
+int scatmech_export_channel(const Spectrum& spectrum, int asked, const std::string& input) {
+  if (asked >= 0) return asked;
+  if (spectrum.channel_count() != 1)
+    throw ArgumentError(fmt::format("export: {} has {} channels; choose one with --channel (0..{})", input, spectrum.channel_count(),
+                                    spectrum.channel_count() - 1));
+  return 0;
 }
 
 }  // namespace icobrdf

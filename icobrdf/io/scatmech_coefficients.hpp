@@ -152,5 +152,14 @@ nlohmann::json scatmech_export_json(const ScatmechExport& e, int order, int chan
 // The same of a polynomial export: order, wavelengths_um, degree, rows, misfit, anisotropic_fraction, projected.
 nlohmann::json scatmech_polynomial_export_json(const ScatmechPolynomialExport& e, int order, const std::vector<double>& lambdas_um,
                                                int degree);
+// The same as `icobrdf export` prints them, two lines: "<input> -> <output> (SCATMECH coefficients)" and
+// "  order 8, channel 0, 45 rows, anisotropic energy fraction 0.0123" (+ " (dropped: isotropic projection)").
+std::string scatmech_export_text(const ScatmechExport& e, int order, int channel, const std::string& input, const std::string& output);
+// Of a polynomial export: "  order 8, 3 wavelength(s), degree 2, 135 rows, relative misfit 0.01, anisotropic ...".
+std::string scatmech_polynomial_export_text(const ScatmechPolynomialExport& e, int order, std::size_t wavelengths, int degree,
+                                            const std::string& input, const std::string& output);
+// The channel an export of `spectrum` (named `input`) writes: `asked` when >= 0, else 0 of a one-channel
+// spectrum; ArgumentError "export: <input> has 3 channels; choose one with --channel (0..2)" otherwise.
+int scatmech_export_channel(const Spectrum& spectrum, int asked, const std::string& input);
 
 }  // namespace icobrdf

@@ -458,4 +458,23 @@ void write_results_h5(const SweepResult& r, const std::string& path) {
   });
 }
 
+nlohmann::json sweep_summary_json(const SweepResult& r, const std::string& output, const std::string& report_md,
+                                  const std::vector<std::string>& figures) {
+  nlohmann::json j = to_json(r);
+  j["output"] = output;
+  j["report"] = report_md;
+  j["figures"] = figures;
+  return j;
+}
+
+std::string sweep_summary_text(const SweepResult& r, const std::string& output, const std::string& report_md,
+                               const std::vector<std::string>& figures) {
+  std::string text = fmt::format("bench sweep: {} (level, order) pairs x {} models in {:.1f} s, report sections in {:.1f} s\n", r.rows.size(),
+                                 r.config.models.size(), r.table_seconds, r.sections_seconds);
+  for (const auto& s : r.support)
+    text += fmt::format("  level {} ({} cells): supports order {}\n", s.level, s.cells,
+                        s.largest_order >= kSupportSearchOrder ? ">= " + std::to_string(kSupportSearchOrder) : std::to_string(s.largest_order));
+  return text + fmt::format("wrote {} and {} ({} sweep figures, {} sections)\n", output, report_md, figures.size(), r.sections.size());
+}
+
 }  // namespace icobrdf::lab::sweep

@@ -29,6 +29,14 @@ std::string report_markdown(const SweepResult& r, const std::vector<std::string>
 
 nlohmann::json to_json(const SweepResult& r);
 
+// What `bench sweep` prints after writing RESULTS.h5 at `output` and report.md at `report_md` with the sweep's
+// `figures`: to_json plus output, report and figures; or the text, one line of pairs x models and seconds,
+// one per level with the largest order it supports, one naming the files.
+nlohmann::json sweep_summary_json(const SweepResult& r, const std::string& output, const std::string& report_md,
+                                  const std::vector<std::string>& figures);
+std::string sweep_summary_text(const SweepResult& r, const std::string& output, const std::string& report_md,
+                               const std::vector<std::string>& figures);
+
 // Writes RESULTS.h5 at `path` atomically (icobrdf/io/atomic_write.hpp): a reader sees the old file or the whole new one.
 void write_results_h5(const SweepResult& r, const std::string& path);
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "icobrdf/core/basis/antisymmetric_modes.hpp"
+#include "icobrdf/io/measured_sources.hpp"
 #include "icobrdf/pipeline/exchanged_pairs.hpp"
 #include "icobrdf/pipeline/held_out.hpp"
 
@@ -235,6 +236,21 @@ std::string fit_report_text(const FitReport& report) {
                          d.relative_residual);
   }
   return out;
+}
+
+FitReport fit_report_of(const FitResult& fit, const BrdfSource& source) {
+  FitReport report;
+  report.fit = &fit;
+  report.checked = last_checked_sample_fit(source);
+  report.kernels = last_kernel_fit(source);
+  report.missing_samples = merl_missing_samples(source);
+  return report;
+}
+
+void add_rank_split_json(nlohmann::json& j, int ranks, int exchanges, int sample_sums, const std::vector<double>& peak_rss_per_rank) {
+  j["ranks"] = ranks;
+  j["split"] = exchanges > 0 ? "operators by rows" : sample_sums > 0 ? "samples" : "none";
+  j["peak_rss_bytes_per_rank"] = peak_rss_per_rank;  // the operators are split by rows: O(cells x modes / ranks) each
 }
 
 }  // namespace icobrdf

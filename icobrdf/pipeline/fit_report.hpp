@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "icobrdf/core/fit/kernel_fit.hpp"
 #include "icobrdf/core/fit/sample_fit_selection.hpp"
@@ -50,6 +51,15 @@ struct FitReport {
 // "data_asymmetry" (exchanged_samples, tolerance_deg, asymmetry, median_relative_difference,
 // relative_residual) for samples.
 nlohmann::json fit_report_json(const FitReport& report);
+
+// A report of `fit` of `source` with what the SOURCE kept of it filled in (icobrdf/io/measured_sources.hpp:
+// last_checked_sample_fit, last_kernel_fit, merl_missing_samples); the samples (samples_of, which pipeline/
+// does not ask) and the request's fields are the caller's. `source` must outlive the report.
+FitReport fit_report_of(const FitResult& fit, const BrdfSource& source);
+// The split of a fit over the `ranks` processes of an mpirun job added to its JSON: ranks, split ("operators
+// by rows" when the ranks exchanged operator rows, "samples" when they summed passes over samples, else
+// "none") and peak_rss_bytes_per_rank.
+void add_rank_split_json(nlohmann::json& j, int ranks, int exchanges, int sample_sums, const std::vector<double>& peak_rss_per_rank);
 
 // The same as lines of text: what was fitted on which grid, the quality figures, the sample fit's figures
 // and choices (with a warning when the samples leave modes undetermined), the kernel-driven fit beside it and

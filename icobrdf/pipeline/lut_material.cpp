@@ -1,5 +1,7 @@
 #include "icobrdf/pipeline/lut_material.hpp"
 
+#include <fmt/core.h>
+
 #include <cmath>
 #include <memory>
 #include <utility>
@@ -87,6 +89,15 @@ nlohmann::json lut_albedo_json(const std::string& input, bool strict, std::ostre
                   {"energy_conserving", wf.max_albedo <= 1.0}});
   }
   return {{"file", input}, {"material", rec.name}, {"cells", grid->cells()}, {"channels", ch}};
+}
+
+std::string lut_written_text(const LutWritten& w, const std::string& output) {
+  return fmt::format("{}: {} x {} LUT of {} ({}), max directional albedo {:.6g}\n", output, w.cells, w.cells, w.label,
+                     w.cosine ? "g = f cos(theta_i)" : "f", w.max_albedo);
+}
+
+std::string smoothed_lut_text(const SmoothedLut& s, const std::string& output, int order) {
+  return fmt::format("{}: LUT '{}' smoothed to order {} with filter {}\n", output, s.name, order, s.filter);
 }
 
 }  // namespace icobrdf

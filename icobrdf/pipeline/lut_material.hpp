@@ -33,6 +33,8 @@ struct LutWritten {
 
 // Samples, checks (estimates of storage and memory first), fits and writes the LUT of `request`.
 LutWritten write_source_lut(const LutRequest& request, std::ostream* warnings);
+// The line `icobrdf lut` prints: "<output>: 2562 x 2562 LUT of <label> (f), max directional albedo 0.93".
+std::string lut_written_text(const LutWritten& w, const std::string& output);
 
 // Smooths every channel of the LUT at `input` to `order` with `filter` (S F S^T) and writes it, with its
 // spectrum, to `output`. Returns the name of the material smoothed and of the filter.
@@ -40,6 +42,8 @@ struct SmoothedLut {
   std::string name, filter;
 };
 SmoothedLut write_smoothed_lut(const std::string& input, const std::string& output, int order, const std::string& filter, bool float32);
+// The line `icobrdf smooth` prints: "<output>: LUT '<name>' smoothed to order 8 with filter <filter>".
+std::string smoothed_lut_text(const SmoothedLut& s, const std::string& output, int order);
 
 // The LUT at `input`: checked (strict: negative values refused, else warned on `warnings`), and per channel
 // its directional albedo: max_albedo, min_albedo, mean_albedo, worst_cell with worst_theta_deg and

@@ -7,10 +7,13 @@
 #include <memory>
 #include <sstream>
 
+#include "icobrdf/core/basis/lowpass_filter.hpp"
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/models/model_registry.hpp"
 #include "icobrdf/core/spectrum/spectrum_ops.hpp"
+#include "icobrdf/io/bank_file.hpp"
 #include "icobrdf/io/measured_sources.hpp"
+#include "icobrdf/io/spectrum_file.hpp"
 #include "icobrdf/pipeline/fit_order.hpp"
 #include "icobrdf/pipeline/fit_source.hpp"
 #include "icobrdf/plot/picture_materials.hpp"
@@ -31,6 +34,36 @@ SphereRequest::Shading parse_shading(const std::string& s) {
   if (s == "model") return SphereRequest::Shading::Model;
   if (s == "spectrum") return SphereRequest::Shading::Spectrum;
   throw ArgumentError("--shading: expected auto, model or spectrum, found '" + quoted_text(s) + "'");
+}
+
+SphereRequest sphere_request(const std::string& light, double sky, double exposure, int size, const std::string& shading) {
+  SphereRequest q;
+  const auto [theta, phi] = parse_light(light);
+  q.light_theta = theta * M_PI / 180;
+  q.light_phi = phi * M_PI / 180;
+  q.sky = sky;
+  q.exposure = exposure;
+  q.size = size;
+  q.shading = parse_shading(shading);
+  return q;
+}
+
+SliceRequest slice_request(double theta_i_deg, double phi_i_deg, const std::string& filter, int panel, bool exact, bool log) {
+  SliceRequest q;
+  q.theta_i = theta_i_deg * M_PI / 180;
+  q.phi_i = phi_i_deg * M_PI / 180;
+  q.filter = parse_lowpass_filter(filter);
+  q.panel = panel;
+  q.exact = exact;
+  q.log = log;
+  return q;
+}
+
+Spectrum load_spectrum_picture(const std::string& text) {
+  const MaterialRef ref = split_material_ref(text);
+  if (ref.path.size() < 4 || ref.path.compare(ref.path.size() - 3, 3, ".h5") != 0)
+    throw ArgumentError("plot spectrum '" + quoted_text(text) + "': expected SPECTRUM.h5[#material]");
+  return read_spectrum_file(ref.path, ref.name, "plot spectrum draws Zernike modes only; draw it with plot slice or plot sphere");
 }
 
 namespace {

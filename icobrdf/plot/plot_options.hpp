@@ -16,6 +16,15 @@ namespace icobrdf::plot {
 std::pair<double, double> parse_light(const std::string& text);
 // auto | model | spectrum.
 SphereRequest::Shading parse_shading(const std::string& text);
+// A sphere picture's request from the option forms: light "THETA,PHI" [deg] (parse_light), sky radiance
+// (0: none), exposure, size [pixels] and shading name (parse_shading).
+SphereRequest sphere_request(const std::string& light, double sky, double exposure, int size, const std::string& shading);
+// A slice picture's request: incidence [deg], low-pass filter name (parse_lowpass_filter), panel [pixels],
+// the exact values as a last column, logarithmic scale. Its orders are set by load_slice_source.
+SliceRequest slice_request(double theta_i_deg, double phi_i_deg, const std::string& filter, int panel, bool exact, bool log);
+// The spectrum a spectrum picture draws: SPECTRUM.h5[#material] `text` (Zernike modes only); ArgumentError
+// for any other form, UnsupportedError for a material of another representation.
+Spectrum load_spectrum_picture(const std::string& text);
 
 // The source of a slice picture of SOURCE `text` at truncation `orders`. A source with values of its own
 // (a measured file, a model without delta parts) is not fitted when `orders_given` is false: one column of its

@@ -112,4 +112,24 @@ TEST(SampleDraws, AnUnwritableTemporaryFolderWritesNothing) {
   EXPECT_EQ(out.str(), "");
 }
 
+TEST(SampleDraws, MoreWeightsThanTheTemporaryFolderHoldsAreRefusedBeforeAnyDraw) {
+  // 1e17 draws of one channel need 800 PB of weights: refused before the first draw (f evaluated for the
+  // distribution only), nothing written.
+  constexpr long long kDraws = 100'000'000'000'000'000;
+  auto source = std::make_shared<CountingSource>();
+  const MaterialSampler sampler(source, 2);
+  const long long per_distribution = (sampler.distribution(kWi), source->pairs());
+  const long long before = source->pairs();
+  std::ostringstream out;
+  try {
+    write_material_samples_csv(out, sampler, kWi, kDraws, 7);
+    FAIL() << "800 PB of weights were accepted";
+  } catch (const ResourceError& e) {
+    EXPECT_NE(std::string(e.what()).find("(100000000000000000 draws x 1 channel(s)) needs about 800 PB of disk space in "), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(source->pairs() - before, per_distribution) << "f evaluated at a draw";
+  EXPECT_EQ(out.str(), "");
+}
+
 }  // namespace ICOBRDF_UNITY_ID

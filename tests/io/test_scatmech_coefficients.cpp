@@ -335,5 +335,35 @@ TEST(ScatmechCoefficients, BadFilesAreLineNumbered) {
   EXPECT_THROW(scatmech_to_spectrum(read_scatmech_coefficients(d / "lam.csv")), ArgumentError);
 }
 
+TEST(ScatmechExportFigures, TheChannelIsAskedForOnlyWhenThereAreSeveral) {
+  Spectrum one, three;
+  one.order = three.order = 0;
+  one.channels.assign(1, Eigen::MatrixXd::Zero(1, 1));
+  three.channels.assign(3, Eigen::MatrixXd::Zero(1, 1));
+  EXPECT_EQ(scatmech_export_channel(one, -1, "one.h5"), 0);
+  EXPECT_EQ(scatmech_export_channel(three, 2, "three.h5"), 2);
+  try {
+    scatmech_export_channel(three, -1, "three.h5");
+    FAIL() << "a channel of three was chosen silently";
+  } catch (const ArgumentError& e) {
+    EXPECT_STREQ(e.what(), "export: three.h5 has 3 channels; choose one with --channel (0..2)");
+  }
+}
+
+TEST(ScatmechExportFigures, TheTextSaysWhenTheAnisotropicPartWasDropped) {
+  ScatmechExport kept, dropped;
+  kept.rows = dropped.rows = 45;
+  dropped.anisotropic_fraction = 0.25;
+  EXPECT_EQ(scatmech_export_text(kept, 8, 0, "a.h5", "a.csv"),
+            "a.h5 -> a.csv (SCATMECH coefficients)\n  order 8, channel 0, 45 rows, anisotropic energy fraction 0\n");
+  EXPECT_NE(scatmech_export_text(dropped, 8, 1, "a.h5", "a.csv").find("fraction 0.25 (dropped: isotropic projection)\n"), std::string::npos);
+  ScatmechPolynomialExport p;
+  p.rows = 135;
+  p.misfit = 0.0125;
+  EXPECT_EQ(scatmech_polynomial_export_text(p, 8, 3, 2, "s.h5", "s.csv"),
+            "s.h5 -> s.csv (SCATMECH coefficients, polynomial in wavelength)\n"
+            "  order 8, 3 wavelength(s), degree 2, 135 rows, relative misfit 0.0125, anisotropic energy fraction 0\n");
+}
+
 }  // namespace
 }  // namespace icobrdf

@@ -13,6 +13,7 @@
 #include "icobrdf/lab/report_format.hpp"
 #include "icobrdf/lab/staged_folder.hpp"
 #include "icobrdf/lab/sweep_measure.hpp"
+#include "icobrdf/lab/sweep_report.hpp"
 #include "tests/support/unity_id.hpp"
 
 namespace ICOBRDF_UNITY_ID {
@@ -122,6 +123,21 @@ TEST(LabReportFormat, NumbersAndTables) {
   EXPECT_EQ(md_table({"a", "b"}, {{"1", "2"}}), "| a | b |\n|---|---|\n| 1 | 2 |\n\n");
   EXPECT_TRUE(num(std::numeric_limits<double>::infinity()).is_null());
   EXPECT_EQ(num(0.5).get<double>(), 0.5);
+}
+
+TEST(LabSweepSummary, TextNamesPairsLevelsAndFiles) {
+  sweep::SweepResult r;
+  r.rows.resize(6);
+  r.config.models = {"lambert", "ggx:alpha=0.3"};
+  r.table_seconds = 12.3;
+  r.sections_seconds = 3.5;
+  r.support = {{1, 42, 7}, {2, 168, sweep::kSupportSearchOrder}};
+  const std::vector<std::string> figures{"a.png", "b.png", "c.png"};
+  EXPECT_EQ(sweep::sweep_summary_text(r, "r.h5", "rep/report.md", figures),
+            "bench sweep: 6 (level, order) pairs x 2 models in 12.3 s, report sections in 3.5 s\n"
+            "  level 1 (42 cells): supports order 7\n"
+            "  level 2 (168 cells): supports order >= " + std::to_string(sweep::kSupportSearchOrder) + "\n"
+            "wrote r.h5 and rep/report.md (3 sweep figures, 0 sections)\n");
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include "icobrdf/core/support/memory_budget.hpp"
 #include "icobrdf/io/brdf_source.hpp"
 #include "icobrdf/mesh/tessellation.hpp"
+#include "icobrdf/pipeline/fit_report.hpp"
 #include "icobrdf/pipeline/fit_source.hpp"
 #include "icobrdf/pipeline/resource_estimate.hpp"
 #include "tests/support/unity_id.hpp"
@@ -103,6 +104,28 @@ TEST(FitSource, AnOrderTheMemoryCheckAllowedIsNotRefusedOnceTheGridIsHeld) {
   FitContexts fresh;  // without the earlier check, the same order is checked and refused
   r.order = top;
   EXPECT_THROW(fresh.context(r), ResourceError);
+}
+
+TEST(FitReportOf, AModelKeepsNoSampleFitAndRanksSayWhatTheySplit) {
+  const auto source = open_source("model:lambert:albedo=0.5");
+  FitRequest r;
+  r.level = 2;
+  r.order = 2;
+  const FitResult fit = fit_source(*source, r);
+  const FitReport report = fit_report_of(fit, *source);
+  EXPECT_EQ(report.fit, &fit);
+  EXPECT_EQ(report.checked, nullptr);
+  EXPECT_EQ(report.kernels, nullptr);
+  EXPECT_EQ(report.missing_samples, -1);
+  nlohmann::json rows, samples, none;
+  add_rank_split_json(rows, 4, 6, 0, {1e6, 2e6, 3e6, 4e6});
+  add_rank_split_json(samples, 2, 0, 3, {1e6, 1e6});
+  add_rank_split_json(none, 2, 0, 0, {1e6, 1e6});
+  EXPECT_EQ(rows["split"], "operators by rows");
+  EXPECT_EQ(rows["ranks"], 4);
+  EXPECT_EQ(rows["peak_rss_bytes_per_rank"].size(), 4u);
+  EXPECT_EQ(samples["split"], "samples");
+  EXPECT_EQ(none["split"], "none");
 }
 
 }  // namespace

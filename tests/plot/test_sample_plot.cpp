@@ -127,5 +127,29 @@ TEST(PlotSamples, PtfeAndCuretGroupsAreTheirIncidenceAngles) {
   EXPECT_THROW(load_sample_picture("model:lambert", -1, 2), ArgumentError);
 }
 
+TEST(PlotOptions, RequestsTakeDegreesAndNamesAndRefuseOtherForms) {
+  const SphereRequest sphere = sphere_request("30,90", 0.3, 2.0, 128, "spectrum");
+  EXPECT_NEAR(sphere.light_theta, 30 * kDeg, kRounding);
+  EXPECT_NEAR(sphere.light_phi, 90 * kDeg, kRounding);
+  EXPECT_EQ(sphere.sky, 0.3);
+  EXPECT_EQ(sphere.exposure, 2.0);
+  EXPECT_EQ(sphere.size, 128);
+  EXPECT_EQ(sphere.shading, SphereRequest::Shading::Spectrum);
+  EXPECT_THROW(sphere_request("30", 0, 1, 128, "auto"), ArgumentError);
+  const SliceRequest slice = slice_request(45, -90, "none", 150, false, true);
+  EXPECT_NEAR(slice.theta_i, 45 * kDeg, kRounding);
+  EXPECT_NEAR(slice.phi_i, -90 * kDeg, kRounding);
+  EXPECT_EQ(slice.panel, 150);
+  EXPECT_FALSE(slice.exact);
+  EXPECT_TRUE(slice.log);
+  EXPECT_THROW(slice_request(45, 0, "boxcar", 150, true, false), ArgumentError);
+  try {
+    load_spectrum_picture("model:lambert");
+    FAIL() << "a model was taken for a spectrum file";
+  } catch (const ArgumentError& e) {
+    EXPECT_STREQ(e.what(), "plot spectrum 'model:lambert': expected SPECTRUM.h5[#material]");
+  }
+}
+
 }  // namespace
 }  // namespace icobrdf::plot

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
+#include <memory>
 #include <numeric>
+#include <thread>
 
 namespace icobrdf {
 namespace {
@@ -37,20 +40,94 @@ std::vector<double> running_sums(std::vector<double> work) {
   return work;
 }
 
+// The process's one heartbeat thread: ticks every registered meter each kProgressSampleSeconds, sleeps while
+// none is registered, and is joined when the process ends (static destruction). A meter is ticked only while
+// registered, and unregistering waits for a round of ticks under way, so no tick reaches a destroyed meter.
+class Heartbeat {
+ public:
+  static Heartbeat& instance() {
+    static Heartbeat beat;
+    return beat;
+  }
+  Heartbeat(const Heartbeat&) = delete;
+  Heartbeat& operator=(const Heartbeat&) = delete;
+  ~Heartbeat() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stopping_ = true;
+    }
+    wake_.notify_all();
+    if (thread_.joinable()) thread_.join();
+  }
+  void add(ProgressMeter* m) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    meters_.push_back(m);
+    if (!thread_.joinable()) {
+      thread_ = std::thread([this] { run(); });
+      ++started_;
+    }
+    wake_.notify_all();
+  }
+  void remove(ProgressMeter* m) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    meters_.erase(std::remove(meters_.begin(), meters_.end(), m), meters_.end());
+  }
+  long long started() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return started_;
+  }
+
+ private:
+  Heartbeat() = default;
+  void run() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!stopping_) {
+      if (meters_.empty()) {
+        wake_.wait(lock, [this] { return stopping_ || !meters_.empty(); });
+        continue;
+      }
+      if (wake_.wait_for(lock, std::chrono::duration<double>(kProgressSampleSeconds), [this] { return stopping_; })) break;
+      for (ProgressMeter* m : meters_) m->tick();
+    }
+  }
+
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::vector<ProgressMeter*> meters_;
+  bool stopping_ = false;
+  long long started_ = 0;
+  std::thread thread_;
+};
+
 }  // namespace
 
 void set_progress_stream(std::ostream* out) { stream_slot() = out; }
 std::ostream* progress_stream() { return stream_slot(); }
 void set_progress_delay(double seconds) { delay_slot() = seconds >= 0 ? seconds : kProgressDelaySeconds; }
 double progress_delay() { return delay_slot(); }
+long long progress_heartbeat_threads_started() { return Heartbeat::instance().started(); }
+
+std::function<void(const char* stage, double fraction)> stage_progress_lines(const std::string& label) {
+  auto last = std::make_shared<double>(-1.0);
+  return [label, last, clock = steady_seconds()](const char* stage, double fraction) {
+    std::ostream* out = progress_stream();
+    const double t = clock();
+    if (!out || t < progress_delay() || (*last >= 0.0 && t - *last < kProgressIntervalSeconds)) return;
+    *last = t;
+    char figures[64];
+    std::snprintf(figures, sizeof figures, "%.0f%% after %.0f s", 100.0 * std::clamp(fraction, 0.0, 1.0), t);
+    *out << label << ": " << stage << " " << figures << std::endl;
+  };
+}
 
 ProgressMeter::ProgressMeter(std::string label, long long total_steps)
     : label_(std::move(label)),
       total_(total_steps > 0 ? total_steps : 1),
       clock_(steady_seconds()),
       next_print_(progress_delay()),
-      estimate_(static_cast<double>(total_)) {
-  start_heartbeat();
+      estimate_(static_cast<double>(total_)),
+      beating_(progress_stream() != nullptr) {  // nothing to print: not ticked
+  if (beating_) Heartbeat::instance().add(this);
 }
 
 ProgressMeter::ProgressMeter(std::string label, std::vector<double> step_work)
@@ -64,30 +141,12 @@ ProgressMeter::ProgressMeter(std::string label, std::vector<double> step_work, P
       next_print_(progress_delay()),
       estimate_(cumulative_.empty() || cumulative_.back() <= 0 ? static_cast<double>(total_) : cumulative_.back()) {
   if (!cumulative_.empty() && cumulative_.back() <= 0) cumulative_.clear();  // no work given: count steps
-  if (!clock) start_heartbeat();
-}
-
-void ProgressMeter::start_heartbeat() {
-  if (progress_stream() == nullptr) return;  // nothing to print: no thread
-  heartbeat_ = std::thread([this] {
-    std::unique_lock<std::mutex> lock(stop_mutex_);
-    while (!stop_wait_.wait_for(lock, std::chrono::duration<double>(kProgressSampleSeconds), [this] { return stopping_; })) {
-      lock.unlock();
-      tick();
-      lock.lock();
-    }
-  });
+  beating_ = !clock && progress_stream() != nullptr;  // a given clock: the caller ticks
+  if (beating_) Heartbeat::instance().add(this);
 }
 
 ProgressMeter::~ProgressMeter() {
-  if (heartbeat_.joinable()) {
-    {
-      std::lock_guard<std::mutex> lock(stop_mutex_);
-      stopping_ = true;
-    }
-    stop_wait_.notify_all();
-    heartbeat_.join();
-  }
+  if (beating_) Heartbeat::instance().remove(this);
   std::ostream* out = progress_stream();
   if (!printed_ || out == nullptr) return;
   const double elapsed = clock_();

@@ -11,16 +11,17 @@
 // their work (the second constructor), so the fraction and the rate count work, not steps; those steps
 // must then be taken in order (the first n steps done are steps 0..n-1, as InOrderSums takes them).
 // While work goes on a line comes every kProgressIntervalSeconds even when no step finishes (a heartbeat
-// thread, started only when a stream is set), so a long step is never silence.
+// thread ticks every meter of the process each kProgressSampleSeconds), so a long step is never silence.
+// That thread is one per process, shared by all meters: started by the first meter made while a stream is
+// set, it then sleeps without a meter and lives until the process ends, so that a bank build's many short
+// meters start no thread each.
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <functional>
 #include <mutex>
 #include <optional>
 #include <ostream>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "icobrdf/core/support/progress_estimate.hpp"
@@ -42,9 +43,17 @@ std::ostream* progress_stream();
 // the program's ICOBRDF_PROGRESS_DELAY does). Set it before the work starts.
 void set_progress_delay(double seconds);
 double progress_delay();
+// Heartbeat threads started in this process so far: 0 until a meter is made with a stream set, then 1.
+long long progress_heartbeat_threads_started();
 
 // Seconds since the meter started; a test passes a fake one (no heartbeat thread then: it calls tick()).
 using ProgressClock = std::function<double()>;
+
+// Lines of work that knows its stage and the fraction of it done, not its steps (a sample fit's stages,
+// icobrdf/core/fit/fit_progress.hpp): "<label>: <stage> 35% after 12 s", on progress_stream(), once
+// progress_delay() has passed since this call and then at most every kProgressIntervalSeconds (whole
+// seconds, however long); no estimate of the time left. Call it from one thread.
+std::function<void(const char* stage, double fraction)> stage_progress_lines(const std::string& label);
 
 class ProgressMeter {
  public:
@@ -52,7 +61,7 @@ class ProgressMeter {
   ProgressMeter(std::string label, long long total_steps);
   // One step per entry of step_work (its cost in any unit, >= 0), taken in order.
   ProgressMeter(std::string label, std::vector<double> step_work);
-  // Either, with a given clock and no heartbeat thread.
+  // Either, with a given clock and no heartbeat (the caller ticks).
   ProgressMeter(std::string label, std::vector<double> step_work, ProgressClock clock);
   ProgressMeter(const ProgressMeter&) = delete;
   ProgressMeter& operator=(const ProgressMeter&) = delete;
@@ -64,7 +73,6 @@ class ProgressMeter {
   void tick();
 
  private:
-  void start_heartbeat();
   double work_of(long long steps) const;  // the work of the first `steps` steps
 
   std::string label_;
@@ -77,10 +85,7 @@ class ProgressMeter {
   bool printed_ = false;
   ProgressEstimate estimate_;
   std::mutex mutex_;
-  std::mutex stop_mutex_;
-  std::condition_variable stop_wait_;
-  bool stopping_ = false;
-  std::thread heartbeat_;
+  bool beating_ = false;  // ticked by the process's heartbeat thread
 };
 
 }  // namespace icobrdf

@@ -2,7 +2,11 @@
 // synthetic sequences of steps whose true remaining time is known, against the lines the meter prints.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <regex>
 #include <sstream>
 #include <thread>
@@ -210,6 +214,62 @@ TEST(Progress, StepsFromManyThreadsAreCounted) {
     });
   for (auto& t : pool) t.join();
   EXPECT_EQ(out.str(), "");  // under the delay: nothing, and no data race (the sanitizer run checks)
+}
+
+TEST(Progress, ShortMetersStartNoThreadOfTheirOwn) {
+  // A bank build makes many meters whose work ends before the delay: they share the process's heartbeat
+  // thread (started once, by the first meter made while a stream is set) instead of starting one each.
+  std::ostringstream out;
+  StreamGuard guard(&out);
+  for (int k = 0; k < 50; ++k) {
+    ProgressMeter m("short", 10);
+    for (int s = 0; s < 10; ++s) m.step();
+  }
+  EXPECT_EQ(progress_heartbeat_threads_started(), 1);
+  EXPECT_EQ(out.str(), "");
+}
+
+TEST(Progress, TheSharedHeartbeatGivesLinesToEveryMeterDuringALongStep) {
+  // Two meters at once, neither taking a step: each gets a line from the heartbeat within a sample period
+  // (delay 0), from the one thread. The lines go to a file read back through its own stream (no shared
+  // buffer between the threads); polled up to kWaitSeconds (the heartbeat ticks every kProgressSampleSeconds).
+  constexpr double kWaitSeconds = 3 * kProgressSampleSeconds;
+  const std::string path = testing::TempDir() + "icobrdf_progress_heartbeat.txt";
+  std::ofstream out(path, std::ios::trunc);
+  StreamGuard guard(&out);
+  set_progress_delay(0);
+  const auto text = [&] {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  };
+  const auto both_printed = [&] {
+    const std::string s = text();
+    return s.find("first: 0% after") != std::string::npos && s.find("second: 0% after") != std::string::npos;
+  };
+  {
+    ProgressMeter first("first", 2), second("second", 2);
+    const auto start = std::chrono::steady_clock::now();
+    while (!both_printed() && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < kWaitSeconds)
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    EXPECT_TRUE(both_printed()) << text();
+  }
+  EXPECT_EQ(progress_heartbeat_threads_started(), 1);
+  std::remove(path.c_str());
+}
+
+TEST(Progress, StageLinesWaitForTheDelayThenComeAtMostEveryInterval) {
+  // Stage lines (a sample fit's stages): none before the delay; with delay 0 the first call prints, the next
+  // within kProgressIntervalSeconds does not (both calls are microseconds apart).
+  std::ostringstream out;
+  StreamGuard guard(&out);
+  const auto waiting = stage_progress_lines("fit");  // default delay: 2 s from now
+  waiting("solving", 0.5);
+  EXPECT_EQ(out.str(), "");
+  set_progress_delay(0);
+  const auto lines = stage_progress_lines("fit");
+  lines("solving", 0.5);
+  lines("solving", 1.7);
+  EXPECT_EQ(out.str(), "fit: solving 50% after 0 s\n");
 }
 
 }  // namespace
