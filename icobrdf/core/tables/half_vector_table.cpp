@@ -71,8 +71,7 @@ double HalfVectorTable::cell_area(int cell) const {
   return (cos_edge_[static_cast<size_t>(k)] - cos_edge_[static_cast<size_t>(k) + 1]) * (2.0 * M_PI / opt_.phi_bins);
 }
 
-HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTableOptions& options) : opt_(options) {
-  check(opt_);
+void HalfVectorTable::lay_out_cells() {
   // Mirrored (isotropic, an even number of phi bins): the nodes' w_i lie in the xz plane, so q(h) is even in
   // phi_h and only the bins of phi_h in [0, pi) are stored.
   mirrored_ = opt_.azimuth_nodes == 1 && opt_.phi_bins % 2 == 0 && opt_.mirror;
@@ -86,15 +85,6 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
   density_scale_.resize(static_cast<size_t>(nt));
   for (int k = 0; k < nt; ++k)  // mirrored: a cell and its image share the cell's mass
     density_scale_[static_cast<size_t>(k)] = (mirrored_ ? 0.5 : 1.0) / cell_area(k * phi_cells_);
-  const int n_nodes = nodes();
-  const auto total = static_cast<size_t>(n_nodes) * static_cast<size_t>(cells_);
-  // Read at random cells per draw: huge pages (advised before the first write) spare the TLB misses' page walks.
-  cells_of_nodes_.reserve(total), alias_.reserve(total);
-  advise_huge_pages(cells_of_nodes_.data(), total * sizeof(CellEntry));
-  advise_huge_pages(alias_.data(), total * sizeof(AliasEntry));
-  cells_of_nodes_.assign(total, CellEntry{0.0f, 0, 0});
-  alias_.assign(total, AliasEntry{1.0f, 0, 0, 0});
-  albedo_.assign(static_cast<size_t>(n_nodes), 0.0);
   const double dphi = 2.0 * M_PI / opt_.phi_bins;
   phi_edge_cs_.resize(2 * static_cast<size_t>(np));
   for (int j = 0; j < np; ++j) {
@@ -109,6 +99,22 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
     while (k + 1 < nt && cz < cos_edge_[static_cast<size_t>(k) + 1]) ++k;
     t_lookup_[static_cast<size_t>(i)] = k;
   }
+}
+
+HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTableOptions& options) : opt_(options) {
+  check(opt_);
+  lay_out_cells();
+  const int nt = opt_.t_bins, np = phi_cells_;
+  const int n_nodes = nodes();
+  const auto total = static_cast<size_t>(n_nodes) * static_cast<size_t>(cells_);
+  // Read at random cells per draw: huge pages (advised before the first write) spare the TLB misses' page walks.
+  cells_of_nodes_.reserve(total), alias_.reserve(total);
+  advise_huge_pages(cells_of_nodes_.data(), total * sizeof(CellEntry));
+  advise_huge_pages(alias_.data(), total * sizeof(AliasEntry));
+  cells_of_nodes_.assign(total, CellEntry{0.0f, 0, 0});
+  alias_.assign(total, AliasEntry{1.0f, 0, 0, 0});
+  albedo_.assign(static_cast<size_t>(n_nodes), 0.0);
+  const double dphi = 2.0 * M_PI / opt_.phi_bins;
   std::vector<double> node_mass(static_cast<size_t>(cells_));
   // Sub-cell centres: 2 x 2 per cell, equal in solid angle (midpoints in cos theta_h and phi_h).
   RowMatrix3d h(static_cast<Eigen::Index>(cells_) * 4, 3);

@@ -148,6 +148,9 @@ class HalfVectorTable {
     int alias;
     std::int16_t a, b;  // the alias cell's slopes for this node (CellEntry::a, b), read with the entry
   };
+  // The cells' layout from the options: mirrored or not, the edges in cos theta_h and phi_h, the densities'
+  // scales, the t lookup.
+  void lay_out_cells();
   // The cell of h (in the nodes' frame) and h's coordinates xi, eta in it.
   int cell_of(const Eigen::Vector3d& h, double& xi, double& eta) const;
   double cell_area(int cell) const;
