@@ -7,7 +7,7 @@
 //   icobrdf::pipeline  <icobrdf/pipeline/...>  fitting a SOURCE, building banks
 // icobrdf::plot (<icobrdf/plot/...>, cairo) and the optional icobrdf::blas (<icobrdf/blas/...>, OpenBLAS's dense
 // kernels for the sample fits) are not included here: include their headers directly.
-// Internal helpers of the hot loops (icobrdf/core/support/fast_atan2.hpp) are left out.
+// Internal helpers of the hot loops (icobrdf/core/support/fast_atan2.hpp, select_without_branch.hpp) are left out.
 #pragma once
 
 // core

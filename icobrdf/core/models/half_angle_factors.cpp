@@ -14,6 +14,7 @@
 #include "icobrdf/core/basis/direction.hpp"
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/support/fast_atan2.hpp"
+#include "icobrdf/core/support/select_without_branch.hpp"
 #include "icobrdf/core/grid/gauss_legendre.hpp"
 #include "icobrdf/core/basis/half_angle.hpp"
 

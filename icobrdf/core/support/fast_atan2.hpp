@@ -14,8 +14,8 @@
 // arguments go to std::atan2.
 #include <array>
 #include <cmath>
-#include <cstdint>
-#include <cstring>
+
+#include "icobrdf/core/support/select_without_branch.hpp"
 
 namespace icobrdf {
 
@@ -38,19 +38,6 @@ inline const std::array<AtanTaylorRow, 65>& atan_taylor_table() {
     return t;
   }();
   return table;
-}
-
-// c ? a : b on the bits, without a branch (the conditions of atan2's octant fix-ups are data and would be
-// mispredicted half the time).
-inline double select_without_branch(bool c, double a, double b) {
-  std::uint64_t ua, ub;
-  std::memcpy(&ua, &a, sizeof ua);
-  std::memcpy(&ub, &b, sizeof ub);
-  const std::uint64_t m = 0 - static_cast<std::uint64_t>(c);
-  const std::uint64_t u = (ua & m) | (ub & ~m);
-  double v;
-  std::memcpy(&v, &u, sizeof v);
-  return v;
 }
 
 inline double fast_atan2(double y, double x) {
