@@ -1,8 +1,9 @@
 #pragma once
 // select_without_branch(c, a, b): c ? a : b chosen on the bits, without a conditional jump, for hot loops whose
-// conditions are data that a branch predictor would miss about half the time (the octant fix-ups of
-// icobrdf/core/support/fast_atan2.hpp, the canonical sign of a pair's (d_x, d_y) in
-// icobrdf/core/models/half_angle_factors.cpp). Exact: returns a or b bit for bit (signed zeros and NaNs kept).
+// conditions are data that a branch predictor would miss about half the time (the canonical sign of a pair's
+// (d_x, d_y) in icobrdf/core/models/half_angle_factors.cpp). It moves both values through integer registers:
+// where the choice can be written as arithmetic that rounds the same way (fast_atan2's octant fix-ups), that
+// is shorter. Exact: returns a or b bit for bit (signed zeros and NaNs kept).
 #include <cstdint>
 #include <cstring>
 
