@@ -191,6 +191,7 @@ class HalfVectorTable {
   int cells_ = 0;
   bool mirrored_ = false;  // see HalfVectorTableOptions::mirror
   int phi_cells_ = 0;      // stored bins of phi_h: phi_bins, or phi_bins / 2 when mirrored
+  double inv_phi_cells_ = 0.0;  // 1 / phi_cells_
   double phi_lo_ = 0.0;    // the lower edge of the first stored bin: -pi, or 0 when mirrored
   std::vector<double> cos_edge_;     // t_bins + 1 values of cos(theta_h) at the t edges
   std::vector<double> density_scale_;  // per t bin k: 1 / (the solid angle of its cells), halved when mirrored
