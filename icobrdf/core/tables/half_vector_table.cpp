@@ -123,20 +123,11 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
   const int n_nodes = nodes();
   const auto total = static_cast<size_t>(n_nodes) * static_cast<size_t>(cells_);
   // Read at random cells per draw: huge pages (advised before the first write) spare the TLB misses' page walks.
-  const bool isotropic = opt_.azimuth_nodes == 1;
-  cells_of_nodes_.reserve(total);
+  cells_of_nodes_.reserve(total), alias_.reserve(total);
   advise_huge_pages(cells_of_nodes_.data(), total * sizeof(CellEntry));
+  advise_huge_pages(alias_.data(), total * sizeof(AliasEntry));
   cells_of_nodes_.assign(total, CellEntry{0.0f, 0, 0});
-  if (isotropic) {
-    near_alias_.reserve(total);
-    advise_huge_pages(near_alias_.data(), total * sizeof(NearAliasEntry));
-    near_alias_.assign(total, NearAliasEntry{1.0f, 0, {}});
-  } else {
-    alias_.reserve(total);
-    advise_huge_pages(alias_.data(), total * sizeof(AliasEntry));
-    alias_.assign(total, AliasEntry{1.0f, 0, 0, 0});
-  }
-  std::vector<AliasEntry> node_alias(isotropic ? static_cast<size_t>(cells_) : 0);
+  alias_.assign(total, AliasEntry{1.0f, 0, 0, 0});
   albedo_.assign(static_cast<size_t>(n_nodes), 0.0);
   const double dphi = 2.0 * M_PI / opt_.phi_bins;
   std::vector<double> node_mass(static_cast<size_t>(cells_));
@@ -220,29 +211,13 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
       cells_of_nodes_[static_cast<size_t>(cell) * static_cast<size_t>(n_nodes) + static_cast<size_t>(n)].mass = p;
       m[cell] = p / rounded;
     }
-    AliasEntry* alias = isotropic ? node_alias.data() : alias_.data() + static_cast<size_t>(n) * static_cast<size_t>(cells_);
+    AliasEntry* alias = alias_.data() + static_cast<size_t>(n) * static_cast<size_t>(cells_);
     build_alias(m, alias);
-    for (int cell = 0; cell < cells_; ++cell) {
-      if (isotropic) {  // the neighbours' entries follow once every node's are known (near_aliases())
-        NearAliasEntry& e = near_alias_[static_cast<size_t>(n) * static_cast<size_t>(cells_) + static_cast<size_t>(cell)];
-        e.keep = alias[cell].keep, e.alias = alias[cell].alias;
-      } else {  // the alias cell's slopes beside its index (see sample())
-        const CellEntry& e = entry(n, alias[cell].alias);
-        alias[cell].a = e.a, alias[cell].b = e.b;
-      }
+    for (int cell = 0; cell < cells_; ++cell) {  // the alias cell's slopes beside its index (see sample())
+      const CellEntry& e = entry(n, alias[cell].alias);
+      alias[cell].a = e.a, alias[cell].b = e.b;
     }
   }
-  if (isotropic) near_aliases();
-}
-
-void HalfVectorTable::near_aliases() {
-  const int n_nodes = nodes();
-  for (int n = 0; n < n_nodes; ++n)
-    for (int cell = 0; cell < cells_; ++cell) {
-      NearAliasEntry& e = near_alias_[static_cast<size_t>(n) * static_cast<size_t>(cells_) + static_cast<size_t>(cell)];
-      for (int d = -1; d <= 1; ++d)
-        e.near[d + 1] = (n + d >= 0 && n + d < n_nodes) ? entry(n + d, e.alias) : CellEntry{0.0f, 0, 0};
-    }
 }
 
 void HalfVectorTable::cut_cells(const Eigen::Vector3d& wi, const std::vector<int>& cut, const NonNegativeBrdf& fbar, double* m,
@@ -367,7 +342,9 @@ bool HalfVectorTable::sample(const HalfVectorBlend& b, const Eigen::Vector3d& wi
   // The node: u1 picks it by the blend weights among the nodes that have mass, then is rescaled to [0, 1).
   double live = 0.0, x;
   int node = -1, pick = 0;  // the drawn node and its place in the blend
-  if (b.count == 2) {  // isotropic: the same pick by selects (u1 decides it at random: a branch would miss)
+  // Isotropic (2 nodes): the same pick without the loop. The compiler keeps a branch on x >= w0; selects
+  // (select_without_branch) made sample() alone 4-5 ns faster but RenderMaterial::sample 3-5 ns slower.
+  if (b.count == 2) {
     const double w0 = albedo_[static_cast<size_t>(b.node[0])] > 0.0 ? b.weight[0] : 0.0;
     const double w1 = albedo_[static_cast<size_t>(b.node[1])] > 0.0 ? b.weight[1] : 0.0;
     // The reciprocals of both weights while u1 is scaled: the rescale of x is then a product, not a
@@ -394,39 +371,25 @@ bool HalfVectorTable::sample(const HalfVectorBlend& b, const Eigen::Vector3d& wi
     x = std::clamp((x - node_lo) / node_w, 0.0, 1.0);
   }
   // The cell from the node's alias table, then the fraction left of x for the position within it. The alias
-  // entry and the cell's own entries are read at once (both addresses follow from x); an aliased draw finds
-  // the alias cell's entries in the alias entry (isotropic: every blend node's; anisotropic: the drawn node's
-  // slopes, the other nodes' entries fetched meanwhile), so the draw waits for one memory access, not two.
+  // entry and the cell's own entries are read at once (both addresses follow from x; the alias entry carries
+  // its alias cell's slopes of this node), so the draw waits for one memory access, not two in turn; the
+  // entries of the drawn cell, which only the density reads, are fetched meanwhile.
   const double y = x * cells_;
   const int cell0 = std::min(static_cast<int>(y), cells_ - 1);
   double f = y - cell0;
-  const size_t at = static_cast<size_t>(node) * static_cast<size_t>(cells_) + static_cast<size_t>(cell0);
-  const CellEntry* own = &entry(0, cell0);  // the nodes' entries of cell0, by node
-  const CellEntry* e[4];                    // the drawn cell's entries of the blend nodes
-  double keep;
-  int cell;
-  std::int16_t sa, sb;  // the drawn node's slopes at the drawn cell
-  bool kept;
-  if (!near_alias_.empty()) {
-    const NearAliasEntry& a = near_alias_[at];
-    keep = a.keep;
-    // A branch, not selects, although u1 decides it: the predicted side runs on before the alias entry
-    // arrives (a kept draw needs nothing of it), where selects would wait for it (measured 20 ns slower).
-    kept = f < keep || keep >= 1.0;
-    cell = kept ? cell0 : a.alias;
-    // Node m's entry: from[m + shift].
-    const CellEntry* from = kept ? own : a.near;
-    const int shift = kept ? 0 : 1 - node;
-    for (int i = 0; i < b.count; ++i) e[i] = from + (b.node[i] + shift);
-    sa = e[pick]->a, sb = e[pick]->b;  // the entry the density reads for the drawn node
-  } else {
-    const AliasEntry& a = alias_[at];
-    keep = a.keep;
-    kept = f < keep || keep >= 1.0;
-    cell = kept ? cell0 : a.alias;
-    for (int i = 0; i < b.count; ++i) __builtin_prefetch(e[i] = &entry(b.node[i], cell));  // what h_density reads
-    sa = kept ? own[node].a : a.a, sb = kept ? own[node].b : a.b;
-  }
+  const AliasEntry& a = alias_[static_cast<size_t>(node) * static_cast<size_t>(cells_) + static_cast<size_t>(cell0)];
+  const CellEntry& own = entry(node, cell0);
+  const double keep = a.keep;
+  // A branch, not selects, although u1 decides it: the predicted side runs on before the alias entry
+  // arrives (a kept draw needs nothing of it), where selects would wait for it (measured 20 ns slower).
+  const bool kept = f < keep || keep >= 1.0;
+  const int cell = kept ? cell0 : a.alias;
+  const CellEntry* e[4];  // the drawn cell's entries of the blend nodes
+  for (int i = 0; i < b.count; ++i) __builtin_prefetch(e[i] = &entry(b.node[i], cell));  // what h_density reads
+  // The drawn node's slopes as the draw read them (aliased: from the alias entry); its density uses the same.
+  const CellEntry drawn{e[pick]->mass, kept ? own.a : a.a, kept ? own.b : a.b};
+  e[pick] = &drawn;
+  const std::int16_t sa = drawn.a, sb = drawn.b;
   f = std::clamp((kept ? f : f - keep) / (kept ? keep : 1.0 - keep), 0.0, 1.0);
   const double xi = linear_density_inverse(sa * kSlopePerUnit, f);
   // Mirrored: u2's upper half draws the image (phi_h -> -phi_h) and is rescaled to [0, 1).

@@ -36,20 +36,19 @@
 // periodic-linear in phi_i when anisotropic) picks one node per draw with its blend weight, so the density
 // of w_r is
 //   pdf(w_r) = sum_n weight_n P_n(cell of h) g_n(xi, eta) / A_cell / (4 w_i . h)   [1/sr].
-// Draws per call cost O(1): the cell from an alias table per node (Walker/Vose: its threshold in float, so a
-// cell is drawn with its mass to about 1e-7 relative, the float rounding of the masses that pdf() reads), the
-// position within it from what is left of u1; the masses and slopes are stored cell-major (the nodes of one
-// cell side by side) so that the density at a drawn or given cell reads one or two cache lines; the cell of a
-// half vector is found without atan2 for theta_h (a lookup on (1 - cos theta_h)^(1/4), then the exact cos
-// edges decide) and with one atan2 for phi_h.
-// A draw needs the alias entry and the mass and slopes of every blend node at the drawn cell. Kept, that is
-// the entry's own cell, whose address follows from u1 as the entry's does: both are read at once. Aliased
-// (most draws of a narrow lobe), isotropic tables (2 blend nodes: the drawn node n and n - 1 or n + 1) carry
-// the alias cell's CellEntry of nodes n - 1, n, n + 1 in the alias entry itself (32 bytes, aligned: one cache
-// line), so a draw waits for one memory access, not two in turn; anisotropic tables (4 blend nodes) carry
-// the alias cell's slopes of node n only (12 bytes) and read the other nodes' entries after the alias entry.
-// Memory: isotropic, 8 + 32 bytes per node and cell (48 nodes x 8192 mirrored cells, the defaults: 15.7 MB;
-// 12.6 MB of it the alias entries, against 4.7 MB with 12-byte entries); anisotropic, 8 + 12 bytes.
+// Draws per call cost O(1): the cell from an alias table per node (Walker/Vose: one entry of 12 bytes, its
+// threshold in float, so a cell is drawn with its mass to about 1e-7 relative, the float rounding of the
+// masses that pdf() reads; beside it the alias cell's slopes, so that a draw reads the entry and its own cell
+// at once instead of one after the other), the position within it from what is left of u1; the density of
+// the drawn node at the drawn position uses the slopes the draw used. The masses and slopes are stored
+// cell-major (the nodes of one cell side by side) so that the density at a drawn or given cell reads one or
+// two cache lines; the cell of a half vector is found without atan2 for theta_h (a lookup on
+// (1 - cos theta_h)^(1/4), then the exact cos edges decide) and with one atan2 for phi_h.
+// Memory: 8 + 12 bytes per node and cell (48 nodes x 8192 mirrored cells, the defaults: 7.9 MB). Alias
+// entries of 32 bytes that also carried the alias cell's masses and slopes of nodes n - 1, n, n + 1 (so an
+// aliased draw's density would need no second access) doubled that to 15.7 MB; measured in one process they
+// made sample() alone 2-5 ns faster but RenderMaterial::sample 4-8 ns slower (there the second access
+// overlaps the evaluation of f), so the entries stay at 12 bytes.
 // sample() fails (returns false) for a w_r below the horizon (a zero of the caller's estimator: f is 0 there).
 // Accuracy: the weights f cos / pdf vary within a cell as f departs from the linear density over it, and
 // between nodes as the BRDF does between neighbouring incident angles (the horizon of w_r moves under the
@@ -159,15 +158,6 @@ class HalfVectorTable {
     float mass;           // the node's probability of the cell
     std::int16_t a, b;    // the slopes of the density within the cell along xi and eta, x kHalfVectorSlopeUnit
   };
-  // Isotropic tables: the alias entry of (node n, cell) with the alias cell's entries of nodes n - 1, n, n + 1
-  // (zero where n - 1 or n + 1 is no node), so that an aliased draw reads one cache line.
-  struct alignas(32) NearAliasEntry {
-    float keep;
-    int alias;
-    CellEntry near[3];
-  };
-  static_assert(sizeof(CellEntry) == 8, "a node's entry of a cell: mass and two slopes");
-  static_assert(sizeof(NearAliasEntry) == 32, "an isotropic alias entry: half a cache line, never split by one");
   // The cells' layout from the options: mirrored or not, the edges in cos theta_h and phi_h, the densities'
   // scales, the t lookup.
   void lay_out_cells();
@@ -178,8 +168,6 @@ class HalfVectorTable {
   void cut_cells(const Eigen::Vector3d& wi, const std::vector<int>& cut, const NonNegativeBrdf& fbar, double* m, int node);
   // The alias table of one node's probabilities p (cells values summing to 1).
   void build_alias(const double* p, AliasEntry* out) const;
-  // Isotropic tables: NearAliasEntry::near of every node's alias entries, from cells_of_nodes_.
-  void near_aliases();
   const CellEntry& entry(int node, int cell) const {
     return cells_of_nodes_[static_cast<size_t>(cell) * static_cast<size_t>(nodes()) + static_cast<size_t>(node)];
   }
@@ -198,8 +186,7 @@ class HalfVectorTable {
   std::vector<double> phi_edge_cs_;  // phi_cells_ x (cos, sin) of phi_h at the lower edge of each stored bin
   std::vector<int> t_lookup_;        // kHalfVectorTLookup + 1 bins: the t bin at (1 - cos theta_h)^(1/4) = i / size
   std::vector<CellEntry> cells_of_nodes_;  // cells x nodes (cell-major); masses normalized per node
-  std::vector<AliasEntry> alias_;    // nodes x cells (anisotropic tables)
-  std::vector<NearAliasEntry> near_alias_;  // nodes x cells (isotropic tables)
+  std::vector<AliasEntry> alias_;    // nodes x cells
   std::vector<double> albedo_;       // nodes
 };
 

@@ -1,10 +1,11 @@
 // HalfVectorTable (icobrdf/core/tables/half_vector_table.hpp): the density a draw reports against pdf() at the
-// drawn direction, for incident directions between every pair of neighbouring nodes. An aliased draw of an
-// isotropic table takes the drawn cell's entries of both blend nodes from the alias entry (nodes n - 1, n,
-// n + 1 of the drawn node n); pdf() reads them from the cell-major table. The two agree only if the alias
-// entries carry the right nodes' entries of the right cell: a partner's entry taken from the wrong side
-// (n + 1 for n - 1) or from the wrong cell changes the blended density by the difference of two nodes' (or
-// cells') densities, which for a GGX lobe of alpha 0.2 is of order 1 between nodes 12.7 degrees apart.
+// drawn direction, for incident directions between every pair of neighbouring nodes. An aliased draw takes
+// the drawn node's slopes at the alias cell from its alias entry (read with it) and the blend nodes' masses
+// (and the other nodes' slopes) from the cell-major table; the density it reports uses those slopes, while
+// pdf() reads every entry from the cell-major table. The two agree only if the draw picks the right blend
+// node's entries of the right cell and the alias entries carry the right node's slopes of the right cell: a
+// partner's entry from the wrong side, or slopes of another node or cell, change the density by the
+// difference of two nodes' (or cells') densities, which for a GGX lobe of alpha 0.2 is far above rounding.
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -25,7 +26,7 @@ namespace ICOBRDF_UNITY_ID {
 // pdf() finds the drawn cell and position again from (w_i, w_r): the rounding of h (1e-16) over the pole
 // cell's cos range (1.2e-6 with 32 t bins) moves the position by 1e-10, the linear density by twice that.
 constexpr double kPdfRoundTripRelTol = 1e-8;
-// Draws per incident direction (most of them aliased: the alias method tops up the many cells below the mean
+// Draws per incident direction (many of them aliased: the alias method tops up the many cells below the mean
 // mass of a lobe this narrow from the lobe's cells).
 constexpr int kDraws = 4000;
 
@@ -82,8 +83,7 @@ TEST(HalfVectorTable, DrawsReportThePdfBetweenEveryPairOfNodes) {
   }
 }
 
-// Anisotropic tables (4 blend nodes) keep the alias cell's slopes of the drawn node only and read the
-// other nodes' entries from the table.
+// Anisotropic tables: 4 blend nodes, the drawn one anywhere among them.
 TEST(HalfVectorTable, AnisotropicDrawsReportThePdfBetweenEveryPairOfNodes) {
   HalfVectorTableOptions o;
   o.theta_nodes = 6;
