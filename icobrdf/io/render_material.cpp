@@ -379,16 +379,20 @@ MaterialSample<double> RenderMaterial::sample(const Eigen::Vector3d& wi, double 
   const HalfVectorBlend b = HalfVectorTable::blend(m.nodes, wi);
   const int parts = m.part_albedos(b, a, total);
   if (!(total > 0.0)) return s;
-  // The part: u1 by the albedos, then rescaled to [0, 1) within it.
-  double x = u1 * total, acc = 0.0, part_lo = 0.0;
-  int part = -1;
-  for (int i = 0; i < parts; ++i) {
-    if (!(a[static_cast<size_t>(i)] > 0.0)) continue;
-    part = i, part_lo = acc;  // the last part with albedo takes u1 rounding up to its end
-    if (x < acc + a[static_cast<size_t>(i)]) break;
-    acc += a[static_cast<size_t>(i)];
+  // The part: u1 by the albedos, then rescaled to [0, 1) within it (one part: u1 itself, which the rescale
+  // returns to rounding; the draw does not wait for a division then).
+  double x = u1, acc = 0.0, part_lo = 0.0;
+  int part = 0;
+  if (parts > 1) {
+    x = u1 * total, part = -1;
+    for (int i = 0; i < parts; ++i) {
+      if (!(a[static_cast<size_t>(i)] > 0.0)) continue;
+      part = i, part_lo = acc;  // the last part with albedo takes u1 rounding up to its end
+      if (x < acc + a[static_cast<size_t>(i)]) break;
+      acc += a[static_cast<size_t>(i)];
+    }
+    x = std::clamp((x - part_lo) / a[static_cast<size_t>(part)], 0.0, 1.0);
   }
-  x = std::clamp((x - part_lo) / a[static_cast<size_t>(part)], 0.0, 1.0);
   const int n_delta = static_cast<int>(m.deltas.size()), n_ggx = static_cast<int>(m.ggx.size());
   if (part < n_delta) {
     const DeltaPart& d = m.deltas[static_cast<size_t>(part)];
@@ -418,7 +422,8 @@ MaterialSample<double> RenderMaterial::sample(const Eigen::Vector3d& wi, double 
   m.eval_regular(wi, wr, f);
   s.wr = wr;
   s.pdf = pdf;
-  for (int c = 0; c < m.channels; ++c) s.weight[c] = f[c] * wr.z() / pdf;
+  const double cos_over_pdf = wr.z() / pdf;
+  for (int c = 0; c < m.channels; ++c) s.weight[c] = f[c] * cos_over_pdf;
   s.flags = kMaterialReflection | lobe_flag;
   return s;
 }

@@ -39,10 +39,16 @@
 // Draws per call cost O(1): the cell from an alias table per node (Walker/Vose: one entry of 12 bytes, its
 // threshold in float, so a cell is drawn with its mass to about 1e-7 relative, the float rounding of the
 // masses that pdf() reads; beside it the alias cell's slopes, so that a draw reads the entry and its own cell
-// at once instead of one after the other), the position within it from what is left of u1; the masses and
-// slopes are stored cell-major (the nodes of one cell side by side) so that the density at a drawn or given
-// cell reads one or two cache lines; the cell of a half vector is found without atan2 for theta_h (a lookup
-// on (1 - cos theta_h)^(1/4), then the exact cos edges decide) and with one atan2 for phi_h.
+// at once instead of one after the other), the position within it from what is left of u1; the density of
+// the drawn node at the drawn position uses the slopes the draw used. The masses and slopes are stored
+// cell-major (the nodes of one cell side by side) so that the density at a drawn or given cell reads one or
+// two cache lines; the cell of a half vector is found without atan2 for theta_h (a lookup on
+// (1 - cos theta_h)^(1/4), then the exact cos edges decide) and with one atan2 for phi_h.
+// Memory: 8 + 12 bytes per node and cell (48 nodes x 8192 mirrored cells, the defaults: 7.9 MB). Alias
+// entries of 32 bytes that also carried the alias cell's masses and slopes of nodes n - 1, n, n + 1 (so an
+// aliased draw's density would need no second access) doubled that to 15.7 MB; measured in one process they
+// made sample() alone 2-5 ns faster but RenderMaterial::sample 4-8 ns slower (there the second access
+// overlaps the evaluation of f), so the entries stay at 12 bytes.
 // sample() fails (returns false) for a w_r below the horizon (a zero of the caller's estimator: f is 0 there).
 // Accuracy: the weights f cos / pdf vary within a cell as f departs from the linear density over it, and
 // between nodes as the BRDF does between neighbouring incident angles (the horizon of w_r moves under the
@@ -148,6 +154,10 @@ class HalfVectorTable {
     int alias;
     std::int16_t a, b;  // the alias cell's slopes for this node (CellEntry::a, b), read with the entry
   };
+  struct CellEntry {
+    float mass;           // the node's probability of the cell
+    std::int16_t a, b;    // the slopes of the density within the cell along xi and eta, x kHalfVectorSlopeUnit
+  };
   // The cells' layout from the options: mirrored or not, the edges in cos theta_h and phi_h, the densities'
   // scales, the t lookup.
   void lay_out_cells();
@@ -158,20 +168,18 @@ class HalfVectorTable {
   void cut_cells(const Eigen::Vector3d& wi, const std::vector<int>& cut, const NonNegativeBrdf& fbar, double* m, int node);
   // The alias table of one node's probabilities p (cells values summing to 1).
   void build_alias(const double* p, AliasEntry* out) const;
-  struct CellEntry {
-    float mass;           // the node's probability of the cell
-    std::int16_t a, b;    // the slopes of the density within the cell along xi and eta, x kHalfVectorSlopeUnit
-  };
   const CellEntry& entry(int node, int cell) const {
     return cells_of_nodes_[static_cast<size_t>(cell) * static_cast<size_t>(nodes()) + static_cast<size_t>(node)];
   }
-  // The blended density of h at cell (xi, eta) in [0, 1]^2 [1/sr of h], divided by live (k: the cell's t bin).
-  double h_density(const HalfVectorBlend& b, double live, int cell, int k, double xi, double eta) const;
+  // The blended density of h at cell (xi, eta) in [0, 1]^2 [1/sr of h] times the weight of the live nodes
+  // (callers divide by it; k: the cell's t bin; e[i]: the cell's entry of blend node i).
+  double h_density(const HalfVectorBlend& b, const CellEntry* const* e, int k, double xi, double eta) const;
 
   HalfVectorTableOptions opt_;
   int cells_ = 0;
   bool mirrored_ = false;  // see HalfVectorTableOptions::mirror
   int phi_cells_ = 0;      // stored bins of phi_h: phi_bins, or phi_bins / 2 when mirrored
+  double inv_phi_cells_ = 0.0;  // 1 / phi_cells_
   double phi_lo_ = 0.0;    // the lower edge of the first stored bin: -pi, or 0 when mirrored
   std::vector<double> cos_edge_;     // t_bins + 1 values of cos(theta_h) at the t edges
   std::vector<double> density_scale_;  // per t bin k: 1 / (the solid angle of its cells), halved when mirrored

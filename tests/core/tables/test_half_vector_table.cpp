@@ -1,0 +1,97 @@
+// HalfVectorTable (icobrdf/core/tables/half_vector_table.hpp): the density a draw reports against pdf() at the
+// drawn direction, for incident directions between every pair of neighbouring nodes. An aliased draw takes
+// the drawn node's slopes at the alias cell from its alias entry (read with it) and the blend nodes' masses
+// (and the other nodes' slopes) from the cell-major table; the density it reports uses those slopes, while
+// pdf() reads every entry from the cell-major table. The two agree only if the draw picks the right blend
+// node's entries of the right cell and the alias entries carry the right node's slopes of the right cell: a
+// partner's entry from the wrong side, or slopes of another node or cell, change the density by the
+// difference of two nodes' (or cells') densities, which for a GGX lobe of alpha 0.2 is far above rounding.
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+
+#include <cmath>
+#include <memory>
+#include <random>
+#include <string>
+
+#include "icobrdf/core/basis/direction.hpp"
+#include "icobrdf/core/models/model_registry.hpp"
+#include "icobrdf/core/tables/half_vector_table.hpp"
+#include "tests/support/unity_id.hpp"
+
+namespace icobrdf {
+namespace ICOBRDF_UNITY_ID {
+
+// pdf() finds the drawn cell and position again from (w_i, w_r): the rounding of h (1e-16) over the pole
+// cell's cos range (1.2e-6 with 32 t bins) moves the position by 1e-10, the linear density by twice that.
+constexpr double kPdfRoundTripRelTol = 1e-8;
+// Draws per incident direction (many of them aliased: the alias method tops up the many cells below the mean
+// mass of a lobe this narrow from the lobe's cells).
+constexpr int kDraws = 4000;
+
+NonNegativeBrdf model_fbar(const std::string& spec) {
+  const std::shared_ptr<const BrdfModel> m(parse_model_source(spec));
+  return [m](const RowMatrix3d& wi, const RowMatrix3d& wr) {
+    Eigen::MatrixXd v(wi.rows(), m->channels());
+    m->eval(wi, wr, v);
+    return Eigen::VectorXd(v.col(0).cwiseMax(0.0));
+  };
+}
+
+// Draws at incident directions a quarter and three quarters of the way between nodes a and a + 1 (unequal
+// blend weights, so a swap of the two nodes' roles changes the density too), at two azimuths; every draw's
+// density must be pdf() at its direction. Returns the number of valid draws.
+int check_draws_between_nodes(const HalfVectorTable& t, const std::string& name) {
+  const HalfVectorTableOptions& o = t.options();
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int valid = 0, mismatched = 0;
+  for (int a = 0; a + 1 < o.theta_nodes; ++a)
+    for (const double frac : {0.25, 0.75})
+      for (const double phi : {0.0, 2.1}) {
+        const double theta = kHalfVectorThetaMax * (a + frac) / (o.theta_nodes - 1);
+        const Eigen::Vector3d wi = direction_from_angles(theta, phi);
+        for (int i = 0; i < kDraws; ++i) {
+          Eigen::Vector3d wr;
+          double p = 0.0;
+          if (!t.sample(wi, u(rng), u(rng), wr, p)) continue;
+          ++valid;
+          const double q = t.pdf(wi, wr);
+          if (std::abs(p - q) > kPdfRoundTripRelTol * q && ++mismatched <= 5)
+            ADD_FAILURE() << name << ": between nodes " << a << " and " << a + 1 << " (" << frac << "), phi_i " << phi
+                          << ": sample's pdf " << p << ", pdf() " << q;
+        }
+      }
+  EXPECT_EQ(mismatched, 0) << name;
+  return valid;
+}
+
+TEST(HalfVectorTable, DrawsReportThePdfBetweenEveryPairOfNodes) {
+  HalfVectorTableOptions mirrored;
+  mirrored.theta_nodes = 8;
+  mirrored.t_bins = mirrored.phi_bins = 32;
+  HalfVectorTableOptions full = mirrored;
+  full.mirror = false;
+  HalfVectorTableOptions odd = mirrored;  // an odd phi_bins: not mirrored either
+  odd.phi_bins = 33;
+  const NonNegativeBrdf ggx = model_fbar("model:ggx:alpha=0.2");
+  for (const auto& [name, o] : {std::pair<std::string, HalfVectorTableOptions>{"mirrored", mirrored}, {"full", full}, {"odd", odd}}) {
+    const HalfVectorTable t(ggx, o);
+    // Most draws are valid (w_r below the horizon only from the floor's share and the lobe's tail).
+    EXPECT_GT(check_draws_between_nodes(t, name), (o.theta_nodes - 1) * 4 * kDraws / 2) << name;
+  }
+}
+
+// Anisotropic tables: 4 blend nodes, the drawn one anywhere among them.
+TEST(HalfVectorTable, AnisotropicDrawsReportThePdfBetweenEveryPairOfNodes) {
+  HalfVectorTableOptions o;
+  o.theta_nodes = 6;
+  o.azimuth_nodes = 4;
+  o.t_bins = o.phi_bins = 32;
+  const HalfVectorTable t(model_fbar("model:ggx-aniso:alpha_x=0.1,alpha_y=0.4,azimuth=30"), o);
+  EXPECT_GT(check_draws_between_nodes(t, "anisotropic"), (o.theta_nodes - 1) * 4 * kDraws / 2);
+}
+
+}  // namespace ICOBRDF_UNITY_ID
+}  // namespace icobrdf
