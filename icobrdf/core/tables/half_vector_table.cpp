@@ -63,7 +63,27 @@ inline std::int16_t slope_units(double x) {
   throw UnsupportedError(buf);
 }
 
+// The coefficients c_n = (2n)! / (4^n (n!)^2 (2n + 1)) of asin(u) = u sum_n c_n u^(2n), n < 8, by the recurrence
+// c_n = c_(n-1) (2n - 1)^2 / (2n (2n + 1)).
+struct AsinSeries {
+  double c[8];
+};
+constexpr AsinSeries make_asin_series() {
+  AsinSeries a{};
+  a.c[0] = 1.0;
+  for (int n = 1; n < 8; ++n) a.c[n] = a.c[n - 1] * (2.0 * n - 1) * (2.0 * n - 1) / (2.0 * n * (2.0 * n + 1));
+  return a;
+}
+constexpr AsinSeries kAsinSeries = make_asin_series();
+
 }  // namespace
+
+double HalfVectorTable::blend_theta(double z) {
+  const double u2 = std::clamp(0.5 * (1.0 - z), 0.0, 1.0), u = std::sqrt(u2);  // u = sin(theta / 2)
+  const double* c = kAsinSeries.c;
+  const double p = c[0] + u2 * (c[1] + u2 * (c[2] + u2 * (c[3] + u2 * (c[4] + u2 * (c[5] + u2 * (c[6] + u2 * c[7]))))));
+  return 2.0 * u * p;
+}
 
 void HalfVectorTable::check(const HalfVectorTableOptions& o) {
   const bool ok = o.theta_nodes >= 2 && (o.azimuth_nodes == 1 || o.azimuth_nodes >= 4) && o.t_bins >= 4 &&
@@ -288,7 +308,7 @@ void HalfVectorTable::build_alias(const double* p, AliasEntry* out) const {
 HalfVectorBlend HalfVectorTable::blend(const HalfVectorTableOptions& opt, const Eigen::Vector3d& wi) {
   HalfVectorBlend b;
   const double rho = std::sqrt(wi.x() * wi.x() + wi.y() * wi.y());
-  const double theta = fast_atan2(rho, wi.z());
+  const double theta = blend_theta(wi.z());
   double x = std::clamp(theta / kHalfVectorThetaMax, 0.0, 1.0) * (opt.theta_nodes - 1);
   const int a = std::min(static_cast<int>(x), opt.theta_nodes - 2);
   const double fa = x - a;

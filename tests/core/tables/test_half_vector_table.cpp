@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -91,6 +92,33 @@ TEST(HalfVectorTable, AnisotropicDrawsReportThePdfBetweenEveryPairOfNodes) {
   o.t_bins = o.phi_bins = 32;
   const HalfVectorTable t(model_fbar("model:ggx-aniso:alpha_x=0.1,alpha_y=0.4,azimuth=30"), o);
   EXPECT_GT(check_draws_between_nodes(t, "anisotropic"), (o.theta_nodes - 1) * 4 * kDraws / 2);
+}
+
+// The blend's polar angle: 2 asin(sin(theta / 2)) by asin's series to u^15. With u = sin(theta / 2) and the
+// series' coefficients c_n = (2n)! / (4^n (n!)^2 (2n + 1)) falling with n, what is left out is at most
+// 2 u c_8 u^16 / (1 - u^2) (c_8 from factorials here, not from the code's recurrence). The angle is taken from
+// z = cos(theta) alone, so z's own rounding (std::cos within an ulp of 1, kCosRounding) moves it by up to
+// kCosRounding / sin(theta) (dtheta/dz = -1 / sin theta): 1e-13 rad at 1e-3 rad; the series' own rounding adds a
+// few ulps of theta.
+constexpr double kCosRounding = 2.220446049250313e-16;  // an ulp of 1 (std::numeric_limits<double>::epsilon())
+constexpr double kBlendThetaRoundingTol = 1e-15;
+
+TEST(HalfVectorTable, BlendThetaIsThePolarAngleWithinTheSeriesTail) {
+  const double c8 = std::tgamma(17.0) / (std::pow(4.0, 8) * std::pow(std::tgamma(9.0), 2) * 17.0);
+  EXPECT_EQ(HalfVectorTable::blend_theta(1.0), 0.0);
+  double worst = 0.0;
+  for (int i = 1; i <= 2000; ++i) {
+    const double theta = kHalfVectorThetaMax * i / 2000, u = std::sin(theta / 2);
+    const double tail = 2 * u * c8 * std::pow(u, 16) / (1 - u * u) + kCosRounding / std::sin(theta);
+    const double err = std::abs(HalfVectorTable::blend_theta(std::cos(theta)) - theta);
+    EXPECT_LE(err, tail + kBlendThetaRoundingTol) << theta;
+    worst = std::max(worst, err);
+  }
+  // The header's figure: below 1.2e-4 rad up to theta_max.
+  EXPECT_LT(worst, 1.2e-4);
+  // Beyond the horizon's side of the range the angle is held: z > 1 (rounding) gives 0, z < 0 at most pi / 2.
+  EXPECT_EQ(HalfVectorTable::blend_theta(1.0 + 1e-12), 0.0);
+  EXPECT_NEAR(HalfVectorTable::blend_theta(0.0), M_PI / 2, 2 * c8 * std::pow(0.5, 8.5) / 0.5 + kBlendThetaRoundingTol);
 }
 
 }  // namespace ICOBRDF_UNITY_ID
