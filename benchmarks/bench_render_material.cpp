@@ -3,12 +3,16 @@
 //   BM_Pdf<Real>/M      pdf(w_i, w_r) at the same pairs
 //   BM_Sample<Real>/M   sample(w_i, u1, u2) at 4096 random incident directions and numbers in turn
 //   BM_Build/M          building the material (tables over the incident direction)
+//   BM_ClockReference   a chain of dependent integer adds, one per cycle (x86-64): items_per_second is the
+//                       core's clock in this run, so that the calls' times can be read in cycles (the host's
+//                       clock was seen to move between 1.7 and 2.0 GHz within an hour)
 // Materials M: 0 a half-angle lobe (rank <= 4, fitted to GGX alpha 0.3: a bank's half-angle representation),
 // 1 the GGX alpha 0.3 model, 2 model 0.5*lambert+0.5*mirror (a delta part), 3 the lobe of 0 with tables that
 // store every phi_h bin (HalfVectorTableOptions::mirror = false: twice the memory of 0's). ->Threads(2) shares
 // one material.
 #include <benchmark/benchmark.h>
 
+#include <cstdint>
 #include <memory>
 #include <random>
 #include <vector>
@@ -125,6 +129,19 @@ void BM_Build(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(make(static_cast<int>(state.range(0))));
   state.SetItemsProcessed(state.iterations());
 }
+
+#if defined(__x86_64__)
+void BM_ClockReference(benchmark::State& state) {
+  constexpr int kAdds = 1 << 20;
+  for (auto _ : state) {
+    std::uint64_t x = 0;
+    for (int i = 0; i < kAdds; ++i) asm volatile("add $1, %0" : "+r"(x));  // each add waits for the last
+    benchmark::DoNotOptimize(x);
+  }
+  state.SetItemsProcessed(state.iterations() * kAdds);
+}
+BENCHMARK(BM_ClockReference);
+#endif
 
 BENCHMARK_TEMPLATE(BM_Eval, double)->DenseRange(0, 2);
 BENCHMARK_TEMPLATE(BM_Eval, float)->DenseRange(0, 2);

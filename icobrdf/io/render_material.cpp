@@ -357,7 +357,11 @@ MaterialColor<double> RenderMaterial::eval(const Eigen::Vector3d& wi, const Eige
 }
 
 MaterialColor<float> RenderMaterial::eval(const Eigen::Vector3f& wi, const Eigen::Vector3f& wr) const {
-  return eval(Eigen::Vector3d(wi.cast<double>()), Eigen::Vector3d(wr.cast<double>())).cast<float>();
+  double v[kMaxMaterialChannels];  // the double values, rounded once into the result (no double vector between)
+  impl_->eval_regular(Eigen::Vector3d(wi.cast<double>()), Eigen::Vector3d(wr.cast<double>()), v);
+  MaterialColor<float> out(impl_->channels);
+  for (int c = 0; c < impl_->channels; ++c) out[c] = static_cast<float>(v[c]);
+  return out;
 }
 
 double RenderMaterial::pdf(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr) const {

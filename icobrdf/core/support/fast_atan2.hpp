@@ -59,8 +59,9 @@ inline constexpr AtanTaylorTable kAtanTaylorTable = make_atan_taylor_table();
 __attribute__((always_inline)) inline double fast_atan2(double y, double x) {
   const double ax = std::abs(x), ay = std::abs(y);
   const double num = std::min(ax, ay), den = std::max(ax, ay);
-  if (!(den > 0.0) || !(den <= 1.79769313486231570815e308)) return std::atan2(y, x);  // (0, 0), infinite or NaN
   const double r = num / den;
+  // (0, 0), both infinite or a NaN make r NaN; one infinite argument gives r = 0 and the exact 0, pi/2 or pi below.
+  if (!(r <= 1.0)) return std::atan2(y, x);
   const int k = static_cast<int>(r * 64.0 + 0.5);
   const double* a = kAtanTaylorTable.row[k].a;
   const double t = r - k * (1.0 / 64), t2 = t * t, t4 = t2 * t2;
