@@ -10,8 +10,8 @@
 // (1/128)^8 / 8 < 2e-18 (|b_n| <= (1 + c^2)^(-(n+1)/2) <= 1). At c_0 = 0 the even coefficients vanish, so
 // r = 0 gives 0 exactly.
 // Accuracy: within 5e-16 of std::atan2 (absolute, radians; measured on 4 million normal (y, x) pairs and in
-// tests/core/support/test_fast_atan2.cpp). Quadrants and signed zeros as std::atan2; (0, 0) and non-finite
-// arguments go to std::atan2.
+// tests/core/support/test_fast_atan2.cpp). Quadrants and signed zeros as std::atan2; (0, 0), two infinite
+// arguments and NaN go to std::atan2; one infinite argument gives std::atan2's exact 0, pi/2 or pi.
 // Cost: the octant fix-ups are sign operations and one multiply-add each, not selects through integer
 // registers, and the table is a compile-time constant (no first-use guard), so the function inlines whole: the
 // pair code of a rank-2 half-angle lobe (three calls) went from 116 to 78 ns per pair with this and the loop
@@ -60,8 +60,9 @@ __attribute__((always_inline)) inline double fast_atan2(double y, double x) {
   const double ax = std::abs(x), ay = std::abs(y);
   const double num = std::min(ax, ay), den = std::max(ax, ay);
   const double r = num / den;
-  // (0, 0), both infinite or a NaN make r NaN; one infinite argument gives r = 0 and the exact 0, pi/2 or pi below.
-  if (!(r <= 1.0)) return std::atan2(y, x);
+  // (0, 0) and two infinities make r NaN; one NaN need not (min and max may drop it), hence the unordered test;
+  // one infinite argument gives r = 0 and the exact 0, pi/2 or pi below.
+  if (!(r <= 1.0) || std::isunordered(y, x)) return std::atan2(y, x);
   const int k = static_cast<int>(r * 64.0 + 0.5);
   const double* a = kAtanTaylorTable.row[k].a;
   const double t = r - k * (1.0 / 64), t2 = t * t, t4 = t2 * t2;

@@ -1,5 +1,5 @@
 // fast_atan2 against std::atan2: random arguments of every quadrant and magnitude, the octant boundaries
-// (|y| = |x|), the table's centres r = k/64 and the ends of their intervals, axes and signed zeros.
+// (|y| = |x|), the table's centres r = k/64 and the ends of their intervals, axes, signed zeros, infinities and NaN.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -44,6 +44,18 @@ TEST(FastAtan2, BoundariesAxesAndSignedZeros) {
     for (double x : {0.0, -0.0, 2.0, -2.0}) EXPECT_EQ(fast_atan2(y, x), std::atan2(y, x)) << y << " " << x;
   EXPECT_EQ(fast_atan2(3.0, 0.0), std::atan2(3.0, 0.0));
   EXPECT_EQ(fast_atan2(-3.0, -0.0), std::atan2(-3.0, -0.0));
+}
+
+TEST(FastAtan2, InfinitiesAndNaNAsTheLibrary) {
+  // One infinite argument takes the polynomial path with r = 0 and must give std::atan2's exact values (0, pi/2,
+  // pi with their signs) bit for bit; two infinities and NaN go to std::atan2 itself.
+  const double inf = INFINITY;
+  for (double y : {inf, -inf, 1.5, -1.5, 0.0, -0.0, 1e308, -1e-300})
+    for (double x : {inf, -inf, 1.5, -1.5, 0.0, -0.0, 1e308, -1e-300}) {
+      const double a = fast_atan2(y, x), b = std::atan2(y, x);
+      EXPECT_TRUE(a == b && std::signbit(a) == std::signbit(b)) << y << " " << x << ": " << a << " against " << b;
+    }
+  EXPECT_TRUE(std::isnan(fast_atan2(NAN, 1.0)) && std::isnan(fast_atan2(1.0, NAN)) && std::isnan(fast_atan2(NAN, inf)));
 }
 
 }  // namespace ICOBRDF_UNITY_ID
