@@ -54,8 +54,10 @@
 // between nodes as the BRDF does between neighbouring incident angles (the horizon of w_r moves under the
 // h cells with theta_i): refine n_t, n_phi and n_theta for narrow lobes (the defaults resolve a GGX lobe of
 // alpha 0.05 with about 12 bins of t across its width). Measured relative standard deviations of the weights,
-// GGX alpha 0.3 at theta_i = 0 / 45 / 75 degrees: 0.010 / 0.011 / 0.037 with 48 nodes (0.010 / 0.025 / 0.069
-// with 24; 0.035 / 0.044 / 0.079 with 24 and a constant density per cell).
+// GGX alpha 0.3 at theta_i = 0 / 45 / 75 degrees: 0.010 / 0.013 / 0.029 with 48 nodes and the blend of
+// blend_theta (0.010 / 0.011 / 0.037 with the blend's earlier atan2; 0.010 / 0.025 / 0.069 with 24 nodes;
+// 0.035 / 0.044 / 0.079 with 24 and a constant density per cell); GGX alpha 0.05: 0.0016 / 0.0039 / 0.025
+// (RenderMaterial.WeightsOfGgxLobesSpreadLittle prints them, 10,000 draws each).
 // Thread safety: const methods may be called from several threads at once; no allocation in them.
 #include <Eigen/Core>
 
