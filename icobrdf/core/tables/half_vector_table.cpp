@@ -8,6 +8,7 @@
 #include "icobrdf/core/support/error.hpp"
 #include "icobrdf/core/support/fast_atan2.hpp"
 #include "icobrdf/core/support/huge_pages.hpp"
+#include "icobrdf/core/support/memory_budget.hpp"
 
 namespace icobrdf {
 namespace {
@@ -136,8 +137,23 @@ void HalfVectorTable::lay_out_cells() {
   }
 }
 
+double HalfVectorTable::bytes(const HalfVectorTableOptions& o) {
+  check(o);
+  const bool mirrored = o.azimuth_nodes == 1 && o.phi_bins % 2 == 0 && o.mirror;  // as lay_out_cells()
+  const double cells = static_cast<double>(o.t_bins) * (mirrored ? o.phi_bins / 2 : o.phi_bins);
+  const double nodes = static_cast<double>(o.theta_nodes) * o.azimuth_nodes;
+  // Per stored cell while a node is built: 4 sub-cell rows of h, w_i and w_r (3 doubles each), their
+  // Jacobians and values, the node's masses and flags.
+  constexpr double kWorkBytesPerCell = 4 * 3 * 3 * 8 + 4 * 8 * 2 + 8 + 1;
+  return nodes * cells * static_cast<double>(sizeof(CellEntry) + sizeof(AliasEntry)) + cells * kWorkBytesPerCell;
+}
+
 HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTableOptions& options) : opt_(options) {
   check(opt_);
+  require_memory(bytes(opt_),
+                 "half-vector tables of " + std::to_string(nodes()) + " incident nodes x " + std::to_string(opt_.t_bins) + " x " +
+                     std::to_string(opt_.phi_bins) + " half-vector bins",
+                 "fewer t_bins, phi_bins, theta_nodes or azimuth_nodes fit");
   lay_out_cells();
   const int nt = opt_.t_bins, np = phi_cells_;
   const int n_nodes = nodes();

@@ -18,6 +18,8 @@
 
 #include "icobrdf/core/basis/direction.hpp"
 #include "icobrdf/core/models/model_registry.hpp"
+#include "icobrdf/core/support/error.hpp"
+#include "icobrdf/core/support/memory_budget.hpp"
 #include "icobrdf/core/tables/half_vector_table.hpp"
 #include "tests/support/unity_id.hpp"
 
@@ -119,6 +121,40 @@ TEST(HalfVectorTable, BlendThetaIsThePolarAngleWithinTheSeriesTail) {
   // Beyond the horizon's side of the range the angle is held: z > 1 (rounding) gives 0, z < 0 at most pi / 2.
   EXPECT_EQ(HalfVectorTable::blend_theta(1.0 + 1e-12), 0.0);
   EXPECT_NEAR(HalfVectorTable::blend_theta(0.0), M_PI / 2, 2 * c8 * std::pow(0.5, 8.5) / 0.5 + kBlendThetaRoundingTol);
+}
+
+TEST(HalfVectorTable, TablesNeedingMoreThanTheMemoryBudgetAreRefusedBeforeAnyWork) {
+  struct BudgetGuard {
+    ~BudgetGuard() { set_memory_budget(0); }
+  } guard;
+  HalfVectorTableOptions o;  // defaults: 48 nodes, 128 x 64 stored (mirrored) bins
+  // The tables alone: a mass (float) and two int16 slopes per node and cell, and an alias entry (float, int,
+  // two int16); the work arrays add less than half of that with 48 nodes.
+  const double tables = 48.0 * 128 * 64 * (4 + 2 + 2 + 4 + 4 + 2 + 2);
+  EXPECT_GE(HalfVectorTable::bytes(o), tables);
+  EXPECT_LE(HalfVectorTable::bytes(o), 1.5 * tables);
+  HalfVectorTableOptions full = o;
+  full.mirror = false;  // every phi bin stored: twice the tables
+  EXPECT_NEAR(HalfVectorTable::bytes(full) / HalfVectorTable::bytes(o), 2.0, 1e-12);
+  int calls = 0;
+  const NonNegativeBrdf lambert = [&calls](const RowMatrix3d& wi, const RowMatrix3d&) {
+    ++calls;
+    return Eigen::VectorXd(Eigen::VectorXd::Constant(wi.rows(), 1.0 / M_PI));
+  };
+  set_memory_budget(HalfVectorTable::bytes(o) - 1);
+  try {
+    HalfVectorTable t(lambert, o);
+    FAIL() << "tables of " << HalfVectorTable::bytes(o) << " bytes were built under a smaller budget";
+  } catch (const ResourceError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("half-vector tables of 48 incident nodes x 128 x 128 half-vector bins needs about"), std::string::npos) << m;
+    EXPECT_NE(m.find("(memory budget)"), std::string::npos) << m;
+    EXPECT_NE(m.find("fewer t_bins"), std::string::npos) << m;
+  }
+  EXPECT_EQ(calls, 0);  // refused before the first node's values were asked for
+  set_memory_budget(HalfVectorTable::bytes(o) + 1);
+  EXPECT_NO_THROW(HalfVectorTable(lambert, o));
+  EXPECT_GT(calls, 0);
 }
 
 }  // namespace ICOBRDF_UNITY_ID
