@@ -5,7 +5,7 @@
 //   BM_Build/M          building the material (tables over the incident direction)
 //   BM_ClockReference   a chain of dependent integer adds, one per cycle (x86-64): items_per_second is the
 //                       core's clock in this run, so that the calls' times can be read in cycles (the host's
-//                       clock was seen to move between 1.7 and 2.0 GHz within an hour)
+//                       clock was seen to move between 1.7 and 2.7 GHz within an hour)
 // Materials M: 0 a half-angle lobe (rank <= 4, fitted to GGX alpha 0.3: a bank's half-angle representation),
 // 1 the GGX alpha 0.3 model, 2 model 0.5*lambert+0.5*mirror (a delta part), 3 the lobe of 0 with tables that
 // store every phi_h bin (HalfVectorTableOptions::mirror = false: twice the memory of 0's). ->Threads(2) shares

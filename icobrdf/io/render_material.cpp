@@ -110,17 +110,16 @@ void RenderMaterial::Impl::eval_modes(const Eigen::Vector3d& wi, const Eigen::Ve
 }
 
 void RenderMaterial::Impl::eval_regular(const Eigen::Vector3d& wi_in, const Eigen::Vector3d& wr_in, double* out) const {
+  if (!(wi_in.z() >= 0.0) || !(wr_in.z() >= 0.0) || !wi_in.allFinite() || !wr_in.allFinite()) {
+    for (int c = 0; c < channels; ++c) out[c] = 0.0;
+    return;
+  }
   if (lobe_only) {  // a stored lobe alone (no modes): f = max(0, the lobe's q), without the sum over parts
-    if (!(wi_in.z() >= 0.0) || !(wr_in.z() >= 0.0) || !wi_in.allFinite() || !wr_in.allFinite()) {
-      for (int c = 0; c < channels; ++c) out[c] = 0.0;
-      return;
-    }
     lobe_eval->eval(wi_in.data(), wr_in.data(), out);
     for (int c = 0; c < channels; ++c) out[c] = std::max(0.0, out[c]);
     return;
   }
   for (int c = 0; c < channels; ++c) out[c] = 0.0;
-  if (!(wi_in.z() >= 0.0) || !(wr_in.z() >= 0.0) || !wi_in.allFinite() || !wr_in.allFinite()) return;
   if (kind == Kind::Model) {
     for (const RenderModelTerm& t : terms) {
       if (t.scalar) {

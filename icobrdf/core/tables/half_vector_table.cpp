@@ -109,7 +109,7 @@ double HalfVectorTable::cell_area(int cell) const {
 void HalfVectorTable::lay_out_cells() {
   // Mirrored (isotropic, an even number of phi bins): the nodes' w_i lie in the xz plane, so q(h) is even in
   // phi_h and only the bins of phi_h in [0, pi) are stored.
-  mirrored_ = opt_.azimuth_nodes == 1 && opt_.phi_bins % 2 == 0 && opt_.mirror;
+  mirrored_ = stores_mirror_image(opt_);
   phi_cells_ = mirrored_ ? opt_.phi_bins / 2 : opt_.phi_bins;
   inv_phi_cells_ = 1.0 / phi_cells_;
   phi_lo_ = mirrored_ ? 0.0 : -M_PI;
@@ -139,8 +139,7 @@ void HalfVectorTable::lay_out_cells() {
 
 double HalfVectorTable::bytes(const HalfVectorTableOptions& o) {
   check(o);
-  const bool mirrored = o.azimuth_nodes == 1 && o.phi_bins % 2 == 0 && o.mirror;  // as lay_out_cells()
-  const double cells = static_cast<double>(o.t_bins) * (mirrored ? o.phi_bins / 2 : o.phi_bins);
+  const double cells = static_cast<double>(o.t_bins) * (stores_mirror_image(o) ? o.phi_bins / 2 : o.phi_bins);
   const double nodes = static_cast<double>(o.theta_nodes) * o.azimuth_nodes;
   // Per stored cell while a node is built: 4 sub-cell rows of h, w_i and w_r (3 doubles each), their
   // Jacobians and values, the node's masses and flags.
@@ -367,6 +366,13 @@ int HalfVectorTable::cell_of(const Eigen::Vector3d& h, double& xi, double& eta) 
   return k * phi_cells_ + j;
 }
 
+double HalfVectorTable::live_weight(const HalfVectorBlend& b) const {
+  double live = 0.0;
+  for (int i = 0; i < b.count; ++i)
+    if (albedo_[static_cast<size_t>(b.node[i])] > 0.0) live += b.weight[i];
+  return live;
+}
+
 double HalfVectorTable::albedo(const HalfVectorBlend& b) const {
   double s = 0.0;
   for (int i = 0; i < b.count; ++i) s += b.weight[i] * albedo_[static_cast<size_t>(b.node[i])];
@@ -393,8 +399,7 @@ bool HalfVectorTable::sample(const HalfVectorBlend& b, const Eigen::Vector3d& wi
     pick = second, node = b.node[pick];
     x = std::clamp((x - (second ? w0 : 0.0)) * (second ? r1 : r0), 0.0, 1.0);
   } else {
-    for (int i = 0; i < b.count; ++i)
-      if (albedo_[static_cast<size_t>(b.node[i])] > 0.0) live += b.weight[i];
+    live = live_weight(b);
     if (!(live > 0.0)) return false;
     x = u1 * live;
     double acc = 0.0, node_lo = 0.0, node_w = 1.0;
@@ -463,9 +468,7 @@ double HalfVectorTable::pdf(const HalfVectorBlend& b, const Eigen::Vector3d& wi,
   Eigen::Vector3d h;
   double c;
   if (!(wr.z() >= 0.0) || !(wi.z() >= 0.0) || !reflection_half_vector(wi, wr, h, c)) return 0.0;
-  double live = 0.0;
-  for (int i = 0; i < b.count; ++i)
-    if (albedo_[static_cast<size_t>(b.node[i])] > 0.0) live += b.weight[i];
+  const double live = live_weight(b);
   if (!(live > 0.0)) return 0.0;
   const Eigen::Vector3d hl(b.c * h.x() + b.s * h.y(), -b.s * h.x() + b.c * h.y(), h.z());
   double xi, eta;

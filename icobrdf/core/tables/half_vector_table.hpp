@@ -132,6 +132,8 @@ class HalfVectorTable {
   static Eigen::Vector3d node_direction(const HalfVectorTableOptions& options, int n);
   // ArgumentError for options out of range.
   static void check(const HalfVectorTableOptions& options);
+  // Whether the tables store only phi_h >= 0 (HalfVectorTableOptions::mirror taken up: isotropic, even phi_bins).
+  static bool stores_mirror_image(const HalfVectorTableOptions& o) { return o.azimuth_nodes == 1 && o.phi_bins % 2 == 0 && o.mirror; }
   // The memory the tables take: nodes x stored cells x 20 bytes (a CellEntry of 8 and an alias entry of 12),
   // plus the construction's per-node work arrays (about 370 bytes per stored cell: the sub-cell half vectors,
   // their pairs and values). With the defaults: tables 7.9 MB, 10.8 MB with the work arrays; anisotropic
@@ -187,6 +189,8 @@ class HalfVectorTable {
   const CellEntry& entry(int node, int cell) const {
     return cells_of_nodes_[static_cast<size_t>(cell) * static_cast<size_t>(nodes()) + static_cast<size_t>(node)];
   }
+  // The sum of the blend weights of the nodes that have mass (the draw and pdf() divide by it).
+  double live_weight(const HalfVectorBlend& b) const;
   // The blended density of h at cell (xi, eta) in [0, 1]^2 [1/sr of h] times the weight of the live nodes
   // (callers divide by it; k: the cell's t bin; e[i]: the cell's entry of blend node i).
   double h_density(const HalfVectorBlend& b, const CellEntry* const* e, int k, double xi, double eta) const;
