@@ -82,6 +82,9 @@ struct RenderMaterial::Impl {
   std::vector<DeltaPart> deltas;
 
   void eval_regular(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr, double* out) const;
+  // eval_regular's sum over the parts, for checked directions (out of line: its stack frame for the models'
+  // matrices stays off the lobe-only path).
+  [[gnu::noinline]] void eval_parts(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr, double* out) const;
   void eval_modes(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr, double* out) const;
   // Albedos of the parts at w_i: deltas, then GGX terms, then the table; returns the number of parts.
   // b: the blend of the incident nodes at w_i (HalfVectorTable::blend(nodes, wi)), computed once per call.
@@ -109,8 +112,17 @@ void RenderMaterial::Impl::eval_modes(const Eigen::Vector3d& wi, const Eigen::Ve
   }
 }
 
+namespace {
+// Whether both directions are finite with z >= 0. x - x is 0 for a finite x and NaN for an infinite or NaN one,
+// so one sum tests all six components (no branch per component, as allFinite's).
+inline bool finite_above_horizon(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double zeros = ((a.x() - a.x()) + (a.y() - a.y())) + ((a.z() - a.z()) + (b.x() - b.x())) + ((b.y() - b.y()) + (b.z() - b.z()));
+  return zeros == 0.0 && a.z() >= 0.0 && b.z() >= 0.0;
+}
+}  // namespace
+
 void RenderMaterial::Impl::eval_regular(const Eigen::Vector3d& wi_in, const Eigen::Vector3d& wr_in, double* out) const {
-  if (!(wi_in.z() >= 0.0) || !(wr_in.z() >= 0.0) || !wi_in.allFinite() || !wr_in.allFinite()) {
+  if (!finite_above_horizon(wi_in, wr_in)) {
     for (int c = 0; c < channels; ++c) out[c] = 0.0;
     return;
   }
@@ -119,6 +131,10 @@ void RenderMaterial::Impl::eval_regular(const Eigen::Vector3d& wi_in, const Eige
     for (int c = 0; c < channels; ++c) out[c] = std::max(0.0, out[c]);
     return;
   }
+  eval_parts(wi_in, wr_in, out);
+}
+
+void RenderMaterial::Impl::eval_parts(const Eigen::Vector3d& wi_in, const Eigen::Vector3d& wr_in, double* out) const {
   for (int c = 0; c < channels; ++c) out[c] = 0.0;
   if (kind == Kind::Model) {
     for (const RenderModelTerm& t : terms) {

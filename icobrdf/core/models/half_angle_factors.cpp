@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <random>
 #include <cmath>
 #include <memory>
@@ -157,6 +158,13 @@ struct HalfAngleStretch {
       : on(F.stretched()), c(std::cos(F.h_axis)), s(std::sin(F.h_axis)), inv1(1.0 / F.h_scale_1), inv2(1.0 / F.h_scale_2) {}
 };
 
+// The per-pair code of one kind of lobe (anisotropy, rank): f (or q) of the pair (wi, wr) into out[ch * stride].
+using HalfAnglePairFn = void (*)(const HalfAngleFactors&, const HalfAnglePairContext&, const double* wi, const double* wr,
+                                 double* out, Eigen::Index stride);
+namespace {
+HalfAnglePairFn pair_fn_for(const HalfAngleFactors& F);
+}  // namespace
+
 // What the evaluation of one pair needs besides the factors, computed once per batch (or per evaluator).
 struct HalfAnglePairContext {
   HalfAngleStretch stretch;
@@ -166,12 +174,42 @@ struct HalfAnglePairContext {
   HalfAngleNodeTrig ht, dt;
   // Grid positions per radian (node k at position k + off): theta_d, phi_d, phi of the h grid; t per unit t.
   double off, t_scale, theta_d_scale, phi_d_scale, phi_h_scale;
-  HalfAnglePairContext(const HalfAngleFactors& F, bool to_f)
+  // The factor rows of each channel (u: h rows, v: d rows; R values per row), read without the vectors'
+  // indirection on the per-pair path.
+  std::vector<const double*> u_rows, v_rows;
+  // Per-sample evaluators of isotropic grids with HorizonCorners::Valid: for each d node, the number of h
+  // nodes k = 0, 1, ... that pair validly with it (node_pair_valid holds for k below it and fails from it on).
+  // Empty in a batch, or where validity is not such a prefix in k (the corner test then runs on the trig).
+  std::vector<std::int32_t> valid_h_count;
+  int channels;
+  HalfAnglePairFn pair_fn;  // the lobe's kind chosen once
+  HalfAnglePairContext(const HalfAngleFactors& F, bool to_f, bool per_sample = false)
       : stretch(F), divide(to_f ? F.quantity : HalfAngleQuantity::F), floor(F.cosine_floor()),
         drop(F.corners == HorizonCorners::Valid), off(F.centred ? 0.5 : 0.0), t_scale(F.n_t - 1 + 2 * off),
         theta_d_scale((F.n_theta_d - 1 + 2 * off) / (0.5 * M_PI)), phi_d_scale(F.n_phi_d / M_PI),
-        phi_h_scale(F.n_phi_h / (2.0 * M_PI)) {
-    if (drop) ht = half_angle_h_trig(F), dt = half_angle_d_trig(F);
+        phi_h_scale(F.n_phi_h / (2.0 * M_PI)), channels(F.channels()), pair_fn(pair_fn_for(F)) {
+    for (const auto& m : F.u) u_rows.push_back(m.data());
+    for (const auto& m : F.v) v_rows.push_back(m.data());
+    if (!drop) return;
+    ht = half_angle_h_trig(F), dt = half_angle_d_trig(F);
+    if (per_sample && F.isotropic) count_valid_h_nodes(F);
+  }
+
+ private:
+  // valid_h_count by a scan over every node pair (once per evaluator: 65,536 pairs for a 64 x 64 x 16 lobe);
+  // left empty when some d node's valid h nodes are not a prefix.
+  void count_valid_h_nodes(const HalfAngleFactors& F) {
+    valid_h_count.assign(static_cast<size_t>(F.d_nodes()), 0);
+    for (int j = 0; j < F.d_nodes(); ++j) {
+      int n = 0;
+      while (n < F.n_t && node_pair_valid(ht, n, dt, j)) ++n;
+      for (int k = n; k < F.n_t; ++k)
+        if (node_pair_valid(ht, k, dt, j)) {
+          valid_h_count.clear();
+          return;
+        }
+      valid_h_count[static_cast<size_t>(j)] = n;
+    }
   }
 };
 
@@ -216,7 +254,7 @@ struct Corners {
 constexpr double kTinyRho2 = 1e-280;
 
 template <bool Aniso>
-inline bool pair_corners(const HalfAngleFactors& F, const HalfAnglePairContext& X_, const double* wi, const double* wr, Corners& c) {
+[[gnu::always_inline]] inline bool pair_corners(const HalfAngleFactors& F, const HalfAnglePairContext& X_, const double* wi, const double* wr, Corners& c) {
   const HalfAngleStretch& stretch = X_.stretch;
   if (wi[2] < -kHorizonSlack || wr[2] < -kHorizonSlack) return false;
   const double sx = wi[0] + wr[0], sy = wi[1] + wr[1], sz = wi[2] + wr[2];
@@ -233,16 +271,18 @@ inline bool pair_corners(const HalfAngleFactors& F, const HalfAnglePairContext& 
   // The canonical one of (X, Y) and (-X, -Y): phi_d in [0, pi] (without a branch: a coin toss per pair).
   const bool flip = Y < 0.0 || (Y == 0.0 && X < 0.0);
   X = select_without_branch(flip, -X, X), Y = select_without_branch(flip, -Y, Y);
-  const double theta_d = fast_atan2(std::sqrt(mx * mx + my * my + mz * mz), len);
-  const double phi_d = (X == 0.0 && Y == 0.0) ? 0.0 : fast_atan2(Y, X);
+  // Y >= 0 now, and both lengths are >= +0: the shorter atan2 forms, bitwise fast_atan2 here (but for a phi_d of
+  // +0 where Y = -0, the same cell).
+  const double theta_d = fast_atan2_first_quadrant(std::sqrt(mx * mx + my * my + mz * mz), len);
+  const double phi_d = (X == 0.0 && Y == 0.0) ? 0.0 : fast_atan2_upper(Y, X);
   // The angles the h grid is laid out in: those of h, or of the stretched h' (s is a multiple of h).
   double theta_g, phi_g = 0.0;
   if (Aniso && stretch.on) {
     const double a1 = (stretch.c * sx + stretch.s * sy) * stretch.inv1, a2 = (stretch.c * sy - stretch.s * sx) * stretch.inv2;
-    theta_g = fast_atan2(std::sqrt(a1 * a1 + a2 * a2), sz);
+    theta_g = fast_atan2_upper(std::sqrt(a1 * a1 + a2 * a2), sz);
     phi_g = (a1 == 0.0 && a2 == 0.0) ? 0.0 : fast_atan2(a2, a1);
   } else {
-    theta_g = fast_atan2(std::sqrt(rho2), sz);
+    theta_g = fast_atan2_upper(std::sqrt(rho2), sz);
     if (Aniso && rho2 > 0.0) phi_g = fast_atan2(sy, sx);
   }
   if (std::isnan(theta_d + phi_d + theta_g + phi_g)) return false;  // a non-finite direction (atan2 gives NaN, never inf)
@@ -319,11 +359,14 @@ void valid_corner_sum(const HalfAngleFactors& F, const Corners& c, const bool (&
 // q of every channel from its own factors (not shared): out[ch * stride] = scale sum_r uh_r vd_r, with the
 // corners' rows (each holds its R terms side by side). kRank > 0: R = kRank known at compile time; 0: any R.
 template <bool Aniso, int kRank>
-inline void channel_sums(const HalfAngleFactors& F, const Corners& c, double scale, int channels, double* out, Eigen::Index stride) {
+inline void channel_sums(const HalfAngleFactors& F, const HalfAnglePairContext& X, const Corners& c, double scale, int channels,
+                         double* out, Eigen::Index stride) {
   const int R = kRank > 0 ? kRank : F.rank;
+  const double* const* Us = X.u_rows.data();
+  const double* const* Vs = X.v_rows.data();
   for (int ch = 0; ch < channels; ++ch) {
-    const double* U = F.u[static_cast<size_t>(ch)].data();
-    const double* V = F.v[static_cast<size_t>(ch)].data();
+    const double* U = Us[ch];
+    const double* V = Vs[ch];
     const double *u0 = U + c.h[0] * R, *u1 = U + c.h[1] * R, *u2 = U + c.h[Aniso ? 2 : 0] * R, *u3 = U + c.h[Aniso ? 3 : 0] * R;
     const double *v0 = V + c.d[0] * R, *v1 = V + c.d[1] * R, *v2 = V + c.d[2] * R, *v3 = V + c.d[3] * R;
     double q = 0.0;
@@ -350,11 +393,41 @@ template <bool Aniso>
   return true;
 }
 
-// f (or q) of one pair: out[ch * stride] for every channel.
+// An isotropic cell with a corner below the horizon, decided by the per-d-node counts of valid h nodes: the sum
+// over its valid corners. Out of line, as horizon_cell_sum.
+[[gnu::noinline]] void counted_horizon_cell_sum(const HalfAngleFactors& F, const HalfAnglePairContext& X, const Corners& c,
+                                                double scale, double* out, Eigen::Index stride) {
+  const std::int32_t* n = X.valid_h_count.data();
+  bool ok[4][4] = {};
+  for (int x = 0; x < 2; ++x)
+    for (int y = 0; y < 4; ++y) ok[x][y] = c.h[x] < n[c.d[y]];
+  valid_corner_sum<false>(F, c, ok, scale, out, stride);
+}
+
+// HorizonCorners::Valid: true when the cell has a corner below the horizon and out holds the sum over its
+// valid corners; false when every corner is valid.
 template <bool Aniso>
-void eval_pair(const HalfAngleFactors& F, const HalfAnglePairContext& X, const double* wi, const double* wr, double* out,
-               Eigen::Index stride) {
-  const int R = F.rank, channels = F.channels();
+inline bool horizon_cut_sum(const HalfAngleFactors& F, const HalfAnglePairContext& X, const Corners& c, double scale, double* out,
+                            Eigen::Index stride) {
+  if (!Aniso && !X.valid_h_count.empty()) {
+    // The corners' h nodes are k = c.h[0] and k + 1 = c.h[1]: all eight are valid when every d corner has
+    // more than k + 1 valid h nodes.
+    const std::int32_t* n = X.valid_h_count.data();
+    if (std::min(std::min(n[c.d[0]], n[c.d[1]]), std::min(n[c.d[2]], n[c.d[3]])) > c.h[1]) return false;
+    counted_horizon_cell_sum(F, X, c, scale, out, stride);
+    return true;
+  }
+  return !all_corners_valid<Aniso>(X.ht, X.dt, c) && horizon_cell_sum<Aniso>(F, X, c, scale, out, stride);
+}
+
+// f (or q) of one pair: out[ch * stride] for every channel. kRank: the rank of non-shared factors when it is
+// 1-4, known at compile time (the term loop unrolled: the general loop's vectorization checks cost more
+// instructions than two to four terms take, 629 -> 590 per pair of a rank-2 lobe counted by callgrind); 0 for
+// any other rank and for shared factors.
+template <bool Aniso, int kRank>
+void eval_pair_ranked(const HalfAngleFactors& F, const HalfAnglePairContext& X, const double* wi, const double* wr, double* out,
+                      Eigen::Index stride) {
+  const int channels = X.channels;
   Corners c;
   if (!pair_corners<Aniso>(F, X, wi, wr, c)) {
     for (int ch = 0; ch < channels; ++ch) out[ch * stride] = 0.0;
@@ -363,11 +436,12 @@ void eval_pair(const HalfAngleFactors& F, const HalfAnglePairContext& X, const d
   const double scale = X.divide == HalfAngleQuantity::Cosine ? 1.0 / (std::max(wi[2], X.floor) * std::max(wr[2], X.floor))
                        : X.divide == HalfAngleQuantity::MeanCosine ? 1.0 / std::max(0.5 * (wi[2] + wr[2]), X.floor)
                                                                  : 1.0;
-  if (X.drop && !all_corners_valid<Aniso>(X.ht, X.dt, c) && horizon_cell_sum<Aniso>(F, X, c, scale, out, stride)) return;
-  if (F.shared()) {  // the terms once, then each channel's weights
+  if (X.drop && horizon_cut_sum<Aniso>(F, X, c, scale, out, stride)) return;
+  if (kRank == 0 && F.shared()) {  // the terms once, then each channel's weights
+    const int R = F.rank;
     double term[kMaxStoredRank];
-    const double* U = F.u[0].data();
-    const double* V = F.v[0].data();
+    const double* U = X.u_rows[0];
+    const double* V = X.v_rows[0];
     for (int r = 0; r < R; ++r) {
       double uh = c.wh[0] * U[c.h[0] * R + r] + c.wh[1] * U[c.h[1] * R + r];
       if (Aniso) uh += c.wh[2] * U[c.h[2] * R + r] + c.wh[3] * U[c.h[3] * R + r];
@@ -382,26 +456,30 @@ void eval_pair(const HalfAngleFactors& F, const HalfAnglePairContext& X, const d
     }
     return;
   }
-  // Ranks up to 4 (the usual lobes) with the term loop unrolled at compile time: the general loop's
-  // vectorization checks cost more instructions than two to four terms take (a rank-2 lobe: 629 -> 590
-  // instructions per pair, counted by callgrind).
-  switch (R) {
-    case 1: return channel_sums<Aniso, 1>(F, c, scale, channels, out, stride);
-    case 2: return channel_sums<Aniso, 2>(F, c, scale, channels, out, stride);
-    case 3: return channel_sums<Aniso, 3>(F, c, scale, channels, out, stride);
-    case 4: return channel_sums<Aniso, 4>(F, c, scale, channels, out, stride);
-    default: return channel_sums<Aniso, 0>(F, c, scale, channels, out, stride);
+  channel_sums<Aniso, kRank>(F, X, c, scale, channels, out, stride);
+}
+
+// The per-pair function for a lobe: its anisotropy and rank decided once, not per pair.
+template <bool Aniso>
+HalfAnglePairFn pair_fn_for_rank(const HalfAngleFactors& F) {
+  switch (F.shared() ? 0 : F.rank) {
+    case 1: return eval_pair_ranked<Aniso, 1>;
+    case 2: return eval_pair_ranked<Aniso, 2>;
+    case 3: return eval_pair_ranked<Aniso, 3>;
+    case 4: return eval_pair_ranked<Aniso, 4>;
+    default: return eval_pair_ranked<Aniso, 0>;
   }
 }
 
-template <bool Aniso>
-void eval_rows(const HalfAngleFactors& F, const RowMatrix3d& wi, const RowMatrix3d& wr, bool to_f,
-               Eigen::Ref<Eigen::MatrixXd> out) {
+HalfAnglePairFn pair_fn_for(const HalfAngleFactors& F) { return F.isotropic ? pair_fn_for_rank<false>(F) : pair_fn_for_rank<true>(F); }
+
+void eval_rows(const HalfAngleFactors& F, const RowMatrix3d& wi, const RowMatrix3d& wr, bool to_f, Eigen::Ref<Eigen::MatrixXd> out) {
   const Eigen::Index rows = wi.rows();
   const HalfAnglePairContext X(F, to_f);
+  const HalfAnglePairFn pair = X.pair_fn;
   const Eigen::Index stride = out.outerStride();
 #pragma omp parallel for schedule(static) if (rows > 2048)
-  for (Eigen::Index i = 0; i < rows; ++i) eval_pair<Aniso>(F, X, wi.data() + 3 * i, wr.data() + 3 * i, out.data() + i, stride);
+  for (Eigen::Index i = 0; i < rows; ++i) pair(F, X, wi.data() + 3 * i, wr.data() + 3 * i, out.data() + i, stride);
 }
 
 }  // namespace
@@ -471,10 +549,7 @@ namespace {
 void eval_impl(const HalfAngleFactors& F, const RowMatrix3d& wi, const RowMatrix3d& wr, bool to_f,
                Eigen::Ref<Eigen::MatrixXd> out) {
   check_pair_shapes(wi, wr, out, F.channels());
-  if (F.isotropic)
-    eval_rows<false>(F, wi, wr, to_f, out);
-  else
-    eval_rows<true>(F, wi, wr, to_f, out);
+  eval_rows(F, wi, wr, to_f, out);
 }
 
 }  // namespace
@@ -491,14 +566,11 @@ Eigen::MatrixXd HalfAngleFactors::eval(const RowMatrix3d& wi, const RowMatrix3d&
 
 HalfAnglePairEvaluator::HalfAnglePairEvaluator(std::shared_ptr<const HalfAngleFactors> lobe) : lobe_(std::move(lobe)) {
   if (!lobe_) throw ArgumentError("HalfAnglePairEvaluator: no lobe");
-  context_ = std::make_shared<const HalfAnglePairContext>(*lobe_, true);
+  context_ = std::make_shared<const HalfAnglePairContext>(*lobe_, true, true);
 }
 
 void HalfAnglePairEvaluator::eval(const double* wi, const double* wr, double* out) const {
-  if (lobe_->isotropic)
-    eval_pair<false>(*lobe_, *context_, wi, wr, out, 1);
-  else
-    eval_pair<true>(*lobe_, *context_, wi, wr, out, 1);
+  context_->pair_fn(*lobe_, *context_, wi, wr, out, 1);
 }
 
 void HalfAngleFactors::eval_quantity(const RowMatrix3d& wi, const RowMatrix3d& wr,

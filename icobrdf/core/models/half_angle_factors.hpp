@@ -180,7 +180,11 @@ inline bool node_pair_valid(const HalfAngleNodeTrig& h, int i, const HalfAngleNo
 // f of a lobe at one direction pair, for per-sample callers (a renderer's eval at each path vertex): bitwise
 // the values of HalfAngleFactors::eval at the same pair (both run the same per-pair code); what that code needs
 // besides the factors (the stretch, the cosine floor, the node trig tables of HorizonCorners::Valid) is
-// computed once here instead of once per batch, and nothing is allocated per call.
+// computed once here instead of once per batch, and nothing is allocated per call. The per-pair function of the
+// lobe's kind (isotropy, rank 1-4 unrolled) is chosen here once; for isotropic lobes with HorizonCorners::Valid,
+// the cells the horizon cuts are found from a per-d-node count of valid h nodes (4 bytes per d node, built by
+// testing every node pair once), not from the node trig at every pair (the same cells: the test
+// HalfAnglePairEvaluator.BitwiseTheBatchForEveryKindOfLobeAndHardPairs).
 // wi, wr: 3 doubles each (unit vectors); out: channels() doubles [1/sr]; 0 where a direction is below the
 // horizon (z < -kHorizonSlack). eval may be called from several threads at once.
 struct HalfAnglePairContext;

@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "icobrdf/core/support/fast_atan2.hpp"
 #include "tests/support/unity_id.hpp"
@@ -56,6 +58,27 @@ TEST(FastAtan2, InfinitiesAndNaNAsTheLibrary) {
       EXPECT_TRUE(a == b && std::signbit(a) == std::signbit(b)) << y << " " << x << ": " << a << " against " << b;
     }
   EXPECT_TRUE(std::isnan(fast_atan2(NAN, 1.0)) && std::isnan(fast_atan2(1.0, NAN)) && std::isnan(fast_atan2(NAN, inf)));
+}
+
+TEST(FastAtan2, UpperAndFirstQuadrantFormsAreBitwiseTheGeneralOne) {
+  // On their domains (y >= +0; y, x >= +0) the shorter forms leave out only fix-ups that change nothing: random
+  // arguments of every magnitude, the ties between two Taylor centres (r = (k + 1/2)/64 exactly), the octant
+  // boundary, zeros and infinities.
+  const auto same = [](double a, double b) { return (a == b && std::signbit(a) == std::signbit(b)) || (std::isnan(a) && std::isnan(b)); };
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(0, 1), e(-30, 30);
+  std::vector<std::pair<double, double>> args;
+  for (int i = 0; i < 200000; ++i) args.emplace_back(u(rng) * std::pow(10.0, e(rng)), (u(rng) - 0.5) * std::pow(10.0, e(rng)));
+  for (int k = 0; k < 64; ++k) args.emplace_back((k + 0.5) / 64, 1.0), args.emplace_back(1.0, (k + 0.5) / 64), args.emplace_back(1.0, -(k + 0.5) / 64);
+  const double inf = INFINITY;
+  for (double y : {0.0, 1.0, 2.5, inf})
+    for (double x : {0.0, -0.0, 1.0, -1.0, 2.5, inf, -inf}) args.emplace_back(y, x);
+  for (const auto& [y, x] : args) {
+    ASSERT_TRUE(same(fast_atan2_upper(y, x), fast_atan2(y, x))) << y << " " << x;
+    if (!std::signbit(x)) {
+      ASSERT_TRUE(same(fast_atan2_first_quadrant(y, x), fast_atan2(y, x))) << y << " " << x;
+    }
+  }
 }
 
 }  // namespace ICOBRDF_UNITY_ID
