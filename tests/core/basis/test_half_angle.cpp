@@ -227,7 +227,7 @@ TEST(HalfAngle, MeasureOfPairsAboveTheHorizonByMonteCarlo) {
     s1 += w * wi.z() * wr.z(), s1sq += std::pow(w * wi.z() * wr.z(), 2);
   }
   // Tolerance: 5 standard errors of the mean, measured from the samples themselves.
-  const auto check = [n](double s, double ssq, double expected) {
+  const auto check = [&](double s, double ssq, double expected) {
     const double mean = s / n, se = std::sqrt((ssq / n - mean * mean) / n);
     EXPECT_NEAR(mean, expected, 5 * se);
     EXPECT_LT(se, 0.01 * expected);  // the check is sharp enough to mean something
