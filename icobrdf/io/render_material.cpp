@@ -406,20 +406,22 @@ MaterialSample<double> RenderMaterial::sample(const Eigen::Vector3d& wi, double 
   MaterialSample<double> s;
   s.weight.setZero(m.channels);
   if (!(wi.z() >= 0.0) || !wi.allFinite() || !(u1 >= 0.0 && u1 <= 1.0) || !(u2 >= 0.0 && u2 <= 1.0)) return s;
+  // u1 alone gives the table's cell index: its entries are fetched while the blend and the part are found.
+  m.table.prefetch_draw(u1);
   std::array<double, kMaxParts> a;
   double total;
   const HalfVectorBlend b = HalfVectorTable::blend(m.nodes, wi);
   const int parts = m.part_albedos(b, a, total);
   if (!(total > 0.0)) return s;
-  // The part: u1 by the albedos, then rescaled to [0, 1) within it (one part: u1 itself, which the rescale
+  // The part: u2 by the albedos, then rescaled to [0, 1) within it (one part: u2 itself, which the rescale
   // returns to rounding; the draw does not wait for a division then).
-  double x = u1, acc = 0.0, part_lo = 0.0;
+  double x = u2, acc = 0.0, part_lo = 0.0;
   int part = 0;
   if (parts > 1) {
-    x = u1 * total, part = -1;
+    x = u2 * total, part = -1;
     for (int i = 0; i < parts; ++i) {
       if (!(a[static_cast<size_t>(i)] > 0.0)) continue;
-      part = i, part_lo = acc;  // the last part with albedo takes u1 rounding up to its end
+      part = i, part_lo = acc;  // the last part with albedo takes u2 rounding up to its end
       if (x < acc + a[static_cast<size_t>(i)]) break;
       acc += a[static_cast<size_t>(i)];
     }
@@ -439,11 +441,11 @@ MaterialSample<double> RenderMaterial::sample(const Eigen::Vector3d& wi, double 
   double table_pdf = -1.0;  // the table's density at its own draw, when the table is the only regular part
   if (part < n_delta + n_ggx) {
     const RenderGgxPart& g = m.ggx[static_cast<size_t>(part - n_delta)];
-    wr = reflect_about(wi, from_tangent(g, sample_ggx_visible_normal(to_tangent(g, wi), g.alpha_x, g.alpha_y, x, u2)));
+    wr = reflect_about(wi, from_tangent(g, sample_ggx_visible_normal(to_tangent(g, wi), g.alpha_x, g.alpha_y, u1, x)));
     lobe_flag = kMaterialGlossy;
   } else {
     double p;
-    if (!m.table.sample(b, wi, x, u2, wr, p)) return s;
+    if (!m.table.sample(b, wi, u1, x, wr, p)) return s;
     if (m.ggx.empty()) table_pdf = a[static_cast<size_t>(part)] / total * p;
     lobe_flag = m.table_flag;
   }

@@ -10,7 +10,7 @@
 // reflection only: a w_i or w_r below the horizon (z < 0) gives f = 0, pdf = 0 and no sample. Inputs are not
 // checked for unit length per call (a renderer's hot path); non-finite inputs give no sample.
 //
-// Sampling: a mixture over the material's parts, chosen per draw by u1 with probabilities proportional to
+// Sampling: a mixture over the material's parts, chosen per draw by u2 with probabilities proportional to
 // their directional albedos at w_i (tables over the incident direction built with the material):
 //   - delta parts (mirror, retroreflector, icobrdf/core/models/brdf_model.hpp DeltaPart of weight w; albedo w):
 //     w_r the image of w_i, pdf = the part's probability P (a discrete probability, as pbrt-v4 reports it),

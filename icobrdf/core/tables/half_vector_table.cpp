@@ -166,6 +166,7 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
   albedo_.assign(static_cast<size_t>(n_nodes), 0.0);
   const double dphi = 2.0 * M_PI / opt_.phi_bins;
   std::vector<double> node_mass(static_cast<size_t>(cells_));
+  std::vector<AliasEntry> alias_row(static_cast<size_t>(cells_));  // one node's alias table, then stored cell-major
   // Sub-cell centres: 2 x 2 per cell, equal in solid angle (midpoints in cos theta_h and phi_h).
   RowMatrix3d h(static_cast<Eigen::Index>(cells_) * 4, 3);
   for (int k = 0; k < nt; ++k)
@@ -246,11 +247,12 @@ HalfVectorTable::HalfVectorTable(const NonNegativeBrdf& fbar, const HalfVectorTa
       cells_of_nodes_[static_cast<size_t>(cell) * static_cast<size_t>(n_nodes) + static_cast<size_t>(n)].mass = p;
       m[cell] = p / rounded;
     }
-    AliasEntry* alias = alias_.data() + static_cast<size_t>(n) * static_cast<size_t>(cells_);
-    build_alias(m, alias);
+    build_alias(m, alias_row.data());
     for (int cell = 0; cell < cells_; ++cell) {  // the alias cell's slopes beside its index (see sample())
-      const CellEntry& e = entry(n, alias[cell].alias);
-      alias[cell].a = e.a, alias[cell].b = e.b;
+      AliasEntry x = alias_row[static_cast<size_t>(cell)];
+      const CellEntry& e = entry(n, x.alias);
+      x.a = e.a, x.b = e.b;
+      alias_[static_cast<size_t>(cell) * static_cast<size_t>(n_nodes) + static_cast<size_t>(n)] = x;
     }
   }
 }
@@ -381,44 +383,47 @@ double HalfVectorTable::albedo(const HalfVectorBlend& b) const {
 
 bool HalfVectorTable::sample(const HalfVectorBlend& b, const Eigen::Vector3d& wi, double u1, double u2, Eigen::Vector3d& wr,
                              double& pdf_out) const {
-  // The node: u1 picks it by the blend weights among the nodes that have mass, then is rescaled to [0, 1).
+  // The cell index from u1 alone, so that its entries' address waits only for the blend's nodes: the alias
+  // entries of the blend's nodes at that index lie side by side (cell-major) and are fetched while u2 picks
+  // the node.
+  double f;
+  const int cell0 = cell_index(u1, f);
+  const AliasEntry* row = alias_.data() + static_cast<size_t>(cell0) * static_cast<size_t>(nodes());
+  for (int i = 0; i < b.count; ++i) __builtin_prefetch(row + b.node[i]), __builtin_prefetch(&entry(b.node[i], cell0));
+  // The node: u2 picks it by the blend weights among the nodes that have mass, then is rescaled to [0, 1).
   double live = 0.0, x;
   int node = -1, pick = 0;  // the drawn node and its place in the blend
-  // Isotropic (2 nodes): the same pick without the loop. The compiler keeps a branch on x >= w0; selects
-  // (select_without_branch) made sample() alone 4-5 ns faster but RenderMaterial::sample 3-5 ns slower.
   if (b.count == 2) {
     const double w0 = albedo_[static_cast<size_t>(b.node[0])] > 0.0 ? b.weight[0] : 0.0;
     const double w1 = albedo_[static_cast<size_t>(b.node[1])] > 0.0 ? b.weight[1] : 0.0;
-    // The reciprocals of both weights while u1 is scaled: the rescale of x is then a product, not a
-    // division that the draw would wait for (a zero weight's infinity is never selected).
+    // The reciprocals of both weights while u2 is scaled: the rescale is then a product, not a division that
+    // the draw would wait for (a zero weight's infinity is never selected).
     const double r0 = 1.0 / b.weight[0], r1 = 1.0 / b.weight[1];
     live = w0 + w1;
     if (!(live > 0.0)) return false;
-    x = u1 * live;
+    x = u2 * live;
     const bool second = x >= w0 && w1 > 0.0;  // node 0 dead or of weight 0 (w0 = 0): the second
     pick = second, node = b.node[pick];
     x = std::clamp((x - (second ? w0 : 0.0)) * (second ? r1 : r0), 0.0, 1.0);
   } else {
     live = live_weight(b);
     if (!(live > 0.0)) return false;
-    x = u1 * live;
+    x = u2 * live;
     double acc = 0.0, node_lo = 0.0, node_w = 1.0;
     for (int i = 0; i < b.count; ++i) {
       if (!(albedo_[static_cast<size_t>(b.node[i])] > 0.0) || b.weight[i] == 0.0) continue;
-      pick = i, node = b.node[i], node_lo = acc, node_w = b.weight[i];  // the last live node takes u1 rounding up to its end
+      pick = i, node = b.node[i], node_lo = acc, node_w = b.weight[i];  // the last live node takes u2 rounding up to its end
       if (x < acc + b.weight[i]) break;
       acc += b.weight[i];
     }
     x = std::clamp((x - node_lo) / node_w, 0.0, 1.0);
   }
-  // The cell from the node's alias table, then the fraction left of x for the position within it. The alias
-  // entry and the cell's own entries are read at once (both addresses follow from x; the alias entry carries
-  // its alias cell's slopes of this node), so the draw waits for one memory access, not two in turn; the
-  // entries of the drawn cell, which only the density reads, are fetched meanwhile.
-  const double y = x * cells_;
-  const int cell0 = std::min(static_cast<int>(y), cells_ - 1);
-  double f = y - cell0;
-  const AliasEntry& a = alias_[static_cast<size_t>(node) * static_cast<size_t>(cells_) + static_cast<size_t>(cell0)];
+  u2 = x;
+  // The cell from the node's alias table, the fraction left of u1 for the position within it. The alias
+  // entry and the cell's own entries are read at once (both addresses follow from u1 and the node; the alias
+  // entry carries its alias cell's slopes of this node), so the draw waits for one memory access, not two
+  // in turn; the entries of the drawn cell, which only the density reads, are fetched meanwhile.
+  const AliasEntry& a = row[node];
   const CellEntry& own = entry(node, cell0);
   const double keep = a.keep;
   // A branch, not selects, although u1 decides it: the predicted side runs on before the alias entry
@@ -455,6 +460,15 @@ bool HalfVectorTable::sample(const HalfVectorBlend& b, const Eigen::Vector3d& wi
   // The density of the draw at its own cell and position (pdf() finds the same from (w_i, w_r) to rounding).
   pdf_out = h_density(b, e, k, xi, eta) / (live * 4.0 * c);
   return pdf_out > 0.0;
+}
+
+void HalfVectorTable::prefetch_draw(double u1) const {
+  if (cells_ == 0 || nodes() * sizeof(AliasEntry) > kPrefetchLines * 64) return;
+  double f;
+  const char* row = reinterpret_cast<const char*>(alias_.data() + static_cast<size_t>(cell_index(u1, f)) * static_cast<size_t>(nodes()));
+  const char* end = row + static_cast<size_t>(nodes()) * sizeof(AliasEntry);
+  for (const char* p = row; p < end; p += 64) __builtin_prefetch(p);
+  __builtin_prefetch(end - 1);
 }
 
 double HalfVectorTable::h_density(const HalfVectorBlend& b, const CellEntry* const* e, int k, double xi, double eta) const {
