@@ -5,13 +5,19 @@
 //   BM_Build/M          building the material (tables over the incident direction)
 //   BM_ClockReference   a chain of dependent integer adds, one per cycle (x86-64): items_per_second is the
 //                       core's clock in this run, so that the calls' times can be read in cycles (the host's
-//                       clock was seen to move between 1.7 and 2.7 GHz within an hour)
+//                       clock was seen to move between 1.7 and 2.9 GHz within an hour)
+// On x86-64 the per-call benchmarks also report the counter cycles: the loop's wall time per call times the
+// clock the same chain of adds measures just before and just after the loop (their mean), so that a figure
+// taken while the host runs slow or fast reads the same in cycles (a target of 100 ns is 280 cycles at 2.8 GHz
+// and 180 at 1.8 GHz).
 // Materials M: 0 a half-angle lobe (rank <= 4, fitted to GGX alpha 0.3: a bank's half-angle representation),
 // 1 the GGX alpha 0.3 model, 2 model 0.5*lambert+0.5*mirror (a delta part), 3 the lobe of 0 with tables that
 // store every phi_h bin (HalfVectorTableOptions::mirror = false: twice the memory of 0's). ->Threads(2) shares
 // one material.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <random>
@@ -88,15 +94,47 @@ const Inputs<Real>& inputs() {
   return in;
 }
 
+#if defined(__x86_64__)
+// The core's clock [GHz] by chains of 2^19 dependent adds (one per cycle), timed by the steady clock: the
+// fastest of 3 (a chain the host interrupts reads slow).
+double clock_ghz() {
+  constexpr int kAdds = 1 << 19;
+  double best = 0.0;
+  for (int run = 0; run < 3; ++run) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::uint64_t x = 0;
+    for (int i = 0; i < kAdds; ++i) asm volatile("add $1, %0" : "+r"(x));
+    benchmark::DoNotOptimize(x);
+    best = std::max(best, kAdds / std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count());
+  }
+  return best;
+}
+#else
+double clock_ghz() { return 0.0; }
+#endif
+
+// Runs call() once per iteration and reports the counter cycles (see the top of this file) where the clock is known.
+template <class Call>
+void timed_calls(benchmark::State& state, Call call) {
+  const double g0 = clock_ghz();
+  const auto t0 = std::chrono::steady_clock::now();
+  for (auto _ : state) call();
+  const double ns = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
+  const double g1 = clock_ghz();
+  if (g0 > 0.0 && g1 > 0.0 && state.iterations() > 0)
+    state.counters["cycles"] = benchmark::Counter(ns / static_cast<double>(state.iterations()) * 0.5 * (g0 + g1),
+                                                  benchmark::Counter::kAvgThreads);  // threads: each one's own
+}
+
 template <class Real>
 void BM_Eval(benchmark::State& state) {
   const RenderMaterial& m = material(static_cast<int>(state.range(0)));
   const Inputs<Real>& in = inputs<Real>();
   int i = 0;
-  for (auto _ : state) {
+  timed_calls(state, [&] {
     benchmark::DoNotOptimize(m.eval(in.wi[static_cast<size_t>(i)], in.wr[static_cast<size_t>(i)]));
     i = (i + 1) & (kPairs - 1);
-  }
+  });
   state.SetItemsProcessed(state.iterations());
 }
 
@@ -105,10 +143,10 @@ void BM_Pdf(benchmark::State& state) {
   const RenderMaterial& m = material(static_cast<int>(state.range(0)));
   const Inputs<Real>& in = inputs<Real>();
   int i = 0;
-  for (auto _ : state) {
+  timed_calls(state, [&] {
     benchmark::DoNotOptimize(m.pdf(in.wi[static_cast<size_t>(i)], in.wr[static_cast<size_t>(i)]));
     i = (i + 1) & (kPairs - 1);
-  }
+  });
   state.SetItemsProcessed(state.iterations());
 }
 
@@ -117,10 +155,10 @@ void BM_Sample(benchmark::State& state) {
   const RenderMaterial& m = material(static_cast<int>(state.range(0)));
   const Inputs<Real>& in = inputs<Real>();
   int i = 0;
-  for (auto _ : state) {
+  timed_calls(state, [&] {
     benchmark::DoNotOptimize(m.sample(in.wi[static_cast<size_t>(i)], in.u1[static_cast<size_t>(i)], in.u2[static_cast<size_t>(i)]));
     i = (i + 1) & (kPairs - 1);
-  }
+  });
   state.SetItemsProcessed(state.iterations());
 }
 

@@ -81,7 +81,7 @@ struct RenderMaterial::Impl {
   std::uint32_t table_flag = kMaterialDiffuse;
   std::vector<DeltaPart> deltas;
 
-  void eval_regular(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr, double* out) const;
+  [[gnu::always_inline]] inline void eval_regular(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr, double* out) const;
   // eval_regular's sum over the parts, for checked directions (out of line: its stack frame for the models'
   // matrices stays off the lobe-only path).
   [[gnu::noinline]] void eval_parts(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr, double* out) const;
@@ -121,7 +121,7 @@ inline bool finite_above_horizon(const Eigen::Vector3d& a, const Eigen::Vector3d
 }
 }  // namespace
 
-void RenderMaterial::Impl::eval_regular(const Eigen::Vector3d& wi_in, const Eigen::Vector3d& wr_in, double* out) const {
+inline void RenderMaterial::Impl::eval_regular(const Eigen::Vector3d& wi_in, const Eigen::Vector3d& wr_in, double* out) const {
   if (!finite_above_horizon(wi_in, wr_in)) {
     for (int c = 0; c < channels; ++c) out[c] = 0.0;
     return;
