@@ -43,8 +43,8 @@
 // the drawn node at the drawn position uses the slopes the draw used. The cell index depends on u1 alone,
 // not on the node: the alias entries and the masses and slopes are stored cell-major (the nodes of one cell
 // side by side), so the entries a draw reads are fetched before the blend has picked the node
-// (prefetch_draw: RenderMaterial::sample 229 -> 211 ns with the defaults, one program, where u1 picked the
-// node and then the cell, node-major), and the density at a drawn or given cell reads one or two cache
+// (prefetch_draw: RenderMaterial::sample 223-229 -> 204-208 ns with the defaults, old and new in one program,
+// three interleaved runs; before, u1 picked the node and then the cell, node-major), and the density at a drawn or given cell reads one or two cache
 // lines; the cell of a half vector is found without atan2 for theta_h (a lookup on
 // (1 - cos theta_h)^(1/4), then the exact cos edges decide) and with one atan2 for phi_h.
 // Memory: 8 + 12 bytes per node and cell (48 nodes x 8192 mirrored cells, the defaults: 7.9 MB). Alias
