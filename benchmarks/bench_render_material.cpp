@@ -12,8 +12,8 @@
 // and 180 at 1.8 GHz).
 // Materials M: 0 a half-angle lobe (rank <= 4, fitted to GGX alpha 0.3: a bank's half-angle representation),
 // 1 the GGX alpha 0.3 model, 2 model 0.5*lambert+0.5*mirror (a delta part), 3 the lobe of 0 with tables that
-// store every phi_h bin (HalfVectorTableOptions::mirror = false: twice the memory of 0's). ->Threads(2) shares
-// one material.
+// store every phi_h bin (HalfVectorTableOptions::mirror = false: twice the memory of 0's), 4 the lobe of 0 beside
+// modes of order 0 (a constant: a bank's paint, its Lambertian part as modes). ->Threads(2) shares one material.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -55,6 +55,11 @@ const HalfAngleFactors& lobe() {
 
 RenderMaterial make(int which) {
   if (which == 0) return RenderMaterial(no_modes(), lobe());
+  if (which == 4) {
+    Spectrum constant = no_modes();
+    constant.channels[0](0, 0) = 0.2;  // f = 0.2 K_0^2 = 0.2 / (2 pi) beside the lobe
+    return RenderMaterial(constant, lobe());
+  }
   if (which == 3) {
     RenderMaterialOptions full;
     full.table.mirror = false;
@@ -66,7 +71,7 @@ RenderMaterial make(int which) {
 const RenderMaterial& material(int which) {
   static const std::vector<std::shared_ptr<RenderMaterial>> all = [] {
     std::vector<std::shared_ptr<RenderMaterial>> v;
-    for (int i = 0; i < 4; ++i) v.push_back(std::make_shared<RenderMaterial>(make(i)));
+    for (int i = 0; i < 5; ++i) v.push_back(std::make_shared<RenderMaterial>(make(i)));
     return v;
   }();
   return *all[static_cast<size_t>(which)];
@@ -181,12 +186,12 @@ void BM_ClockReference(benchmark::State& state) {
 BENCHMARK(BM_ClockReference);
 #endif
 
-BENCHMARK_TEMPLATE(BM_Eval, double)->DenseRange(0, 2);
-BENCHMARK_TEMPLATE(BM_Eval, float)->DenseRange(0, 2);
+BENCHMARK_TEMPLATE(BM_Eval, double)->DenseRange(0, 2)->Arg(4);
+BENCHMARK_TEMPLATE(BM_Eval, float)->DenseRange(0, 2)->Arg(4);
 BENCHMARK_TEMPLATE(BM_Pdf, double)->DenseRange(0, 2);
 BENCHMARK_TEMPLATE(BM_Pdf, float)->DenseRange(0, 2);
-BENCHMARK_TEMPLATE(BM_Sample, double)->DenseRange(0, 3);
-BENCHMARK_TEMPLATE(BM_Sample, float)->DenseRange(0, 3);
+BENCHMARK_TEMPLATE(BM_Sample, double)->DenseRange(0, 4);
+BENCHMARK_TEMPLATE(BM_Sample, float)->DenseRange(0, 4);
 BENCHMARK_TEMPLATE(BM_Sample, double)->Arg(0)->Threads(2);
 BENCHMARK(BM_Build)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
 

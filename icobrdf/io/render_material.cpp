@@ -73,6 +73,11 @@ struct RenderMaterial::Impl {
   // A stored lobe without modes: eval is the lobe's pair code alone (f = max(0, q), the same values as
   // max(0, 0 + q)); measured 105 -> 83 ns per call for a rank-2 lobe, one program, the general path beside it.
   bool lobe_only = false;
+  // A stored lobe beside modes of order 0 (a constant: a Lambertian part, as banks store a paint's diffuse
+  // layer): f = max(0, c scale + q) with c = (C_00 K_0) K_0 per channel (K_0 does not depend on the
+  // direction), the same products eval_modes forms, without evaluating the basis at both directions.
+  bool lobe_plus_constant = false;
+  double modes_constant[kMaxMaterialChannels] = {};
   std::shared_ptr<const BrdfSource> source;
   // Sampling.
   HalfVectorTableOptions nodes;
@@ -133,6 +138,13 @@ inline void RenderMaterial::Impl::eval_regular(const Eigen::Vector3d& wi_in, con
       return;
     }
     for (int c = 0; c < channels; ++c) out[c] = std::max(0.0, out[c]);
+    return;
+  }
+  if (lobe_plus_constant) {
+    double q[kMaxMaterialChannels];
+    lobe_eval->eval(wi_in.data(), wr_in.data(), q);
+    const double scale = modes.cosine ? 1.0 / std::max(wi_in.z(), kGrazingCosFloor) : 1.0;
+    for (int c = 0; c < channels; ++c) out[c] = std::max(0.0, modes_constant[c] * scale + q[c]);
     return;
   }
   eval_parts(wi_in, wr_in, out);
@@ -319,6 +331,12 @@ RenderMaterial::RenderMaterial(const Spectrum& modes, const std::optional<HalfAn
     m.lobe = std::make_shared<const HalfAngleFactors>(*lobe);
     m.lobe_eval.emplace(m.lobe);
     m.lobe_only = !m.has_modes;
+    if (m.has_modes && modes.order == 0) {
+      double k0;
+      hemisphere_basis_eval(0, Eigen::Vector3d(0.0, 0.0, 1.0), &k0);
+      for (int c = 0; c < m.channels; ++c) m.modes_constant[c] = (modes.channels[static_cast<size_t>(c)](0, 0) * k0) * k0;
+      m.lobe_plus_constant = true;
+    }
   }
   m.isotropic = (!m.has_modes || modes.isotropic) && (!lobe || lobe->isotropic);
   m.table_flag = lobe ? kMaterialGlossy : kMaterialDiffuse;

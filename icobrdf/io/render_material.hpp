@@ -31,7 +31,8 @@
 //
 // Evaluation per sample: models as sums of their terms (each term's pair formula); stored materials as their
 // lobe (icobrdf/core/models/half_angle_factors.hpp HalfAnglePairEvaluator, bitwise the batch values) plus modes (the basis at both
-// directions, order <= kMaxPointModeOrder; f = max(0, modes + lobe) as icobrdf/io/material_eval.hpp);
+// directions, order <= kMaxPointModeOrder; f = max(0, modes + lobe) as icobrdf/io/material_eval.hpp; modes of
+// order 0, a constant such as a paint's Lambertian part, are added as that constant without evaluating the basis);
 // measured SOURCEs and model kinds without a pair formula go through their batch evaluation with one row
 // (which allocates). Channels: at most kMaxMaterialChannels (a 1-channel model term is broadcast).
 // Float forms convert to double and back: their values are the double values rounded to float.
