@@ -325,6 +325,15 @@ RenderMaterial::RenderMaterial(const Spectrum& modes, const std::optional<HalfAn
   if (m.has_modes && modes.order > kMaxPointModeOrder)
     throw ArgumentError(m.spec + ": modes of order " + std::to_string(modes.order) + ", expected at most " +
                         std::to_string(kMaxPointModeOrder) + " for a render material");
+  if (m.has_modes)  // every channel's coefficients are read as a count x count matrix per sample
+    for (size_t c = 0; c < modes.channels.size(); ++c) {
+      const Eigen::MatrixXd& C = modes.channels[c];
+      const Eigen::Index count = hemisphere_basis_count(std::max(modes.order, 0));
+      if (modes.order < 0 || C.rows() != count || C.cols() != count)
+        throw ArgumentError(m.spec + ": modes of channel " + std::to_string(c) + " are " + std::to_string(C.rows()) + " x " +
+                            std::to_string(C.cols()) + ", expected " + std::to_string(count) + " x " + std::to_string(count) +
+                            " for order " + std::to_string(modes.order));
+    }
   if (lobe) {
     if (lobe->channels() != m.channels)
       throw ArgumentError(m.spec + ": lobe of " + std::to_string(lobe->channels()) + " channels beside modes of " + std::to_string(m.channels));

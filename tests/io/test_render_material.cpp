@@ -462,6 +462,19 @@ TEST(RenderMaterial, RefusesTooManyChannelsAndHighModeOrders) {
   const int mm = (s.order + 1) * (s.order + 2) / 2;
   s.channels = {Eigen::MatrixXd::Identity(mm, mm)};
   EXPECT_THROW(RenderMaterial(s, std::nullopt), ArgumentError);
+  // Coefficients whose shape is not the order's count x count (per-sample code reads them as that), in any
+  // channel: a one-line error naming the channel and both shapes.
+  Spectrum bad = zero_spectrum();
+  bad.channels = {Eigen::MatrixXd::Constant(1, 1, 0.2), Eigen::MatrixXd()};
+  try {
+    RenderMaterial m(bad, fitted_lobe("model:ggx:alpha=0.3"));
+    ADD_FAILURE() << "an empty channel beside modes was accepted";
+  } catch (const ArgumentError& e) {
+    EXPECT_NE(std::string(e.what()).find("channel 1 are 0 x 0, expected 1 x 1 for order 0"), std::string::npos) << e.what();
+  }
+  bad = minnaert_spectrum(2);
+  bad.channels[0].conservativeResize(bad.channels[0].rows() - 1, bad.channels[0].cols());
+  EXPECT_THROW(RenderMaterial(bad, std::nullopt), ArgumentError);
 }
 
 }  // namespace ICOBRDF_UNITY_ID
