@@ -100,16 +100,21 @@ const Inputs<Real>& inputs() {
 }
 
 #if defined(__x86_64__)
-// The core's clock [GHz] by chains of 2^19 dependent adds (one per cycle), timed by the steady clock: the
-// fastest of 3 (a chain the host interrupts reads slow).
+// n dependent integer adds: n cycles of the core.
+void dependent_adds(int n) {
+  std::uint64_t x = 0;
+  for (int i = 0; i < n; ++i) asm volatile("add $1, %0" : "+r"(x));  // each add waits for the last
+  benchmark::DoNotOptimize(x);
+}
+
+// The core's clock [GHz] by chains of 2^19 dependent adds, timed by the steady clock: the fastest of 3 (a chain
+// the host interrupts reads slow).
 double clock_ghz() {
   constexpr int kAdds = 1 << 19;
   double best = 0.0;
   for (int run = 0; run < 3; ++run) {
     const auto t0 = std::chrono::steady_clock::now();
-    std::uint64_t x = 0;
-    for (int i = 0; i < kAdds; ++i) asm volatile("add $1, %0" : "+r"(x));
-    benchmark::DoNotOptimize(x);
+    dependent_adds(kAdds);
     best = std::max(best, kAdds / std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count());
   }
   return best;
@@ -176,11 +181,7 @@ void BM_Build(benchmark::State& state) {
 #if defined(__x86_64__)
 void BM_ClockReference(benchmark::State& state) {
   constexpr int kAdds = 1 << 20;
-  for (auto _ : state) {
-    std::uint64_t x = 0;
-    for (int i = 0; i < kAdds; ++i) asm volatile("add $1, %0" : "+r"(x));  // each add waits for the last
-    benchmark::DoNotOptimize(x);
-  }
+  for (auto _ : state) dependent_adds(kAdds);
   state.SetItemsProcessed(state.iterations() * kAdds);
 }
 BENCHMARK(BM_ClockReference);

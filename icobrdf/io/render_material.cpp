@@ -73,10 +73,9 @@ struct RenderMaterial::Impl {
   // A stored lobe without modes: eval is the lobe's pair code alone (f = max(0, q), the same values as
   // max(0, 0 + q)); measured 105 -> 83 ns per call for a rank-2 lobe, one program, the general path beside it.
   bool lobe_only = false;
-  // A stored lobe beside modes of order 0 (a constant: a Lambertian part, as banks store a paint's diffuse
-  // layer): f = max(0, c scale + q) with c = (C_00 K_0) K_0 per channel (K_0 does not depend on the
-  // direction), the same products eval_modes forms, without evaluating the basis at both directions.
-  bool lobe_plus_constant = false;
+  // Modes of order 0 are a constant (a Lambertian part, as banks store a paint's diffuse layer beside its lobe):
+  // c = (C_00 K_0) K_0 per channel (K_0 does not depend on the direction), the products the general sum forms,
+  // so eval_modes returns c scale without evaluating the basis at both directions.
   double modes_constant[kMaxMaterialChannels] = {};
   std::shared_ptr<const BrdfSource> source;
   // Sampling.
@@ -99,11 +98,15 @@ struct RenderMaterial::Impl {
 };
 
 void RenderMaterial::Impl::eval_modes(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr, double* out) const {
+  const double scale = modes.cosine ? 1.0 / std::max(wi.z(), kGrazingCosFloor) : 1.0;
+  if (modes.order == 0) {  // a constant (modes_constant)
+    for (int c = 0; c < channels; ++c) out[c] = modes_constant[c] * scale;
+    return;
+  }
   const int m = hemisphere_basis_count(modes.order);
   double ki[kMaxBasis], kr[kMaxBasis];
   hemisphere_basis_eval(modes.order, wi, ki);
   hemisphere_basis_eval(modes.order, wr, kr);
-  const double scale = modes.cosine ? 1.0 / std::max(wi.z(), kGrazingCosFloor) : 1.0;
   for (int c = 0; c < channels; ++c) {
     const Eigen::MatrixXd& C = modes.channels[static_cast<size_t>(c)];
     double s = 0.0;
@@ -138,13 +141,6 @@ inline void RenderMaterial::Impl::eval_regular(const Eigen::Vector3d& wi_in, con
       return;
     }
     for (int c = 0; c < channels; ++c) out[c] = std::max(0.0, out[c]);
-    return;
-  }
-  if (lobe_plus_constant) {
-    double q[kMaxMaterialChannels];
-    lobe_eval->eval(wi_in.data(), wr_in.data(), q);
-    const double scale = modes.cosine ? 1.0 / std::max(wi_in.z(), kGrazingCosFloor) : 1.0;
-    for (int c = 0; c < channels; ++c) out[c] = std::max(0.0, modes_constant[c] * scale + q[c]);
     return;
   }
   eval_parts(wi_in, wr_in, out);
@@ -325,27 +321,27 @@ RenderMaterial::RenderMaterial(const Spectrum& modes, const std::optional<HalfAn
   if (m.has_modes && modes.order > kMaxPointModeOrder)
     throw ArgumentError(m.spec + ": modes of order " + std::to_string(modes.order) + ", expected at most " +
                         std::to_string(kMaxPointModeOrder) + " for a render material");
-  if (m.has_modes)  // every channel's coefficients are read as a count x count matrix per sample
+  if (m.has_modes) {  // every channel's coefficients are read as a count x count matrix per sample
+    const Eigen::Index count = modes.order >= 0 ? hemisphere_basis_count(modes.order) : 0;
     for (size_t c = 0; c < modes.channels.size(); ++c) {
       const Eigen::MatrixXd& C = modes.channels[c];
-      const Eigen::Index count = hemisphere_basis_count(std::max(modes.order, 0));
-      if (modes.order < 0 || C.rows() != count || C.cols() != count)
+      if (C.rows() != count || C.cols() != count)
         throw ArgumentError(m.spec + ": modes of channel " + std::to_string(c) + " are " + std::to_string(C.rows()) + " x " +
                             std::to_string(C.cols()) + ", expected " + std::to_string(count) + " x " + std::to_string(count) +
                             " for order " + std::to_string(modes.order));
     }
+  }
   if (lobe) {
     if (lobe->channels() != m.channels)
       throw ArgumentError(m.spec + ": lobe of " + std::to_string(lobe->channels()) + " channels beside modes of " + std::to_string(m.channels));
     m.lobe = std::make_shared<const HalfAngleFactors>(*lobe);
     m.lobe_eval.emplace(m.lobe);
     m.lobe_only = !m.has_modes;
-    if (m.has_modes && modes.order == 0) {
-      double k0;
-      hemisphere_basis_eval(0, Eigen::Vector3d(0.0, 0.0, 1.0), &k0);
-      for (int c = 0; c < m.channels; ++c) m.modes_constant[c] = (modes.channels[static_cast<size_t>(c)](0, 0) * k0) * k0;
-      m.lobe_plus_constant = true;
-    }
+  }
+  if (m.has_modes && modes.order == 0) {
+    double k0;
+    hemisphere_basis_eval(0, Eigen::Vector3d(0.0, 0.0, 1.0), &k0);
+    for (int c = 0; c < m.channels; ++c) m.modes_constant[c] = (modes.channels[static_cast<size_t>(c)](0, 0) * k0) * k0;
   }
   m.isotropic = (!m.has_modes || modes.isotropic) && (!lobe || lobe->isotropic);
   m.table_flag = lobe ? kMaterialGlossy : kMaterialDiffuse;

@@ -177,33 +177,36 @@ TEST(RenderMaterial, PerSampleEvalEqualsTheBatchEvaluation) {
   }
 }
 
-// A lobe beside modes of order 0 (a constant, as a bank stores a paint's Lambertian part) takes the path that
-// does not evaluate the basis: its values are those of the general path (the same modes written at order 1, with
-// zero coefficients beyond C_00) and of the batch evaluation, the constant and the clamp max(0, .) included
-// (a negative constant makes the sum negative at some pairs), with and without the cosine division.
-TEST(RenderMaterial, ALobeBesideAConstantIsTheSumOfBoth) {
+// Modes of order 0 (a constant, as a bank stores a paint's Lambertian part), alone and beside a lobe, are added
+// without evaluating the basis: the values are those of the general path (the same modes written at order 1,
+// with zero coefficients beyond C_00) and of the batch evaluation, the constant and the clamp max(0, .) included
+// (a negative constant makes the sum negative at some pairs beside the lobe; modes alone are not clamped, as in
+// the batch evaluation), with and without the cosine division.
+TEST(RenderMaterial, ModesOfOrderZeroAreTheirConstantAloneAndBesideALobe) {
   const auto pairs = random_pairs(300, 12);
   RowMatrix3d wi(300, 3), wr(300, 3);
   for (int i = 0; i < 300; ++i) wi.row(i) = pairs[i].first.transpose(), wr.row(i) = pairs[i].second.transpose();
   const HalfAngleFactors& lobe = fitted_lobe("model:ggx:alpha=0.3");
+  for (const bool with_lobe : {true, false})
   for (const bool cosine : {false, true})
     for (const double c00 : {0.2, -0.05}) {
+      const std::optional<HalfAngleFactors> l = with_lobe ? std::optional<HalfAngleFactors>(lobe) : std::nullopt;
       Spectrum s0 = zero_spectrum(), s1 = zero_spectrum();
       s0.cosine = s1.cosine = cosine;
       s0.channels[0](0, 0) = c00;
       s1.order = 1;
       s1.channels = {Eigen::MatrixXd::Zero(3, 3)};
       s1.channels[0](0, 0) = c00;
-      const RenderMaterial m0(s0, lobe, coarse()), m1(s1, lobe, coarse());
-      const Eigen::MatrixXd b = evaluate_material(s0, lobe, wi, wr);
+      const RenderMaterial m0(s0, l, coarse()), m1(s1, l, coarse());
+      const Eigen::MatrixXd b = evaluate_material(s0, l, wi, wr);
       int clamped = 0;
       for (int i = 0; i < 300; ++i) {
         const double v0 = m0.eval(pairs[i].first, pairs[i].second)[0], v1 = m1.eval(pairs[i].first, pairs[i].second)[0];
-        EXPECT_NEAR(v0, v1, kModesRelTol * (1 + std::abs(v1))) << cosine << " " << c00 << " " << i;
-        EXPECT_NEAR(v0, b(i, 0), kModesRelTol * (1 + std::abs(b(i, 0)))) << cosine << " " << c00 << " " << i;
+        EXPECT_NEAR(v0, v1, kModesRelTol * (1 + std::abs(v1))) << with_lobe << " " << cosine << " " << c00 << " " << i;
+        EXPECT_NEAR(v0, b(i, 0), kModesRelTol * (1 + std::abs(b(i, 0)))) << with_lobe << " " << cosine << " " << c00 << " " << i;
         clamped += v0 == 0.0;
       }
-      if (c00 < 0.0) {
+      if (with_lobe && c00 < 0.0) {  // modes alone are not clamped, as in the batch evaluation
         EXPECT_GT(clamped, 0) << "the negative constant should clamp some pairs to 0";
       }
     }

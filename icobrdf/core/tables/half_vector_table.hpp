@@ -44,8 +44,9 @@
 // not on the node: the alias entries and the masses and slopes are stored cell-major (the nodes of one cell
 // side by side), so the entries a draw reads are fetched before the blend has picked the node
 // (prefetch_draw: RenderMaterial::sample 223-229 -> 204-208 ns with the defaults, old and new in one program,
-// three interleaved runs; before, u1 picked the node and then the cell, node-major), and the density at a drawn or given cell reads one or two cache
-// lines; the cell of a half vector is found without atan2 for theta_h (a lookup on
+// three interleaved runs; before, u1 picked the node and then the cell, node-major), and the density at a
+// drawn or given cell reads one or two cache lines; the cell of a half vector is found without atan2 for
+// theta_h (a lookup on
 // (1 - cos theta_h)^(1/4), then the exact cos edges decide) and with one atan2 for phi_h.
 // Memory: 8 + 12 bytes per node and cell (48 nodes x 8192 mirrored cells, the defaults: 7.9 MB). Alias
 // entries of 32 bytes that also carried the alias cell's masses and slopes of nodes n - 1, n, n + 1 (so an
@@ -136,10 +137,10 @@ class HalfVectorTable {
   static Eigen::Vector3d node_direction(const HalfVectorTableOptions& options, int n);
   // ArgumentError for options out of range.
   static void check(const HalfVectorTableOptions& options);
-  // Whether the tables store only phi_h >= 0 (HalfVectorTableOptions::mirror taken up: isotropic, even phi_bins).
   // The most cache lines prefetch_draw fetches (one cell's alias entries of every node: 9 lines for 48
   // nodes; an anisotropic table's 384 nodes would take 72, more than the core keeps in flight).
   static constexpr int kPrefetchLines = 12;
+  // Whether the tables store only phi_h >= 0 (HalfVectorTableOptions::mirror taken up: isotropic, even phi_bins).
   static bool stores_mirror_image(const HalfVectorTableOptions& o) { return o.azimuth_nodes == 1 && o.phi_bins % 2 == 0 && o.mirror; }
   // The memory the tables take: nodes x stored cells x 20 bytes (a CellEntry of 8 and an alias entry of 12),
   // plus the construction's per-node work arrays (about 370 bytes per stored cell: the sub-cell half vectors,
