@@ -13,7 +13,8 @@
 // Materials M: 0 a half-angle lobe (rank <= 4, fitted to GGX alpha 0.3: a bank's half-angle representation),
 // 1 the GGX alpha 0.3 model, 2 model 0.5*lambert+0.5*mirror (a delta part), 3 the lobe of 0 with tables that
 // store every phi_h bin (HalfVectorTableOptions::mirror = false: twice the memory of 0's), 4 the lobe of 0 beside
-// modes of order 0 (a constant: a bank's paint, its Lambertian part as modes). ->Threads(2) shares one material.
+// modes of order 0 (a constant: a bank's paint, its Lambertian part as modes), 5 the lobe of 0 beside modes of
+// order 4 (a hybrid's body: Minnaert's k = 3, 15 modes). ->Threads(2) shares one material.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -26,6 +27,7 @@
 #include "icobrdf/core/basis/direction.hpp"
 #include "icobrdf/core/fit/half_angle_fit.hpp"
 #include "icobrdf/core/models/model_registry.hpp"
+#include "icobrdf/core/spectrum/analytic_spectra.hpp"
 #include "icobrdf/io/render_material.hpp"
 
 namespace {
@@ -60,6 +62,12 @@ RenderMaterial make(int which) {
     constant.channels[0](0, 0) = 0.2;  // f = 0.2 K_0^2 = 0.2 / (2 pi) beside the lobe
     return RenderMaterial(constant, lobe());
   }
+  if (which == 5) {
+    Spectrum body = no_modes();
+    body.order = 4;
+    body.channels = {0.5 * minnaert_coefficients(4, 3)};
+    return RenderMaterial(body, lobe());
+  }
   if (which == 3) {
     RenderMaterialOptions full;
     full.table.mirror = false;
@@ -71,7 +79,7 @@ RenderMaterial make(int which) {
 const RenderMaterial& material(int which) {
   static const std::vector<std::shared_ptr<RenderMaterial>> all = [] {
     std::vector<std::shared_ptr<RenderMaterial>> v;
-    for (int i = 0; i < 5; ++i) v.push_back(std::make_shared<RenderMaterial>(make(i)));
+    for (int i = 0; i < 6; ++i) v.push_back(std::make_shared<RenderMaterial>(make(i)));
     return v;
   }();
   return *all[static_cast<size_t>(which)];
@@ -187,12 +195,12 @@ void BM_ClockReference(benchmark::State& state) {
 BENCHMARK(BM_ClockReference);
 #endif
 
-BENCHMARK_TEMPLATE(BM_Eval, double)->DenseRange(0, 2)->Arg(4);
-BENCHMARK_TEMPLATE(BM_Eval, float)->DenseRange(0, 2)->Arg(4);
+BENCHMARK_TEMPLATE(BM_Eval, double)->DenseRange(0, 2)->Arg(4)->Arg(5);
+BENCHMARK_TEMPLATE(BM_Eval, float)->DenseRange(0, 2)->Arg(4)->Arg(5);
 BENCHMARK_TEMPLATE(BM_Pdf, double)->DenseRange(0, 2);
 BENCHMARK_TEMPLATE(BM_Pdf, float)->DenseRange(0, 2);
-BENCHMARK_TEMPLATE(BM_Sample, double)->DenseRange(0, 4);
-BENCHMARK_TEMPLATE(BM_Sample, float)->DenseRange(0, 4);
+BENCHMARK_TEMPLATE(BM_Sample, double)->DenseRange(0, 5);
+BENCHMARK_TEMPLATE(BM_Sample, float)->DenseRange(0, 5);
 BENCHMARK_TEMPLATE(BM_Sample, double)->Arg(0)->Threads(2);
 BENCHMARK(BM_Build)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
 

@@ -233,8 +233,10 @@ def make_fixtures(program, folder, repo):
     hybrid = scene("", 'representations = ["hybrid"]\n').replace("model:lambert:albedo=0.5", "model:0.3*lambert+0.7*ggx:alpha=0.2")
     write(folder, "hybrid.toml", hybrid)
     icobrdf("bank", "build", "hybrid.toml", "-o", "hybrid.h5")
-    write(folder, "three.toml", hybrid + "".join('\n[[material]]\nname = "m%d"\nsource = "model:0.3*lambert+0.7*ggx:alpha=0.%d"\n' % (k, k)
-                                                 for k in (3, 4)))
+    # A build long enough (3.4 s here) that a signal sent at 0.3 s finds it running (a scene of three materials,
+    # 0.4 s, did not always: the build could end first).
+    write(folder, "many.toml", hybrid + "".join('\n[[material]]\nname = "m%d"\nsource = "model:0.3*lambert+0.7*ggx:alpha=0.%02d"\n' % (k, k)
+                                                for k in range(10, 42, 2)))
     write(folder, "lobe.toml", scene("", 'representations = ["half-angle"]\ntarget = 0.5\n').replace(
         "target = 0.05\n", "").replace("model:lambert:albedo=0.5", "model:ggx:alpha=0.3"))
     icobrdf("bank", "build", "lobe.toml", "-o", "lobe.h5")
@@ -409,7 +411,7 @@ def table():
     # Signals.
     add(Case("SIGINT during sample -n 1e8", ["sample", L, "--theta-i", "10", "-n", "100000000"], code=130,
              send=(1.5, signal.SIGINT), stdout=None))
-    add(Case("SIGTERM during bank build", ["bank", "build", "three.toml", "-o", "out.h5"], code=143, output="out.h5",
+    add(Case("SIGTERM during bank build", ["bank", "build", "many.toml", "-o", "out.h5"], code=143, output="out.h5",
              send=(0.3, signal.SIGTERM)))
     add(Case("SIGINT during lut level 4", ["lut", "model:ggx:alpha=0.2", "--level", "4", "-o", "out.h5"], code=130, output="out.h5",
              send=(0.5, signal.SIGINT)))

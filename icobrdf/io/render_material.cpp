@@ -84,6 +84,12 @@ struct RenderMaterial::Impl {
   HalfVectorTable table;
   std::uint32_t table_flag = kMaterialDiffuse;
   std::vector<DeltaPart> deltas;
+  // The modes' coefficients for eval_modes (after the sampling's members, which sample() reads on every call):
+  // channel c's column b at (c modes_count + b) modes_rows, each column C_c(., b) padded with zeros to
+  // modes_rows, modes_count = hemisphere_basis_count(modes.order) rounded up to a multiple of 4.
+  int modes_count = 0;
+  int modes_rows = 0;
+  std::vector<double> modes_padded;
 
   [[gnu::always_inline]] inline void eval_regular(const Eigen::Vector3d& wi, const Eigen::Vector3d& wr, double* out) const;
   // eval_regular's sum over the parts, for checked directions (out of line: its stack frame for the models'
@@ -103,20 +109,21 @@ void RenderMaterial::Impl::eval_modes(const Eigen::Vector3d& wi, const Eigen::Ve
     for (int c = 0; c < channels; ++c) out[c] = modes_constant[c] * scale;
     return;
   }
-  const int m = hemisphere_basis_count(modes.order);
-  double ki[kMaxBasis], kr[kMaxBasis];
-  hemisphere_basis_eval(modes.order, wi, ki);
-  hemisphere_basis_eval(modes.order, wr, kr);
+  // f_c = sum_b sum_a C_c(a, b) K_a(w_i) K_b(w_r), over modes_padded's columns: each padded to a multiple of
+  // four rows (K_a(w_i) = 0 there), so the inner loop runs over whole groups of four lanes, one accumulator each.
+  const int m = modes_count, mp = modes_rows;
+  alignas(64) double ki[kMaxBasis + 4], kr[kMaxBasis];
+  hemisphere_basis_eval_pair(modes.order, wi.data(), wr.data(), ki, kr);
+  for (int q = 0; q < 4; ++q) ki[m + q] = 0.0;  // the padding (mp - m < 4 entries), without a loop on m
+  const double* col = modes_padded.data();
   for (int c = 0; c < channels; ++c) {
-    const Eigen::MatrixXd& C = modes.channels[static_cast<size_t>(c)];
-    double s = 0.0;
-    for (int b = 0; b < m; ++b) {
-      double col = 0.0;
-      const double* cb = C.data() + static_cast<Eigen::Index>(b) * C.rows();
-      for (int a = 0; a < m; ++a) col += cb[a] * ki[a];
-      s += col * kr[b];
+    double t[4] = {};
+    for (int b = 0; b < m; ++b, col += mp) {
+      const double kb = kr[b];
+      for (int a = 0; a < mp; a += 4)
+        for (int q = 0; q < 4; ++q) t[q] += col[a + q] * (ki[a + q] * kb);
     }
-    out[c] = s * scale;
+    out[c] = ((t[0] + t[1]) + (t[2] + t[3])) * scale;
   }
 }
 
@@ -337,6 +344,16 @@ RenderMaterial::RenderMaterial(const Spectrum& modes, const std::optional<HalfAn
     m.lobe = std::make_shared<const HalfAngleFactors>(*lobe);
     m.lobe_eval.emplace(m.lobe);
     m.lobe_only = !m.has_modes;
+  }
+  if (m.has_modes) {
+    const int count = m.modes_count = hemisphere_basis_count(modes.order);
+    m.modes_rows = (count + 3) / 4 * 4;
+    const size_t rows = static_cast<size_t>(m.modes_rows), cols = static_cast<size_t>(count);
+    m.modes_padded.assign(static_cast<size_t>(m.channels) * cols * rows, 0.0);
+    for (size_t c = 0; c < static_cast<size_t>(m.channels); ++c)
+      for (size_t b = 0; b < cols; ++b)
+        for (size_t a = 0; a < cols; ++a)
+          m.modes_padded[(c * cols + b) * rows + a] = modes.channels[c](static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b));
   }
   if (m.has_modes && modes.order == 0) {
     double k0;

@@ -31,7 +31,9 @@
 //
 // Evaluation per sample: models as sums of their terms (each term's pair formula); stored materials as their
 // lobe (icobrdf/core/models/half_angle_factors.hpp HalfAnglePairEvaluator, bitwise the batch values) plus modes (the basis at both
-// directions, order <= kMaxPointModeOrder; f = max(0, modes + lobe) as icobrdf/io/material_eval.hpp; modes of
+// directions in one pass, hemisphere_basis_eval_pair, contracted with a copy of the coefficients whose columns are
+// padded to a multiple of 4 rows: channels x M x 4 ceil(M / 4) doubles, 0.43 MB per channel at order 20;
+// order <= kMaxPointModeOrder; f = max(0, modes + lobe) as icobrdf/io/material_eval.hpp; modes of
 // order 0, a constant such as a paint's Lambertian part, are added as that constant without evaluating the basis);
 // measured SOURCEs and model kinds without a pair formula go through their batch evaluation with one row
 // (which allocates). Channels: at most kMaxMaterialChannels (a 1-channel model term is broadcast).

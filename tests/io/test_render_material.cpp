@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "icobrdf/core/basis/direction.hpp"
+#include "icobrdf/core/basis/hemisphere_basis.hpp"
 #include "icobrdf/core/fit/half_angle_fit.hpp"
 #include "icobrdf/core/grid/gauss_legendre.hpp"
 #include "icobrdf/core/models/model_registry.hpp"
@@ -175,6 +176,46 @@ TEST(RenderMaterial, PerSampleEvalEqualsTheBatchEvaluation) {
     for (int i = 0; i < 300; ++i)
       EXPECT_NEAR(m.eval(pairs[i].first, pairs[i].second)[0], b(i, 0), kModesRelTol * (1 + std::abs(b(i, 0)))) << with_lobe << " " << i;
   }
+}
+
+// Modes per sample (the basis at both directions in one pass, the contraction over column blocks padded to
+// four rows) against the batch evaluation, at orders that change the padding (1: 3 -> 4 rows; 5: 21 -> 24; 6:
+// 28, none) and the blocks (20: 231 modes, several column blocks), three channels of different random
+// matrices that are not symmetric (a swapped w_i and w_r, or channel, would show), with and without the cosine
+// division, beside a lobe and alone.
+TEST(RenderMaterial, ModesOfEveryOrderAndChannelEqualTheBatch) {
+  const auto pairs = random_pairs(200, 23);
+  RowMatrix3d wi(200, 3), wr(200, 3);
+  for (int i = 0; i < 200; ++i) wi.row(i) = pairs[i].first.transpose(), wr.row(i) = pairs[i].second.transpose();
+  std::mt19937_64 rng(29);
+  std::normal_distribution<double> g(0.0, 1.0);
+  HalfAngleFactors lobe = fitted_lobe("model:ggx:alpha=0.3");
+  lobe.u = {lobe.u[0], lobe.u[0], lobe.u[0]};
+  lobe.v = {lobe.v[0], 0.5 * lobe.v[0], 2.0 * lobe.v[0]};
+  for (const int order : {1, 5, 6, kMaxPointModeOrder})
+    for (const bool cosine : {false, true}) {
+      Spectrum s;
+      s.order = order;
+      s.cosine = cosine;
+      s.source = "random modes";
+      const int m = hemisphere_basis_count(order);
+      for (int c = 0; c < 3; ++c) {
+        Eigen::MatrixXd C(m, m);
+        for (Eigen::Index k = 0; k < C.size(); ++k) C.data()[k] = g(rng) / (1.0 + k % m + k / m);  // decaying
+        C(0, 0) = 2.0;  // a positive body under the random terms
+        s.channels.push_back(C);
+      }
+      for (const bool with_lobe : {false, true}) {
+        const std::optional<HalfAngleFactors> l = with_lobe ? std::optional<HalfAngleFactors>(lobe) : std::nullopt;
+        const RenderMaterial mat(s, l, coarse());
+        const Eigen::MatrixXd b = evaluate_material(s, l, wi, wr);
+        for (int i = 0; i < 200; ++i) {
+          const MaterialColor<double> v = mat.eval(pairs[i].first, pairs[i].second);
+          for (int c = 0; c < 3; ++c)
+            ASSERT_NEAR(v[c], b(i, c), kModesRelTol * (1 + std::abs(b(i, c)))) << order << " " << cosine << " " << with_lobe << " " << i << " " << c;
+        }
+      }
+    }
 }
 
 // Modes of order 0 (a constant, as a bank stores a paint's Lambertian part), alone and beside a lobe, are added

@@ -37,8 +37,15 @@ struct BasisIndex {
 // Inverse of ansi_index; ArgumentError for j < 0.
 BasisIndex ansi_to_nl(int j);
 
-// out[j] = K_j(unit_dir) for j < hemisphere_basis_count(order).
+// out[j] = K_j(unit_dir) for j < hemisphere_basis_count(order). ArgumentError for an order out of range or a
+// direction that is not finite with z >= -kHorizonSlack (z < 0 is taken as 0).
 void hemisphere_basis_eval(int order, const Eigen::Vector3d& unit_dir, double* out);
+
+// Two directions at once, for per-sample code (a renderer's modes at w_i and w_r): out_a[j] = K_j(a) and
+// out_b[j] = K_j(b) for j < hemisphere_basis_count(order), a and b (x, y, z) triples. The same arithmetic as
+// hemisphere_basis_eval, the two directions' chains interleaved; no allocation (a few KB of stack). No checks
+// (the caller validates): order in [0, 128]; finite unit vectors with z >= -kHorizonSlack (z < 0 is taken as 0).
+void hemisphere_basis_eval_pair(int order, const double* a, const double* b, double* out_a, double* out_b);
 
 // Lane-parallel form for batch code: kBasisLanes directions (x[l], y[l], z[l]) at once, with a factor each:
 //   out[j * kBasisLanes + l] (+)= scale[l] * K_j(direction l)   for j < hemisphere_basis_count(order),

@@ -3,6 +3,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <random>
@@ -21,6 +22,8 @@ using namespace icobrdf;
 constexpr double kGramTol = 1e-12;
 // Values of O(1) built from a few products: a few ulps (relative to the normalization sqrt((n+1)/pi)).
 constexpr double kValueTol = 1e-14;
+// One rounding of rho = sqrt(x^2 + y^2) / ... at the rim, where rho = 1 (2^-53: the spacing of doubles just below 1).
+constexpr double kRimRhoUlp = 0x1p-53;
 
 Eigen::Vector3d dir(double theta, double phi) {
   return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
@@ -98,14 +101,17 @@ TEST(HemisphereBasis, PoleHorizonWrapAroundAndOrderZero) {
     EXPECT_NEAR(pole[static_cast<size_t>(j)], expect, kValueTol * std::sqrt(n + 1.0)) << n << " " << l;
   }
   // Horizon (theta = 90 deg, rho = 1): K_n^l = sqrt((n+1)/pi) az_l(phi) since R_n^l(1) = 1. Azimuths come
-  // from a complex power, ~ l ulps; the tolerance scales with l and the normalization.
+  // from a complex power, ~ l ulps; the tolerance scales with l and the normalization. The direction from sin
+  // and cos has x^2 + y^2 within an ulp of 1 (0.3 rad gives 1 - 2^-53 with a fused multiply-add, as the
+  // batch kernel rounds it), so rho may be 1 - 2^-53: R_n^l then moves by R'(1) 2^-53, R'(1) = (n (n + 2) -
+  // l^2) / 2 (7187 at n = 119, l = 5: 5e-12 after the normalization), the input's rounding, not the method's.
   for (double phi : {0.0, 0.3, M_PI / 2, 2.5, M_PI, -M_PI + 1e-3}) {
     const auto rim = eval(order, dir(M_PI / 2, phi));
     for (int j = 0; j < hemisphere_basis_count(order); ++j) {
       const auto [n, l] = ansi_to_nl(j);
       const double az = l > 0 ? std::cos(l * phi) : (l < 0 ? std::sin(-l * phi) : M_SQRT1_2);
-      EXPECT_NEAR(rim[static_cast<size_t>(j)], std::sqrt((n + 1) / M_PI) * az, 4 * kValueTol * (n + 1))
-          << n << " " << l << " " << phi;
+      const double norm = std::sqrt((n + 1) / M_PI), rho_ulp = norm * (n * (n + 2.0) - l * l) / 2 * kRimRhoUlp;
+      EXPECT_NEAR(rim[static_cast<size_t>(j)], norm * az, 4 * kValueTol * (n + 1) + rho_ulp) << n << " " << l << " " << phi;
     }
   }
   // Wrap-around: phi = pi - e and phi = -pi + e lie 2e apart across the cut; phi and phi + 2 pi coincide.
@@ -169,6 +175,33 @@ TEST(HemisphereBasis, QuadratureIsNotTriviallyPassing) {
   EXPECT_GT(std::abs(diag - 1.0), 1e-6);
 }
 
+// The pair form (two directions in the lanes of one vector, for per-sample code) against two single
+// evaluations: the same recurrences and products, in the same order, at every order that changes the loops'
+// shapes (0, 1, 2, odd, the per-sample limit 20, the largest 128), at the pole, the horizon, a z a little
+// below 0 (taken as 0) and random directions; each pair mixes two different directions.
+TEST(HemisphereBasis, PairEvaluationEqualsSingleEvaluations) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Eigen::Vector3d> d = {dir(0.0, 0.0), dir(M_PI / 2, 2.0), Eigen::Vector3d(0.6, 0.8, -1e-14), dir(1e-9, -0.7)};
+  for (int i = 0; i < 12; ++i) d.push_back(dir(std::acos(u(rng)), 2 * M_PI * u(rng)));
+  for (const int order : {0, 1, 2, 3, 7, 20, 128}) {
+    const size_t m = static_cast<size_t>(hemisphere_basis_count(order));
+    std::vector<double> pa(m), pb(m);
+    for (size_t i = 0; i + 1 < d.size(); ++i) {
+      const Eigen::Vector3d& a = d[i];
+      const Eigen::Vector3d& b = d[d.size() - 1 - i];
+      hemisphere_basis_eval_pair(order, a.data(), b.data(), pa.data(), pb.data());
+      const Eigen::Vector3d a0(a.x(), a.y(), std::max(a.z(), 0.0)), b0(b.x(), b.y(), std::max(b.z(), 0.0));
+      const auto sa = eval(order, a0), sb = eval(order, b0);
+      for (size_t j = 0; j < m; ++j) {
+        const double scale = std::sqrt(ansi_to_nl(static_cast<int>(j)).n + 1.0);
+        ASSERT_NEAR(pa[j], sa[j], kValueTol * scale) << order << " " << i << " " << j;
+        ASSERT_NEAR(pb[j], sb[j], kValueTol * scale) << order << " " << i << " " << j;
+      }
+    }
+  }
+}
+
 TEST(HemisphereBasis, RejectsBadArguments) {
   std::vector<double> buf(100);
   EXPECT_THROW(hemisphere_basis_count(-1), ArgumentError);
@@ -178,6 +211,8 @@ TEST(HemisphereBasis, RejectsBadArguments) {
   EXPECT_THROW(ansi_index(2, -4), ArgumentError);
   EXPECT_THROW(ansi_to_nl(-1), ArgumentError);
   EXPECT_THROW(hemisphere_basis_eval(4, {0.0, 0.6, -0.8}, buf.data()), ArgumentError);
+  EXPECT_THROW(hemisphere_basis_eval(4, {std::nan(""), 0.6, 0.8}, buf.data()), ArgumentError);
+  EXPECT_THROW(hemisphere_basis_eval(4, {0.0, INFINITY, 0.8}, buf.data()), ArgumentError);
   RowMatrix3d dirs(2, 3);
   dirs << 0, 0, 1, 0, 0.6, -0.8;
   EXPECT_THROW(hemisphere_basis_matrix(4, dirs), ArgumentError);
