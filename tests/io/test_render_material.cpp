@@ -212,7 +212,8 @@ TEST(RenderMaterial, ModesOfEveryOrderAndChannelEqualTheBatch) {
         for (int i = 0; i < 200; ++i) {
           const MaterialColor<double> v = mat.eval(pairs[i].first, pairs[i].second);
           for (int c = 0; c < 3; ++c)
-            ASSERT_NEAR(v[c], b(i, c), kModesRelTol * (1 + std::abs(b(i, c)))) << order << " " << cosine << " " << with_lobe << " " << i << " " << c;
+            ASSERT_NEAR(v[c], b(i, c), kModesRelTol * (1 + std::abs(b(i, c))))
+                << order << " " << cosine << " " << with_lobe << " " << i << " " << c;
         }
       }
     }

@@ -136,7 +136,8 @@ int hemisphere_basis_lanes_scratch(int order) {
   return (radial_start(order + 1) + 2 * order + 1) * kBasisLanes;
 }
 
-// The recurrences of eval_unchecked, lanes innermost so that they vectorize.
+// The recurrences of eval_points, lanes innermost so that they vectorize (kept for batch callers and tests: the
+// library's own batches use hemisphere_basis_block).
 void hemisphere_basis_eval_lanes(int order, const double* x, const double* y, const double* z, const double* w,
                                  double* scratch, double* __restrict out, bool accumulate) {
   double* __restrict rad = scratch;
