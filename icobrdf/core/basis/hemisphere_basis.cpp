@@ -66,7 +66,7 @@ inline int radial_start(int n) { return (n + 1) * (n + 1) / 4; }
 // operation per step; V's explicit lanes also keep the compiler from vectorizing the short loops over l, whose
 // set-up costs more than their work at low orders (a pair at order 2, callgrind: 316 instructions; two single
 // evaluations of the former code, which kept the whole radial triangle, about 900; the loops vectorized over l
-// with lanes as arrays, 880).
+// with lanes as arrays, 836).
 // One pass over n: the radial row n from rows n - 1 and n - 2 (three rows kept, not the whole triangle, so the
 // frame is a few KB), cos(n phi) and sin(n phi) by one complex multiplication, then row n of the output.
 using Pair = double __attribute__((vector_size(16)));
