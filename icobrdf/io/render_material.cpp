@@ -85,8 +85,9 @@ struct RenderMaterial::Impl {
   std::uint32_t table_flag = kMaterialDiffuse;
   std::vector<DeltaPart> deltas;
   // The modes' coefficients for eval_modes (after the sampling's members, which sample() reads on every call):
+  // modes_count = hemisphere_basis_count(modes.order), modes_rows = modes_count rounded up to a multiple of 4;
   // channel c's column b at (c modes_count + b) modes_rows, each column C_c(., b) padded with zeros to
-  // modes_rows, modes_count = hemisphere_basis_count(modes.order) rounded up to a multiple of 4.
+  // modes_rows. Empty for order 0 (a constant: modes_constant).
   int modes_count = 0;
   int modes_rows = 0;
   std::vector<double> modes_padded;
@@ -329,13 +330,27 @@ RenderMaterial::RenderMaterial(const Spectrum& modes, const std::optional<HalfAn
     throw ArgumentError(m.spec + ": modes of order " + std::to_string(modes.order) + ", expected at most " +
                         std::to_string(kMaxPointModeOrder) + " for a render material");
   if (m.has_modes) {  // every channel's coefficients are read as a count x count matrix per sample
-    const Eigen::Index count = modes.order >= 0 ? hemisphere_basis_count(modes.order) : 0;
+    const int count = modes.order >= 0 ? hemisphere_basis_count(modes.order) : 0;
     for (size_t c = 0; c < modes.channels.size(); ++c) {
       const Eigen::MatrixXd& C = modes.channels[c];
       if (C.rows() != count || C.cols() != count)
         throw ArgumentError(m.spec + ": modes of channel " + std::to_string(c) + " are " + std::to_string(C.rows()) + " x " +
                             std::to_string(C.cols()) + ", expected " + std::to_string(count) + " x " + std::to_string(count) +
                             " for order " + std::to_string(modes.order));
+    }
+    m.modes_count = count;
+    if (modes.order == 0) {  // a constant (modes_constant): no basis, no padded copy
+      double k0;
+      hemisphere_basis_eval(0, Eigen::Vector3d(0.0, 0.0, 1.0), &k0);
+      for (int c = 0; c < m.channels; ++c) m.modes_constant[c] = (modes.channels[static_cast<size_t>(c)](0, 0) * k0) * k0;
+    } else {
+      m.modes_rows = (count + 3) / 4 * 4;
+      const size_t rows = static_cast<size_t>(m.modes_rows), cols = static_cast<size_t>(count);
+      m.modes_padded.assign(static_cast<size_t>(m.channels) * cols * rows, 0.0);
+      for (size_t c = 0; c < static_cast<size_t>(m.channels); ++c)
+        for (size_t b = 0; b < cols; ++b)
+          for (size_t a = 0; a < cols; ++a)
+            m.modes_padded[(c * cols + b) * rows + a] = modes.channels[c](static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b));
     }
   }
   if (lobe) {
@@ -344,21 +359,6 @@ RenderMaterial::RenderMaterial(const Spectrum& modes, const std::optional<HalfAn
     m.lobe = std::make_shared<const HalfAngleFactors>(*lobe);
     m.lobe_eval.emplace(m.lobe);
     m.lobe_only = !m.has_modes;
-  }
-  if (m.has_modes) {
-    const int count = m.modes_count = hemisphere_basis_count(modes.order);
-    m.modes_rows = (count + 3) / 4 * 4;
-    const size_t rows = static_cast<size_t>(m.modes_rows), cols = static_cast<size_t>(count);
-    m.modes_padded.assign(static_cast<size_t>(m.channels) * cols * rows, 0.0);
-    for (size_t c = 0; c < static_cast<size_t>(m.channels); ++c)
-      for (size_t b = 0; b < cols; ++b)
-        for (size_t a = 0; a < cols; ++a)
-          m.modes_padded[(c * cols + b) * rows + a] = modes.channels[c](static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b));
-  }
-  if (m.has_modes && modes.order == 0) {
-    double k0;
-    hemisphere_basis_eval(0, Eigen::Vector3d(0.0, 0.0, 1.0), &k0);
-    for (int c = 0; c < m.channels; ++c) m.modes_constant[c] = (modes.channels[static_cast<size_t>(c)](0, 0) * k0) * k0;
   }
   m.isotropic = (!m.has_modes || modes.isotropic) && (!lobe || lobe->isotropic);
   m.table_flag = lobe ? kMaterialGlossy : kMaterialDiffuse;

@@ -178,11 +178,11 @@ TEST(RenderMaterial, PerSampleEvalEqualsTheBatchEvaluation) {
   }
 }
 
-// Modes per sample (the basis at both directions in one pass, the contraction over column blocks padded to
-// four rows) against the batch evaluation, at orders that change the padding (1: 3 -> 4 rows; 5: 21 -> 24; 6:
-// 28, none) and the blocks (20: 231 modes, several column blocks), three channels of different random
-// matrices that are not symmetric (a swapped w_i and w_r, or channel, would show), with and without the cosine
-// division, beside a lobe and alone.
+// Modes per sample (the basis at both directions in one pass, the contraction over columns padded to four
+// rows) against the batch evaluation, at orders that change the padding (1: 3 -> 4 rows; 5: 21 -> 24; 6: 28,
+// none) and the per-sample limit (20: 231 modes), three channels of different random matrices that are not
+// symmetric (a swapped w_i and w_r, or channel, would show), with and without the cosine division, beside a
+// lobe and alone.
 TEST(RenderMaterial, ModesOfEveryOrderAndChannelEqualTheBatch) {
   const auto pairs = random_pairs(200, 23);
   RowMatrix3d wi(200, 3), wr(200, 3);
@@ -230,28 +230,28 @@ TEST(RenderMaterial, ModesOfOrderZeroAreTheirConstantAloneAndBesideALobe) {
   for (int i = 0; i < 300; ++i) wi.row(i) = pairs[i].first.transpose(), wr.row(i) = pairs[i].second.transpose();
   const HalfAngleFactors& lobe = fitted_lobe("model:ggx:alpha=0.3");
   for (const bool with_lobe : {true, false})
-  for (const bool cosine : {false, true})
-    for (const double c00 : {0.2, -0.05}) {
-      const std::optional<HalfAngleFactors> l = with_lobe ? std::optional<HalfAngleFactors>(lobe) : std::nullopt;
-      Spectrum s0 = zero_spectrum(), s1 = zero_spectrum();
-      s0.cosine = s1.cosine = cosine;
-      s0.channels[0](0, 0) = c00;
-      s1.order = 1;
-      s1.channels = {Eigen::MatrixXd::Zero(3, 3)};
-      s1.channels[0](0, 0) = c00;
-      const RenderMaterial m0(s0, l, coarse()), m1(s1, l, coarse());
-      const Eigen::MatrixXd b = evaluate_material(s0, l, wi, wr);
-      int clamped = 0;
-      for (int i = 0; i < 300; ++i) {
-        const double v0 = m0.eval(pairs[i].first, pairs[i].second)[0], v1 = m1.eval(pairs[i].first, pairs[i].second)[0];
-        EXPECT_NEAR(v0, v1, kModesRelTol * (1 + std::abs(v1))) << with_lobe << " " << cosine << " " << c00 << " " << i;
-        EXPECT_NEAR(v0, b(i, 0), kModesRelTol * (1 + std::abs(b(i, 0)))) << with_lobe << " " << cosine << " " << c00 << " " << i;
-        clamped += v0 == 0.0;
+    for (const bool cosine : {false, true})
+      for (const double c00 : {0.2, -0.05}) {
+        const std::optional<HalfAngleFactors> l = with_lobe ? std::optional<HalfAngleFactors>(lobe) : std::nullopt;
+        Spectrum s0 = zero_spectrum(), s1 = zero_spectrum();
+        s0.cosine = s1.cosine = cosine;
+        s0.channels[0](0, 0) = c00;
+        s1.order = 1;
+        s1.channels = {Eigen::MatrixXd::Zero(3, 3)};
+        s1.channels[0](0, 0) = c00;
+        const RenderMaterial m0(s0, l, coarse()), m1(s1, l, coarse());
+        const Eigen::MatrixXd b = evaluate_material(s0, l, wi, wr);
+        int clamped = 0;
+        for (int i = 0; i < 300; ++i) {
+          const double v0 = m0.eval(pairs[i].first, pairs[i].second)[0], v1 = m1.eval(pairs[i].first, pairs[i].second)[0];
+          EXPECT_NEAR(v0, v1, kModesRelTol * (1 + std::abs(v1))) << with_lobe << " " << cosine << " " << c00 << " " << i;
+          EXPECT_NEAR(v0, b(i, 0), kModesRelTol * (1 + std::abs(b(i, 0)))) << with_lobe << " " << cosine << " " << c00 << " " << i;
+          clamped += v0 == 0.0;
+        }
+        if (with_lobe && c00 < 0.0) {  // modes alone are not clamped, as in the batch evaluation
+          EXPECT_GT(clamped, 0) << "the negative constant should clamp some pairs to 0";
+        }
       }
-      if (with_lobe && c00 < 0.0) {  // modes alone are not clamped, as in the batch evaluation
-        EXPECT_GT(clamped, 0) << "the negative constant should clamp some pairs to 0";
-      }
-    }
 }
 
 TEST(RenderMaterial, EvalIsReciprocalAndFloatFormsRoundTheDoubleOnes) {

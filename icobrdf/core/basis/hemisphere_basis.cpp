@@ -79,10 +79,9 @@ inline void store(double* const* out, int j, Pair v) {
 
 // rho = |p| on the Lambert disk (rho^2 = 1 - cos(theta), without cancellation: lambert_map.hpp) and the
 // azimuth's (cos, sin) from (x, y) without trigonometry, (1, 0) at the pole; z < 0 is taken as 0.
-inline void polar(const double* d, double& rho, double& c1, double& s1) {
-  const double x = d[0], y = d[1], z = d[2] < 0.0 ? 0.0 : d[2];
+inline void polar(double x, double y, double z, double& rho, double& c1, double& s1) {
   const double h2 = x * x + y * y;
-  const double r2 = h2 / (1.0 + z);
+  const double r2 = h2 / (1.0 + (z < 0.0 ? 0.0 : z));
   rho = std::sqrt(r2 > 1.0 ? 1.0 : r2);
   const double s = std::sqrt(h2);
   c1 = s > 0.0 ? x / s : 1.0;
@@ -144,15 +143,7 @@ void hemisphere_basis_eval_lanes(int order, const double* x, const double* y, co
   double* __restrict az = scratch + radial_start(order + 1) * kBasisLanes;
   const double* norm = kNorm.data();
   alignas(32) double rho[kBasisLanes], c1[kBasisLanes], s1[kBasisLanes], c[kBasisLanes], sn[kBasisLanes];
-  for (int k = 0; k < kBasisLanes; ++k) {
-    const double zc = z[k] < 0.0 ? 0.0 : z[k];
-    const double h2 = x[k] * x[k] + y[k] * y[k];
-    const double r2 = h2 / (1.0 + zc);  // rho^2 = 1 - cos(theta), without cancellation (icobrdf/core/basis/lambert_map.hpp)
-    rho[k] = std::sqrt(r2 > 1.0 ? 1.0 : r2);
-    const double s = std::sqrt(h2);
-    c1[k] = s > 0.0 ? x[k] / s : 1.0;
-    s1[k] = s > 0.0 ? y[k] / s : 0.0;
-  }
+  for (int k = 0; k < kBasisLanes; ++k) polar(x[k], y[k], z[k], rho[k], c1[k], s1[k]);
   // Zernike radial rows (packed as in icobrdf/core/basis/zernike.hpp), times kBasisLanes.
   for (int k = 0; k < kBasisLanes; ++k) {
     rad[k] = 1.0;
@@ -212,18 +203,18 @@ void hemisphere_basis_eval_lanes(int order, const double* x, const double* y, co
 
 void hemisphere_basis_eval(int order, const Eigen::Vector3d& unit_dir, double* out) {
   check_basis_order(order);
-  if (!unit_dir.allFinite() || !(unit_dir.z() >= -kHorizonSlack))
+  if (first_invalid_direction(unit_dir.data(), 1) >= 0)
     throw ArgumentError("hemisphere_basis_eval: direction (" + std::to_string(unit_dir.x()) + ", " + std::to_string(unit_dir.y()) + ", " +
                         std::to_string(unit_dir.z()) + ") is not a finite direction with z >= 0");
   double rho, c1, s1;
-  polar(unit_dir.data(), rho, c1, s1);
+  polar(unit_dir.x(), unit_dir.y(), unit_dir.z(), rho, c1, s1);
   eval_points<double>(order, rho, c1, s1, &out);
 }
 
 void hemisphere_basis_eval_pair(int order, const double* a, const double* b, double* out_a, double* out_b) {
   double rho_a, c1_a, s1_a, rho_b, c1_b, s1_b;
-  polar(a, rho_a, c1_a, s1_a);
-  polar(b, rho_b, c1_b, s1_b);
+  polar(a[0], a[1], a[2], rho_a, c1_a, s1_a);
+  polar(b[0], b[1], b[2], rho_b, c1_b, s1_b);
   double* out[2] = {out_a, out_b};
   eval_points<Pair>(order, Pair{rho_a, rho_b}, Pair{c1_a, c1_b}, Pair{s1_a, s1_b}, out);
 }
